@@ -1,0 +1,42 @@
+// OpenMP, or its absence, behind three small functions. The kernel's results never depend
+// on the thread count: every point is computed on its own.
+#pragma once
+
+#include <cstddef>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace epc_fast {
+
+inline bool openmp_enabled() {
+#ifdef _OPENMP
+    return true;
+#else
+    return false;
+#endif
+}
+
+// The team size used when the caller does not say: OMP_NUM_THREADS when set, else the cores.
+inline int default_threads() {
+#ifdef _OPENMP
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
+// Calls body(i) for i in [0, n) on `threads` threads, static schedule. body must not throw.
+template <class Body>
+void parallel_for(std::ptrdiff_t n, int threads, Body&& body) {
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+#else
+    (void)threads;
+    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
+#endif
+}
+
+}  // namespace epc_fast

@@ -1,0 +1,92 @@
+// The per-point parameters as the kernel reads them: one strided column per parameter.
+// The order is python/epc_fast/params.py's PARAMETERS; the domains come from that table
+// with every call, so the two backends judge validity by the same numbers.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+namespace epc_fast {
+
+enum Param : int {
+    illuminance_lux,
+    pixel_pitch_um,
+    f_number,
+    focal_length_mm,
+    size,  // pixel count or sensor area in mm^2 (Inputs::size_is_pixel_count)
+    reflectance,
+    lens_transmittance,
+    field_angle_deg,
+    fill_factor,
+    electrons_per_lux_s_m2,
+    read_noise_e,
+    dark_current_e_per_s,
+    prnu,
+    full_well_e,
+    snr_db,
+    shake_deg_per_s,
+    stabilization,
+    jitter_um,
+    wavelength_nm,
+    mtf_threshold,
+    n_params
+};
+
+// A value lies in [lo, hi] with each end open or closed; NaN lies in no domain.
+struct Domain {
+    double lo, hi;
+    bool lo_closed, hi_closed;
+
+    bool contains(double v) const {
+        const bool above = lo_closed ? v >= lo : v > lo;
+        const bool below = hi_closed ? v <= hi : v < hi;
+        return above && below;
+    }
+};
+
+// One parameter: point i reads data[i * stride]; stride 0 broadcasts a scalar.
+struct Column {
+    const double* data = nullptr;
+    std::ptrdiff_t stride = 0;
+
+    double operator[](std::size_t i) const { return data[static_cast<std::ptrdiff_t>(i) * stride]; }
+};
+
+// A spectrum shared by every point: weights sum to 1. Empty means monochromatic at each
+// point's wavelength_nm.
+struct Spectrum {
+    std::vector<double> wavelengths_nm;
+    std::vector<double> weights;
+
+    bool polychromatic() const { return !wavelengths_nm.empty(); }
+};
+
+struct Inputs {
+    std::array<Column, n_params> columns;
+    std::array<Domain, n_params> domains;
+    bool size_is_pixel_count = false;
+    Spectrum spectrum;
+};
+
+enum class TMpeSolver { closed_form, brent };
+
+struct Options {
+    double f50_rtol = 1e-14;   // bisection stops once hi - lo <= f50_rtol * lo
+    TMpeSolver t_mpe_solver = TMpeSolver::closed_form;
+    double t_mpe_rtol = 1e-15;  // Brent's tolerance on the electrons needed
+};
+
+// Output columns, each of length n, contiguous.
+struct Outputs {
+    double* electron_rate_e_per_s;
+    double* electrons;
+    double* t_mpe_s;
+    double* blur_mm;
+    double* f50_cyc_per_mm;
+    double* epc;
+    unsigned char* status;
+    unsigned char* cause;
+};
+
+}  // namespace epc_fast

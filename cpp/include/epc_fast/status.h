@@ -1,0 +1,23 @@
+// Per-point status codes (MODEL.md section 8). The values are shared with
+// python/epc_fast/status.py: keep the two in step.
+#pragma once
+
+#include <cstdint>
+
+namespace epc_fast {
+
+enum class Status : std::uint8_t {
+    ok = 0,              // every output finite and meaningful
+    invalid = 1,         // an input outside its domain: every output NaN
+    unreachable = 2,     // the SNR target cannot be met (see Cause): T_MPE = +inf
+    blur_unbounded = 3,  // shake angle reached pi/2: blur = +inf, f50 = 0, EPC = 0
+};
+
+enum class Cause : std::uint8_t {
+    none = 0,
+    no_light = 1,   // electron rate zero (or so small that T_MPE overflows)
+    prnu = 2,       // prnu * 10^(snr_db/20) >= 1
+    full_well = 3,  // rate * T_MPE > full_well_e
+};
+
+}  // namespace epc_fast

@@ -1,0 +1,126 @@
+// The only file that includes pybind11: it turns NumPy columns into epc_fast::Inputs, runs the
+// kernel with the GIL released, chunk by chunk so that Ctrl-C is honoured between chunks, and
+// hands the output columns back. Python (python/epc_fast/api.py) has already validated types,
+// broadcast the shapes and made every column a contiguous float64 array of size 1 or n.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "epc_fast/kernel.h"
+
+namespace py = pybind11;
+using namespace epc_fast;
+
+namespace {
+
+using double_array = py::array_t<double, py::array::c_style>;
+
+Column column_of(const py::handle& obj, int index, py::ssize_t n) {
+    if (!py::isinstance<py::array>(obj))
+        throw std::invalid_argument("column " + std::to_string(index) + " is not an ndarray");
+    auto arr = py::reinterpret_borrow<py::array>(obj);
+    if (!arr.dtype().is(py::dtype::of<double>()) || arr.ndim() != 1 ||
+        !(arr.flags() & py::array::c_style))
+        throw std::invalid_argument("column " + std::to_string(index) +
+                                    " must be a contiguous 1-D float64 array");
+    if (arr.size() != 1 && arr.size() != n)
+        throw std::invalid_argument("column " + std::to_string(index) + " has " +
+                                    std::to_string(arr.size()) + " values, expected 1 or " +
+                                    std::to_string(n));
+    return Column{static_cast<const double*>(arr.data()), arr.size() == 1 ? 0 : 1};
+}
+
+TMpeSolver solver_of(const std::string& name) {
+    if (name == "closed_form") return TMpeSolver::closed_form;
+    if (name == "brent") return TMpeSolver::brent;
+    throw std::invalid_argument("t_mpe_solver must be 'closed_form' or 'brent', got '" + name + "'");
+}
+
+py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
+                     const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
+                     double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol,
+                     int threads, py::ssize_t chunk_points) {
+    if (static_cast<int>(columns.size()) != n_params)
+        throw std::invalid_argument("expected " + std::to_string(n_params) + " columns");
+    if (domains.ndim() != 2 || domains.shape(0) != n_params || domains.shape(1) != 4)
+        throw std::invalid_argument("domains must have shape (n_params, 4)");
+    if (wavelengths_nm.size() != weights.size())
+        throw std::invalid_argument("wavelengths_nm and weights differ in length");
+    if (n < 0) throw std::invalid_argument("n must be >= 0");
+    if (threads < 1) throw std::invalid_argument("threads must be >= 1");
+    if (chunk_points < 1) throw std::invalid_argument("chunk_points must be >= 1");
+    if (!(f50_rtol >= 0.0) || !(t_mpe_rtol >= 0.0))
+        throw std::invalid_argument("tolerances must be >= 0");
+
+    Inputs in;
+    in.size_is_pixel_count = size_is_pixel_count;
+    auto d = domains.unchecked<2>();
+    for (int j = 0; j < n_params; ++j) {
+        in.columns[j] = column_of(columns[j], j, n);
+        in.domains[j] = Domain{d(j, 0), d(j, 1), d(j, 2) != 0.0, d(j, 3) != 0.0};
+    }
+    in.spectrum.wavelengths_nm.assign(wavelengths_nm.data(), wavelengths_nm.data() + wavelengths_nm.size());
+    in.spectrum.weights.assign(weights.data(), weights.data() + weights.size());
+    Options opt;
+    opt.f50_rtol = f50_rtol;
+    opt.t_mpe_solver = solver_of(t_mpe_solver);
+    opt.t_mpe_rtol = t_mpe_rtol;
+
+    py::array_t<double> rate(n), electrons(n), t_mpe(n), blur(n), f50(n), epc(n);
+    py::array_t<std::uint8_t> status(n), cause(n);
+    const Outputs out{rate.mutable_data(), electrons.mutable_data(), t_mpe.mutable_data(),
+                      blur.mutable_data(), f50.mutable_data(), epc.mutable_data(),
+                      status.mutable_data(), cause.mutable_data()};
+
+    const auto total = static_cast<std::size_t>(n);
+    const auto chunk = static_cast<std::size_t>(chunk_points);
+    for (std::size_t start = 0; start < total; start += chunk) {
+        {
+            py::gil_scoped_release release;
+            evaluate(in, opt, out, start, std::min(total, start + chunk), threads);
+        }
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    }
+
+    py::dict result;
+    result["electron_rate_e_per_s"] = rate;
+    result["electrons"] = electrons;
+    result["t_mpe_s"] = t_mpe;
+    result["blur_mm"] = blur;
+    result["f50_cyc_per_mm"] = f50;
+    result["epc"] = epc;
+    result["status"] = status;
+    result["cause"] = cause;
+    return result;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+    m.doc() = "epc_fast's compiled core. Use epc_fast.evaluate, not this module.";
+    m.attr("n_params") = static_cast<int>(n_params);
+    m.attr("block_size") = block_size;
+    m.def("openmp_enabled", &openmp_enabled, "Whether the core was built with OpenMP.");
+    m.def("default_threads", &default_threads,
+          "Threads used when none are asked for (OMP_NUM_THREADS, else the cores).");
+    m.def("evaluate", &evaluate_py, py::arg("columns"), py::arg("size_is_pixel_count"),
+          py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
+          py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"), py::arg("threads"),
+          py::arg("chunk_points"));
+    // Single formulas, elementwise, so that tests can hold the C++ against known values.
+    m.def("sinc", py::vectorize(&sinc));
+    m.def("mtf_diffraction", py::vectorize(&mtf_diffraction), py::arg("nu"));
+    m.def("signal_electrons",
+          py::vectorize([](double rate, double snr_db, double read, double dark, double prnu) {
+              return signal_electrons(rate, SnrTarget(snr_db), read, dark, prnu);
+          }));
+    m.def("signal_electrons_brent",
+          py::vectorize([](double rate, double snr_db, double read, double dark, double prnu,
+                           double rtol) {
+              return signal_electrons_brent(rate, SnrTarget(snr_db), read, dark, prnu, rtol);
+          }));
+}

@@ -1,0 +1,36 @@
+"""epc_fast: the effective pixel count of camera designs, fast.
+
+EPC(L) = 4 S f50(L)^2: how many pixels a camera design is worth at illuminance L, once photon
+noise, hand shake during the exposure it needs, diffraction and the pixel aperture are counted
+(Xiao, Farrell, Catrysse, Wandell, Proc. SPIE 7250, 2009; the model is ``MODEL.md``).
+
+>>> import epc_fast
+>>> r = epc_fast.evaluate(1000.0, 1.4, 2.8, 5.6, sensor_area_mm2=15.6751)
+>>> r.status is epc_fast.Status.OK
+True
+"""
+
+from __future__ import annotations
+
+from importlib.metadata import PackageNotFoundError, version
+
+from .api import Result, evaluate
+from .params import PARAMETERS
+from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
+from .status import Cause, Status
+
+try:
+    __version__ = version("epc-fast")
+except PackageNotFoundError:  # pragma: no cover - running from a source tree
+    __version__ = "0+unknown"
+
+__all__ = [
+    "evaluate",
+    "Result",
+    "Status",
+    "Cause",
+    "Spectrum",
+    "PARAMETERS",
+    "DEFAULT_ELECTRONS_PER_LUX_S_M2",
+    "__version__",
+]

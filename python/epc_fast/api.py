@@ -1,0 +1,284 @@
+"""The public entry point: :func:`evaluate`, over NumPy arrays with broadcasting."""
+
+from __future__ import annotations
+
+import math
+import operator
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from . import params, reference
+from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
+from .status import Cause, Status
+
+__all__ = ["evaluate", "Result", "MAX_THREADS"]
+
+#: Upper bound on ``threads=``: more is a mistake, not a faster run.
+MAX_THREADS = 1024
+#: Points per call into the core between two checks for Ctrl-C (the GIL is released inside).
+CHUNK_POINTS = 1 << 18
+BACKENDS = ("core", "reference")
+T_MPE_SOLVERS = ("closed_form", "brent")
+INVALID_POLICIES = ("status", "raise")
+
+
+@dataclass(frozen=True)
+class Result:
+    """The model's outputs, each shaped like the broadcast inputs (scalars for scalar input).
+
+    Attributes
+    ----------
+    electron_rate_e_per_s : e-/s, photo-electron rate of one pixel.
+    electrons : e-, photo-electrons collected during T_MPE (r T_MPE); NaN where no light or
+        PRNU makes the target unreachable, the electrons needed where the full well does.
+    t_mpe_s : s, minimum photometric exposure; +inf where the target is unreachable.
+    blur_mm : mm, blur length on the sensor; +inf where the blur is unbounded.
+    f50_cyc_per_mm : cycles/mm, where the system MTF falls to ``mtf_threshold``.
+    epc : pixels, effective pixel count 4 S f50^2.
+    status : :class:`Status` codes (uint8 array).
+    cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
+    """
+
+    electron_rate_e_per_s: np.ndarray | float
+    electrons: np.ndarray | float
+    t_mpe_s: np.ndarray | float
+    blur_mm: np.ndarray | float
+    f50_cyc_per_mm: np.ndarray | float
+    epc: np.ndarray | float
+    status: np.ndarray | Status
+    cause: np.ndarray | Cause
+
+    def as_dict(self) -> dict:
+        """The outputs by name."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def _as_float_array(name: str, value) -> np.ndarray:
+    """``value`` as a native-endian float64 array, or a TypeError naming ``name``."""
+    if value is None:
+        raise TypeError(f"{name} must be a number or an array of numbers, got None")
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name} must be a number or an array of numbers, got {value!r}")
+    try:
+        arr = np.asarray(value)
+    except Exception as exc:  # ragged lists and the like
+        raise TypeError(f"{name} could not be read as an array: {exc}") from None
+    if arr.dtype.kind not in "iuf":
+        raise TypeError(
+            f"{name} must hold real numbers, got dtype {arr.dtype} ({_short(value)})")
+    return arr.astype(np.float64, copy=False)
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _spectrum_of(spectrum, wavelength_nm) -> Spectrum | None:
+    if spectrum is None:
+        return None
+    if not isinstance(spectrum, Spectrum):
+        try:
+            wavelengths, weights = spectrum
+        except (TypeError, ValueError):
+            raise TypeError("spectrum must be an epc_fast.Spectrum or a pair "
+                            f"(wavelengths_nm, weights), got {_short(spectrum)}") from None
+        spectrum = Spectrum(wavelengths, weights)
+    if not np.all(np.asarray(wavelength_nm) == 550.0):
+        raise ValueError("pass either wavelength_nm or spectrum, not both "
+                         f"(wavelength_nm={_short(wavelength_nm)})")
+    return spectrum
+
+
+def _threads_of(threads) -> int:
+    from . import _core
+
+    if threads is None:
+        return _core.default_threads()
+    if isinstance(threads, bool):
+        raise TypeError(f"threads must be an integer, got {threads!r}")
+    try:
+        count = operator.index(threads)
+    except TypeError:
+        raise TypeError(f"threads must be an integer, got {_short(threads)}") from None
+    if not 1 <= count <= MAX_THREADS:
+        raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")
+    return count
+
+
+def _tolerance(name: str, value) -> float:
+    try:
+        tol = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a number, got {_short(value)}") from None
+    if not 0.0 <= tol < 1.0:
+        raise ValueError(f"{name} must be in [0, 1), got {value!r}")
+    return tol
+
+
+def _choice(name: str, value, allowed) -> str:
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
+    return value
+
+
+def _raise_first_invalid(arrays, names, status, shape):
+    flat = int(np.flatnonzero(status.reshape(-1) == Status.INVALID)[0])
+    index = np.unravel_index(flat, shape) if shape else ()
+    for param, name, arr in zip(params.PARAMETERS, names, arrays):
+        value = np.broadcast_to(arr, shape)[index]
+        if not params.in_domain(param, value):
+            where = f" at index {tuple(int(i) for i in index)}" if shape else ""
+            raise ValueError(f"{name}={float(value)!r}{where} is outside its domain "
+                             f"{param.domain_text()} ({param.meaning})")
+    raise AssertionError("a point is INVALID but every input is in its domain")  # pragma: no cover
+
+
+def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
+             pixel_count=None, sensor_area_mm2=None, reflectance=0.4, lens_transmittance=1.0,
+             field_angle_deg=0.0, fill_factor=1.0, electrons_per_lux_s_m2=None,
+             read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0, full_well_e=math.inf,
+             snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
+             wavelength_nm=550.0, mtf_threshold=0.5, spectrum=None, threads=None,
+             backend="core", invalid="status", f50_rtol=1e-14, t_mpe_solver="closed_form",
+             t_mpe_rtol=1e-15) -> Result:
+    """Effective pixel count and its intermediates for camera designs (MODEL.md).
+
+    Every model parameter is a float or an array_like of floats; all of them broadcast against
+    each other, NumPy style. Domains are in :data:`epc_fast.params.PARAMETERS`.
+
+    Parameters
+    ----------
+    illuminance_lux : lux, illuminance on the scene's gray target (>= 0).
+    pixel_pitch_um : um, pixel pitch.
+    f_number : 1, working f-number.
+    focal_length_mm : mm, focal length.
+    pixel_count, sensor_area_mm2 : pixels or mm^2, the sensor's size: give exactly one.
+    reflectance : 1, reflectance of the Lambertian gray target, in [0, 1].
+    lens_transmittance : 1, lens and filter transmittance, in [0, 1].
+    field_angle_deg : degree, field angle of the image point (cos^4 falloff), in (-90, 90).
+    fill_factor : 1, light-collecting fraction of the pixel area, in (0, 1].
+    electrons_per_lux_s_m2 : e-/(lux s m^2), K; None for the D50 + rect-QE default
+        (:data:`epc_fast.spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2`).
+    read_noise_e : e- rms, read noise.
+    dark_current_e_per_s : e-/s, dark current.
+    prnu : 1, photo-response non-uniformity, rms fraction of the signal.
+    full_well_e : e-, full-well capacity (inf: none).
+    snr_db : dB, target SNR 20 log10(signal/noise).
+    shake_deg_per_s : degree/s, camera angular velocity during the exposure.
+    stabilization : 1, image stabilisation factor k (motion divided by k).
+    jitter_um : um, rms Gaussian jitter (0: off).
+    wavelength_nm : nm, wavelength for monochromatic diffraction.
+    mtf_threshold : 1, MTF level defining the cut-off frequency, in (0, 1).
+    spectrum : Spectrum or (wavelengths_nm, weights), optional
+        Polychromatic diffraction, D(f) = sum_i w_i D_i(f), shared by every point (weights
+        normalised to sum 1); see :func:`epc_fast.spectra.diffraction_spectrum`. Replaces
+        ``wavelength_nm``.
+    threads : int, optional
+        Core threads; default ``OMP_NUM_THREADS`` or the number of cores. Results are
+        identical for every thread count.
+    backend : {"core", "reference"}
+        The compiled core, or the NumPy reference (which ignores the solver knobs: it uses the
+        closed-form T_MPE and bisects f50 to adjacent floats).
+    invalid : {"status", "raise"}
+        Out-of-domain inputs give status INVALID and NaN outputs, or a ValueError naming the
+        first offending argument, value and index.
+    f50_rtol : 1, relative tolerance of the f50 bisection (stops when hi - lo <= rtol lo).
+    t_mpe_solver : {"closed_form", "brent"}
+        The closed-form quadratic root, or Brent's method on ln SNR(T) = ln SNR_target.
+    t_mpe_rtol : 1, Brent's relative tolerance on T_MPE.
+
+    Returns
+    -------
+    Result
+    """
+    if (pixel_count is None) == (sensor_area_mm2 is None):
+        raise TypeError("give exactly one of pixel_count and sensor_area_mm2")
+    size_is_pixel_count = pixel_count is not None
+    size_name = "pixel_count" if size_is_pixel_count else "sensor_area_mm2"
+    if electrons_per_lux_s_m2 is None:
+        electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
+    values = {
+        "illuminance_lux": illuminance_lux, "pixel_pitch_um": pixel_pitch_um,
+        "f_number": f_number, "focal_length_mm": focal_length_mm,
+        "size": pixel_count if size_is_pixel_count else sensor_area_mm2,
+        "reflectance": reflectance, "lens_transmittance": lens_transmittance,
+        "field_angle_deg": field_angle_deg, "fill_factor": fill_factor,
+        "electrons_per_lux_s_m2": electrons_per_lux_s_m2, "read_noise_e": read_noise_e,
+        "dark_current_e_per_s": dark_current_e_per_s, "prnu": prnu, "full_well_e": full_well_e,
+        "snr_db": snr_db, "shake_deg_per_s": shake_deg_per_s, "stabilization": stabilization,
+        "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
+    }
+    names = [size_name if n == "size" else n for n in params.PARAMETER_NAMES]
+    arrays = [_as_float_array(name, values[key])
+              for name, key in zip(names, params.PARAMETER_NAMES)]
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    except ValueError:
+        shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
+        raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None
+    spec = _spectrum_of(spectrum, wavelength_nm)
+    _choice("backend", backend, BACKENDS)
+    _choice("invalid", invalid, INVALID_POLICIES)
+    _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
+    f50_rtol = _tolerance("f50_rtol", f50_rtol)
+    t_mpe_rtol = _tolerance("t_mpe_rtol", t_mpe_rtol)
+
+    if backend == "core":
+        out = _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver,
+                        t_mpe_rtol, _threads_of(threads))
+    else:
+        if threads is not None:
+            _threads_of(threads)
+        out = _run_reference(arrays, shape, size_is_pixel_count, spec)
+
+    status = out["status"].reshape(shape)
+    if invalid == "raise" and np.any(status == Status.INVALID):
+        _raise_first_invalid(arrays, names, status, shape)
+    return _result(out, shape)
+
+
+def _column(arr: np.ndarray, shape) -> np.ndarray:
+    """A contiguous 1-D view or copy: size 1 for a broadcast scalar, else every point."""
+    if arr.size == 1:
+        return np.ascontiguousarray(arr.reshape(1))
+    return np.ascontiguousarray(np.broadcast_to(arr, shape)).reshape(-1)
+
+
+def _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver, t_mpe_rtol,
+              threads):
+    from . import _core
+
+    n = math.prod(shape)
+    columns = [_column(a, shape) for a in arrays]
+    if spec is None:
+        wavelengths = weights = np.empty(0)
+    else:
+        wavelengths, weights = spec.wavelengths_nm, spec.weights
+    return _core.evaluate(columns, size_is_pixel_count, params.domain_table(),
+                          np.ascontiguousarray(wavelengths, dtype=np.float64),
+                          np.ascontiguousarray(weights, dtype=np.float64), n, f50_rtol,
+                          t_mpe_solver, t_mpe_rtol, threads, CHUNK_POINTS)
+
+
+def _run_reference(arrays, shape, size_is_pixel_count, spec):
+    n = math.prod(shape)
+    p = {name: np.broadcast_to(a, shape).reshape(n)
+         for name, a in zip(params.PARAMETER_NAMES, arrays)}
+    valid = np.ones(n, dtype=bool)
+    for param in params.PARAMETERS:
+        valid &= params.in_domain(param, p[param.name])
+    wavelengths = weights = None
+    if spec is not None:
+        wavelengths, weights = spec.wavelengths_nm, spec.weights
+    return reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid)
+
+
+def _result(out, shape) -> Result:
+    if shape == ():
+        return Result(**{
+            name: (Status(int(v[0])) if name == "status" else
+                   Cause(int(v[0])) if name == "cause" else float(v[0]))
+            for name, v in out.items()})
+    return Result(**{name: v.reshape(shape) for name, v in out.items()})

@@ -1,0 +1,110 @@
+"""The model's parameters: names with units, defaults and domains (MODEL.md sections 1 and 8).
+
+This table is the one place where a parameter's domain is written down. The NumPy reference
+uses it to flag invalid points, the API uses it for ``invalid="raise"`` messages, and the C++
+core receives the same bounds with every call, so the two backends cannot drift apart.
+
+A domain is an interval ``lo .. hi`` whose ends are open or closed. NaN is outside every
+domain; an infinite end is inside only when that end is closed (``full_well_e = inf`` means
+"no full well").
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Param", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS", "in_domain"]
+
+INF = math.inf
+
+
+@dataclass(frozen=True)
+class Param:
+    """One per-point model parameter.
+
+    Parameters
+    ----------
+    name : str
+        The keyword name, with its unit as a suffix.
+    default : float or None
+        None when the parameter is required.
+    lo, hi : float
+        Ends of the domain.
+    lo_closed, hi_closed : bool
+        Whether ``lo`` / ``hi`` belong to the domain.
+    meaning : str
+        One line: what it is, unit first.
+    """
+
+    name: str
+    default: float | None
+    lo: float
+    hi: float
+    lo_closed: bool
+    hi_closed: bool
+    meaning: str
+
+    def domain_text(self) -> str:
+        left = "[" if self.lo_closed else "("
+        right = "]" if self.hi_closed else ")"
+        return f"{left}{self.lo:g}, {self.hi:g}{right}"
+
+
+def _p(name, default, lo, hi, lo_closed, hi_closed, meaning):
+    return Param(name, default, float(lo), float(hi), lo_closed, hi_closed, meaning)
+
+
+# The order is the core's parameter order (cpp/include/epc_fast/params.h, enum ParamIndex).
+# "size" is pixel_count or sensor_area_mm2: exactly one is given per call.
+PARAMETERS: tuple[Param, ...] = (
+    _p("illuminance_lux", None, 0, INF, True, False, "lux: illuminance on the gray target"),
+    _p("pixel_pitch_um", None, 0, INF, False, False, "um: pixel pitch"),
+    _p("f_number", None, 0, INF, False, False, "1: working f-number"),
+    _p("focal_length_mm", None, 0, INF, False, False, "mm: focal length"),
+    _p("size", None, 0, INF, False, False,
+       "pixels (pixel_count) or mm^2 (sensor_area_mm2): the sensor's size"),
+    _p("reflectance", 0.4, 0, 1, True, True, "1: reflectance of the Lambertian gray target"),
+    _p("lens_transmittance", 1.0, 0, 1, True, True, "1: lens and filter transmittance"),
+    _p("field_angle_deg", 0.0, -90, 90, False, False,
+       "degree: field angle of the image point (cos^4 falloff)"),
+    _p("fill_factor", 1.0, 0, 1, False, True, "1: light-collecting fraction of the pixel area"),
+    _p("electrons_per_lux_s_m2", None, 0, INF, False, False,
+       "e-/(lux s m^2): photo-electrons per focal-plane lux second per m^2 (None: the D50 default)"),
+    _p("read_noise_e", 0.0, 0, INF, True, False, "e- rms: read noise"),
+    _p("dark_current_e_per_s", 0.0, 0, INF, True, False, "e-/s: dark current"),
+    _p("prnu", 0.0, 0, INF, True, False, "1: photo-response non-uniformity, rms fraction"),
+    _p("full_well_e", INF, 0, INF, False, True, "e-: full-well capacity (inf: none)"),
+    _p("snr_db", 30.0, -INF, INF, False, False, "dB: target SNR, 20 log10(signal/noise)"),
+    _p("shake_deg_per_s", 4.39, 0, INF, True, False, "degree/s: camera angular velocity"),
+    _p("stabilization", 1.0, 0, INF, False, False, "1: image stabilisation factor k (motion / k)"),
+    _p("jitter_um", 0.0, 0, INF, True, False, "um: rms Gaussian jitter (0: off)"),
+    _p("wavelength_nm", 550.0, 0, INF, False, False, "nm: wavelength for diffraction"),
+    _p("mtf_threshold", 0.5, 0, 1, False, False, "1: MTF level defining the cut-off (0.5: f50)"),
+)
+
+PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)
+
+#: The two public names of the "size" slot.
+SIZE_PARAMETERS = ("pixel_count", "sensor_area_mm2")
+
+
+def in_domain(param: Param, values) -> np.ndarray:
+    """Boolean array: which ``values`` lie in ``param``'s domain (NaN never does)."""
+    v = np.asarray(values, dtype=np.float64)
+    above = (v >= param.lo) if param.lo_closed else (v > param.lo)
+    below = (v <= param.hi) if param.hi_closed else (v < param.hi)
+    return above & below
+
+
+def domain_table() -> np.ndarray:
+    """The domains as a float64 array of shape (n_params, 4): lo, hi, lo_closed, hi_closed.
+
+    This is what the C++ core receives with every call.
+    """
+    return np.array(
+        [[p.lo, p.hi, float(p.lo_closed), float(p.hi_closed)] for p in PARAMETERS],
+        dtype=np.float64,
+    )

@@ -1,0 +1,287 @@
+"""The NumPy reference implementation of the EPC model, readable as the spec (MODEL.md).
+
+Every function is one formula of MODEL.md, written with whole-array NumPy expressions, and
+carries the same name as its C++ counterpart in ``cpp/include/epc_fast/``. The C++ core is
+tested against this module; this module is tested against closed forms and the mpmath golden
+values. It favours clarity over speed: f50 is bisected until the bracket cannot shrink any
+further in float64, whatever tolerance the core was asked for.
+
+Units: lengths in the MTF are in mm, spatial frequencies in cycles/mm, time in seconds.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .status import Cause, Status
+
+__all__ = [
+    "electron_rate",
+    "signal_electrons",
+    "t_mpe_closed_form",
+    "snr_db_at",
+    "blur_length_mm",
+    "sinc",
+    "mtf_diffraction",
+    "mtf_pixel",
+    "mtf_motion",
+    "mtf_jitter",
+    "mtf_system",
+    "f50_bracket",
+    "f50_bisection",
+    "effective_pixel_count",
+    "evaluate_points",
+]
+
+
+# --- Photometry and exposure (MODEL.md section 3) -------------------------------------------
+
+
+def electron_rate(illuminance_lux, reflectance, lens_transmittance, field_angle_deg, f_number,
+                  electrons_per_lux_s_m2, fill_factor, pixel_pitch_um):
+    """e-/s: photo-electron rate of one pixel.
+
+    E = L R tau cos^4(theta) / (4 F^2) lux on the focal plane; r = E K a (p 1e-6 m)^2.
+    """
+    cos_theta = np.cos(np.deg2rad(field_angle_deg))
+    focal_plane_lux = (illuminance_lux * reflectance * lens_transmittance * cos_theta**4
+                       / (4.0 * f_number**2))
+    pixel_area_m2 = (pixel_pitch_um * 1e-6) ** 2
+    return focal_plane_lux * electrons_per_lux_s_m2 * fill_factor * pixel_area_m2
+
+
+def signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu):
+    """e-: the photo-electrons r T_MPE needed to reach ``snr_db``.
+
+    T_MPE is the positive root of r^2 (1 - s u^2) T^2 - s (r + D) T - s sigma_r^2 = 0 with
+    s = 10^(snr_db/10). Multiplied by r, and with w = 1 - s u^2 = (1 - u sqrt(s))(1 + u sqrt(s))
+    (factored so that w keeps its digits near the PRNU cap), the root reads
+
+        r T = s (1 + D/r) / (2 w) * (1 + hypot(1, 2 sigma_r sqrt(w/s) / (1 + D/r)))
+
+    which adds only positive terms (no cancellation) and squares nothing that can overflow.
+    Returns +inf where PRNU caps the SNR (u sqrt(s) >= 1) and NaN where r = 0.
+    """
+    root_s = 10.0 ** (np.asarray(snr_db, dtype=np.float64) / 20.0)
+    s = root_s * root_s
+    w = (1.0 - prnu * root_s) * (1.0 + prnu * root_s)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        noise_per_signal = 1.0 + dark_current_e_per_s / rate_e_per_s
+        read_term = 2.0 * read_noise_e * np.sqrt(np.maximum(w, 0.0) / s) / noise_per_signal
+        electrons = s * noise_per_signal / (2.0 * w) * (1.0 + np.hypot(1.0, read_term))
+    electrons = np.where(prnu * root_s >= 1.0, np.inf, electrons)
+    return np.where(rate_e_per_s > 0, electrons, np.nan)
+
+
+def t_mpe_closed_form(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu):
+    """s: minimum photometric exposure T_MPE, the closed-form root (see :func:`signal_electrons`).
+
+    +inf where the target is unreachable by PRNU or there is no light.
+    """
+    electrons = signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = electrons / rate_e_per_s
+    return np.where(rate_e_per_s > 0, t, np.inf)
+
+
+def snr_db_at(t_s, rate_e_per_s, read_noise_e, dark_current_e_per_s, prnu):
+    """dB: SNR after an exposure of ``t_s`` seconds, 20 log10(S / sigma) in electrons."""
+    signal = rate_e_per_s * t_s
+    variance = signal + dark_current_e_per_s * t_s + read_noise_e**2 + (prnu * signal) ** 2
+    return 20.0 * np.log10(signal / np.sqrt(variance))
+
+
+# --- Blur (MODEL.md section 4) ---------------------------------------------------------------
+
+
+def blur_length_mm(focal_length_mm, shake_deg_per_s, stabilization, t_mpe_s):
+    """mm: blur length f_L tan(omega / k * T_MPE); +inf once the angle reaches pi/2."""
+    angle_rad = np.deg2rad(shake_deg_per_s) / stabilization * t_mpe_s
+    with np.errstate(invalid="ignore"):
+        bounded = angle_rad < np.pi / 2
+        return np.where(bounded, focal_length_mm * np.tan(np.where(bounded, angle_rad, 0.0)),
+                        np.inf)
+
+
+# --- MTF factors (MODEL.md section 5) --------------------------------------------------------
+
+
+def sinc(x):
+    """1: the normalised sinc, sin(pi x) / (pi x), equal to 1 at x = 0."""
+    x = np.asarray(x, dtype=np.float64)
+    safe = np.where(x == 0.0, 1.0, x)
+    return np.where(x == 0.0, 1.0, np.sin(np.pi * safe) / (np.pi * safe))
+
+
+def mtf_diffraction(f_cyc_per_mm, wavelength_nm, f_number):
+    """1: aberration-free circular-pupil diffraction MTF at normalised frequency nu = f lambda F.
+
+    D = (2/pi) (acos nu - nu sqrt(1 - nu^2)) for nu < 1, else 0; 1 - nu^2 is written
+    (1 - nu)(1 + nu) so that it keeps its digits near nu = 1.
+    """
+    nu = np.minimum(f_cyc_per_mm * (wavelength_nm * 1e-6) * f_number, 1.0)
+    return (2.0 / np.pi) * (np.arccos(nu) - nu * np.sqrt((1.0 - nu) * (1.0 + nu)))
+
+
+def mtf_pixel(f_cyc_per_mm, pixel_pitch_um, fill_factor):
+    """1: square pixel aperture of side sqrt(a) p: |sinc(sqrt(a) p f)|, p in mm."""
+    return np.abs(sinc(np.sqrt(fill_factor) * (pixel_pitch_um * 1e-3) * f_cyc_per_mm))
+
+
+def mtf_motion(f_cyc_per_mm, blur_mm):
+    """1: linear motion of length b: |sinc(b f)|."""
+    return np.abs(sinc(blur_mm * f_cyc_per_mm))
+
+
+def mtf_jitter(f_cyc_per_mm, jitter_um):
+    """1: Gaussian jitter of rms sigma_j: exp(-2 pi^2 sigma_j^2 f^2), sigma_j in mm."""
+    return np.exp(-2.0 * np.pi**2 * (jitter_um * 1e-3 * f_cyc_per_mm) ** 2)
+
+
+def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
+               wavelengths_nm, weights):
+    """1: D(f) P(f) M(f) J(f), with D = sum_i w_i D_i(f) over a spectrum (weights sum to 1).
+
+    ``wavelengths_nm`` and ``weights`` are 1-D and shared by every point; a monochromatic
+    scene passes one wavelength with weight 1.
+    """
+    f = np.asarray(f_cyc_per_mm, dtype=np.float64)
+    diffraction = sum(w * mtf_diffraction(f, lam, f_number)
+                      for lam, w in zip(wavelengths_nm, weights))
+    return (diffraction * mtf_pixel(f, pixel_pitch_um, fill_factor)
+            * mtf_motion(f, blur_mm) * mtf_jitter(f, jitter_um))
+
+
+# --- The cut-off frequency (MODEL.md section 6) ----------------------------------------------
+
+
+def f50_bracket(f_number, shortest_wavelength_nm, pixel_pitch_um, fill_factor, blur_mm,
+                jitter_um, mtf_threshold):
+    """cycles/mm: f_hi, the end of the bracket [0, f_hi] holding the unique f50.
+
+    The smallest first zero of the factors (diffraction 1/(lambda_min F), pixel 1/(sqrt(a) p),
+    motion 1/b) and, with jitter, the frequency where jitter alone falls to the threshold.
+    """
+    with np.errstate(divide="ignore"):
+        diffraction_zero = 1.0 / (shortest_wavelength_nm * 1e-6 * f_number)
+        pixel_zero = 1.0 / (np.sqrt(fill_factor) * pixel_pitch_um * 1e-3)
+        motion_zero = np.where(blur_mm > 0, 1.0 / blur_mm, np.inf)
+        jitter_crossing = np.where(
+            jitter_um > 0,
+            np.sqrt(np.log(1.0 / mtf_threshold) / (2.0 * np.pi**2)) / (jitter_um * 1e-3),
+            np.inf)
+    return np.minimum(np.minimum(diffraction_zero, pixel_zero),
+                      np.minimum(motion_zero, jitter_crossing))
+
+
+def f50_bisection(mtf, f_hi, mtf_threshold):
+    """cycles/mm: the first f with mtf(f) = threshold, by bisection on [0, f_hi].
+
+    ``mtf`` maps an array of frequencies (shaped like ``f_hi``) to MTF values. The bracket
+    keeps mtf(lo) > threshold >= mtf(hi) and halves until lo and hi are adjacent floats;
+    the midpoint is returned.
+    """
+    lo = np.zeros_like(f_hi)
+    hi = np.array(f_hi, dtype=np.float64)
+    while True:
+        mid = lo + 0.5 * (hi - lo)
+        active = (mid > lo) & (mid < hi)
+        if not active.any():
+            return lo + 0.5 * (hi - lo)
+        above = mtf(mid) > mtf_threshold
+        lo = np.where(active & above, mid, lo)
+        hi = np.where(active & ~above, mid, hi)
+
+
+# --- EPC (MODEL.md section 7) ----------------------------------------------------------------
+
+
+def effective_pixel_count(sensor_area_mm2, f50_cyc_per_mm):
+    """pixels: EPC = 4 S f50^2, S in mm^2 (not capped at the pixel count)."""
+    return 4.0 * sensor_area_mm2 * f50_cyc_per_mm**2
+
+
+# --- All of it, per point --------------------------------------------------------------------
+
+
+def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid):
+    """Evaluate the model on 1-D arrays of equal length.
+
+    Parameters
+    ----------
+    p : dict of str to ndarray
+        Every name of :data:`epc_fast.params.PARAMETER_NAMES` mapped to a 1-D float64 array.
+        ``p["size"]`` is a pixel count or a sensor area in mm^2, as ``size_is_pixel_count`` says.
+    size_is_pixel_count : bool
+    wavelengths_nm, weights : ndarray or None
+        A spectrum shared by every point (weights sum to 1), or None for ``p["wavelength_nm"]``.
+    valid : ndarray of bool
+        Which points have every input inside its domain (:func:`epc_fast.params.in_domain`).
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``electron_rate_e_per_s``, ``electrons``, ``t_mpe_s``, ``blur_mm``, ``f50_cyc_per_mm``,
+        ``epc``, ``status`` (uint8, :class:`Status`) and ``cause`` (uint8, :class:`Cause`).
+    """
+    # Invalid points are evaluated on harmless stand-in values and masked at the end, so that
+    # no NumPy warning is raised for them.
+    q = {name: np.where(valid, v, 1.0 if name != "mtf_threshold" else 0.5)
+         for name, v in p.items()}
+    with np.errstate(all="ignore"):
+        rate = electron_rate(q["illuminance_lux"], q["reflectance"], q["lens_transmittance"],
+                             q["field_angle_deg"], q["f_number"], q["electrons_per_lux_s_m2"],
+                             q["fill_factor"], q["pixel_pitch_um"])
+        electrons = signal_electrons(rate, q["snr_db"], q["read_noise_e"],
+                                     q["dark_current_e_per_s"], q["prnu"])
+        t_mpe = electrons / rate
+
+    # A rate so small that T_MPE overflows counts as no light.
+    prnu_cap = (rate > 0) & (q["prnu"] * 10.0 ** (q["snr_db"] / 20.0) >= 1.0)
+    no_light = ~prnu_cap & ~np.isfinite(t_mpe)
+    full_well = ~no_light & ~prnu_cap & (electrons > q["full_well_e"])
+    unreachable = no_light | prnu_cap | full_well
+
+    t_mpe = np.where(unreachable, np.inf, t_mpe)
+    with np.errstate(invalid="ignore"):
+        blur = blur_length_mm(q["focal_length_mm"], q["shake_deg_per_s"], q["stabilization"],
+                              np.where(unreachable, 0.0, t_mpe))
+    unbounded = ~unreachable & np.isinf(blur)
+    solve = ~unreachable & ~unbounded
+
+    if wavelengths_nm is None:
+        wavelengths, spectral_weights = [q["wavelength_nm"]], [1.0]
+        shortest = q["wavelength_nm"]
+    else:
+        wavelengths, spectral_weights = list(wavelengths_nm), list(weights)
+        shortest = np.min(np.asarray(wavelengths_nm)[np.asarray(weights) > 0])
+
+    blur_solved = np.where(solve, blur, 0.0)
+    f_hi = f50_bracket(q["f_number"], shortest, q["pixel_pitch_um"], q["fill_factor"],
+                       blur_solved, q["jitter_um"], q["mtf_threshold"])
+
+    def mtf(f):
+        return mtf_system(f, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_solved,
+                          q["jitter_um"], wavelengths, spectral_weights)
+
+    f50 = np.where(solve, f50_bisection(mtf, f_hi, q["mtf_threshold"]), 0.0)
+    area_mm2 = q["size"] * (q["pixel_pitch_um"] * 1e-3) ** 2 if size_is_pixel_count else q["size"]
+    epc = effective_pixel_count(area_mm2, f50)
+
+    status = np.select([~valid, unreachable, unbounded],
+                       [Status.INVALID, Status.UNREACHABLE, Status.BLUR_UNBOUNDED],
+                       Status.OK).astype(np.uint8)
+    cause = np.select([~valid, no_light, prnu_cap, full_well],
+                      [Cause.NONE, Cause.NO_LIGHT, Cause.PRNU, Cause.FULL_WELL],
+                      Cause.NONE).astype(np.uint8)
+    nan = np.nan
+    return {
+        "electron_rate_e_per_s": np.where(valid, rate, nan),
+        "electrons": np.where(valid & ~no_light & ~prnu_cap, electrons, nan),
+        "t_mpe_s": np.where(valid, t_mpe, nan),
+        "blur_mm": np.where(valid & ~unreachable, blur, nan),
+        "f50_cyc_per_mm": np.where(valid & ~unreachable, f50, nan),
+        "epc": np.where(valid & ~unreachable, epc, nan),
+        "status": status,
+        "cause": cause,
+    }

@@ -1,0 +1,36 @@
+"""Per-point status codes (MODEL.md section 8) and the cause of an unreachable SNR target.
+
+The integer values are part of the binary contract with the C++ core
+(``cpp/include/epc_fast/status.h``): keep the two in step.
+"""
+
+from __future__ import annotations
+
+import enum
+
+__all__ = ["Status", "Cause"]
+
+
+class Status(enum.IntEnum):
+    """What happened at one design point."""
+
+    OK = 0
+    """Every output is finite and meaningful."""
+    INVALID = 1
+    """An input is NaN, infinite where it must be finite, or outside its domain: all outputs NaN."""
+    UNREACHABLE = 2
+    """The SNR target cannot be met (see :class:`Cause`): T_MPE = +inf, blur, f50 and EPC NaN."""
+    BLUR_UNBOUNDED = 3
+    """The shake angle during T_MPE reaches pi/2: blur = +inf, f50 = 0, EPC = 0."""
+
+
+class Cause(enum.IntEnum):
+    """Why a point is :attr:`Status.UNREACHABLE` (``NONE`` for every other status)."""
+
+    NONE = 0
+    NO_LIGHT = 1
+    """The electron rate is zero (no light, zero reflectance or transmittance, or an underflow)."""
+    PRNU = 2
+    """PRNU caps the SNR: prnu * 10**(snr_db/20) >= 1."""
+    FULL_WELL = 3
+    """The photo-electrons needed exceed the full well: rate * T_MPE > full_well_e."""
