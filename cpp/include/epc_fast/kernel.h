@@ -21,6 +21,7 @@
 #include "parallel.h"
 #include "params.h"
 #include "status.h"
+#include "vector_math.h"
 
 namespace epc_fast {
 
@@ -100,44 +101,70 @@ inline void exposure(const Options& opt, Block& b) {
     }
 }
 
-// MTF_sys(mid) > threshold for every lane, with the factors the block needs.
+// One bisection step on every active lane: MTF_sys(mid) > threshold moves lo, else hi.
+// Local __restrict pointers and bitwise logic keep each lane loop a straight line.
 template <bool Motion, bool Jitter, bool Poly>
 void bisection_step(const Spectrum& spectrum, Block& b) {
-    const auto& x = b.x;
+    const std::size_t n = b.n;
+    const double* __restrict mid = b.mid;
+    const double* __restrict f_num = b.x[f_number];
+    double* __restrict diffraction = b.diffraction;
     if (Poly) {
-        for (std::size_t i = 0; i < b.n; ++i) b.diffraction[i] = 0.0;
+        for (std::size_t i = 0; i < n; ++i) diffraction[i] = 0.0;
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
             const double lambda_mm = spectrum.wavelengths_nm[k] * nm_to_mm;
             const double w = spectrum.weights[k];
-            for (std::size_t i = 0; i < b.n; ++i)
-                b.diffraction[i] += w * mtf_diffraction(b.mid[i] * lambda_mm * x[f_number][i]);
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i)
+                diffraction[i] += w * mtf_diffraction(mid[i] * lambda_mm * f_num[i]);
         }
     } else {
-        for (std::size_t i = 0; i < b.n; ++i)
-            b.diffraction[i] = mtf_diffraction(b.mid[i] * b.lambda_f_mm[i]);
+        const double* __restrict lambda_f = b.lambda_f_mm;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) diffraction[i] = mtf_diffraction(mid[i] * lambda_f[i]);
     }
-    for (std::size_t i = 0; i < b.n; ++i) {
-        const double f = b.mid[i];
-        double m = b.diffraction[i] * mtf_pixel(f, b.aperture_mm[i]);
-        if (Motion) m *= mtf_motion(f, b.blur[i]);
-        if (Jitter) m *= mtf_jitter(f, b.jitter_mm2[i]);
-        const bool above = m > x[mtf_threshold][i];
-        b.lo[i] = b.active[i] && above ? f : b.lo[i];
-        b.hi[i] = b.active[i] && !above ? f : b.hi[i];
+    const double* __restrict aperture = b.aperture_mm;
+    const double* __restrict blur = b.blur;
+    const double* __restrict jitter = b.jitter_mm2;
+    // Two loops: GCC does not if-convert a select that depends on a vector-maths call.
+    double* __restrict mtf = b.diffraction;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double f = mid[i];
+        double m = diffraction[i] * mtf_pixel(f, aperture[i]);
+        if (Motion) m *= mtf_motion(f, blur[i]);
+        if (Jitter) m *= mtf_jitter(f, jitter[i]);
+        mtf[i] = m;
+    }
+    const double* __restrict threshold = b.x[mtf_threshold];
+    const bool* __restrict active = b.active;
+    double* __restrict lo = b.lo;
+    double* __restrict hi = b.hi;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool above = mtf[i] > threshold[i];
+        lo[i] = active[i] & above ? mid[i] : lo[i];
+        hi[i] = active[i] & !above ? mid[i] : hi[i];
     }
 }
 
 template <bool Motion, bool Jitter, bool Poly>
 void bisect(const Spectrum& spectrum, double rtol, Block& b) {
+    const std::size_t n = b.n;
+    const bool* __restrict solve = b.solve;
+    const double* __restrict lo = b.lo;
+    const double* __restrict hi = b.hi;
+    double* __restrict mid = b.mid;
+    bool* __restrict active = b.active;
     for (int step = 0; step < max_bisection_steps; ++step) {
-        bool any_active = false;
-        for (std::size_t i = 0; i < b.n; ++i) {
-            b.mid[i] = b.lo[i] + 0.5 * (b.hi[i] - b.lo[i]);
-            b.active[i] = b.solve[i] && b.hi[i] - b.lo[i] > rtol * b.lo[i] &&
-                          b.mid[i] > b.lo[i] && b.mid[i] < b.hi[i];
-            any_active |= b.active[i];
+        int n_active = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double m = lo[i] + 0.5 * (hi[i] - lo[i]);
+            mid[i] = m;
+            active[i] = solve[i] & (hi[i] - lo[i] > rtol * lo[i]) & (m > lo[i]) & (m < hi[i]);
+            n_active += active[i];
         }
-        if (!any_active) return;
+        if (n_active == 0) return;
         bisection_step<Motion, Jitter, Poly>(spectrum, b);
     }
 }
