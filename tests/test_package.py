@@ -1,0 +1,54 @@
+"""Architecture guards: what importing the package pulls in, and the shape of its public API."""
+
+import inspect
+import subprocess
+import sys
+
+import epc_fast
+from epc_fast import params, reference
+
+
+def test_importing_epc_fast_does_not_import_optional_dependencies():
+    code = ("import sys, epc_fast; epc_fast.evaluate(1000.0, 1.4, 2.8, 5.6, sensor_area_mm2=15.0);"
+            "bad = [m for m in ('colour', 'matplotlib', 'tqdm', 'dask', 'pyarrow', 'scipy')"
+            " if m in sys.modules]; print(bad); sys.exit(1 if bad else 0)")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_evaluate_has_the_documented_signature():
+    sig = inspect.signature(epc_fast.evaluate)
+    names = list(sig.parameters)
+    assert names[:4] == ["illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm"]
+    expected_defaults = {
+        "pixel_count": None, "sensor_area_mm2": None, "reflectance": 0.4,
+        "lens_transmittance": 1.0, "field_angle_deg": 0.0, "fill_factor": 1.0,
+        "electrons_per_lux_s_m2": None, "read_noise_e": 0.0, "dark_current_e_per_s": 0.0,
+        "prnu": 0.0, "full_well_e": float("inf"), "snr_db": 30.0, "shake_deg_per_s": 4.39,
+        "stabilization": 1.0, "jitter_um": 0.0, "wavelength_nm": 550.0, "mtf_threshold": 0.5,
+        "threads": None, "backend": "core",
+    }
+    for name, default in expected_defaults.items():
+        assert sig.parameters[name].default == default, name
+        assert sig.parameters[name].kind is inspect.Parameter.KEYWORD_ONLY, name
+
+
+def test_parameter_table_defaults_match_the_signature():
+    sig = inspect.signature(epc_fast.evaluate)
+    for p in params.PARAMETERS:
+        if p.default is not None:
+            assert sig.parameters[p.name].default == p.default, p.name
+
+
+def test_status_codes_are_the_documented_names():
+    assert [s.name for s in epc_fast.Status] == ["OK", "INVALID", "UNREACHABLE",
+                                                 "BLUR_UNBOUNDED"]
+    assert [c.name for c in epc_fast.Cause] == ["NONE", "NO_LIGHT", "PRNU", "FULL_WELL"]
+
+
+def test_core_formulas_carry_the_reference_names():
+    from epc_fast import _core
+
+    for name in ("sinc", "mtf_diffraction", "signal_electrons"):
+        assert hasattr(_core, name) and hasattr(reference, name), name
