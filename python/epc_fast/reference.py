@@ -162,6 +162,8 @@ def f50_bracket(f_number, shortest_wavelength_nm, pixel_pitch_um, fill_factor, b
     The smallest first zero of the factors (diffraction 1/(lambda_min F), pixel 1/(sqrt(a) p),
     motion 1/b) and, with jitter, the frequency where jitter alone falls to the threshold.
     """
+    blur_mm = np.asarray(blur_mm, dtype=np.float64)
+    jitter_um = np.asarray(jitter_um, dtype=np.float64)
     with np.errstate(divide="ignore"):
         diffraction_zero = 1.0 / (shortest_wavelength_nm * 1e-6 * f_number)
         pixel_zero = 1.0 / (np.sqrt(fill_factor) * pixel_pitch_um * 1e-3)

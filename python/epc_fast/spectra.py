@@ -388,10 +388,14 @@ def _photopic_table():
 def _load_table(kind, name):
     """(wavelengths in nm, values) of one colour-science table, as read-only float arrays."""
     colour = _colour()
-    if kind == "illuminant":
-        sd = colour.SDS_ILLUMINANTS[name]
-    else:
-        sd = colour.colorimetry.SDS_LEFS_PHOTOPIC[name]
+    with warnings.catch_warnings():
+        # colour-science warns on first table access when optional packages (SciPy,
+        # Matplotlib) are missing; the raw tables read here need neither.
+        warnings.filterwarnings("ignore", message='.*related API features are not available')
+        if kind == "illuminant":
+            sd = colour.SDS_ILLUMINANTS[name]
+        else:
+            sd = colour.colorimetry.SDS_LEFS_PHOTOPIC[name]
     wavelengths = np.array(sd.wavelengths, dtype=float)
     values = np.array(sd.values, dtype=float)
     wavelengths.flags.writeable = False
@@ -402,7 +406,7 @@ def _load_table(kind, name):
 def _colour():
     try:
         with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message='.*"Matplotlib" related API')
+            warnings.filterwarnings("ignore", message='.*related API features are not available')
             import colour
     except ImportError as error:
         raise ImportError("epc_fast.spectra needs colour-science for the CIE tables: "

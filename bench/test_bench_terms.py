@@ -1,0 +1,52 @@
+"""What each term of a scene costs, against the minimal scene (shot noise, no motion, one
+wavelength), on the core at 10^5 points and 1 thread:
+
+    python -m pytest bench/test_bench_terms.py --benchmark-only --benchmark-group-by=group
+
+A term the scene does not use must cost nothing: the kernel compiles the motion and jitter
+factors out of blocks that do not need them and never loops over a spectrum for one wavelength.
+"""
+
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast.spectra import diffraction_spectrum
+
+N = 10**5
+
+
+def _scene(**extra):
+    rng = np.random.default_rng(2024)
+    kwargs = {
+        "illuminance_lux": 10 ** rng.uniform(1, 5, N),
+        "pixel_pitch_um": rng.uniform(0.8, 3.0, N),
+        "f_number": 2.8, "focal_length_mm": 5.6, "sensor_area_mm2": 15.7,
+        "shake_deg_per_s": 0.0,
+    }
+    kwargs.update(extra)
+    return kwargs
+
+
+SCENES = {
+    "minimal": {},
+    "read+dark+prnu": {"read_noise_e": 3.0, "dark_current_e_per_s": 50.0, "prnu": 0.005},
+    "motion": {"shake_deg_per_s": 4.39},
+    "jitter": {"jitter_um": 1.0},
+    "fill factor": {"fill_factor": 0.6},
+    "brent T_MPE": {"read_noise_e": 3.0, "t_mpe_solver": "brent"},
+    "poly 1": {"spectrum": diffraction_spectrum(1)},
+    "poly 4": {"spectrum": diffraction_spectrum(4)},
+    "poly 16": {"spectrum": diffraction_spectrum(16)},
+    "poly 64": {"spectrum": diffraction_spectrum(64)},
+}
+
+
+@pytest.mark.benchmark(group="terms 1e5 points, 1 thread")
+@pytest.mark.parametrize("scene", list(SCENES))
+def test_term_cost(benchmark, scene):
+    kwargs = _scene(**SCENES[scene])
+    result = benchmark.pedantic(epc_fast.evaluate, kwargs=dict(kwargs, threads=1), rounds=5,
+                                iterations=1, warmup_rounds=1)
+    assert np.all(result.status == epc_fast.Status.OK)
+    assert np.all(result.epc > 0)
