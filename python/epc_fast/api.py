@@ -58,6 +58,9 @@ def _as_float_array(name: str, value) -> np.ndarray:
     """``value`` as a native-endian float64 array, or a TypeError naming ``name``."""
     if value is None:
         raise TypeError(f"{name} must be a number or an array of numbers, got None")
+    if isinstance(value, np.ma.MaskedArray):
+        raise TypeError(f"{name} is a masked array: its mask would be ignored; pass "
+                        "plain values (e.g. .filled(np.nan) to make masked points INVALID)")
     if isinstance(value, (str, bytes)):
         raise TypeError(f"{name} must be a number or an array of numbers, got {value!r}")
     try:

@@ -54,21 +54,23 @@ def signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, p
     """e-: the photo-electrons r T_MPE needed to reach ``snr_db``.
 
     T_MPE is the positive root of r^2 (1 - s u^2) T^2 - s (r + D) T - s sigma_r^2 = 0 with
-    s = 10^(snr_db/10). Multiplied by r, and with w = 1 - s u^2 = (1 - u sqrt(s))(1 + u sqrt(s))
-    (factored so that w keeps its digits near the PRNU cap), the root reads
+    s = 10^(snr_db/10). Multiplied by r, with q = 1 + D/r and w = 1 - s u^2 =
+    (1 - u sqrt(s))(1 + u sqrt(s)) (factored so that w keeps its digits near the PRNU cap),
+    the root reads
 
-        r T = s (1 + D/r) / (2 w) * (1 + hypot(1, 2 sigma_r sqrt(w/s) / (1 + D/r)))
+        r T = q / (2 w) * (s + hypot(s, 2 sigma_r sqrt(w s) / q))
 
-    which adds only positive terms (no cancellation) and squares nothing that can overflow.
-    Returns +inf where PRNU caps the SNR (u sqrt(s) >= 1) and NaN where r = 0.
+    which adds only positive terms (no cancellation), squares nothing that can overflow, and
+    stays right when s underflows to 0. Returns +inf where PRNU caps the SNR (u sqrt(s) >= 1)
+    and NaN where r = 0.
     """
     root_s = 10.0 ** (np.asarray(snr_db, dtype=np.float64) / 20.0)
     s = root_s * root_s
     w = (1.0 - prnu * root_s) * (1.0 + prnu * root_s)
     with np.errstate(divide="ignore", invalid="ignore"):
-        noise_per_signal = 1.0 + dark_current_e_per_s / rate_e_per_s
-        read_term = 2.0 * read_noise_e * np.sqrt(np.maximum(w, 0.0) / s) / noise_per_signal
-        electrons = s * noise_per_signal / (2.0 * w) * (1.0 + np.hypot(1.0, read_term))
+        q = 1.0 + dark_current_e_per_s / rate_e_per_s
+        read_term = 2.0 * read_noise_e * np.sqrt(np.maximum(w, 0.0)) * root_s / q
+        electrons = q / (2.0 * w) * (s + np.hypot(s, read_term))
     electrons = np.where(prnu * root_s >= 1.0, np.inf, electrons)
     return np.where(rate_e_per_s > 0, electrons, np.nan)
 
@@ -134,7 +136,7 @@ def mtf_motion(f_cyc_per_mm, blur_mm):
 
 
 def mtf_jitter(f_cyc_per_mm, jitter_um):
-    """1: Gaussian jitter of rms sigma_j: exp(-2 pi^2 sigma_j^2 f^2), sigma_j in mm."""
+    """1: Gaussian jitter of rms sigma_j: exp(-2 pi^2 (sigma_j f)^2), sigma_j in mm."""
     return np.exp(-2.0 * np.pi**2 * (jitter_um * 1e-3 * f_cyc_per_mm) ** 2)
 
 
@@ -226,17 +228,20 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid):
         ``electron_rate_e_per_s``, ``electrons``, ``t_mpe_s``, ``blur_mm``, ``f50_cyc_per_mm``,
         ``epc``, ``status`` (uint8, :class:`Status`) and ``cause`` (uint8, :class:`Cause`).
     """
-    # Invalid points are evaluated on harmless stand-in values and masked at the end, so that
-    # no NumPy warning is raised for them.
+    # Invalid points are evaluated on harmless stand-in values and masked at the end.
     q = {name: np.where(valid, v, 1.0 if name != "mtf_threshold" else 0.5)
          for name, v in p.items()}
-    with np.errstate(all="ignore"):
-        rate = electron_rate(q["illuminance_lux"], q["reflectance"], q["lens_transmittance"],
-                             q["field_angle_deg"], q["f_number"], q["electrons_per_lux_s_m2"],
-                             q["fill_factor"], q["pixel_pitch_um"])
-        electrons = signal_electrons(rate, q["snr_db"], q["read_noise_e"],
-                                     q["dark_current_e_per_s"], q["prnu"])
-        t_mpe = electrons / rate
+    with np.errstate(all="ignore"):  # extreme but valid points may overflow; statuses tell
+        return _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid)
+
+
+def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid):
+    rate = electron_rate(q["illuminance_lux"], q["reflectance"], q["lens_transmittance"],
+                         q["field_angle_deg"], q["f_number"], q["electrons_per_lux_s_m2"],
+                         q["fill_factor"], q["pixel_pitch_um"])
+    electrons = signal_electrons(rate, q["snr_db"], q["read_noise_e"],
+                                 q["dark_current_e_per_s"], q["prnu"])
+    t_mpe = electrons / rate
 
     # A rate so small that T_MPE overflows counts as no light.
     prnu_cap = (rate > 0) & (q["prnu"] * 10.0 ** (q["snr_db"] / 20.0) >= 1.0)
@@ -245,9 +250,8 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid):
     unreachable = no_light | prnu_cap | full_well
 
     t_mpe = np.where(unreachable, np.inf, t_mpe)
-    with np.errstate(invalid="ignore"):
-        blur = blur_length_mm(q["focal_length_mm"], q["shake_deg_per_s"], q["stabilization"],
-                              np.where(unreachable, 0.0, t_mpe))
+    blur = blur_length_mm(q["focal_length_mm"], q["shake_deg_per_s"], q["stabilization"],
+                          np.where(unreachable, 0.0, t_mpe))
     unbounded = ~unreachable & np.isinf(blur)
     solve = ~unreachable & ~unbounded
 
@@ -276,14 +280,14 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid):
     cause = np.select([~valid, no_light, prnu_cap, full_well],
                       [Cause.NONE, Cause.NO_LIGHT, Cause.PRNU, Cause.FULL_WELL],
                       Cause.NONE).astype(np.uint8)
-    nan = np.nan
+    solved = valid & ~unreachable
     return {
-        "electron_rate_e_per_s": np.where(valid, rate, nan),
-        "electrons": np.where(valid & ~no_light & ~prnu_cap, electrons, nan),
-        "t_mpe_s": np.where(valid, t_mpe, nan),
-        "blur_mm": np.where(valid & ~unreachable, blur, nan),
-        "f50_cyc_per_mm": np.where(valid & ~unreachable, f50, nan),
-        "epc": np.where(valid & ~unreachable, epc, nan),
+        "electron_rate_e_per_s": np.where(valid, rate, np.nan),
+        "electrons": np.where(valid & ~no_light & ~prnu_cap, electrons, np.nan),
+        "t_mpe_s": np.where(valid, t_mpe, np.nan),
+        "blur_mm": np.where(solved, blur, np.nan),
+        "f50_cyc_per_mm": np.where(solved, f50, np.nan),
+        "epc": np.where(solved, epc, np.nan),
         "status": status,
         "cause": cause,
     }

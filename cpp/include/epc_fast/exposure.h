@@ -35,14 +35,16 @@ struct SnrTarget {
 
 // e-: the photo-electrons r T_MPE needed, the positive root of
 // r^2 (1 - s u^2) T^2 - s (r + D) T - s sigma_r^2 = 0, written without cancellation:
-// r T = s (1 + D/r) / (2 w) * (1 + hypot(1, 2 sigma_r sqrt(w/s) / (1 + D/r))),
-// w = (1 - u sqrt(s))(1 + u sqrt(s)). Meaningful only for r > 0 and u sqrt(s) < 1.
+// r T = q / (2 w) * (s + hypot(s, 2 sigma_r sqrt(w s) / q)), q = 1 + D/r,
+// w = (1 - u sqrt(s))(1 + u sqrt(s)). Only positive terms are added, nothing that can overflow
+// is squared, and s may underflow to 0 (a target far below 0 dB) without a 0 * inf.
+// Meaningful only for r > 0 and u sqrt(s) < 1.
 inline double signal_electrons(double rate_e_per_s, const SnrTarget& target, double read_noise_e,
                                double dark_current_e_per_s, double prnu) {
     const double w = (1.0 - prnu * target.root_s) * (1.0 + prnu * target.root_s);
-    const double noise_per_signal = 1.0 + dark_current_e_per_s / rate_e_per_s;
-    const double read_term = 2.0 * read_noise_e * std::sqrt(w / target.s) / noise_per_signal;
-    return target.s * noise_per_signal / (2.0 * w) * (1.0 + std::hypot(1.0, read_term));
+    const double q = 1.0 + dark_current_e_per_s / rate_e_per_s;
+    const double read_term = 2.0 * read_noise_e * std::sqrt(w) * target.root_s / q;
+    return q / (2.0 * w) * (target.s + std::hypot(target.s, read_term));
 }
 
 // ln SNR - ln SNR_target after collecting `electrons` photo-electrons, with the dark

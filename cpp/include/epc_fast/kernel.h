@@ -6,6 +6,9 @@
 // block together; a lane stops moving once its own bracket meets the tolerance, so a point's
 // result never depends on its neighbours, the block size or the thread count.
 //
+// The transcendental functions of the MTF are inlined polynomials (polynomials.h), so the lane
+// loops vectorise to the width the build targets.
+//
 // A block pays only for the terms it uses: the motion and jitter factors are compiled out of
 // the bisection when no lane of the block has them, and a monochromatic call never loops over
 // a spectrum.
@@ -21,7 +24,6 @@
 #include "parallel.h"
 #include "params.h"
 #include "status.h"
-#include "vector_math.h"
 
 namespace epc_fast {
 
@@ -34,8 +36,11 @@ namespace detail {
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 constexpr double inf = std::numeric_limits<double>::infinity();
 
-// Per-lane state of one block.
-struct Block {
+// Per-lane state of one block. Every stage runs over all block_size lanes, whatever the
+// number n of real points: lanes past n hold stand-ins and are never written out. A constant,
+// aligned trip count leaves the vectoriser no scalar prologue or epilogue, so every lane runs
+// the same instructions and a point's result does not depend on its place in the block.
+struct alignas(64) Block {
     std::size_t n;
     double x[n_params][block_size];  // parameters; invalid lanes hold harmless stand-ins
     bool valid[block_size];
@@ -43,7 +48,7 @@ struct Block {
     bool capped[block_size], no_light[block_size], full_well[block_size];
     bool unbounded[block_size], solve[block_size];
     // f50 bisection
-    double lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm2[block_size];
+    double lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm[block_size];
     double lo[block_size], hi[block_size], mid[block_size], diffraction[block_size];
     bool active[block_size];
 };
@@ -53,19 +58,19 @@ inline void gather(const Inputs& in, std::size_t begin, Block& b) {
         const Column& col = in.columns[j];
         for (std::size_t i = 0; i < b.n; ++i) b.x[j][i] = col[begin + i];
     }
-    for (std::size_t i = 0; i < b.n; ++i) b.valid[i] = true;
+    for (std::size_t i = 0; i < block_size; ++i) b.valid[i] = i < b.n;
     for (int j = 0; j < n_params; ++j)
         for (std::size_t i = 0; i < b.n; ++i) b.valid[i] &= in.domains[j].contains(b.x[j][i]);
-    // Invalid lanes compute on stand-ins so that no lane sees NaN or loops on garbage.
+    // Invalid and padding lanes compute on stand-ins: no lane sees NaN or loops on garbage.
     for (int j = 0; j < n_params; ++j) {
         const double stand_in = j == mtf_threshold ? 0.5 : 1.0;
-        for (std::size_t i = 0; i < b.n; ++i) b.x[j][i] = b.valid[i] ? b.x[j][i] : stand_in;
+        for (std::size_t i = 0; i < block_size; ++i) b.x[j][i] = b.valid[i] ? b.x[j][i] : stand_in;
     }
 }
 
 inline void exposure(const Options& opt, Block& b) {
     const auto& x = b.x;
-    for (std::size_t i = 0; i < b.n; ++i) {
+    for (std::size_t i = 0; i < block_size; ++i) {
         b.rate[i] = electron_rate(x[illuminance_lux][i], x[reflectance][i],
                                   x[lens_transmittance][i], x[field_angle_deg][i], x[f_number][i],
                                   x[electrons_per_lux_s_m2][i], x[fill_factor][i],
@@ -73,11 +78,11 @@ inline void exposure(const Options& opt, Block& b) {
         b.capped[i] = b.rate[i] > 0.0 && SnrTarget(x[snr_db][i]).capped_by(x[prnu][i]);
     }
     if (opt.t_mpe_solver == TMpeSolver::closed_form) {
-        for (std::size_t i = 0; i < b.n; ++i)
+        for (std::size_t i = 0; i < block_size; ++i)
             b.electrons[i] = signal_electrons(b.rate[i], SnrTarget(x[snr_db][i]), x[read_noise_e][i],
                                               x[dark_current_e_per_s][i], x[prnu][i]);
     } else {
-        for (std::size_t i = 0; i < b.n; ++i)
+        for (std::size_t i = 0; i < block_size; ++i)
             b.electrons[i] = b.rate[i] > 0.0 && !b.capped[i]
                                  ? signal_electrons_brent(b.rate[i], SnrTarget(x[snr_db][i]),
                                                           x[read_noise_e][i],
@@ -85,7 +90,7 @@ inline void exposure(const Options& opt, Block& b) {
                                                           opt.t_mpe_rtol)
                                  : nan;
     }
-    for (std::size_t i = 0; i < b.n; ++i) {
+    for (std::size_t i = 0; i < block_size; ++i) {
         const double t = b.electrons[i] / b.rate[i];
         // A rate so small that T_MPE overflows counts as no light.
         b.no_light[i] = !b.capped[i] && !std::isfinite(t);
@@ -105,7 +110,7 @@ inline void exposure(const Options& opt, Block& b) {
 // Local __restrict pointers and bitwise logic keep each lane loop a straight line.
 template <bool Motion, bool Jitter, bool Poly>
 void bisection_step(const Spectrum& spectrum, Block& b) {
-    const std::size_t n = b.n;
+    constexpr std::size_t n = block_size;
     const double* __restrict mid = b.mid;
     const double* __restrict f_num = b.x[f_number];
     double* __restrict diffraction = b.diffraction;
@@ -125,7 +130,7 @@ void bisection_step(const Spectrum& spectrum, Block& b) {
     }
     const double* __restrict aperture = b.aperture_mm;
     const double* __restrict blur = b.blur;
-    const double* __restrict jitter = b.jitter_mm2;
+    const double* __restrict jitter = b.jitter_mm;
     // Two loops: GCC does not if-convert a select that depends on a vector-maths call.
     double* __restrict mtf = b.diffraction;
     EPC_FAST_SIMD
@@ -150,7 +155,7 @@ void bisection_step(const Spectrum& spectrum, Block& b) {
 
 template <bool Motion, bool Jitter, bool Poly>
 void bisect(const Spectrum& spectrum, double rtol, Block& b) {
-    const std::size_t n = b.n;
+    constexpr std::size_t n = block_size;
     const bool* __restrict solve = b.solve;
     const double* __restrict lo = b.lo;
     const double* __restrict hi = b.hi;
@@ -177,10 +182,10 @@ inline void f50(const Inputs& in, const Options& opt, Block& b) {
     for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k)
         if (spectrum.weights[k] > 0.0) shortest_nm = std::fmin(shortest_nm, spectrum.wavelengths_nm[k]);
     bool motion = false, jitter = false;
-    for (std::size_t i = 0; i < b.n; ++i) {
+    for (std::size_t i = 0; i < block_size; ++i) {
         b.lambda_f_mm[i] = x[wavelength_nm][i] * nm_to_mm * x[f_number][i];
         b.aperture_mm[i] = pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]);
-        b.jitter_mm2[i] = jitter_coefficient_mm2(x[jitter_um][i]);
+        b.jitter_mm[i] = x[jitter_um][i] * um_to_mm;
         b.lo[i] = 0.0;
         b.hi[i] = f50_bracket(x[f_number][i], poly ? shortest_nm : x[wavelength_nm][i],
                               b.aperture_mm[i], b.blur[i], x[jitter_um][i], x[mtf_threshold][i]);

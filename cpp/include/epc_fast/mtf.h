@@ -6,15 +6,14 @@
 #include <cmath>
 
 #include "constants.h"
-#include "vector_math.h"
+#include "polynomials.h"
 
 namespace epc_fast {
 
-// 1: sin(pi x) / (pi x), 1 at x = 0.
-// Written as a select, not a branch, so that lane loops vectorise.
+// 1: sin(pi x) / (pi x), 1 at x = 0. Written as a select, not a branch, so that lane loops
+// vectorise; sinpi's exact argument reduction keeps its digits near the zeros at integers.
 inline double sinc(double x) {
-    const double px = pi * x;
-    const double s = std::sin(px) / px;
+    const double s = sinpi(x) / (pi * x);
     return x == 0.0 ? 1.0 : s;
 }
 
@@ -22,7 +21,7 @@ inline double sinc(double x) {
 // (2/pi) (acos nu - nu sqrt((1 - nu)(1 + nu))).
 inline double mtf_diffraction(double nu) {
     const double v = nu < 1.0 ? nu : 1.0;
-    return (2.0 / pi) * (std::acos(v) - v * std::sqrt((1.0 - v) * (1.0 + v)));
+    return (2.0 / pi) * (acos_unit(v) - v * std::sqrt((1.0 - v) * (1.0 + v)));
 }
 
 // mm: side of the square light-collecting aperture, sqrt(a) p.
@@ -40,15 +39,11 @@ inline double mtf_motion(double f_cyc_per_mm, double blur_mm) {
     return std::fabs(sinc(blur_mm * f_cyc_per_mm));
 }
 
-// mm^2: the jitter exponent's coefficient 2 pi^2 sigma_j^2, sigma_j in mm.
-inline double jitter_coefficient_mm2(double jitter_um) {
-    const double sigma_mm = jitter_um * um_to_mm;
-    return 2.0 * pi * pi * sigma_mm * sigma_mm;
-}
-
-// 1: exp(-2 pi^2 sigma_j^2 f^2).
-inline double mtf_jitter(double f_cyc_per_mm, double coefficient_mm2) {
-    return std::exp(-coefficient_mm2 * f_cyc_per_mm * f_cyc_per_mm);
+// 1: exp(-2 pi^2 (sigma_j f)^2), sigma_j in mm; sigma_j f is formed first so that no huge
+// sigma_j squares to infinity.
+inline double mtf_jitter(double f_cyc_per_mm, double jitter_mm) {
+    const double t = jitter_mm * f_cyc_per_mm;
+    return std::exp(-2.0 * pi * pi * (t * t));
 }
 
 // cycles/mm: f_hi, the smallest first zero of the factors (diffraction 1/(lambda_min F),

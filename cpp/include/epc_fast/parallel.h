@@ -8,6 +8,10 @@
 #include <omp.h>
 #endif
 
+// Marks a lane loop for vectorisation (OpenMP SIMD, enabled by -fopenmp-simd without the
+// OpenMP runtime).
+#define EPC_FAST_SIMD _Pragma("omp simd")
+
 namespace epc_fast {
 
 inline bool openmp_enabled() {

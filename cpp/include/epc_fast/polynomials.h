@@ -1,0 +1,84 @@
+// Vectorisable sin(pi x) and acos(x): inlined polynomials instead of calls to the C library.
+//
+// Inside a lane loop, a call to glibc's scalar sin/acos stops vectorisation, and glibc's vector
+// variants (libmvec) take special-case paths that couple neighbouring lanes, so that a point's
+// last bits would depend on the point next to it. These polynomials are straight-line code:
+// every lane gets the same operations, whatever the others hold.
+//
+// Coefficients: Chebyshev fits in 60-digit arithmetic by tools/fit_polynomials.py, which also
+// measures the float64 evaluation against mpmath (sinpi: <= 3 ulp on [-1/2, 1/2]; asin: <= 2 ulp
+// on [0, 1/2]). Argument reduction is exact for sinpi; acos uses asin's half-angle identity.
+#pragma once
+
+#include <cmath>
+
+namespace epc_fast {
+namespace poly {
+
+constexpr double sinpi_coefficients[] = {
+    3.141592653589793,
+    -5.167712780049969,
+    2.5501640398773007,
+    -0.5992645293189447,
+    0.0821458865731029,
+    -0.007370430505916944,
+    0.0004662998161898394,
+    -2.1903497074626018e-05,
+    7.697826768224191e-07,
+};
+constexpr double asin_coefficients[] = {
+    0.16666666666666666,
+    0.07500000000000118,
+    0.044642857142551895,
+    0.03038194447553234,
+    0.02237215744350722,
+    0.017352816540325496,
+    0.01396378001220357,
+    0.011566459612121669,
+    0.009621842970100282,
+    0.009319560794767446,
+    0.0030448799094556773,
+    0.019554513336123378,
+    -0.01924167174674304,
+    0.02961201126495512,
+};
+
+template <int N>
+inline double horner(const double (&c)[N], double t) {
+    double acc = c[N - 1];
+    for (int k = N - 2; k >= 0; --k) acc = acc * t + c[k];
+    return acc;
+}
+
+}  // namespace poly
+
+// round(x) to the nearest integer in plain arithmetic (SSE2 has no vector rounding): adding
+// and subtracting 1.5 * 2^52 rounds any |x| < 2^51; larger doubles are integers already.
+inline double round_to_integer(double x) {
+    constexpr double shifter = 6755399441055744.0;  // 1.5 * 2^52
+    const double k = (x + shifter) - shifter;
+    return std::fabs(x) < 2251799813685248.0 ? k : x;  // 2^51
+}
+
+// sin(pi x) for any finite x: r = x - round(x) is exact, sin(pi x) = (-1)^round(x) sin(pi r).
+inline double sinpi(double x) {
+    const double k = round_to_integer(x);
+    const double r = x - k;
+    const double s = r * poly::horner(poly::sinpi_coefficients, r * r);
+    const bool odd = k != 2.0 * round_to_integer(0.5 * k);
+    return odd ? -s : s;
+}
+
+// acos(v) for v in [0, 1]: pi/2 - asin(v) below 1/2, 2 asin(sqrt((1 - v) / 2)) above
+// (both asin arguments <= 1/2, where the polynomial holds). Both branches are computed and one
+// is selected, so the code has no branch.
+inline double acos_unit(double v) {
+    constexpr double half_pi_ = 1.57079632679489661923;
+    const double z_hi = std::sqrt(0.5 * (1.0 - v));
+    const double z = v <= 0.5 ? v : z_hi;
+    const double t = z * z;
+    const double asin_z = z + z * t * poly::horner(poly::asin_coefficients, t);
+    return v <= 0.5 ? half_pi_ - asin_z : 2.0 * asin_z;
+}
+
+}  // namespace epc_fast

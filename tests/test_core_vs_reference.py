@@ -1,0 +1,383 @@
+"""The C++ core against the NumPy reference (MODEL.md), on random designs over the whole domain.
+
+The reference is the model written out as the spec reads; the core is the same model, vectorised
+and threaded. Both use the closed-form T_MPE, so they agree to rounding wherever the answer is not
+amplified. Where it is amplified (near the PRNU cap, and where the blur angle is close to pi/2)
+the tolerance is scaled by the condition numbers computed below, point by point.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast import Cause, Status
+from epc_fast.spectra import diffraction_spectrum
+
+# Relative agreement asked of the two backends on well-conditioned points. Each backend rounds
+# its own way (libm vs NumPy's SIMD cos/tan/pow/acos, (cos^2)^2 vs cos**4, a bisection to
+# 1e-14 vs to adjacent floats), which moves results by ~1e-14 at most; 1e-12 leaves 100x room
+# and still catches any formula slip (those show up at 1e-8 or worse).
+RTOL = 1e-12
+
+# Brent's tolerance is 2 eps + 1e-15/2 relative on the electrons; with rounding of ln SNR
+# amplified at most 1/(1 - s u^2) <= 1/(1 - 0.81) ~ 5 inside u sqrt(s) <= 0.9, the two solvers
+# agree to ~1e-14. 1e-13 is the brief's bound and leaves that 10x room.
+RTOL_BRENT = 1e-13
+
+FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
+                "epc")
+
+# The fraction of points given an invalid value: enough for hundreds per 100,000.
+INVALID_FRACTION = 0.01
+
+
+def _log_uniform(rng, lo, hi, n):
+    return np.exp(rng.uniform(np.log(lo), np.log(hi), n))
+
+
+def _half_zero(rng, values, zero_fraction=0.5):
+    return np.where(rng.random(values.shape) < zero_fraction, 0.0, values)
+
+
+def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=INVALID_FRACTION):
+    """``n`` random design points spread over the whole domain, as keyword arrays for evaluate.
+
+    Illuminance is log-uniform on 1e-3..1e7 lux with a few exact zeros; the sensor terms (read
+    noise, dark current, PRNU) are zero on about half the points each, so the shot-noise-only
+    path is exercised as much as the general one. A fraction ``invalid_fraction`` of the points
+    gets one parameter replaced by a value outside its domain (NaN, a negative pitch,
+    reflectance 1.5, an infinite f-number, ...), so that every status occurs. ``size`` is
+    "sensor_area_mm2" or "pixel_count".
+    """
+    rng = np.random.default_rng(seed)
+    illuminance = _log_uniform(rng, 1e-3, 1e7, n)
+    illuminance[rng.random(n) < 0.002] = 0.0
+    p = {
+        "illuminance_lux": illuminance,
+        "pixel_pitch_um": rng.uniform(0.3, 20.0, n),
+        "f_number": rng.uniform(0.7, 64.0, n),
+        "focal_length_mm": rng.uniform(1.0, 100.0, n),
+        "reflectance": rng.uniform(0.0, 1.0, n),
+        "lens_transmittance": rng.uniform(0.0, 1.0, n),
+        "field_angle_deg": rng.uniform(-80.0, 80.0, n),
+        "fill_factor": rng.uniform(0.05, 1.0, n),
+        "electrons_per_lux_s_m2": 2.5e15 * _log_uniform(rng, 0.5, 2.0, n),
+        "read_noise_e": _half_zero(rng, rng.uniform(0.0, 50.0, n)),
+        "dark_current_e_per_s": _half_zero(rng, rng.uniform(0.0, 1e4, n)),
+        "prnu": _half_zero(rng, rng.uniform(0.0, 0.05, n)),
+        "full_well_e": np.where(rng.random(n) < 0.5, np.inf, _log_uniform(rng, 1e2, 1e6, n)),
+        "snr_db": rng.uniform(5.0, 60.0, n),
+        "shake_deg_per_s": _half_zero(rng, rng.uniform(0.0, 60.0, n), zero_fraction=0.2),
+        "stabilization": rng.uniform(1.0, 8.0, n),
+        "jitter_um": _half_zero(rng, rng.uniform(0.0, 5.0, n), zero_fraction=0.8),
+        "wavelength_nm": rng.uniform(400.0, 700.0, n),
+        "mtf_threshold": rng.uniform(0.1, 0.9, n),
+    }
+    if size == "sensor_area_mm2":
+        p["sensor_area_mm2"] = _log_uniform(rng, 0.1, 1e3, n)
+    elif size == "pixel_count":
+        p["pixel_count"] = np.round(_log_uniform(rng, 1e4, 1e9, n))
+    else:
+        raise ValueError(f"size must be sensor_area_mm2 or pixel_count, got {size!r}")
+
+    # One bad value per chosen point, in a parameter chosen at random.
+    bad_values = {
+        "illuminance_lux": [np.nan, -1.0, np.inf],
+        "pixel_pitch_um": [np.nan, -1.4, 0.0, np.inf],
+        "f_number": [np.nan, np.inf, 0.0, -2.8],
+        "focal_length_mm": [np.nan, -5.6, np.inf],
+        size: [np.nan, -1.0, 0.0, np.inf],
+        "reflectance": [np.nan, 1.5, -0.1],
+        "lens_transmittance": [np.nan, 1.5, -0.1],
+        "field_angle_deg": [np.nan, 90.0, -95.0],
+        "fill_factor": [np.nan, 0.0, 1.5],
+        "electrons_per_lux_s_m2": [np.nan, 0.0, np.inf],
+        "read_noise_e": [np.nan, -1.0, np.inf],
+        "dark_current_e_per_s": [np.nan, -1.0, np.inf],
+        "prnu": [np.nan, -0.01, np.inf],
+        "full_well_e": [np.nan, 0.0, -1.0],
+        "snr_db": [np.nan, np.inf, -np.inf],
+        "shake_deg_per_s": [np.nan, -1.0, np.inf],
+        "stabilization": [np.nan, 0.0, np.inf],
+        "jitter_um": [np.nan, -1.0, np.inf],
+        "wavelength_nm": [np.nan, 0.0, np.inf],
+        "mtf_threshold": [np.nan, 0.0, 1.0],
+    }
+    names = sorted(bad_values)
+    for i in np.flatnonzero(rng.random(n) < invalid_fraction):
+        name = names[rng.integers(len(names))]
+        choices = bad_values[name]
+        p[name][i] = choices[rng.integers(len(choices))]
+    return p
+
+
+def prnu_condition(p):
+    """T_MPE's condition number from the PRNU term: 1/(1 - s u^2), s = 10^(snr_db/10).
+
+    The quadratic's leading coefficient r^2 (1 - s u^2) loses its digits as u sqrt(s) -> 1, and a
+    relative rounding of u or s moves T_MPE by that factor. 1 where PRNU is off or capped.
+    """
+    with np.errstate(all="ignore"):
+        su2 = p["prnu"] ** 2 * 10.0 ** (p["snr_db"] / 10.0)
+        kappa = 1.0 / (1.0 - su2)
+    return np.where(np.isfinite(kappa) & (kappa > 1.0), kappa, 1.0)
+
+
+def tan_condition(p, t_mpe_s):
+    """The blur's condition number in the shake angle x: d ln tan(x) / d ln x = 2x / sin(2x).
+
+    1 at small angles, it grows as 1/(pi/2 - x) near pi/2. f50 moves at most as fast as the
+    blur (|d ln f50 / d ln b| <= 1: f50 scales as 1/b when motion dominates), so this times
+    prnu_condition bounds how much a relative rounding of T_MPE is amplified into f50.
+    """
+    with np.errstate(all="ignore"):
+        x = np.deg2rad(p["shake_deg_per_s"]) / p["stabilization"] * t_mpe_s
+        kappa = 2.0 * x / np.sin(2.0 * x)
+    return np.where(np.isfinite(kappa) & (kappa > 1.0), kappa, 1.0)
+
+
+def _relative_error(a, b):
+    with np.errstate(all="ignore"):
+        err = np.abs(a - b) / np.abs(b)
+    return np.where(a == b, 0.0, err)  # equal infinities and exact zeros agree exactly
+
+
+def _evaluate_both(p, **kwargs):
+    core = epc_fast.evaluate(**p, backend="core", **kwargs)
+    ref = epc_fast.evaluate(**p, backend="reference", **kwargs)
+    return core, ref
+
+
+def _assert_backends_agree(p, core, ref, label, extra_kappa=1.0):
+    """The core's outputs equal the reference's: statuses exactly, finite values to scaled RTOL.
+
+    Rule: electrons and T_MPE within RTOL * prnu_condition; blur, f50 and EPC within
+    RTOL * prnu_condition * tan_condition; everything further times ``extra_kappa`` (a
+    condition number the caller knows of, 1 by default).
+    """
+    np.testing.assert_array_equal(core.status, ref.status)
+    np.testing.assert_array_equal(core.cause, ref.cause)
+    for name in FLOAT_FIELDS:
+        a, b = getattr(core, name), getattr(ref, name)
+        # NaN and infinity where the other backend has them: same statuses, same conventions.
+        np.testing.assert_array_equal(np.isnan(a), np.isnan(b), err_msg=name)
+        np.testing.assert_array_equal(np.isposinf(a), np.isposinf(b), err_msg=name)
+
+    ok = ref.status == Status.OK
+    kappa_t = prnu_condition(p) * extra_kappa
+    kappa_f50 = kappa_t * tan_condition(p, ref.t_mpe_s)
+    # The electron rate is a product of inputs and cos^4: no amplification beyond cos near 80
+    # degrees (x tan x * 4 ~ 32, i.e. ~1e-14), inside RTOL.
+    scaled_tolerances = {
+        "electron_rate_e_per_s": np.ones_like(kappa_t) * extra_kappa,
+        "electrons": kappa_t,
+        "t_mpe_s": kappa_t,
+        "blur_mm": kappa_f50,
+        "f50_cyc_per_mm": kappa_f50,
+        "epc": kappa_f50,
+    }
+    report = {}
+    for name, kappa in scaled_tolerances.items():
+        a, b = getattr(core, name), getattr(ref, name)
+        finite = np.isfinite(b)
+        err = _relative_error(a[finite], b[finite])
+        tol = RTOL * kappa[finite]
+        bad = np.flatnonzero(err > tol)
+        assert bad.size == 0, (
+            f"{label}: {name} differs at {bad.size} points, worst relative error "
+            f"{err.max():.3g} (tolerance {tol[bad[0]]:.3g} at the first); "
+            f"first point index {np.flatnonzero(finite)[bad[0]]}")
+        report[name] = float(err.max(initial=0.0))
+    kappa_ok = kappa_f50[ok]
+    stats = {
+        "ok": int(ok.sum()),
+        "scaled": int(np.count_nonzero(kappa_ok > 1.0)),
+        "scaled_2": int(np.count_nonzero(kappa_ok >= 2.0)),
+        "scaled_10": int(np.count_nonzero(kappa_ok >= 10.0)),
+        "max_kappa": float(kappa_ok.max(initial=1.0)),
+        "max_error": report,
+    }
+    print(f"\n{label}: {stats['ok']} OK points; tolerance scaled on {stats['scaled']} "
+          f"(kappa >= 2 on {stats['scaled_2']}, >= 10 on {stats['scaled_10']}, "
+          f"max kappa {stats['max_kappa']:.3g}); max relative errors: "
+          + ", ".join(f"{k} {v:.2e}" for k, v in report.items()))
+    return stats
+
+
+def _assert_scaling_is_the_exception(stats):
+    # The condition numbers must not turn the check into a loose one: amplification of 10 or
+    # more (tolerance 1e-11 or looser) is kept to a small minority of the OK points.
+    assert stats["scaled_10"] <= 0.02 * stats["ok"], stats
+
+
+@pytest.fixture(scope="module")
+def whole_domain():
+    p = random_design_points(100_000, seed=20090119)
+    core, ref = _evaluate_both(p)
+    return p, core, ref
+
+
+def test_the_generator_produces_every_status_and_cause(whole_domain):
+    _, _, ref = whole_domain
+    statuses = set(np.unique(ref.status).tolist())
+    causes = set(np.unique(ref.cause[ref.status == Status.UNREACHABLE]).tolist())
+    assert statuses == {int(s) for s in Status}
+    assert causes == {Cause.NO_LIGHT, Cause.PRNU, Cause.FULL_WELL}
+    # Enough OK points for the comparison to mean something.
+    assert np.count_nonzero(ref.status == Status.OK) > 30_000
+    # The generator spans the ranges it promises.
+    p, _, _ = whole_domain
+    lux = p["illuminance_lux"][np.isfinite(p["illuminance_lux"])
+                               & (p["illuminance_lux"] > 0)]
+    assert lux.min() < 2e-3 and lux.max() > 5e6
+    assert np.count_nonzero(p["illuminance_lux"] == 0) > 50
+    assert np.count_nonzero(p["read_noise_e"] == 0) > 40_000
+    assert np.count_nonzero(np.isinf(p["full_well_e"])) > 40_000
+
+
+def test_core_matches_reference_over_the_whole_domain(whole_domain):
+    p, core, ref = whole_domain
+    stats = _assert_backends_agree(p, core, ref, "whole domain, sensor_area_mm2")
+    _assert_scaling_is_the_exception(stats)
+    assert stats["ok"] > 30_000
+
+
+def test_core_matches_reference_with_pixel_count_instead_of_sensor_area():
+    p = random_design_points(20_000, seed=7250, size="pixel_count")
+    core, ref = _evaluate_both(p)
+    stats = _assert_backends_agree(p, core, ref, "whole domain, pixel_count")
+    _assert_scaling_is_the_exception(stats)
+    assert stats["ok"] > 5_000
+
+
+def test_core_matches_reference_with_a_polychromatic_spectrum():
+    p = random_design_points(5_000, seed=2009)
+    del p["wavelength_nm"]  # the spectrum replaces the monochromatic wavelength
+    spectrum = diffraction_spectrum(n_samples=8)
+    core, ref = _evaluate_both(p, spectrum=spectrum)
+    stats = _assert_backends_agree(p, core, ref, "polychromatic, 8 samples")
+    _assert_scaling_is_the_exception(stats)
+    assert stats["ok"] > 1_000
+
+
+def test_polychromatic_with_pixel_count_matches_reference():
+    p = random_design_points(2_000, seed=2010, size="pixel_count")
+    del p["wavelength_nm"]
+    core, ref = _evaluate_both(p, spectrum=diffraction_spectrum(n_samples=8))
+    _assert_backends_agree(p, core, ref, "polychromatic, pixel_count")
+
+
+def _points_inside_the_prnu_cap(n, seed):
+    """Random points with read noise, dark current and PRNU all on, u 10^(snr_db/20) <= 0.9."""
+    rng = np.random.default_rng(seed)
+    p = random_design_points(n, seed, invalid_fraction=0.0)
+    p["read_noise_e"] = rng.uniform(0.1, 50.0, n)
+    p["dark_current_e_per_s"] = _log_uniform(rng, 1e-2, 1e4, n)
+    root_s = 10.0 ** (p["snr_db"] / 20.0)
+    p["prnu"] = rng.uniform(0.0, 0.9, n) / root_s
+    return p
+
+
+def test_brent_agrees_with_the_closed_form_t_mpe():
+    p = _points_inside_the_prnu_cap(20_000, seed=1973)
+    closed = epc_fast.evaluate(**p, t_mpe_solver="closed_form")
+    brent = epc_fast.evaluate(**p, t_mpe_solver="brent")
+    np.testing.assert_array_equal(brent.status, closed.status)
+    np.testing.assert_array_equal(brent.cause, closed.cause)
+    reached = np.isfinite(closed.t_mpe_s)
+    np.testing.assert_array_equal(np.isfinite(brent.t_mpe_s), reached)
+    assert np.count_nonzero(reached) > 10_000
+    np.testing.assert_allclose(brent.t_mpe_s[reached], closed.t_mpe_s[reached], rtol=RTOL_BRENT,
+                               atol=0)
+    # The electrons needed (reported for full-well points too) agree to the same tolerance.
+    has_electrons = np.isfinite(closed.electrons)
+    np.testing.assert_allclose(brent.electrons[has_electrons], closed.electrons[has_electrons],
+                               rtol=RTOL_BRENT, atol=0)
+
+
+def _box_corners(n, seed):
+    """Random designs with each parameter, independently, at an end of the generator's range.
+
+    The extremes meet here: 1e7 lux through F/0.7 onto a 20 um pixel, 1e-3 lux through F/64
+    with 60 deg/s of shake, a 5 um jitter on a 0.3 um pixel, 60 dB with PRNU 0.05, ...
+    """
+    rng = np.random.default_rng(seed)
+    p = random_design_points(n, seed, invalid_fraction=0.0)
+    ends = {
+        "illuminance_lux": (1e-3, 1e7), "pixel_pitch_um": (0.3, 20.0), "f_number": (0.7, 64.0),
+        "focal_length_mm": (1.0, 100.0), "sensor_area_mm2": (0.1, 1e3),
+        "reflectance": (0.01, 1.0), "lens_transmittance": (0.01, 1.0),
+        "field_angle_deg": (-80.0, 80.0), "fill_factor": (0.05, 1.0),
+        "electrons_per_lux_s_m2": (1.25e15, 5e15), "read_noise_e": (0.0, 50.0),
+        "dark_current_e_per_s": (0.0, 1e4), "prnu": (0.0, 0.05), "full_well_e": (1e2, np.inf),
+        "snr_db": (5.0, 60.0), "shake_deg_per_s": (0.0, 60.0), "stabilization": (1.0, 8.0),
+        "jitter_um": (0.0, 5.0), "wavelength_nm": (400.0, 700.0), "mtf_threshold": (0.1, 0.9),
+    }
+    for name, (lo, hi) in ends.items():
+        at_end = rng.random(n) < 0.7
+        p[name] = np.where(at_end, np.where(rng.random(n) < 0.5, lo, hi), p[name])
+    return p
+
+
+def test_core_matches_reference_at_the_corners_of_the_range():
+    p = _box_corners(20_000, seed=4390)
+    core, ref = _evaluate_both(p)
+    stats = _assert_backends_agree(p, core, ref, "corners of the range")
+    assert stats["ok"] > 1_000
+
+
+def _extreme_values(param):
+    """In-domain values at the edge: closed ends, the nearest float inside open ends, the
+    largest finite float for an open infinite end (and minus it for -inf), inf if allowed."""
+    big = float(np.finfo(np.float64).max)
+    values = []
+    for end, closed, toward in ((param.lo, param.lo_closed, np.inf),
+                                (param.hi, param.hi_closed, -np.inf)):
+        if closed:
+            values.append(end)
+        elif np.isfinite(end):
+            values.append(float(np.nextafter(end, toward)))
+        else:
+            values.append(big if end > 0 else -big)
+    return values
+
+
+# A design with every term on, so that an extreme value of any parameter meets all the others.
+FULL_DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8,
+                   focal_length_mm=5.6, sensor_area_mm2=15.6751, reflectance=0.4,
+                   lens_transmittance=0.9, field_angle_deg=30.0, fill_factor=0.8,
+                   electrons_per_lux_s_m2=epc_fast.DEFAULT_ELECTRONS_PER_LUX_S_M2,
+                   read_noise_e=3.0, dark_current_e_per_s=10.0, prnu=0.005, full_well_e=1e5,
+                   snr_db=30.0, shake_deg_per_s=4.39, stabilization=2.0, jitter_um=0.5,
+                   wavelength_nm=550.0, mtf_threshold=0.5)
+
+EXTREME_CASES = [
+    pytest.param(keyword, value, id=f"{keyword}={value!r}")
+    for param in epc_fast.PARAMETERS
+    for keyword in (("sensor_area_mm2", "pixel_count") if param.name == "size"
+                    else (param.name,))
+    for value in _extreme_values(param)
+]
+
+
+@pytest.mark.parametrize("keyword, value", EXTREME_CASES)
+def test_core_matches_reference_at_the_edge_of_each_domain(keyword, value):
+    design = dict(FULL_DESIGN)
+    if keyword == "pixel_count":
+        design.pop("sensor_area_mm2")
+    design[keyword] = value
+    assert len(design) == len(epc_fast.PARAMETERS)
+    p = {k: np.array([v]) for k, v in design.items()}
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # the reference's overflow warnings
+        core, ref = _evaluate_both(p)
+    assert ref.status[0] != Status.INVALID
+    # Near +-90 degrees cos^4 is ill-conditioned: d ln cos^4 / d ln theta = 4 theta tan theta
+    # (~1e17 at the last float below 90), so the rate may move by that many roundings.
+    theta = np.deg2rad(p["field_angle_deg"])
+    cos_condition = np.maximum(1.0, np.abs(4.0 * theta * np.tan(theta)))
+    _assert_backends_agree(p, core, ref, f"{keyword}={value!r}", extra_kappa=cos_condition)
