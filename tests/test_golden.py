@@ -232,47 +232,24 @@ def test_cause_matches_the_golden_point(point_id, backend):
     assert run_golden(point_id, backend).cause == CAUSE[outputs["unreachable_cause"]]
 
 
+# Result field -> the golden output it is held against.
+GOLDEN_OUTPUTS = {
+    "t_mpe_s": "t_mpe_s",
+    "f50_cyc_per_mm": "f50_cyc_per_mm",
+    "epc": "epc",
+    "electron_rate_e_per_s": "electron_rate_e_per_s",
+    "electrons": "signal_e",
+    "blur_mm": "blur_mm",
+}
+
+
+@pytest.mark.parametrize("field", list(GOLDEN_OUTPUTS))
 @pytest.mark.parametrize("point_id, backend", GOLDEN_CASES)
-def test_t_mpe_matches_the_golden_point(point_id, backend):
+def test_output_matches_the_golden_point(point_id, backend, field):
     outputs = POINTS[point_id]["outputs"]
-    assert_matches(run_golden(point_id, backend).t_mpe_s, float(outputs["t_mpe_s"]),
-                   golden_rtol(outputs, "t_mpe_s"))
-
-
-@pytest.mark.parametrize("point_id, backend", GOLDEN_CASES)
-def test_f50_matches_the_golden_point(point_id, backend):
-    outputs = POINTS[point_id]["outputs"]
-    assert_matches(run_golden(point_id, backend).f50_cyc_per_mm,
-                   float(outputs["f50_cyc_per_mm"]), golden_rtol(outputs, "f50_cyc_per_mm"))
-
-
-@pytest.mark.parametrize("point_id, backend", GOLDEN_CASES)
-def test_epc_matches_the_golden_point(point_id, backend):
-    outputs = POINTS[point_id]["outputs"]
-    assert_matches(run_golden(point_id, backend).epc, float(outputs["epc"]),
-                   golden_rtol(outputs, "epc"))
-
-
-@pytest.mark.parametrize("point_id, backend", GOLDEN_CASES)
-def test_electron_rate_matches_the_golden_point(point_id, backend):
-    outputs = POINTS[point_id]["outputs"]
-    assert_matches(run_golden(point_id, backend).electron_rate_e_per_s,
-                   float(outputs["electron_rate_e_per_s"]),
-                   golden_rtol(outputs, "electron_rate_e_per_s"))
-
-
-@pytest.mark.parametrize("point_id, backend", GOLDEN_CASES)
-def test_signal_electrons_match_the_golden_point(point_id, backend):
-    outputs = POINTS[point_id]["outputs"]
-    assert_matches(run_golden(point_id, backend).electrons, float(outputs["signal_e"]),
-                   golden_rtol(outputs, "signal_e"))
-
-
-@pytest.mark.parametrize("point_id, backend", GOLDEN_CASES)
-def test_blur_matches_the_golden_point(point_id, backend):
-    outputs = POINTS[point_id]["outputs"]
-    assert_matches(run_golden(point_id, backend).blur_mm, float(outputs["blur_mm"]),
-                   golden_rtol(outputs, "blur_mm"))
+    golden_name = GOLDEN_OUTPUTS[field]
+    assert_matches(getattr(run_golden(point_id, backend), field), float(outputs[golden_name]),
+                   golden_rtol(outputs, golden_name))
 
 
 # --- Own cases against the mpmath model ---------------------------------------------------------
