@@ -1,7 +1,8 @@
 """Command line: ``epc-fast`` or ``python -m epc_fast``.
 
-With no sub-command it prints the build (version, OpenMP, threads), checks the core against the
-NumPy reference on random points, and evaluates the paper's 1/3.2" designs over illuminance.
+With no sub-command it runs the main job on built-in defaults: it prints the build (version,
+OpenMP, threads), checks the core against the NumPy reference on random points, and evaluates
+the paper's 1/3.2" designs over illuminance. Sub-commands live in :mod:`epc_fast.commands`.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import sys
 import numpy as np
 
 from . import __version__, evaluate
+from .commands import discover
 from .presets import HIGH_TIER
 from .selfcheck import self_check
 
@@ -36,16 +38,32 @@ def _design_table() -> None:
               + "".join(f"{e / 1e6:>10.3f}" for e in epc))
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="epc-fast", description=__doc__.splitlines()[0])
-    parser.add_argument("--check-points", type=int, default=20000,
-                        help="random points for the core-vs-reference self-check")
-    args = parser.parse_args(argv)
+def main_job(args) -> int:
+    """The default run: build info, self-check, the paper's design table."""
     _info()
     report = self_check(args.check_points)
     print(report.summary())
     _design_table()
     return 0 if report.passed else 1
+
+
+def build_parser(commands: dict) -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="epc-fast", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"epc_fast {__version__}")
+    parser.add_argument("--check-points", type=int, default=20000,
+                        help="random points for the core-vs-reference self-check (main job)")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name, module in commands.items():
+        module.add_arguments(sub.add_parser(name, help=module.HELP, description=module.HELP))
+    return parser
+
+
+def main(argv=None) -> int:
+    commands = discover()
+    args = build_parser(commands).parse_args(argv)
+    if args.command is None:
+        return main_job(args)
+    return commands[args.command].run(args)
 
 
 if __name__ == "__main__":
