@@ -34,6 +34,33 @@ Column column_of(const py::handle& obj, int index, py::ssize_t n) {
     return Column{static_cast<const double*>(arr.data()), arr.size() == 1 ? 0 : 1};
 }
 
+constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t_mpe_s",
+                                        "blur_mm", "f50_cyc_per_mm", "epc"};
+
+py::dict new_outputs(py::ssize_t n) {
+    py::dict result;
+    for (const char* name : output_names) result[name] = py::array_t<double>(n);
+    result["status"] = py::array_t<std::uint8_t>(n);
+    result["cause"] = py::array_t<std::uint8_t>(n);
+    return result;
+}
+
+// A caller's output array: present, 1-D, C-contiguous, writeable, of dtype T and length n.
+template <class T>
+T* output_column(const py::dict& out, const char* name, py::ssize_t n) {
+    if (!out.contains(name)) throw std::invalid_argument(std::string("out has no '") + name + "'");
+    py::object obj = out[name];
+    if (!py::isinstance<py::array>(obj))
+        throw std::invalid_argument(std::string("out['") + name + "'] is not an ndarray");
+    auto arr = py::reinterpret_borrow<py::array>(obj);
+    if (!arr.dtype().is(py::dtype::of<T>()) || arr.ndim() != 1 ||
+        !(arr.flags() & py::array::c_style) || !arr.writeable() || arr.size() != n)
+        throw std::invalid_argument(std::string("out['") + name + "'] must be a writeable, " +
+                                    "contiguous 1-D array of " + std::to_string(n) + " " +
+                                    (sizeof(T) == 1 ? "uint8" : "float64") + " values");
+    return static_cast<T*>(arr.mutable_data());
+}
+
 TMpeSolver solver_of(const std::string& name) {
     if (name == "closed_form") return TMpeSolver::closed_form;
     if (name == "brent") return TMpeSolver::brent;
@@ -43,7 +70,7 @@ TMpeSolver solver_of(const std::string& name) {
 py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                      const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
                      double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol,
-                     int threads, py::ssize_t chunk_points) {
+                     int threads, py::ssize_t chunk_points, const py::object& out) {
     if (static_cast<int>(columns.size()) != n_params)
         throw std::invalid_argument("expected " + std::to_string(n_params) + " columns");
     if (domains.ndim() != 2 || domains.shape(0) != n_params || domains.shape(1) != 4)
@@ -70,31 +97,26 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
     opt.t_mpe_solver = solver_of(t_mpe_solver);
     opt.t_mpe_rtol = t_mpe_rtol;
 
-    py::array_t<double> rate(n), electrons(n), t_mpe(n), blur(n), f50(n), epc(n);
-    py::array_t<std::uint8_t> status(n), cause(n);
-    const Outputs out{rate.mutable_data(), electrons.mutable_data(), t_mpe.mutable_data(),
-                      blur.mutable_data(), f50.mutable_data(), epc.mutable_data(),
-                      status.mutable_data(), cause.mutable_data()};
+    py::dict result = out.is_none() ? new_outputs(n) : py::reinterpret_borrow<py::dict>(out);
+    const Outputs outputs{
+        output_column<double>(result, "electron_rate_e_per_s", n),
+        output_column<double>(result, "electrons", n),
+        output_column<double>(result, "t_mpe_s", n),
+        output_column<double>(result, "blur_mm", n),
+        output_column<double>(result, "f50_cyc_per_mm", n),
+        output_column<double>(result, "epc", n),
+        output_column<std::uint8_t>(result, "status", n),
+        output_column<std::uint8_t>(result, "cause", n)};
 
     const auto total = static_cast<std::size_t>(n);
     const auto chunk = static_cast<std::size_t>(chunk_points);
     for (std::size_t start = 0; start < total; start += chunk) {
         {
             py::gil_scoped_release release;
-            evaluate(in, opt, out, start, std::min(total, start + chunk), threads);
+            evaluate(in, opt, outputs, start, std::min(total, start + chunk), threads);
         }
         if (PyErr_CheckSignals() != 0) throw py::error_already_set();
     }
-
-    py::dict result;
-    result["electron_rate_e_per_s"] = rate;
-    result["electrons"] = electrons;
-    result["t_mpe_s"] = t_mpe;
-    result["blur_mm"] = blur;
-    result["f50_cyc_per_mm"] = f50;
-    result["epc"] = epc;
-    result["status"] = status;
-    result["cause"] = cause;
     return result;
 }
 
@@ -110,7 +132,8 @@ PYBIND11_MODULE(_core, m) {
     m.def("evaluate", &evaluate_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"), py::arg("threads"),
-          py::arg("chunk_points"));
+          py::arg("chunk_points"), py::arg("out") = py::none(),
+          "Evaluates the model; writes into `out` (a dict of the output arrays) when given.");
     // Single formulas, elementwise, so that tests can hold the C++ against known values.
     m.def("sinc", py::vectorize(&sinc));
     m.def("mtf_diffraction", py::vectorize(&mtf_diffraction), py::arg("nu"));

@@ -53,11 +53,15 @@ struct alignas(64) Block {
     bool active[block_size];
 };
 
-inline void gather(const Inputs& in, std::size_t begin, Block& b) {
+// Reads points [begin, begin + n); `illuminance_lux`, when given, replaces that column with
+// n values of its own (the inverse solvers' trial illuminances).
+inline void gather(const Inputs& in, std::size_t begin, const double* illuminance, Block& b) {
     for (int j = 0; j < n_params; ++j) {
         const Column& col = in.columns[j];
         for (std::size_t i = 0; i < b.n; ++i) b.x[j][i] = col[begin + i];
     }
+    if (illuminance != nullptr)
+        for (std::size_t i = 0; i < b.n; ++i) b.x[illuminance_lux][i] = illuminance[i];
     for (std::size_t i = 0; i < block_size; ++i) b.valid[i] = i < b.n;
     for (int j = 0; j < n_params; ++j)
         for (std::size_t i = 0; i < b.n; ++i) b.valid[i] &= in.domains[j].contains(b.x[j][i]);
@@ -207,22 +211,21 @@ inline void f50(const Inputs& in, const Options& opt, Block& b) {
     }
 }
 
-inline void scatter(const Inputs& in, const Block& b, std::size_t begin, const Outputs& out) {
+inline void scatter(const Inputs& in, const Block& b, const Outputs& out) {
     const auto& x = b.x;
     for (std::size_t i = 0; i < b.n; ++i) {
-        const std::size_t o = begin + i;
         const bool valid = b.valid[i];
         const bool unreachable = b.capped[i] || b.no_light[i] || b.full_well[i];
         const bool solved = valid && !unreachable;  // ok or blur unbounded
         const double f50 = b.unbounded[i] ? 0.0 : b.lo[i] + 0.5 * (b.hi[i] - b.lo[i]);
         const double pitch_mm = x[pixel_pitch_um][i] * um_to_mm;
         const double area_mm2 = in.size_is_pixel_count ? x[size][i] * (pitch_mm * pitch_mm) : x[size][i];
-        out.electron_rate_e_per_s[o] = valid ? b.rate[i] : nan;
-        out.electrons[o] = valid && !b.no_light[i] && !b.capped[i] ? b.electrons[i] : nan;
-        out.t_mpe_s[o] = valid ? b.t_mpe[i] : nan;
-        out.blur_mm[o] = !solved ? nan : b.unbounded[i] ? inf : b.blur[i];
-        out.f50_cyc_per_mm[o] = solved ? f50 : nan;
-        out.epc[o] = solved ? 4.0 * area_mm2 * (f50 * f50) : nan;
+        out.electron_rate_e_per_s[i] = valid ? b.rate[i] : nan;
+        out.electrons[i] = valid && !b.no_light[i] && !b.capped[i] ? b.electrons[i] : nan;
+        out.t_mpe_s[i] = valid ? b.t_mpe[i] : nan;
+        out.blur_mm[i] = !solved ? nan : b.unbounded[i] ? inf : b.blur[i];
+        out.f50_cyc_per_mm[i] = solved ? f50 : nan;
+        out.epc[i] = solved ? 4.0 * area_mm2 * (f50 * f50) : nan;
         const Status status = !valid ? Status::invalid
                               : unreachable ? Status::unreachable
                               : b.unbounded[i] ? Status::blur_unbounded
@@ -232,33 +235,36 @@ inline void scatter(const Inputs& in, const Block& b, std::size_t begin, const O
                             : b.capped[i] ? Cause::prnu
                             : b.full_well[i] ? Cause::full_well
                                              : Cause::none;
-        out.status[o] = static_cast<unsigned char>(status);
-        out.cause[o] = static_cast<unsigned char>(cause);
+        out.status[i] = static_cast<unsigned char>(status);
+        out.cause[i] = static_cast<unsigned char>(cause);
     }
 }
 
 }  // namespace detail
 
-// Evaluates points [begin, end) block by block. Never throws: every per-point problem is a
-// status in `out`.
+// Evaluates points [begin, begin + n), n <= block_size, writing point begin + i to index i of
+// `out`. `illuminance_lux`, when not null, holds n illuminances that replace the input column.
+// Never throws: every per-point problem is a status in `out`.
 inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& out,
-                           std::size_t begin, std::size_t n) noexcept {
+                           std::size_t begin, std::size_t n,
+                           const double* illuminance_lux = nullptr) noexcept {
     detail::Block b;
     b.n = n;
-    detail::gather(in, begin, b);
+    detail::gather(in, begin, illuminance_lux, b);
     detail::exposure(opt, b);
     detail::f50(in, opt, b);
-    detail::scatter(in, b, begin, out);
+    detail::scatter(in, b, out);
 }
 
-// Evaluates points [begin, end) on `threads` threads (static schedule over blocks).
+// Evaluates points [begin, end) on `threads` threads (static schedule over blocks), writing
+// point i to index i of `out`.
 inline void evaluate(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
                      std::size_t end, int threads) noexcept {
     const std::size_t n = end > begin ? end - begin : 0;
     const auto n_blocks = static_cast<std::ptrdiff_t>((n + block_size - 1) / block_size);
     parallel_for(n_blocks, threads, [&](std::ptrdiff_t k) {
         const std::size_t first = begin + static_cast<std::size_t>(k) * block_size;
-        evaluate_block(in, opt, out, first, std::min(block_size, end - first));
+        evaluate_block(in, opt, out.at(first), first, std::min(block_size, end - first));
     });
 }
 

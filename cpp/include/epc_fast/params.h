@@ -77,7 +77,8 @@ struct Options {
     double t_mpe_rtol = 1e-15;  // Brent's tolerance on the electrons needed
 };
 
-// Output columns, each of length n, contiguous.
+// Output columns, contiguous. Point i of a call to evaluate_block is written at index i: the
+// caller offsets the pointers to the block (Outputs::at).
 struct Outputs {
     double* electron_rate_e_per_s;
     double* electrons;
@@ -87,6 +88,12 @@ struct Outputs {
     double* epc;
     unsigned char* status;
     unsigned char* cause;
+
+    Outputs at(std::size_t offset) const {
+        return Outputs{electron_rate_e_per_s + offset, electrons + offset, t_mpe_s + offset,
+                       blur_mm + offset, f50_cyc_per_mm + offset, epc + offset,
+                       status + offset, cause + offset};
+    }
 };
 
 }  // namespace epc_fast
