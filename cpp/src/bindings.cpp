@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "epc_fast/inverse.h"
 #include "epc_fast/kernel.h"
 
 namespace py = pybind11;
@@ -19,18 +20,18 @@ namespace {
 
 using double_array = py::array_t<double, py::array::c_style>;
 
+// Column `index` of the parameter table, or (index -1) the target EPC: a contiguous 1-D
+// float64 array of 1 (broadcast) or n values.
 Column column_of(const py::handle& obj, int index, py::ssize_t n) {
-    if (!py::isinstance<py::array>(obj))
-        throw std::invalid_argument("column " + std::to_string(index) + " is not an ndarray");
+    const std::string what = index < 0 ? "target_epc" : "column " + std::to_string(index);
+    if (!py::isinstance<py::array>(obj)) throw std::invalid_argument(what + " is not an ndarray");
     auto arr = py::reinterpret_borrow<py::array>(obj);
     if (!arr.dtype().is(py::dtype::of<double>()) || arr.ndim() != 1 ||
         !(arr.flags() & py::array::c_style))
-        throw std::invalid_argument("column " + std::to_string(index) +
-                                    " must be a contiguous 1-D float64 array");
+        throw std::invalid_argument(what + " must be a contiguous 1-D float64 array");
     if (arr.size() != 1 && arr.size() != n)
-        throw std::invalid_argument("column " + std::to_string(index) + " has " +
-                                    std::to_string(arr.size()) + " values, expected 1 or " +
-                                    std::to_string(n));
+        throw std::invalid_argument(what + " has " + std::to_string(arr.size()) +
+                                    " values, expected 1 or " + std::to_string(n));
     return Column{static_cast<const double*>(arr.data()), arr.size() == 1 ? 0 : 1};
 }
 
@@ -67,10 +68,9 @@ TMpeSolver solver_of(const std::string& name) {
     throw std::invalid_argument("t_mpe_solver must be 'closed_form' or 'brent', got '" + name + "'");
 }
 
-py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
-                     const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
-                     double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol,
-                     int threads, py::ssize_t chunk_points, const py::object& out) {
+// The columns and domains of one design set, as the kernel reads them.
+Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
+                 const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n) {
     if (static_cast<int>(columns.size()) != n_params)
         throw std::invalid_argument("expected " + std::to_string(n_params) + " columns");
     if (domains.ndim() != 2 || domains.shape(0) != n_params || domains.shape(1) != 4)
@@ -78,11 +78,6 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
     if (wavelengths_nm.size() != weights.size())
         throw std::invalid_argument("wavelengths_nm and weights differ in length");
     if (n < 0) throw std::invalid_argument("n must be >= 0");
-    if (threads < 1) throw std::invalid_argument("threads must be >= 1");
-    if (chunk_points < 1) throw std::invalid_argument("chunk_points must be >= 1");
-    if (!(f50_rtol >= 0.0) || !(t_mpe_rtol >= 0.0))
-        throw std::invalid_argument("tolerances must be >= 0");
-
     Inputs in;
     in.size_is_pixel_count = size_is_pixel_count;
     auto d = domains.unchecked<2>();
@@ -92,11 +87,42 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
     }
     in.spectrum.wavelengths_nm.assign(wavelengths_nm.data(), wavelengths_nm.data() + wavelengths_nm.size());
     in.spectrum.weights.assign(weights.data(), weights.data() + weights.size());
+    return in;
+}
+
+Options options_of(double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol) {
+    if (!(f50_rtol >= 0.0) || !(t_mpe_rtol >= 0.0))
+        throw std::invalid_argument("tolerances must be >= 0");
     Options opt;
     opt.f50_rtol = f50_rtol;
     opt.t_mpe_solver = solver_of(t_mpe_solver);
     opt.t_mpe_rtol = t_mpe_rtol;
+    return opt;
+}
 
+// Runs work(start, stop) over [0, n) in chunks with the GIL released, checking for Ctrl-C
+// (and any other pending signal) between chunks.
+template <class Work>
+void run_chunked(py::ssize_t n, py::ssize_t chunk_points, int threads, Work&& work) {
+    if (threads < 1) throw std::invalid_argument("threads must be >= 1");
+    if (chunk_points < 1) throw std::invalid_argument("chunk_points must be >= 1");
+    const auto total = static_cast<std::size_t>(n);
+    const auto chunk = static_cast<std::size_t>(chunk_points);
+    for (std::size_t start = 0; start < total; start += chunk) {
+        {
+            py::gil_scoped_release release;
+            work(start, std::min(total, start + chunk));
+        }
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    }
+}
+
+py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
+                     const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
+                     double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol,
+                     int threads, py::ssize_t chunk_points, const py::object& out) {
+    const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
+    const Options opt = options_of(f50_rtol, t_mpe_solver, t_mpe_rtol);
     py::dict result = out.is_none() ? new_outputs(n) : py::reinterpret_borrow<py::dict>(out);
     const Outputs outputs{
         output_column<double>(result, "electron_rate_e_per_s", n),
@@ -107,17 +133,74 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
         output_column<double>(result, "epc", n),
         output_column<std::uint8_t>(result, "status", n),
         output_column<std::uint8_t>(result, "cause", n)};
-
-    const auto total = static_cast<std::size_t>(n);
-    const auto chunk = static_cast<std::size_t>(chunk_points);
-    for (std::size_t start = 0; start < total; start += chunk) {
-        {
-            py::gil_scoped_release release;
-            evaluate(in, opt, outputs, start, std::min(total, start + chunk), threads);
-        }
-        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-    }
+    run_chunked(n, chunk_points, threads, [&](std::size_t start, std::size_t stop) {
+        evaluate(in, opt, outputs, start, stop, threads);
+    });
     return result;
+}
+
+InverseOptions inverse_options_of(double lux_lo, double lux_hi, double rtol, int grid_points) {
+    if (!(lux_lo > 0.0) || !(lux_hi > lux_lo) || !std::isfinite(lux_hi))
+        throw std::invalid_argument("the illuminance range must satisfy 0 < lux_lo < lux_hi < inf");
+    if (!(rtol >= 0.0)) throw std::invalid_argument("rtol must be >= 0");
+    if (grid_points < 2) throw std::invalid_argument("grid_points must be >= 2");
+    InverseOptions inv;
+    inv.lux_lo = lux_lo;
+    inv.lux_hi = lux_hi;
+    inv.rtol = rtol;
+    inv.grid_points = grid_points;
+    return inv;
+}
+
+struct InverseResult {
+    py::array_t<double> illuminance_lux, epc;
+    py::array_t<std::uint8_t> status;
+
+    explicit InverseResult(py::ssize_t n) : illuminance_lux(n), epc(n), status(n) {}
+    InverseOutputs outputs() {
+        return InverseOutputs{illuminance_lux.mutable_data(), epc.mutable_data(), status.mutable_data()};
+    }
+    py::dict dict() const {
+        py::dict d;
+        d["illuminance_lux"] = illuminance_lux;
+        d["epc"] = epc;
+        d["status"] = status;
+        return d;
+    }
+};
+
+py::dict lux_for_epc_py(const py::list& columns, bool size_is_pixel_count,
+                        const double_array& domains, const double_array& wavelengths_nm,
+                        const double_array& weights, py::ssize_t n, const py::object& target_epc,
+                        double lux_lo, double lux_hi, double rtol, double f50_rtol, int threads) {
+    const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
+    const Column target = column_of(target_epc, -1, n);
+    const Options opt = options_of(f50_rtol, "closed_form", 0.0);
+    const InverseOptions inv = inverse_options_of(lux_lo, lux_hi, rtol, 2);
+    InverseResult result(n);
+    const InverseOutputs out = result.outputs();
+    run_chunked(n, 1 << 14, threads, [&](std::size_t start, std::size_t stop) {
+        lux_for_epc(in, target, opt, inv, out, start, stop, threads);
+    });
+    return result.dict();
+}
+
+py::dict crossover_lux_py(const py::list& columns_a, const py::list& columns_b,
+                          bool size_is_pixel_count_a, bool size_is_pixel_count_b,
+                          const double_array& domains, const double_array& wavelengths_nm,
+                          const double_array& weights, py::ssize_t n, double lux_lo,
+                          double lux_hi, int grid_points, double rtol, double f50_rtol,
+                          int threads) {
+    const Inputs a = inputs_of(columns_a, size_is_pixel_count_a, domains, wavelengths_nm, weights, n);
+    const Inputs b = inputs_of(columns_b, size_is_pixel_count_b, domains, wavelengths_nm, weights, n);
+    const Options opt = options_of(f50_rtol, "closed_form", 0.0);
+    const InverseOptions inv = inverse_options_of(lux_lo, lux_hi, rtol, grid_points);
+    InverseResult result(n);
+    const InverseOutputs out = result.outputs();
+    run_chunked(n, 1 << 12, threads, [&](std::size_t start, std::size_t stop) {
+        crossover_lux(a, b, opt, inv, out, start, stop, threads);
+    });
+    return result.dict();
 }
 
 }  // namespace
@@ -134,6 +217,17 @@ PYBIND11_MODULE(_core, m) {
           py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"), py::arg("threads"),
           py::arg("chunk_points"), py::arg("out") = py::none(),
           "Evaluates the model; writes into `out` (a dict of the output arrays) when given.");
+    m.def("lux_for_epc", &lux_for_epc_py, py::arg("columns"), py::arg("size_is_pixel_count"),
+          py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
+          py::arg("target_epc"), py::arg("lux_lo"), py::arg("lux_hi"), py::arg("rtol"),
+          py::arg("f50_rtol"), py::arg("threads"),
+          "Illuminance at which each design reaches target_epc (Brent on ln L).");
+    m.def("crossover_lux", &crossover_lux_py, py::arg("columns_a"), py::arg("columns_b"),
+          py::arg("size_is_pixel_count_a"), py::arg("size_is_pixel_count_b"), py::arg("domains"),
+          py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"), py::arg("lux_lo"),
+          py::arg("lux_hi"), py::arg("grid_points"), py::arg("rtol"), py::arg("f50_rtol"),
+          py::arg("threads"),
+          "Highest illuminance in [lux_lo, lux_hi] where designs a and b have equal EPC.");
     // Single formulas, elementwise, so that tests can hold the C++ against known values.
     m.def("sinc", py::vectorize(&sinc));
     m.def("mtf_diffraction", py::vectorize(&mtf_diffraction), py::arg("nu"));

@@ -260,11 +260,8 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
 // point i to index i of `out`.
 inline void evaluate(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
                      std::size_t end, int threads) noexcept {
-    const std::size_t n = end > begin ? end - begin : 0;
-    const auto n_blocks = static_cast<std::ptrdiff_t>((n + block_size - 1) / block_size);
-    parallel_for(n_blocks, threads, [&](std::ptrdiff_t k) {
-        const std::size_t first = begin + static_cast<std::size_t>(k) * block_size;
-        evaluate_block(in, opt, out.at(first), first, std::min(block_size, end - first));
+    for_each_block(begin, end, block_size, threads, [&](std::size_t first, std::size_t n) {
+        evaluate_block(in, opt, out.at(first), first, n);
     });
 }
 

@@ -43,4 +43,18 @@ void parallel_for(std::ptrdiff_t n, int threads, Body&& body) {
 #endif
 }
 
+// Calls block(first, count) for consecutive blocks of at most block_size points covering
+// [begin, end), on `threads` threads. Block boundaries depend only on begin, never on the thread
+// count.
+template <class Block>
+void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, int threads,
+                    Block&& block) {
+    const std::size_t n = end > begin ? end - begin : 0;
+    const auto n_blocks = static_cast<std::ptrdiff_t>((n + block_size - 1) / block_size);
+    parallel_for(n_blocks, threads, [&](std::ptrdiff_t k) {
+        const std::size_t first = begin + static_cast<std::size_t>(k) * block_size;
+        block(first, end - first < block_size ? end - first : block_size);
+    });
+}
+
 }  // namespace epc_fast
