@@ -52,3 +52,17 @@ def test_core_formulas_carry_the_reference_names():
 
     for name in ("sinc", "mtf_diffraction", "signal_electrons"):
         assert hasattr(_core, name) and hasattr(reference, name), name
+
+
+def test_the_core_stub_lists_every_public_function_of_the_core():
+    import ast
+    from pathlib import Path
+
+    from epc_fast import _core
+
+    stub = Path(epc_fast.__file__).with_name("_core.pyi")
+    tree = ast.parse(stub.read_text())
+    stubbed = {node.name for node in tree.body if isinstance(node, ast.FunctionDef)}
+    public = {name for name in dir(_core) if not name.startswith("_")
+              and callable(getattr(_core, name))}
+    assert stubbed == public

@@ -1,0 +1,66 @@
+"""Type stubs for epc_fast's compiled core (cpp/src/bindings.cpp). Use epc_fast.evaluate."""
+
+from typing import Sequence
+
+import numpy as np
+import numpy.typing as npt
+
+n_params: int
+block_size: int
+
+def openmp_enabled() -> bool: ...
+def default_threads() -> int: ...
+def evaluate(
+    columns: Sequence[npt.NDArray[np.float64]],
+    size_is_pixel_count: bool,
+    domains: npt.NDArray[np.float64],
+    wavelengths_nm: npt.NDArray[np.float64],
+    weights: npt.NDArray[np.float64],
+    n: int,
+    f50_rtol: float,
+    t_mpe_solver: str,
+    t_mpe_rtol: float,
+    threads: int,
+    chunk_points: int,
+    out: dict[str, np.ndarray] | None = None,
+) -> dict[str, np.ndarray]: ...
+def lux_for_epc(
+    columns: Sequence[npt.NDArray[np.float64]],
+    size_is_pixel_count: bool,
+    domains: npt.NDArray[np.float64],
+    wavelengths_nm: npt.NDArray[np.float64],
+    weights: npt.NDArray[np.float64],
+    n: int,
+    target_epc: npt.NDArray[np.float64],
+    lux_lo: float,
+    lux_hi: float,
+    rtol: float,
+    f50_rtol: float,
+    threads: int,
+) -> dict[str, np.ndarray]: ...
+def crossover_lux(
+    columns_a: Sequence[npt.NDArray[np.float64]],
+    columns_b: Sequence[npt.NDArray[np.float64]],
+    size_is_pixel_count_a: bool,
+    size_is_pixel_count_b: bool,
+    domains: npt.NDArray[np.float64],
+    wavelengths_nm: npt.NDArray[np.float64],
+    weights: npt.NDArray[np.float64],
+    n: int,
+    lux_lo: float,
+    lux_hi: float,
+    grid_points: int,
+    rtol: float,
+    f50_rtol: float,
+    threads: int,
+) -> dict[str, np.ndarray]: ...
+def sinc(x: npt.ArrayLike) -> np.ndarray: ...
+def mtf_diffraction(nu: npt.ArrayLike) -> np.ndarray: ...
+def signal_electrons(
+    rate: npt.ArrayLike, snr_db: npt.ArrayLike, read: npt.ArrayLike, dark: npt.ArrayLike,
+    prnu: npt.ArrayLike,
+) -> np.ndarray: ...
+def signal_electrons_brent(
+    rate: npt.ArrayLike, snr_db: npt.ArrayLike, read: npt.ArrayLike, dark: npt.ArrayLike,
+    prnu: npt.ArrayLike, rtol: npt.ArrayLike,
+) -> np.ndarray: ...
