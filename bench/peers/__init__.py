@@ -1,0 +1,1 @@
+"""Pure-Python peers of the core, for the benchmarks only (Numba, SciPy)."""
