@@ -205,8 +205,29 @@ py::dict crossover_lux_py(const py::list& columns_a, const py::list& columns_b,
 
 }  // namespace
 
-PYBIND11_MODULE(_core, m) {
-    m.doc() = "epc_fast's compiled core. Use epc_fast.evaluate, not this module.";
+// x86-64 micro-architecture levels this CPU supports, asked of the baseline module before a
+// wider one is imported (importing a module built for an unsupported level could fault).
+py::dict cpu_levels() {
+    py::dict levels;
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    __builtin_cpu_init();
+    levels["x86-64-v2"] = __builtin_cpu_supports("x86-64-v2") != 0;
+    levels["x86-64-v3"] = __builtin_cpu_supports("x86-64-v3") != 0;
+    levels["x86-64-v4"] = __builtin_cpu_supports("x86-64-v4") != 0;
+#endif
+    return levels;
+}
+
+#ifndef EPC_FAST_MODULE
+#define EPC_FAST_MODULE _core_generic
+#endif
+#define EPC_FAST_STRINGIFY_(x) #x
+#define EPC_FAST_STRINGIFY(x) EPC_FAST_STRINGIFY_(x)
+
+PYBIND11_MODULE(EPC_FAST_MODULE, m) {
+    m.doc() = "epc_fast's compiled core for one instruction-set level; epc_fast._core picks one.";
+    m.attr("module_name") = EPC_FAST_STRINGIFY(EPC_FAST_MODULE);
+    m.def("cpu_levels", &cpu_levels, "The x86-64 levels this CPU supports.");
     m.attr("n_params") = static_cast<int>(n_params);
     m.attr("block_size") = block_size;
     m.def("openmp_enabled", &openmp_enabled, "Whether the core was built with OpenMP.");

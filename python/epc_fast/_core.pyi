@@ -7,7 +7,11 @@ import numpy.typing as npt
 
 n_params: int
 block_size: int
+isa: str
+module_name: str
+MODULES: dict[str, str]
 
+def cpu_levels() -> dict[str, bool]: ...
 def openmp_enabled() -> bool: ...
 def default_threads() -> int: ...
 def evaluate(

@@ -46,11 +46,12 @@ struct alignas(64) Block {
     bool valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
     bool capped[block_size], no_light[block_size], full_well[block_size];
-    bool unbounded[block_size], solve[block_size];
+    bool unbounded[block_size];
+    unsigned char solve[block_size];  // bytes, not bool: the lane loops vectorise on them
     // f50 bisection
     double lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm[block_size];
     double lo[block_size], hi[block_size], mid[block_size], diffraction[block_size];
-    bool active[block_size];
+    unsigned char active[block_size];
 };
 
 // Reads points [begin, begin + n); `illuminance_lux`, when given, replaces that column with
@@ -146,32 +147,36 @@ void bisection_step(const Spectrum& spectrum, Block& b) {
         mtf[i] = m;
     }
     const double* __restrict threshold = b.x[mtf_threshold];
-    const bool* __restrict active = b.active;
+    const unsigned char* __restrict active = b.active;
     double* __restrict lo = b.lo;
     double* __restrict hi = b.hi;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         const bool above = mtf[i] > threshold[i];
-        lo[i] = active[i] & above ? mid[i] : lo[i];
-        hi[i] = active[i] & !above ? mid[i] : hi[i];
+        const bool act = active[i] != 0;
+        lo[i] = (act & above) ? mid[i] : lo[i];
+        hi[i] = (act & !above) ? mid[i] : hi[i];
     }
 }
 
 template <bool Motion, bool Jitter, bool Poly>
 void bisect(const Spectrum& spectrum, double rtol, Block& b) {
     constexpr std::size_t n = block_size;
-    const bool* __restrict solve = b.solve;
+    const unsigned char* __restrict solve = b.solve;
     const double* __restrict lo = b.lo;
     const double* __restrict hi = b.hi;
     double* __restrict mid = b.mid;
-    bool* __restrict active = b.active;
+    unsigned char* __restrict active = b.active;
     for (int step = 0; step < max_bisection_steps; ++step) {
         int n_active = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : n_active)
         for (std::size_t i = 0; i < n; ++i) {
             const double m = lo[i] + 0.5 * (hi[i] - lo[i]);
             mid[i] = m;
-            active[i] = solve[i] & (hi[i] - lo[i] > rtol * lo[i]) & (m > lo[i]) & (m < hi[i]);
-            n_active += active[i];
+            const bool a = (solve[i] != 0) & (hi[i] - lo[i] > rtol * lo[i]) & (m > lo[i]) &
+                           (m < hi[i]);
+            active[i] = a;
+            n_active += a;
         }
         if (n_active == 0) return;
         bisection_step<Motion, Jitter, Poly>(spectrum, b);
@@ -193,8 +198,8 @@ inline void f50(const Inputs& in, const Options& opt, Block& b) {
         b.lo[i] = 0.0;
         b.hi[i] = f50_bracket(x[f_number][i], poly ? shortest_nm : x[wavelength_nm][i],
                               b.aperture_mm[i], b.blur[i], x[jitter_um][i], x[mtf_threshold][i]);
-        motion |= b.solve[i] && b.blur[i] > 0.0;
-        jitter |= b.solve[i] && x[jitter_um][i] > 0.0;
+        motion |= b.solve[i] != 0 && b.blur[i] > 0.0;
+        jitter |= b.solve[i] != 0 && x[jitter_um][i] > 0.0;
     }
     const double rtol = opt.f50_rtol;
     // One instantiation per combination of the terms a block uses.

@@ -11,6 +11,8 @@
 // Marks a lane loop for vectorisation (OpenMP SIMD, enabled by -fopenmp-simd without the
 // OpenMP runtime).
 #define EPC_FAST_SIMD _Pragma("omp simd")
+#define EPC_FAST_PRAGMA(x) _Pragma(#x)
+#define EPC_FAST_SIMD_REDUCTION(op) EPC_FAST_PRAGMA(omp simd reduction(op))
 
 namespace epc_fast {
 
