@@ -4,9 +4,12 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
-from epc_fast.presets import HIGH_TIER, LOW_TIER, PAPER_DESIGNS, ZOOM_3X
+import epc_fast
+from epc_fast.presets import (FIGURE_3, HIGH_TIER, LOW_TIER, PAPER_DESIGNS, READINGS, ZOOM_3X,
+                              evaluate_over_illuminance, stack)
 
 GOLDEN = json.loads((Path(__file__).parent / "data" / "golden_public.json").read_text())
 
@@ -42,3 +45,37 @@ def test_designs_are_plain_data_that_can_be_changed():
     assert stabilised.stabilization == 4.0 and ZOOM_3X.stabilization == 1.0
     assert stabilised.evaluate_kwargs()["stabilization"] == 4.0
     assert math.isclose(HIGH_TIER[0].sensor_area_mm2, 15.6751)
+
+
+def test_the_preset_reads_30_db_at_the_corner_and_the_literal_readings_on_axis():
+    design = HIGH_TIER[3]
+    assert (design.snr_db, design.field_angle_deg > 26.9) == (30.0, True)
+    assert design.read_as("on_axis_30db").evaluate_kwargs()["field_angle_deg"] == 0.0
+    assert design.read_as("on_axis_33db").evaluate_kwargs()["snr_db"] == 33.0
+    assert set(READINGS) == {"corner_30db", "on_axis_30db", "on_axis_33db"}
+    with pytest.raises(ValueError, match="reading"):
+        design.read_as("at_the_centre")
+
+
+def test_figure_3_is_the_1_75_um_design_normal_stabilised_zoomed_and_both():
+    assert [d.name for d in FIGURE_3] == ['1/3.2" 1.75 um', '1/3.2" 1.75 um 4x IS',
+                                          "3x zoom 1.75 um", "3x zoom 1.75 um 4x IS"]
+    assert [d.stabilization for d in FIGURE_3] == [1.0, 4.0, 1.0, 4.0]
+    assert len({d.pixel_count for d in FIGURE_3}) == 1
+
+
+def test_evaluate_over_illuminance_gives_one_row_per_design():
+    lux = np.array([100.0, 1000.0, 1e5])
+    rows = evaluate_over_illuminance(HIGH_TIER, lux)
+    assert rows.epc.shape == (4, 3)
+    for design, row in zip(HIGH_TIER, rows.epc):
+        # The same points, broadcast differently: the core is bit-identical across layouts.
+        np.testing.assert_array_equal(row, evaluate_over_illuminance(design, lux).epc)
+    as_dict = evaluate_over_illuminance(HIGH_TIER[0].evaluate_kwargs(), lux, backend="reference")
+    np.testing.assert_allclose(as_dict.epc, rows.epc[0], rtol=1e-12)
+
+
+def test_stacked_designs_are_evaluate_keywords_with_one_entry_per_design():
+    kwargs = stack(HIGH_TIER)
+    np.testing.assert_array_equal(kwargs["pixel_pitch_um"], [2.8, 2.2, 1.75, 1.4])
+    assert epc_fast.evaluate(1000.0, **kwargs).epc.shape == (4,)

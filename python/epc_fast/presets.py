@@ -2,7 +2,14 @@
 
 The preset reads the paper as MODEL.md section 9 documents: the 30 dB target met at the image
 corner (cos^4 falloff at half the diagonal field of view) and EPC taken over the nominal sensor
-area of the format. This is a reading of the paper, not a fitted model.
+area of the format. This is a reading of the paper, not a fitted model; the paper's literal
+30 dB and 33 dB targets on the optical axis are the other :data:`READINGS`, one
+``design.read_as("on_axis_33db")`` away.
+
+>>> from epc_fast.presets import HIGH_TIER, evaluate_over_illuminance
+>>> r = evaluate_over_illuminance(HIGH_TIER[3], [100.0, 1000.0, 10000.0])
+>>> r.epc.shape
+(3,)
 """
 
 from __future__ import annotations
@@ -10,7 +17,48 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, replace
 
-__all__ = ["Design", "HIGH_TIER", "LOW_TIER", "ZOOM_3X", "PAPER_DESIGNS", "corner_field_angle_deg"]
+import numpy as np
+
+from .api import Result, evaluate
+
+__all__ = [
+    "Reading", "READINGS", "PRESET_READING", "Design", "IS_FACTOR", "HIGH_TIER", "LOW_TIER",
+    "ZOOM_3X", "FIGURE_3", "PAPER_DESIGNS", "corner_field_angle_deg", "stack",
+    "evaluate_over_illuminance",
+]
+
+
+@dataclass(frozen=True)
+class Reading:
+    """How a design reads the paper's SNR target: its level and where it must be met.
+
+    Attributes
+    ----------
+    name : str
+    snr_db : dB, the target SNR.
+    at_corner : bool, met at the image corner (cos^4 at half the diagonal field of view) rather
+        than on the optical axis.
+    meaning : str
+    """
+
+    name: str
+    snr_db: float
+    at_corner: bool
+    meaning: str
+
+
+#: The readings of the paper's SNR target, by name (MODEL.md section 9).
+READINGS = {r.name: r for r in (
+    Reading("corner_30db", 30.0, True,
+            "30 dB at the image corner (cos^4 falloff): the preset's reading of the paper"),
+    Reading("on_axis_30db", 30.0, False, "30 dB on the optical axis: the paper's text, literally"),
+    Reading("on_axis_33db", 33.0, False,
+            "33 dB on the optical axis: the paper's Table 1, literally"),
+)}
+#: The reading the presets use unless told otherwise.
+PRESET_READING = "corner_30db"
+#: 1, the paper's image stabilisation: "4x IS" divides the motion by 4.
+IS_FACTOR = 4.0
 
 
 def corner_field_angle_deg(width_mm: float, height_mm: float, focal_length_mm: float) -> float:
@@ -31,6 +79,7 @@ class Design:
     f_number : 1.
     focal_length_mm : mm.
     stabilization : 1, image stabilisation factor k.
+    reading : str, a key of :data:`READINGS`: the SNR target and where it is met.
     """
 
     name: str
@@ -42,6 +91,12 @@ class Design:
     f_number: float
     focal_length_mm: float
     stabilization: float = 1.0
+    reading: str = PRESET_READING
+
+    def __post_init__(self):
+        if self.reading not in READINGS:
+            raise ValueError(f"reading must be one of {', '.join(map(repr, READINGS))}; "
+                             f"got {self.reading!r}")
 
     @property
     def pixel_count(self) -> int:
@@ -54,25 +109,88 @@ class Design:
         return self.sensor_width_mm * self.sensor_height_mm
 
     @property
+    def diagonal_field_of_view_deg(self) -> float:
+        """degree: the full diagonal field of view, twice the corner's field angle."""
+        return 2.0 * corner_field_angle_deg(self.sensor_width_mm, self.sensor_height_mm,
+                                            self.focal_length_mm)
+
+    @property
     def field_angle_deg(self) -> float:
-        """degree: the image corner, where the preset requires the SNR target."""
+        """degree: where the SNR target is met: the image corner, or 0 for an on-axis reading."""
+        if not READINGS[self.reading].at_corner:
+            return 0.0
         return corner_field_angle_deg(self.sensor_width_mm, self.sensor_height_mm,
                                       self.focal_length_mm)
+
+    @property
+    def snr_db(self) -> float:
+        """dB: the target SNR of the design's reading."""
+        return READINGS[self.reading].snr_db
 
     def evaluate_kwargs(self) -> dict:
         """Keyword arguments for :func:`epc_fast.evaluate` (all but the illuminance)."""
         return {
             "pixel_pitch_um": self.pixel_pitch_um, "f_number": self.f_number,
             "focal_length_mm": self.focal_length_mm, "sensor_area_mm2": self.sensor_area_mm2,
-            "field_angle_deg": self.field_angle_deg, "stabilization": self.stabilization,
+            "field_angle_deg": self.field_angle_deg, "snr_db": self.snr_db,
+            "stabilization": self.stabilization,
         }
 
     def with_(self, **changes) -> "Design":
         """A copy with some fields changed."""
         return replace(self, **changes)
 
+    def read_as(self, reading: str) -> "Design":
+        """The same design under another reading of the paper (a key of :data:`READINGS`)."""
+        return self.with_(reading=reading)
+
+    def stabilized(self, factor: float = IS_FACTOR) -> "Design":
+        """The design with image stabilisation: motion divided by ``factor`` (1)."""
+        return self.with_(name=f"{self.name} {factor:g}x IS", stabilization=factor)
+
     def as_dict(self) -> dict:
         return asdict(self)
+
+
+def stack(designs) -> dict:
+    """Keyword arguments for :func:`epc_fast.evaluate` holding several designs at once.
+
+    Each value is a float64 array of shape (len(designs),), so the designs broadcast against
+    anything shaped (..., len(designs)); add an axis (``[:, None]``) to put them on rows.
+    """
+    kwargs = [d.evaluate_kwargs() for d in designs]
+    return {name: np.array([k[name] for k in kwargs], dtype=np.float64) for name in kwargs[0]}
+
+
+def evaluate_over_illuminance(design, illuminance_lux, **options) -> Result:
+    """EPC and its intermediates of one design, or several, over illuminance.
+
+    Parameters
+    ----------
+    design : Design, sequence of Design, or dict
+        A preset, several (one row each), or :func:`epc_fast.evaluate` keywords without the
+        illuminance.
+    illuminance_lux : array_like
+        lux, 1-D or scalar.
+    **options
+        Further :func:`epc_fast.evaluate` keywords (``backend``, ``threads``, a parameter to
+        override, ...).
+
+    Returns
+    -------
+    Result
+        Shaped like ``illuminance_lux`` for one design, (len(designs), len(illuminance_lux))
+        for several.
+    """
+    lux = np.asarray(illuminance_lux, dtype=np.float64)
+    if isinstance(design, Design):
+        kwargs = design.evaluate_kwargs()
+    elif isinstance(design, dict):
+        kwargs = dict(design)
+    else:
+        kwargs = {name: v[:, None] for name, v in stack(design).items()}
+        lux = lux.reshape(1, -1)
+    return evaluate(lux, **{**kwargs, **options})
 
 
 def _format(name, width_mm, height_mm, focal_mm, f_number, arrays):
@@ -88,5 +206,7 @@ LOW_TIER = _format('1/8"', 1.792, 1.344, 2.24, 2.8, [
     (2.8, (640, 480)), (2.2, (800, 600)), (1.75, (1024, 768)), (1.4, (1280, 960))])
 #: 3x zoom at its telephoto end: 1.75 um on the 1/3.2" format, f = 16.8 mm, F/4.9.
 ZOOM_3X = Design('3x zoom 1.75 um', 1.75, 2592, 1944, 4.57, 3.43, 4.9, 16.8)
+#: The paper's Figure 3: the 1/3.2" 1.75 um design normal, with 4x IS, zoomed, zoomed with IS.
+FIGURE_3 = (HIGH_TIER[2], HIGH_TIER[2].stabilized(), ZOOM_3X, ZOOM_3X.stabilized())
 
 PAPER_DESIGNS = HIGH_TIER + LOW_TIER + (ZOOM_3X,)
