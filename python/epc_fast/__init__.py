@@ -15,6 +15,7 @@ from __future__ import annotations
 from importlib.metadata import PackageNotFoundError, version
 
 from .api import Result, evaluate
+from .inverse import InverseStatus, crossover_lux, lux_for_epc
 from .params import PARAMETERS
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Cause, Status
@@ -27,6 +28,9 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 __all__ = [
     "evaluate",
     "Result",
+    "lux_for_epc",
+    "crossover_lux",
+    "InverseStatus",
     "Status",
     "Cause",
     "Spectrum",
