@@ -77,6 +77,21 @@ void brent_lanes(std::size_t n, BrentState* state, bool* running, int max_iter, 
     }
 }
 
+// Writes each OK lane's root illuminance e^b and the EPC of `in` there; NaN elsewhere.
+inline void write_roots(const Inputs& in, const Options& opt, std::size_t begin, std::size_t n,
+                        const BrentState* state, const InverseOutputs& out) {
+    double lux[block_size], epc[block_size];
+    bool invalid[block_size];
+    for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(state[i].b);
+    epc_at(in, opt, begin, n, lux, epc, invalid);
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool ok = out.status[i] == static_cast<unsigned char>(InverseStatus::ok);
+        out.illuminance_lux[i] = ok ? lux[i] : nan;
+        out.epc[i] = ok ? epc[i] : nan;
+    }
+}
+
 inline void lux_for_epc_block(const Inputs& in, const Column& target_epc, const Options& opt,
                               const InverseOptions& inv, std::size_t begin, std::size_t n,
                               const InverseOutputs& out) {
@@ -105,15 +120,7 @@ inline void lux_for_epc_block(const Inputs& in, const Column& target_epc, const 
         epc_at(in, opt, begin, n, lux, g, invalid);
         for (std::size_t i = 0; i < n; ++i) g[i] -= target[i];
     });
-    for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(state[i].b);
-    double epc[block_size];
-    epc_at(in, opt, begin, n, lux, epc, invalid);
-    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-    for (std::size_t i = 0; i < n; ++i) {
-        const bool ok = out.status[i] == static_cast<unsigned char>(InverseStatus::ok);
-        out.illuminance_lux[i] = ok ? lux[i] : nan;
-        out.epc[i] = ok ? epc[i] : nan;
-    }
+    write_roots(in, opt, begin, n, state, out);
 }
 
 inline void crossover_lux_block(const Inputs& a, const Inputs& b, const Options& opt,
@@ -169,14 +176,7 @@ inline void crossover_lux_block(const Inputs& a, const Inputs& b, const Options&
         else state[i].start(u_lo, 0.0, u_hi, 0.0, 0.0, inv.rtol);
     }
     brent_lanes(n, state, running, inv.max_iter, difference);
-    for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(state[i].b);
-    epc_at(a, opt, begin, n, lux, epc_a, invalid_a);
-    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-    for (std::size_t i = 0; i < n; ++i) {
-        const bool ok = out.status[i] == static_cast<unsigned char>(InverseStatus::ok);
-        out.illuminance_lux[i] = ok ? lux[i] : nan;
-        out.epc[i] = ok ? epc_a[i] : nan;
-    }
+    write_roots(a, opt, begin, n, state, out);
 }
 
 inline InverseOutputs offset(const InverseOutputs& out, std::size_t first) {
