@@ -26,8 +26,8 @@ Column column_of(const py::handle& obj, int index, py::ssize_t n) {
     const std::string what = index < 0 ? "target_epc" : "column " + std::to_string(index);
     if (!py::isinstance<py::array>(obj)) throw std::invalid_argument(what + " is not an ndarray");
     auto arr = py::reinterpret_borrow<py::array>(obj);
-    if (!arr.dtype().is(py::dtype::of<double>()) || arr.ndim() != 1 ||
-        !(arr.flags() & py::array::c_style))
+    // Equivalence, not identity: an unpickled array carries an equal but distinct dtype object.
+    if (!py::isinstance<py::array_t<double, py::array::c_style>>(arr) || arr.ndim() != 1)
         throw std::invalid_argument(what + " must be a contiguous 1-D float64 array");
     if (arr.size() != 1 && arr.size() != n)
         throw std::invalid_argument(what + " has " + std::to_string(arr.size()) +
@@ -54,8 +54,8 @@ T* output_column(const py::dict& out, const char* name, py::ssize_t n) {
     if (!py::isinstance<py::array>(obj))
         throw std::invalid_argument(std::string("out['") + name + "'] is not an ndarray");
     auto arr = py::reinterpret_borrow<py::array>(obj);
-    if (!arr.dtype().is(py::dtype::of<T>()) || arr.ndim() != 1 ||
-        !(arr.flags() & py::array::c_style) || !arr.writeable() || arr.size() != n)
+    if (!py::isinstance<py::array_t<T, py::array::c_style>>(arr) || arr.ndim() != 1 ||
+        !arr.writeable() || arr.size() != n)
         throw std::invalid_argument(std::string("out['") + name + "'] must be a writeable, " +
                                     "contiguous 1-D array of " + std::to_string(n) + " " +
                                     (sizeof(T) == 1 ? "uint8" : "float64") + " values");
