@@ -14,6 +14,7 @@ import numpy as np
 
 from . import __version__, evaluate
 from .commands import discover
+from .commands.scan import print_default_scan
 from .presets import HIGH_TIER
 from .selfcheck import self_check
 
@@ -39,11 +40,12 @@ def _design_table() -> None:
 
 
 def main_job(args) -> int:
-    """The default run: build info, self-check, the paper's design table."""
+    """The default run: build info, self-check, the paper's design table, a default scan."""
     _info()
     report = self_check(args.check_points)
     print(report.summary())
     _design_table()
+    print_default_scan()
     return 0 if report.passed else 1
 
 

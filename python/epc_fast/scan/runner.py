@@ -1,0 +1,214 @@
+"""Run a scan: chunks of whole blocks, evaluated locally or on Dask, their partial reductions
+merged in block order as they arrive, so memory stays bounded whatever the point count.
+
+Ctrl-C (KeyboardInterrupt) stops the scan between chunks: the result holds the chunks merged
+so far, a prefix of the points, and is marked ``partial``.
+"""
+
+from __future__ import annotations
+
+import operator
+import signal
+import threading
+import time
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import numpy as np
+
+from .groups import group_key
+from .histograms import Quantiles
+from .progress import progress_reporter
+from .space import BLOCK_POINTS, Space
+from .summaries import FractionBelow, Summary
+from .tasks import PlanItem, reduce_chunk
+
+__all__ = ["run", "ScanResult", "Timing", "default_reductions", "DEFAULT_CHUNK_POINTS"]
+
+#: Points per chunk by default: 16 blocks, about 1 s of the core on 2 threads and ~200 MB.
+DEFAULT_CHUNK_POINTS = 16 * BLOCK_POINTS
+#: pixels: the threshold of the default fraction-below reduction.
+DEFAULT_EPC_THRESHOLD = 2e6
+
+
+@dataclass
+class Timing:
+    """Where a scan's time went, in seconds (summed over chunks; on Dask, over workers).
+
+    Attributes
+    ----------
+    wall_s : s, the whole scan.
+    sampling_s : s, drawing the points' parameters.
+    core_s : s, inside :func:`epc_fast.evaluate`.
+    output_s : s, writing Parquet.
+    reduction_s : s, reducing chunks and merging their partial results.
+    """
+
+    wall_s: float = 0.0
+    sampling_s: float = 0.0
+    core_s: float = 0.0
+    output_s: float = 0.0
+    reduction_s: float = 0.0
+
+
+@dataclass
+class ScanResult:
+    """What a scan reduced.
+
+    Attributes
+    ----------
+    space : Space, the scanned space.
+    seed : int, the seed (the same seed gives the same numbers).
+    points : int, points reduced: ``0 .. points - 1`` (fewer than asked when ``partial``).
+    points_requested : int.
+    partial : bool, whether the scan was interrupted.
+    results : {name: result}, one per reduction (also ``scan_result[name]``).
+    timing : Timing.
+    """
+
+    space: Space
+    seed: int
+    points: int
+    points_requested: int
+    partial: bool
+    results: dict
+    timing: Timing
+
+    def __getitem__(self, name: str):
+        return self.results[name]
+
+    @property
+    def points_per_s(self) -> float:
+        """points/s over the wall time."""
+        return self.points / self.timing.wall_s if self.timing.wall_s > 0 else float("nan")
+
+
+def default_reductions(space: Space) -> dict:
+    """Summary, 5/50/95% quantiles and P(EPC < 2 Mpixel), per design when there are designs."""
+    by = "design" if space.design_names else None
+    return {"summary": Summary(by=by), "quantiles": Quantiles((0.05, 0.5, 0.95), by=by),
+            "below": FractionBelow(DEFAULT_EPC_THRESHOLD, by=by)}
+
+
+@contextmanager
+def _interrupts_deferred():
+    """Hold Ctrl-C until the block ends, so a merge is never half done (main thread, with a
+    Python-level SIGINT handler; elsewhere the block runs as it is)."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is None):
+        yield
+        return
+    received = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: received.append(signum))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if received:
+        raise KeyboardInterrupt
+
+
+def _checked_points(space: Space, points) -> int:
+    if points is None:
+        if space.is_random:
+            raise TypeError("a space with random parameters needs points=")
+        return space.grid_size
+    count = operator.index(points)
+    if count < 1:
+        raise ValueError(f"points must be >= 1, got {points!r}")
+    return count
+
+
+def _checked_chunk_points(chunk_points) -> int:
+    count = operator.index(chunk_points)
+    if count < 1 or count % BLOCK_POINTS:
+        raise ValueError(f"chunk_points must be a positive multiple of {BLOCK_POINTS} "
+                         f"(the block), got {chunk_points!r}")
+    return count
+
+
+def _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir):
+    for start, stop in ranges:
+        yield reduce_chunk(space, plan, seed, start, stop, points, threads, parquet_dir)
+
+
+def run(space: Space, points: int | None = None, *, seed: int | None = None,
+        reductions: dict | None = None, chunk_points: int = DEFAULT_CHUNK_POINTS,
+        threads: int | None = None, progress=None, parquet=None, client=None) -> ScanResult:
+    """Evaluate ``points`` points of ``space`` in chunks and reduce them on the fly.
+
+    Parameters
+    ----------
+    space : Space
+    points : int, optional
+        Points to evaluate; default: one pass over the grid (spaces without random
+        parameters only). Point i takes grid cell i mod ``space.grid_size``.
+    seed : int, optional
+        The seed of every random draw; None draws a fresh one (recorded in the result).
+    reductions : {name: reduction}, optional
+        :class:`Summary`, :class:`Histogram`, :class:`Quantiles`, :class:`FractionBelow`,
+        :class:`TopK`; default :func:`default_reductions`.
+    chunk_points : int
+        Points per chunk, a multiple of :data:`BLOCK_POINTS`; memory grows with it (~200 bytes
+        a point), results do not change.
+    threads : int, optional
+        Core threads per chunk (see :func:`epc_fast.evaluate`); results do not change.
+    progress : None, bool or callable
+        See :func:`epc_fast.scan.progress.progress_reporter`.
+    parquet : path, optional
+        A directory for per-point output, one file per chunk (the ``parquet`` extra).
+    client : dask.distributed.Client, optional
+        Run the chunks as tasks on this client's cluster (the ``dask`` extra); the results are
+        the same as a local run's.
+
+    Returns
+    -------
+    ScanResult
+    """
+    points = _checked_points(space, points)
+    chunk_points = _checked_chunk_points(chunk_points)
+    seed = int(np.random.SeedSequence().entropy if seed is None else operator.index(seed))
+    reductions = default_reductions(space) if reductions is None else dict(reductions)
+    plan = tuple(PlanItem(name, r, group_key(space, r.by)) for name, r in reductions.items())
+    states = {item.name: item.reduction.start(item.key, points) for item in plan}
+    parquet_dir = None
+    if parquet is not None:
+        from .parquet import prepare_directory
+
+        parquet_dir = prepare_directory(parquet)
+    ranges = ((start, min(start + chunk_points, points))
+              for start in range(0, points, chunk_points))
+    if client is None:
+        outcomes = _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir)
+    else:
+        from .dask_backend import dask_outcomes
+
+        outcomes = dask_outcomes(client, space, plan, seed, ranges, points, threads,
+                                 parquet_dir)
+    reporter = progress_reporter(progress, points)
+    timing = Timing()
+    done = 0
+    partial = False
+    started = time.perf_counter()
+    try:
+        for outcome in outcomes:
+            merge_started = time.perf_counter()
+            with _interrupts_deferred():
+                for item in plan:
+                    states[item.name] = item.reduction.merge(states[item.name],
+                                                             outcome.partials[item.name])
+                done = outcome.stop
+            for field in ("sampling_s", "core_s", "output_s", "reduction_s"):
+                setattr(timing, field, getattr(timing, field) + getattr(outcome, field))
+            timing.reduction_s += time.perf_counter() - merge_started
+            reporter.update(done)
+    except KeyboardInterrupt:
+        partial = done < points
+    finally:
+        outcomes.close()
+        reporter.close()
+    timing.wall_s = time.perf_counter() - started
+    results = {item.name: item.reduction.finish(states[item.name], item.key, space)
+               for item in plan}
+    return ScanResult(space, seed, done, points, partial, results, timing)
+

@@ -1,0 +1,256 @@
+"""A design space: each model parameter fixed, on a grid, or random, and a ``design`` axis.
+
+Randomness comes in blocks of :data:`BLOCK_POINTS` points. Block b's draws of parameter ``name``
+come from a PCG64 generator seeded with ``SeedSequence(seed, spawn_key=(b, crc32(name)))``:
+the child ``spawn(...)[b].spawn(...)[crc32(name)]`` of the scan's seed. So a point's
+parameters depend only on the seed and the point's index, never on the chunk size, the thread
+count or the machine that evaluates it, and adding a random parameter leaves the others'
+draws unchanged. A chunk is a whole number of blocks.
+"""
+
+from __future__ import annotations
+
+import math
+import zlib
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..params import PARAMETER_NAMES, SIZE_PARAMETERS
+from ..presets import Design
+from .distributions import Choice, Grid
+
+__all__ = ["Space", "Points", "BLOCK_POINTS"]
+
+#: Points per block, the unit of randomness: chunks are whole numbers of blocks.
+BLOCK_POINTS = 1 << 16
+
+#: The per-point keyword parameters of :func:`epc_fast.evaluate`.
+POINT_PARAMETERS = tuple(n for n in PARAMETER_NAMES if n != "size") + SIZE_PARAMETERS
+REQUIRED_PARAMETERS = ("illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm")
+#: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
+EVALUATE_OPTIONS = ("spectrum", "f50_rtol", "t_mpe_solver", "t_mpe_rtol")
+
+
+def block_generator(seed: int, block: int, name: str) -> np.random.Generator:
+    """The generator of block ``block``'s draws of parameter ``name``."""
+    key = (block, zlib.crc32(name.encode()))
+    return np.random.Generator(np.random.PCG64(np.random.SeedSequence(seed, spawn_key=key)))
+
+
+@dataclass
+class Points:
+    """Points ``start .. stop - 1`` of a scan.
+
+    Attributes
+    ----------
+    start, stop : point indices.
+    index : int64 array, the point indices.
+    parameters : {name: float or float64 array}, keyword arguments for :func:`epc_fast.evaluate`.
+    indices : {axis name: int array}, each discrete axis's value index (``design``, grid and
+        choice parameters).
+    """
+
+    start: int
+    stop: int
+    index: np.ndarray
+    parameters: dict
+    indices: dict
+
+    def __len__(self) -> int:
+        return self.stop - self.start
+
+
+def _design_dict(design, position: int) -> dict:
+    if isinstance(design, Design):
+        return {"name": design.name, **design.evaluate_kwargs()}
+    if not isinstance(design, Mapping):
+        raise TypeError(f"a design is an epc_fast.presets.Design or a mapping of parameters, "
+                        f"got {design!r}")
+    entry = dict(design)
+    entry.setdefault("name", f"design {position}")
+    return entry
+
+
+class Space:
+    """A design space for :func:`epc_fast.scan.run`.
+
+    Parameters
+    ----------
+    design : sequence, Grid or Choice of designs, optional
+        Designs (:class:`epc_fast.presets.Design` or mappings of :func:`epc_fast.evaluate`
+        parameters, with an optional ``"name"``). A plain sequence is a grid axis. Each design
+        must give the same parameters.
+    evaluate_options : mapping, optional
+        Options of :func:`epc_fast.evaluate` shared by every point: ``spectrum``, ``f50_rtol``,
+        ``t_mpe_solver``, ``t_mpe_rtol``.
+    **parameters : float, Grid, Choice or a distribution
+        Any per-point parameter of :func:`epc_fast.evaluate`, in its unit: a number (fixed), a
+        :class:`Grid`, a :class:`Choice` or a distribution (:class:`Uniform`,
+        :class:`LogUniform`, :class:`Normal`, :class:`LogNormal`, :class:`Truncated`,
+        :class:`Empirical`). A parameter given here replaces the designs' value of it;
+        parameters given nowhere take evaluate's defaults.
+    """
+
+    def __init__(self, design=None, evaluate_options=None, **parameters):
+        unknown = sorted(set(parameters) - set(POINT_PARAMETERS))
+        if unknown:
+            raise TypeError(f"unknown parameter(s) {', '.join(unknown)}; the parameters are "
+                            f"{', '.join(POINT_PARAMETERS)}")
+        self.axes: dict = {}
+        self.design_names: tuple[str, ...] = ()
+        self.design_table: dict[str, np.ndarray] = {}
+        self.design_varying: tuple[str, ...] = ()
+        self.design_constant: tuple[str, ...] = ()
+        if design is not None:
+            self._set_designs(design, overridden=set(parameters))
+        for name, axis in parameters.items():
+            self.axes[name] = self._checked_axis(name, axis)
+        self.evaluate_options = dict(evaluate_options or {})
+        bad = sorted(set(self.evaluate_options) - set(EVALUATE_OPTIONS))
+        if bad:
+            raise TypeError(f"unknown evaluate option(s) {', '.join(bad)}; the options are "
+                            f"{', '.join(EVALUATE_OPTIONS)}")
+        self._check_required()
+        self.grid_axes = tuple(n for n, a in self.axes.items() if isinstance(a, Grid))
+        self.grid_shape = tuple(len(self.axes[n].values) for n in self.grid_axes)
+
+    def _set_designs(self, design, overridden: set):
+        axis = design if isinstance(design, (Grid, Choice)) else Grid(tuple(design))
+        entries = [{k: v for k, v in _design_dict(d, i).items() if k not in overridden}
+                   for i, d in enumerate(axis.values)]
+        names = set(entries[0]) - {"name"}
+        for entry in entries:
+            if set(entry) - {"name"} != names:
+                raise ValueError(f"every design must give the same parameters: "
+                                 f"{entries[0]['name']!r} gives {sorted(names)}, "
+                                 f"{entry['name']!r} gives {sorted(set(entry) - {'name'})}")
+        unknown = sorted(names - set(POINT_PARAMETERS))
+        if unknown:
+            raise TypeError(f"designs give unknown parameter(s) {', '.join(unknown)}")
+        self.design_names = tuple(str(e["name"]) for e in entries)
+        self.design_table = {n: np.array([float(e[n]) for e in entries]) for n in sorted(names)}
+        self.design_varying = tuple(n for n, v in self.design_table.items() if np.any(v != v[0]))
+        self.design_constant = tuple(n for n in self.design_table if n not in self.design_varying)
+        self.axes["design"] = type(axis)(**{**vars(axis), "values": self.design_names})
+
+    @staticmethod
+    def _checked_axis(name, axis):
+        if isinstance(axis, (Grid, Choice)):
+            values = np.asarray(axis.values)
+            if values.dtype.kind not in "iuf":
+                raise TypeError(f"{name}'s values must be numbers, got {axis.values!r}")
+            return axis
+        if hasattr(axis, "sample"):
+            return axis
+        try:
+            return float(axis)
+        except (TypeError, ValueError):
+            raise TypeError(f"{name} must be a number, a Grid, a Choice or a distribution, "
+                            f"got {axis!r}") from None
+
+    def _check_required(self):
+        given = set(self.axes) | set(self.design_table)
+        missing = [n for n in REQUIRED_PARAMETERS if n not in given]
+        if missing:
+            raise TypeError(f"the space does not give {', '.join(missing)}")
+        sizes = [n for n in SIZE_PARAMETERS if n in given]
+        if len(sizes) != 1:
+            raise TypeError(f"give exactly one of {' and '.join(SIZE_PARAMETERS)} "
+                            f"(given: {sizes or 'neither'})")
+
+    @property
+    def grid_size(self) -> int:
+        """Points in one pass over every combination of the grid axes (1 without grids)."""
+        return math.prod(self.grid_shape)
+
+    @property
+    def is_random(self) -> bool:
+        """Whether any parameter or the design is drawn at random."""
+        return any(not isinstance(a, (float, Grid)) for a in self.axes.values())
+
+    @property
+    def discrete_axes(self) -> tuple[str, ...]:
+        """Names of the grid and choice axes, whose value index is a group key."""
+        return tuple(n for n, a in self.axes.items() if isinstance(a, (Grid, Choice)))
+
+    @property
+    def varying_parameters(self) -> tuple[str, ...]:
+        """Parameters that are not the same at every point."""
+        varying = [n for n, a in self.axes.items() if n != "design" and not isinstance(a, float)]
+        return tuple(varying) + self.design_varying
+
+    def axis_values(self, name: str) -> tuple:
+        """The values of a discrete axis (design names on the ``design`` axis)."""
+        return self.axes[name].values
+
+    def points(self, seed: int, start: int, stop: int) -> Points:
+        """The parameters of points ``start .. stop - 1``; ``start`` is a whole block."""
+        if start % BLOCK_POINTS or not 0 <= start < stop:
+            raise ValueError(f"a range of points starts at a block ({BLOCK_POINTS} points) and "
+                             f"is not empty, got {start} .. {stop}")
+        n = stop - start
+        indices, parameters = self._grid_columns(start, n)
+        for name, axis in self.axes.items():
+            if isinstance(axis, Choice):
+                indices[name] = self._drawn(seed, start, stop, name, axis.sample_indices)
+                if name != "design":
+                    parameters[name] = np.asarray(axis.values, dtype=np.float64)[indices[name]]
+            elif isinstance(axis, float):
+                parameters[name] = axis
+            elif not isinstance(axis, Grid):
+                parameters[name] = self._drawn(seed, start, stop, name, axis.sample)
+        for name in self.design_constant:
+            parameters[name] = float(self.design_table[name][0])
+        if isinstance(self.axes.get("design"), Choice):
+            for name in self.design_varying:
+                parameters[name] = self.design_table[name][indices["design"]]
+        return Points(start, stop, np.arange(start, stop, dtype=np.int64), parameters, indices)
+
+    def _grid_columns(self, start: int, n: int) -> tuple[dict, dict]:
+        """Value indices and values of the grid axes (and the designs' parameters on a design
+        grid) at ``n`` points from ``start``: computed over one period, then tiled."""
+        if not self.grid_axes:
+            return {}, {}
+        period = min(self.grid_size, n)
+        cell = (np.arange(period, dtype=np.int64) + start % self.grid_size) % self.grid_size
+        indices = {}
+        for name, size in reversed(tuple(zip(self.grid_axes, self.grid_shape))):
+            cell, indices[name] = np.divmod(cell, size)
+        values = {}
+        for name in self.grid_axes:
+            if name == "design":
+                values.update({param: self.design_table[param][indices[name]]
+                               for param in self.design_varying})
+            else:
+                values[name] = np.asarray(self.axes[name].values, dtype=np.float64)[indices[name]]
+        repeats = -(-n // period)
+        return ({k: np.tile(v, repeats)[:n] for k, v in indices.items()},
+                {k: np.tile(v, repeats)[:n] for k, v in values.items()})
+
+    @staticmethod
+    def _drawn(seed, start, stop, name, draw) -> np.ndarray:
+        """Whole blocks of draws, cut to ``start .. stop``: a block's draws never depend on
+        how many of its points are used."""
+        out = None
+        for block in range(start // BLOCK_POINTS, (stop - 1) // BLOCK_POINTS + 1):
+            lo = block * BLOCK_POINTS
+            hi = min(lo + BLOCK_POINTS, stop)
+            values = draw(block_generator(seed, block, name), BLOCK_POINTS)
+            if out is None:
+                out = np.empty(stop - start, dtype=values.dtype)
+            out[lo - start:hi - start] = values[:hi - lo]
+        return out
+
+    def describe(self) -> str:
+        """One line per axis: how each parameter varies."""
+        lines = []
+        for name, axis in self.axes.items():
+            if name == "design":
+                kind = "grid" if isinstance(axis, Grid) else f"choice (weights {axis.weights})"
+                lines.append(f"design: {kind} over {len(self.design_names)}: "
+                             + ", ".join(self.design_names))
+            else:
+                lines.append(f"{name}: {axis!r}")
+        return "\n".join(lines)

@@ -1,0 +1,152 @@
+"""Scan configs in TOML, and ``epc-fast scan``: the shipped example, the built-in default, the
+tables and plots it writes, and the main job's default scan."""
+
+import csv
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import epc_fast.scan.tasks
+from epc_fast import evaluate
+from epc_fast.__main__ import main
+from epc_fast.presets import HIGH_TIER
+from epc_fast.scan import (Binned, Choice, FractionBelow, Grid, LogNormal, LogUniform, Quantiles,
+                           Summary, TopK, Truncated, run)
+from epc_fast.scan import tables
+from epc_fast.scan.config import DEFAULT_CONFIG, default_config, load_config, parse_config
+
+EXAMPLE = Path(__file__).parents[1] / "examples" / "scan_designs.toml"
+NAMES = [d.name for d in HIGH_TIER]
+
+
+def test_the_example_config_reads_as_the_space_it_describes():
+    config = load_config(EXAMPLE)
+    space = config.space
+    assert (config.points, config.seed) == (1_000_000, 2009)
+    assert space.design_names == tuple(NAMES)
+    assert space.axes["illuminance_lux"] == LogUniform(10, 100_000)
+    assert space.axes["shake_deg_per_s"] == Truncated(LogNormal(4.39, 0.5), 0.2, 40)
+    assert space.axes["stabilization"] == Choice((1, 4), (0.5, 0.5))
+    assert space.axes["read_noise_e"] == Grid((0, 2))
+    reductions = config.reductions
+    assert reductions["summary"] == Summary(by="design")
+    assert reductions["stabilised"] == FractionBelow(2e6, by=("design", "stabilization"))
+    assert reductions["best"] == TopK(10)
+    bands = reductions["bands"]
+    assert isinstance(bands, Quantiles) and bands.by[0] == "design"
+    assert bands.by[1] == Binned("illuminance_lux", tuple(np.geomspace(10, 1e5, 17)))
+
+
+def test_the_default_config_is_the_paper_designs_over_light_and_shake():
+    config = default_config()
+    assert config.space.design_names == tuple(NAMES)
+    assert config.space.axes["shake_deg_per_s"] == LogNormal(4.39, 0.5)
+    assert config.points == 10**6 and config.source == "built-in default"
+
+
+@pytest.mark.parametrize("text, message", [
+    ("[scan]\npoints = 10\n[scan2]\n", r"unknown key\(s\) scan2"),
+    ("[design]\npresets = ['HIGH_TIER']\n", r"missing scan"),
+    ("[scan]\npoints = 1.5\n", "points must be an integer"),
+    ("[scan]\npoints = 10\n[design]\npresets = ['NOPE']\n", "'NOPE' is not a preset"),
+    ("[scan]\npoints = 10\n[parameters]\nshake_deg_per_s = {distribution = 'lognormal', "
+     "median = 4, sigam = 1}\n", r"\[parameters.shake_deg_per_s\]: unknown key\(s\) sigam"),
+    ("[scan]\npoints = 10\n[parameters]\nx = {distribution = 'cauchy'}\n", "must be one of"),
+    ("[scan]\npoints = 10\n[reductions.a]\nkind = 'median'\n", r"\[reductions.a\]: kind"),
+    ("[scan]\npoints = 10\n[reductions.a]\nkind = 'summary'\nby = [{parameter = 'x'}]\n",
+     "log_bins"),
+])
+def test_a_config_error_names_its_section_and_key(text, message):
+    with pytest.raises(ValueError, match=message):
+        parse_config(text)
+
+
+def test_empirical_samples_can_come_from_a_file_beside_the_config(tmp_path):
+    (tmp_path / "shake.txt").write_text("1.0\n2.0\n8.0\n")
+    (tmp_path / "scan.toml").write_text(
+        "[scan]\npoints = 1000\n[design]\npresets = ['HIGH_TIER']\n[parameters]\n"
+        "illuminance_lux = 1000\nshake_deg_per_s = {distribution = 'empirical', "
+        "file = 'shake.txt'}\n")
+    config = load_config(tmp_path / "scan.toml")
+    drawn = config.space.points(0, 0, 1000).parameters["shake_deg_per_s"]
+    assert set(np.unique(drawn)) == {1.0, 2.0, 8.0}
+
+
+def _read_csv(path):
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def test_cli_scan_writes_the_tables_and_plots_of_the_example(tmp_path, capsys):
+    assert main(["scan", str(EXAMPLE), "--out", str(tmp_path), "--points", "2e5",
+                 "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "scan of 200,000 points" in out and "by design:" in out
+    names = {p.name for p in tmp_path.iterdir()}
+    assert {"summary_by_design.csv", "summary_by_design.md", "summary_by_pixel_pitch_um.csv",
+            "best.csv", "distribution.png", "bands.png"} <= names
+    rows = _read_csv(tmp_path / "summary_by_design.csv")
+    assert [r["design"] for r in rows] == NAMES
+    config = load_config(EXAMPLE)
+    expected = run(config.space, 200_000, seed=config.seed, reductions=config.reductions,
+                   progress=False)
+    # The CSV holds floats at full precision (repr).
+    assert [float(r["mean"]) for r in rows] == list(expected["summary"].mean)
+    assert [int(r["points"]) for r in rows] == [50_000] * 4
+    assert len(_read_csv(tmp_path / "best.csv")) == 10
+
+
+def test_cli_scan_without_a_config_runs_the_built_in_default(tmp_path, capsys):
+    assert main(["scan", "--out", str(tmp_path), "--points", "1e5", "--no-plots",
+                 "--no-progress"]) == 0
+    assert "(built-in default), seed 2009" in capsys.readouterr().out
+    assert (tmp_path / "summary_by_design.csv").exists()
+    assert not list(tmp_path.glob("*.png"))
+
+
+def test_cli_scan_interrupted_writes_the_partial_tables_and_exits_130(tmp_path, capsys,
+                                                                     monkeypatch):
+    calls = []
+
+    def evaluate_then_interrupt(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return evaluate(*args, **kwargs)
+
+    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", evaluate_then_interrupt)
+    assert main(["scan", "--out", str(tmp_path), "--no-plots", "--no-progress",
+                 "--chunk-points", "65536"]) == 130
+    assert "scan of 65,536 of 1,000,000 points" in capsys.readouterr().out
+    rows = _read_csv(tmp_path / "summary_by_design.csv")
+    assert sum(int(r["points"]) for r in rows) == 65_536
+
+
+def test_cli_show_config_prints_the_built_in_toml(capsys):
+    assert main(["scan", "--show-config"]) == 0
+    assert capsys.readouterr().out == DEFAULT_CONFIG
+
+
+def test_main_job_ends_with_the_default_scan_per_design(capsys):
+    assert main(["--check-points", "500"]) == 0
+    out = capsys.readouterr().out
+    scan_part = out[out.index("Default scan"):]
+    assert "scan of 200,000 points (built-in default)" in scan_part
+    assert sum(line.startswith('| 1/3.2"') for line in scan_part.splitlines()) == 4
+
+
+def test_tables_join_the_results_on_each_grouping_and_prefix_a_taken_column():
+    space = load_config(EXAMPLE).space
+    result = run(space, 1000, progress=False, reductions={
+        "exact": Quantiles((0.5,), by="design"), "streamed": Quantiles((0.5,), by="design",
+                                                                       exact_up_to=0),
+        "all": Summary(), "best": TopK(2)})
+    grouped = tables.grouped_tables(result)
+    assert list(grouped) == ["design", "all"]
+    assert list(grouped["design"]) == ["design", "q50", "streamed q50"]
+    assert grouped["all"]["points"] == [1000]
+    stem = tables.file_stem("design, illuminance_lux low")
+    assert stem == "summary_by_design_illuminance_lux_low"
+    markdown = tables.markdown({"n": [1234567], "x": [0.000123456], "name": ["a|b"]})
+    assert markdown.splitlines()[2] == "| 1,234,567 | 0.0001235 | a\\|b |"

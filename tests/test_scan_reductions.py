@@ -1,0 +1,162 @@
+"""Each reduction, streamed chunk by chunk, against NumPy on the full arrays of the same points.
+
+The space has every status: a normal hand shake goes negative (INVALID) and one PRNU in five
+caps the SNR below the target (UNREACHABLE), so the reductions see NaN EPC as well.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from epc_fast import evaluate
+from epc_fast.presets import HIGH_TIER
+from epc_fast.scan import (BLOCK_POINTS, Binned, Choice, FractionBelow, Grid, Histogram,
+                           LogUniform, Normal, Quantiles, Space, Summary, TopK, run)
+
+SEED = 11
+N = 5 * BLOCK_POINTS + 4321
+SPACE = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5),
+              shake_deg_per_s=Normal(4.0, 3.0), prnu=Choice((0.0, 0.05), weights=(0.8, 0.2)))
+DESIGNS = range(len(HIGH_TIER))
+
+
+@pytest.fixture(scope="module")
+def full():
+    """The scan's points and their results, whole."""
+    points = SPACE.points(SEED, 0, N)
+    return points, evaluate(**points.parameters)
+
+
+def _scan(reduction):
+    return run(SPACE, N, seed=SEED, reductions={"r": reduction}, chunk_points=2 * BLOCK_POINTS,
+               progress=False)["r"]
+
+
+def _finite_epc_of(full, design):
+    points, result = full
+    return result.epc[(points.indices["design"] == design) & np.isfinite(result.epc)]
+
+
+def test_the_space_gives_every_status_but_blur_unbounded(full):
+    assert np.count_nonzero(np.bincount(full[1].status, minlength=4)[:3]) == 3
+
+
+def test_summary_matches_numpy_per_design(full):
+    points, result = full
+    summary = _scan(Summary(by="design"))
+    assert summary.labels == {"design": [d.name for d in HIGH_TIER]}
+    for g in DESIGNS:
+        epc = _finite_epc_of(full, g)
+        in_design = points.indices["design"] == g
+        assert np.array_equal(summary.status_counts[g],
+                              np.bincount(result.status[in_design], minlength=4))
+        assert summary.count[g] == epc.size
+        # Block-wise Chan merging and NumPy's pairwise sum round differently: ~1e-16 per
+        # addition over ~10^5 values stays far inside 1e-12.
+        assert summary.mean[g] == pytest.approx(epc.mean(), rel=1e-12)
+        # Both are two-pass (deviations from a mean), so they agree nearly as well.
+        assert summary.std[g] == pytest.approx(epc.std(), rel=1e-11)
+        assert summary.min[g] == epc.min() and summary.max[g] == epc.max()
+
+
+def test_histogram_matches_numpy_histogram_per_design(full):
+    points, result = full
+    histogram = _scan(Histogram(1e3, 1e7, 80, by="design"))
+    for g in DESIGNS:
+        epc = _finite_epc_of(full, g)
+        expected, edges = np.histogram(np.log10(epc), bins=80, range=(3.0, 7.0))
+        assert np.array_equal(histogram.counts[g], expected)
+        assert histogram.below[g] == np.count_nonzero(epc < 1e3)
+        assert histogram.above[g] == np.count_nonzero(epc >= 1e7)
+        in_design = points.indices["design"] == g
+        assert histogram.nonfinite[g] == np.count_nonzero(~np.isfinite(result.epc[in_design]))
+    np.testing.assert_allclose(histogram.edges, 10.0 ** edges, rtol=1e-15)
+
+
+def test_exact_quantiles_equal_numpy_quantile(full):
+    q = (0.0, 0.05, 0.5, 0.95, 1.0)
+    quantiles = _scan(Quantiles(q, by="design"))
+    assert quantiles.exact
+    for g in DESIGNS:
+        assert np.array_equal(quantiles.estimate[g], np.quantile(_finite_epc_of(full, g), q))
+
+
+def test_streamed_quantiles_bound_the_exact_ones_within_their_stated_error(full):
+    q = (0.01, 0.05, 0.5, 0.95, 0.99)
+    quantiles = _scan(Quantiles(q, by="design", exact_up_to=0))
+    assert not quantiles.exact
+    assert quantiles.relative_resolution == pytest.approx(10 ** 0.001 - 1)
+    for g in DESIGNS:
+        exact = np.quantile(_finite_epc_of(full, g), q)
+        # The bounds are bin edges converted from log10 back to pixels: one rounding each.
+        assert np.all(quantiles.lower[g] <= exact * (1 + 1e-13))
+        assert np.all(exact <= quantiles.upper[g] * (1 + 1e-13))
+        assert np.all((quantiles.lower[g] <= quantiles.estimate[g])
+                      & (quantiles.estimate[g] <= quantiles.upper[g]))
+        # ~7 10^4 values per design over ~5 decades: the two order statistics around each
+        # quantile sit in the same or neighbouring bins, so the bounds span at most two.
+        width = quantiles.upper[g] / quantiles.lower[g] - 1
+        assert np.all(width <= (1 + quantiles.relative_resolution) ** 2 - 1 + 1e-12)
+
+
+def test_fraction_below_matches_numpy_with_its_binomial_error(full):
+    fraction = _scan(FractionBelow(2e6, by="design"))
+    for g in DESIGNS:
+        epc = _finite_epc_of(full, g)
+        p = np.mean(epc < 2e6)
+        assert fraction.below[g] == np.count_nonzero(epc < 2e6)
+        assert fraction.fraction[g] == pytest.approx(p, rel=1e-15)
+        assert fraction.standard_error[g] == pytest.approx(math.sqrt(p * (1 - p) / epc.size),
+                                                           rel=1e-14)
+
+
+@pytest.mark.parametrize("largest", [True, False])
+def test_top_k_are_the_first_k_of_a_full_sort(full, largest):
+    points, result = full
+    top = _scan(TopK(7, largest=largest))
+    finite = np.flatnonzero(np.isfinite(result.epc))
+    value = result.epc[finite]
+    order = finite[np.lexsort((finite, -value if largest else value))][:7]
+    assert np.array_equal(top.index, order)
+    assert np.array_equal(top.value, result.epc[order])
+    assert top.parameters["design"] == [HIGH_TIER[i].name for i in points.indices["design"][order]]
+    for name in ("illuminance_lux", "shake_deg_per_s", "prnu", "pixel_pitch_um"):
+        assert np.array_equal(top.parameters[name], points.parameters[name][order]), name
+
+
+def test_top_k_breaks_ties_by_the_lower_point_index_for_any_chunking():
+    space = Space(design=HIGH_TIER, illuminance_lux=Grid((100.0, 1000.0)))
+    best = {chunk: run(space, 3 * BLOCK_POINTS, reductions={"top": TopK(3)},
+                       chunk_points=chunk, progress=False)["top"]
+            for chunk in (BLOCK_POINTS, 3 * BLOCK_POINTS)}
+    # The best of the eight grid cells recurs every 8 points with exactly the same EPC.
+    cells = space.points(0, 0, 8)
+    best_cell = int(np.argmax(evaluate(**cells.parameters).epc))
+    for top in best.values():
+        assert np.array_equal(top.index, [best_cell, best_cell + 8, best_cell + 16])
+        assert top.value[0] == top.value[1] == top.value[2]
+
+
+def test_groups_by_a_parameter_the_designs_give(full):
+    points, result = full
+    fraction = _scan(FractionBelow(2e6, by="pixel_pitch_um"))
+    assert fraction.labels == {"pixel_pitch_um": [1.4, 1.75, 2.2, 2.8]}
+    pitch = points.parameters["pixel_pitch_um"]
+    finite = np.isfinite(result.epc)
+    for g, value in enumerate(fraction.labels["pixel_pitch_um"]):
+        assert fraction.count[g] == np.count_nonzero(finite & (pitch == value))
+
+
+@pytest.mark.parametrize("edges", [
+    tuple(np.geomspace(10, 1e5, 9)),          # equal in log10: found arithmetically
+    (10.0, 50.0, 100.0, 2000.0, 30000.0, 1e5),  # uneven: found by a search
+])
+def test_groups_by_design_and_binned_illuminance(full, edges):
+    points, result = full
+    summary = _scan(Summary(by=("design", Binned("illuminance_lux", edges))))
+    bins = len(edges) - 1
+    assert summary.labels["illuminance_lux low"][:bins] == list(edges[:-1])
+    lux_bin = np.searchsorted(edges[1:-1], points.parameters["illuminance_lux"], side="right")
+    expected = np.bincount(points.indices["design"] * bins + lux_bin, minlength=4 * bins)
+    assert np.array_equal(summary.points, expected)

@@ -1,0 +1,223 @@
+"""Running a scan: the same numbers for any chunk size or thread count, partial results on
+Ctrl-C, progress, Parquet output, and optional dependencies imported only when used."""
+
+import dataclasses
+import signal
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import epc_fast.scan.tasks
+from epc_fast import evaluate
+from epc_fast.presets import HIGH_TIER
+from epc_fast.scan import (BLOCK_POINTS, Binned, FractionBelow, Grid, Histogram, LogNormal,
+                           LogUniform, Quantiles, Space, Summary, TopK, run)
+from epc_fast.scan.plots import plot_distributions
+
+SPACE = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5),
+              shake_deg_per_s=LogNormal(4.39, 0.5), read_noise_e=Grid((0.0, 2.0)))
+POINTS = 10 * BLOCK_POINTS + 12345
+
+
+def every_reduction() -> dict:
+    """One of each kind, quantiles both exact and streamed, on two groupings."""
+    return {"summary": Summary(by="design"),
+            "histogram": Histogram(1e3, 1e7, 40, by="design"),
+            "exact": Quantiles((0.05, 0.5, 0.95), by="design"),
+            "streamed": Quantiles((0.05, 0.5, 0.95), by="design", exact_up_to=0),
+            "bands": Quantiles((0.1, 0.9), exact_up_to=0, bins_per_decade=100,
+                               by=("design", Binned("illuminance_lux",
+                                                    tuple(np.geomspace(10, 1e5, 5))))),
+            "below": FractionBelow(2e6, by=("design", "read_noise_e")),
+            "best": TopK(5)}
+
+
+def assert_same_numbers(a, b) -> None:
+    """Every array and number of every reduction result is identical (NaN where NaN)."""
+    assert a.results.keys() == b.results.keys()
+    assert (a.points, a.partial, a.seed) == (b.points, b.partial, b.seed)
+    for name in a.results:
+        for field in dataclasses.fields(a.results[name]):
+            x, y = getattr(a.results[name], field.name), getattr(b.results[name], field.name)
+            if isinstance(x, dict):
+                assert x.keys() == y.keys(), (name, field.name)
+                pairs = [(x[k], y[k]) for k in x]
+            else:
+                pairs = [(x, y)]
+            for u, v in pairs:
+                assert np.array_equal(np.asarray(u), np.asarray(v),
+                                      equal_nan=np.asarray(u).dtype.kind == "f"), (name, field.name)
+
+
+def _run(**kwargs):
+    options = {"seed": 3, "reductions": every_reduction(), "progress": False, **kwargs}
+    return run(SPACE, POINTS, **options)
+
+
+@pytest.fixture(scope="module")
+def reference():
+    return _run(chunk_points=BLOCK_POINTS, threads=2)
+
+
+@pytest.mark.parametrize("chunk_points", [3 * BLOCK_POINTS, 10 * BLOCK_POINTS])
+def test_results_are_identical_for_any_chunk_size(reference, chunk_points):
+    assert_same_numbers(_run(chunk_points=chunk_points, threads=2), reference)
+
+
+def test_results_are_identical_for_one_and_two_threads(reference):
+    assert_same_numbers(_run(chunk_points=10 * BLOCK_POINTS, threads=1), reference)
+
+
+def test_results_count_every_point_once(reference):
+    assert reference.points == POINTS and not reference.partial
+    assert reference["summary"].points.sum() == POINTS
+    assert reference["below"].labels["read_noise_e"] == [0.0, 2.0] * 4
+
+
+def _reductions_independent_of_the_total():
+    return {"summary": Summary(by="design"), "histogram": Histogram(1e3, 1e7, 40, by="design"),
+            "below": FractionBelow(2e6, by="design")}
+
+
+def test_an_interrupt_from_the_progress_callback_returns_the_chunks_merged_so_far():
+    def interrupt_after_two_chunks(done, total):
+        if done >= 2 * BLOCK_POINTS:
+            raise KeyboardInterrupt
+
+    partial = run(SPACE, POINTS, seed=3, reductions=_reductions_independent_of_the_total(),
+                  chunk_points=BLOCK_POINTS, progress=interrupt_after_two_chunks)
+    assert partial.partial and partial.points == 2 * BLOCK_POINTS
+    assert partial.points_requested == POINTS
+    # The partial result is exactly the scan of its prefix.
+    prefix = run(SPACE, 2 * BLOCK_POINTS, seed=3,
+                 reductions=_reductions_independent_of_the_total(), chunk_points=BLOCK_POINTS,
+                 progress=False)
+    assert_same_numbers(dataclasses.replace(partial, partial=False), prefix)
+
+
+def test_an_interrupt_inside_the_core_keeps_the_chunks_already_merged(monkeypatch):
+    calls = []
+
+    def evaluate_then_interrupt(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return evaluate(*args, **kwargs)
+
+    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", evaluate_then_interrupt)
+    partial = run(SPACE, POINTS, seed=3, chunk_points=BLOCK_POINTS, progress=False)
+    assert partial.partial and partial.points == 2 * BLOCK_POINTS
+    assert partial["summary"].points.sum() == 2 * BLOCK_POINTS
+
+
+CTRL_C_SCRIPT = textwrap.dedent("""
+    import sys
+    from epc_fast.presets import HIGH_TIER
+    from epc_fast.scan import LogUniform, Space, run
+
+    def report(done, total):
+        print("chunk", done, flush=True)
+
+    space = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5))
+    result = run(space, 10**9, seed=1, chunk_points=65536, threads=1, progress=report)
+    print("result", result.partial, result.points, result["summary"].points.sum(), flush=True)
+""")
+
+
+def test_ctrl_c_stops_a_running_scan_with_a_partial_result():
+    process = subprocess.Popen([sys.executable, "-c", CTRL_C_SCRIPT], stdout=subprocess.PIPE,
+                               text=True)
+    try:
+        assert process.stdout.readline().startswith("chunk")
+        process.send_signal(signal.SIGINT)
+        out, _ = process.communicate(timeout=60)
+    finally:
+        process.kill()
+    assert process.returncode == 0
+    _, partial, points, summed = out.splitlines()[-1].split()
+    assert partial == "True" and 0 < int(points) < 10**9 and int(summed) == int(points)
+
+
+def test_progress_callback_sees_every_chunk_end():
+    seen = []
+    run(SPACE, 3 * BLOCK_POINTS + 5, chunk_points=BLOCK_POINTS,
+        progress=lambda done, total: seen.append((done, total)))
+    total = 3 * BLOCK_POINTS + 5
+    assert seen == [(BLOCK_POINTS, total), (2 * BLOCK_POINTS, total), (3 * BLOCK_POINTS, total),
+                    (total, total)]
+
+
+def test_the_progress_bar_is_quiet_off_a_terminal(capfd):
+    run(SPACE, BLOCK_POINTS, progress=True)
+    assert capfd.readouterr().err == ""
+
+
+def test_parquet_output_holds_every_point_with_its_parameters_and_outputs(tmp_path):
+    import pyarrow.parquet as pq
+
+    points = 2 * BLOCK_POINTS + 77
+    run(SPACE, points, seed=5, chunk_points=BLOCK_POINTS, progress=False,
+        parquet=tmp_path / "points")
+    assert len(list((tmp_path / "points").glob("part-*.parquet"))) == 3
+    table = pq.read_table(tmp_path / "points").to_pydict()
+    drawn = SPACE.points(5, 0, points)
+    result = evaluate(**drawn.parameters)
+    assert np.array_equal(table["point"], np.arange(points))
+    assert table["design"] == [HIGH_TIER[i].name for i in drawn.indices["design"]]
+    for name in ("illuminance_lux", "shake_deg_per_s", "read_noise_e", "pixel_pitch_um"):
+        assert np.array_equal(table[name], drawn.parameters[name]), name
+    assert np.array_equal(table["epc"], result.epc)
+    assert np.array_equal(table["status"], result.status)
+
+
+def test_parquet_refuses_a_directory_holding_another_scan(tmp_path):
+    run(SPACE, 10, progress=False, parquet=tmp_path)
+    with pytest.raises(FileExistsError, match="another scan"):
+        run(SPACE, 10, progress=False, parquet=tmp_path)
+
+
+def _plot(tmp_path):
+    histogram = run(SPACE, 10, progress=False, reductions={"h": Histogram(1e3, 1e7)})["h"]
+    plot_distributions(histogram, tmp_path / "h.png")
+
+
+@pytest.mark.parametrize("modules, call, extra", [
+    (("tqdm",), lambda tmp: run(SPACE, 10, progress=True), "progress"),
+    (("pyarrow",), lambda tmp: run(SPACE, 10, progress=False, parquet=tmp), "parquet"),
+    (("distributed",), lambda tmp: run(SPACE, 10, progress=False, client=object()), "dask"),
+    (("matplotlib", "matplotlib.figure"), _plot, "plot"),
+])
+def test_a_missing_optional_dependency_names_its_extra(monkeypatch, tmp_path, modules, call,
+                                                        extra):
+    for module in modules:
+        monkeypatch.setitem(sys.modules, module, None)
+    with pytest.raises(ImportError, match=rf"epc-fast\[{extra}\]"):
+        call(tmp_path)
+
+
+def test_scanning_imports_no_optional_dependency():
+    code = ("import sys; from epc_fast.presets import HIGH_TIER; from epc_fast import scan;"
+            "scan.run(scan.Space(design=HIGH_TIER, illuminance_lux=100.0), progress=False);"
+            "bad = [m for m in ('tqdm', 'pyarrow', 'dask', 'distributed', 'matplotlib')"
+            " if m in sys.modules]; print(bad); sys.exit(1 if bad else 0)")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_a_grid_space_scans_its_grid_once_by_default():
+    space = Space(design=HIGH_TIER, illuminance_lux=Grid((100.0, 1000.0, 10000.0)))
+    assert run(space, progress=False).points == 12
+
+
+@pytest.mark.parametrize("kwargs, error, message", [
+    ({"chunk_points": 1000}, ValueError, "multiple of 65536"),
+    ({"points": 0}, ValueError, "points must be >= 1"),
+    ({"points": None}, TypeError, "needs points="),
+])
+def test_bad_run_arguments_are_refused(kwargs, error, message):
+    with pytest.raises(error, match=message):
+        run(SPACE, **{"points": 10, **kwargs})

@@ -1,0 +1,105 @@
+"""A design space: grids in mixed radix, designs, and draws that depend only on seed and point."""
+
+import numpy as np
+import pytest
+
+from epc_fast.presets import HIGH_TIER
+from epc_fast.scan import BLOCK_POINTS, Choice, Grid, LogNormal, LogUniform, Space, Uniform
+
+
+def _space(**extra):
+    return Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5),
+                 shake_deg_per_s=LogNormal(4.39, 0.5), **extra)
+
+
+def test_grid_points_visit_every_combination_with_the_last_axis_fastest():
+    space = Space(design=HIGH_TIER, illuminance_lux=Grid((100.0, 1000.0, 10000.0)),
+                  read_noise_e=Grid((0.0, 2.0)))
+    assert space.grid_size == 4 * 3 * 2
+    points = space.points(0, 0, 2 * space.grid_size)
+    cell = np.arange(2 * space.grid_size) % space.grid_size
+    assert np.array_equal(points.indices["design"], cell // 6)
+    assert np.array_equal(points.indices["illuminance_lux"], cell // 2 % 3)
+    assert np.array_equal(points.parameters["read_noise_e"], np.tile([0.0, 2.0], 24))
+    pitches = [d.pixel_pitch_um for d in HIGH_TIER]
+    assert np.array_equal(points.parameters["pixel_pitch_um"], np.take(pitches, cell // 6))
+
+
+def test_a_grid_of_a_billion_cells_is_never_materialised():
+    axis = Grid(tuple(np.linspace(1.0, 2.0, 1000)))
+    space = Space(illuminance_lux=axis, pixel_pitch_um=axis, f_number=axis, focal_length_mm=5.6,
+                  sensor_area_mm2=15.0)
+    assert space.grid_size == 10**9
+    start = 7654 * BLOCK_POINTS
+    points = space.points(0, start, start + 10)
+    cell = np.arange(start, start + 10)
+    assert np.array_equal(points.indices["illuminance_lux"], cell // 10**6)
+    assert np.array_equal(points.indices["pixel_pitch_um"], cell // 1000 % 1000)
+    assert np.array_equal(points.indices["f_number"], cell % 1000)
+
+
+def test_designs_give_their_parameters_and_constant_ones_as_numbers():
+    points = _space().points(0, 0, 8)
+    assert np.array_equal(points.parameters["pixel_pitch_um"], [2.8, 2.2, 1.75, 1.4] * 2)
+    assert points.parameters["f_number"] == 2.8
+    assert points.parameters["sensor_area_mm2"] == HIGH_TIER[0].sensor_area_mm2
+
+
+def test_a_parameter_given_by_the_space_replaces_the_designs_value():
+    space = _space(stabilization=Grid((1.0, 4.0)))
+    assert "stabilization" not in space.design_table
+    points = space.points(0, 0, 8)
+    assert np.array_equal(points.parameters["stabilization"], [1.0, 4.0] * 4)
+
+
+def test_draws_do_not_depend_on_the_range_of_points_asked_for():
+    space = _space(read_noise_e=Choice((0.0, 1.0, 2.0)))
+    whole = space.points(5, 0, 10 * BLOCK_POINTS)
+    part = space.points(5, 3 * BLOCK_POINTS, 7 * BLOCK_POINTS + 123)
+    for name in ("illuminance_lux", "shake_deg_per_s", "read_noise_e", "pixel_pitch_um"):
+        assert np.array_equal(part.parameters[name],
+                              whole.parameters[name][3 * BLOCK_POINTS:7 * BLOCK_POINTS + 123])
+
+
+def test_adding_a_random_parameter_leaves_the_others_draws_unchanged():
+    before = _space().points(5, 0, 1000)
+    after = _space(read_noise_e=Uniform(0.0, 3.0)).points(5, 0, 1000)
+    assert np.array_equal(before.parameters["illuminance_lux"], after.parameters["illuminance_lux"])
+    assert np.array_equal(before.parameters["shake_deg_per_s"], after.parameters["shake_deg_per_s"])
+
+
+def test_different_seeds_draw_different_points():
+    a, b = (_space().points(seed, 0, 1000).parameters["illuminance_lux"] for seed in (1, 2))
+    assert not np.any(a == b)
+
+
+def test_a_choice_of_designs_draws_each_design_and_its_parameters():
+    space = Space(design=Choice(HIGH_TIER, weights=(1, 0, 0, 1)),
+                  illuminance_lux=LogUniform(10, 1e5))
+    points = space.points(0, 0, 1000)
+    assert set(np.unique(points.indices["design"])) == {0, 3}
+    pitches = np.array([d.pixel_pitch_um for d in HIGH_TIER])
+    assert np.array_equal(points.parameters["pixel_pitch_um"], pitches[points.indices["design"]])
+
+
+@pytest.mark.parametrize("make, error, message", [
+    (lambda: Space(pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6, sensor_area_mm2=15.0),
+     TypeError, "does not give illuminance_lux"),
+    (lambda: Space(design=HIGH_TIER, illuminance_lux=100.0, pixel_count=1e6),
+     TypeError, "exactly one of pixel_count and sensor_area_mm2"),
+    (lambda: Space(design=HIGH_TIER, illuminance_lux=100.0, shake=1.0),
+     TypeError, "unknown parameter"),
+    (lambda: Space(design=[{"pixel_pitch_um": 1.4}, {"f_number": 2.8}], illuminance_lux=1.0),
+     ValueError, "same parameters"),
+    (lambda: Space(design=HIGH_TIER, illuminance_lux="bright"), TypeError, "must be a number"),
+    (lambda: Space(design=HIGH_TIER, illuminance_lux=1.0, evaluate_options={"threads": 2}),
+     TypeError, "unknown evaluate option"),
+])
+def test_an_incomplete_or_unknown_space_is_refused(make, error, message):
+    with pytest.raises(error, match=message):
+        make()
+
+
+def test_a_range_of_points_starts_at_a_block():
+    with pytest.raises(ValueError, match="starts at a block"):
+        _space().points(0, 100, 200)
