@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import operator
+import os
+from collections.abc import Mapping
 from dataclasses import dataclass, fields
 
 import numpy as np
@@ -54,8 +57,14 @@ class Result:
         return {f.name: getattr(self, f.name) for f in fields(self)}
 
 
+#: Each output's dtype, in Result's field order.
+OUTPUT_DTYPES = {f.name: np.dtype(np.uint8 if f.name in ("status", "cause") else np.float64)
+                 for f in fields(Result)}
+
+
 def _as_float_array(name: str, value) -> np.ndarray:
-    """``value`` as a native-endian float64 array, or a TypeError naming ``name``."""
+    """``value`` as a native-endian float64 array; a TypeError naming ``name`` for anything but
+    real numbers, a ValueError for an integer no float64 holds."""
     if value is None:
         raise TypeError(f"{name} must be a number or an array of numbers, got None")
     if isinstance(value, np.ma.MaskedArray):
@@ -63,6 +72,10 @@ def _as_float_array(name: str, value) -> np.ndarray:
                         "plain values (e.g. .filled(np.nan) to make masked points INVALID)")
     if isinstance(value, (str, bytes)):
         raise TypeError(f"{name} must be a number or an array of numbers, got {value!r}")
+    if isinstance(value, int) and not isinstance(value, bool):  # beyond int64 NumPy says object
+        if abs(value) > _LARGEST_INT:
+            raise ValueError(f"{name}={_short(value)} does not fit a float64 (|x| > 1.8e308)")
+        value = float(value)
     try:
         arr = np.asarray(value)
     except Exception as exc:  # ragged lists and the like
@@ -71,6 +84,10 @@ def _as_float_array(name: str, value) -> np.ndarray:
         raise TypeError(
             f"{name} must hold real numbers, got dtype {arr.dtype} ({_short(value)})")
     return arr.astype(np.float64, copy=False)
+
+
+#: The largest integer a float64 holds (its largest finite value).
+_LARGEST_INT = int(np.finfo(np.float64).max)
 
 
 def _short(value) -> str:
@@ -145,11 +162,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
              wavelength_nm=550.0, mtf_threshold=0.5, spectrum=None, threads=None,
              backend="core", invalid="status", f50_rtol=1e-14, t_mpe_solver="closed_form",
-             t_mpe_rtol=1e-15) -> Result:
+             t_mpe_rtol=1e-15, out=None) -> Result:
     """Effective pixel count and its intermediates for camera designs (MODEL.md).
 
     Every model parameter is a float or an array_like of floats; all of them broadcast against
-    each other, NumPy style. Domains are in :data:`epc_fast.params.PARAMETERS`.
+    each other, NumPy style. Domains are in :data:`epc_fast.params.PARAMETERS`; what the engine
+    returns at their extremes, and how accurately, is in docs/numerics.md.
 
     Parameters
     ----------
@@ -191,10 +209,21 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     t_mpe_solver : {"closed_form", "brent"}
         The closed-form quadratic root, or Brent's method on ln SNR(T) = ln SNR_target.
     t_mpe_rtol : 1, Brent's relative tolerance on T_MPE.
+    out : Result or mapping of its field names to arrays, optional
+        Arrays to write the outputs into, one per :class:`Result` field: each of the broadcast
+        shape, C-contiguous, writeable, native float64 (``status`` and ``cause``: uint8), none
+        overlapping another. The returned Result holds these same arrays (0-d arrays, not
+        scalars, for scalar input). With ``invalid="raise"`` they are written before the error.
 
     Returns
     -------
     Result
+
+    Raises
+    ------
+    MemoryError
+        Before anything is allocated, when the call would need more memory than the machine
+        (or its container) has: evaluate such a grid in pieces.
     """
     if (pixel_count is None) == (sensor_area_mm2 is None):
         raise TypeError("give exactly one of pixel_count and sensor_area_mm2")
@@ -227,19 +256,105 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
     f50_rtol = _tolerance("f50_rtol", f50_rtol)
     t_mpe_rtol = _tolerance("t_mpe_rtol", t_mpe_rtol)
+    given = None if out is None else _out_arrays(out, shape)
+    _check_memory(shape, arrays, backend, given is not None)
 
     if backend == "core":
-        out = _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver,
-                        t_mpe_rtol, _threads_of(threads))
+        threads = _threads_of(threads)
+        flat = None if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
+                                           for k, v in given.items()}
+        result = _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver,
+                           t_mpe_rtol, threads, out=flat)
     else:
         if threads is not None:
             _threads_of(threads)
-        out = _run_reference(arrays, shape, size_is_pixel_count, spec)
+        result = _run_reference(arrays, shape, size_is_pixel_count, spec)
+        if given is not None:
+            for name, array in given.items():
+                np.copyto(array, result[name].reshape(shape))
 
-    status = out["status"].reshape(shape)
+    status = result["status"].reshape(shape)
     if invalid == "raise" and np.any(status == Status.INVALID):
         _raise_first_invalid(arrays, names, status, shape)
-    return _result(out, shape)
+    return Result(**given) if given is not None else _result(result, shape)
+
+
+def _out_arrays(out, shape) -> dict:
+    """The caller's ``out=`` arrays by field name, each checked, or an error naming it."""
+    if isinstance(out, Result):
+        out = out.as_dict()
+    if not isinstance(out, Mapping):
+        raise TypeError(f"out must be a Result or a mapping of its field names to arrays, "
+                        f"got {_short(out)}")
+    unknown = sorted(set(out) - set(OUTPUT_DTYPES), key=str)
+    missing = [name for name in OUTPUT_DTYPES if name not in out]
+    if unknown or missing:
+        raise ValueError(f"out must have exactly the fields {', '.join(OUTPUT_DTYPES)}; "
+                         f"missing: {missing}, unknown: {unknown}")
+    for name, dtype in OUTPUT_DTYPES.items():
+        array = out[name]
+        where = f"out[{name!r}]"
+        if not isinstance(array, np.ndarray):
+            raise TypeError(f"{where} must be a NumPy array, got {_short(array)}")
+        if array.dtype != dtype:
+            raise TypeError(f"{where} has dtype {array.dtype.str}, expected {dtype.str} "
+                            f"({dtype.name}, native byte order)")
+        if array.shape != shape:
+            raise ValueError(f"{where} has shape {array.shape}, expected the broadcast "
+                             f"shape {shape}")
+        if not array.flags.c_contiguous:
+            raise ValueError(f"{where} must be C-contiguous")
+        if not array.flags.writeable:
+            raise ValueError(f"{where} is read-only")
+    names = list(OUTPUT_DTYPES)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            if np.may_share_memory(out[a], out[b]):
+                raise ValueError(f"out[{a!r}] and out[{b!r}] share memory")
+    return {name: out[name] for name in names}
+
+
+#: Bytes a backend allocates per point besides the inputs: the core its eight output columns
+#: (6 float64 + 2 uint8); the reference peaks near 320 (tracemalloc, 2e5 random designs), twice
+#: that leaves room.
+BYTES_PER_POINT = {"core": 6 * 8 + 2, "reference": 640}
+
+
+@functools.lru_cache(maxsize=None)
+def _memory_limit_bytes() -> int | None:
+    """Physical memory, or the container's (cgroup) limit where lower; None when unknown."""
+    limits = []
+    try:
+        limits.append(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        pass
+    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
+        try:
+            with open(path) as f:
+                text = f.read().strip()
+        except OSError:
+            continue
+        if text.isdigit():
+            limits.append(int(text))
+    return min(limits) if limits else None
+
+
+def _check_memory(shape, arrays, backend, out_given):
+    """A MemoryError, before any allocation, for a call that cannot fit in memory.
+
+    The estimate counts the contiguous copy of every input that is not a scalar and the
+    backend's own arrays; a call that fits the estimate may still fail with NumPy's own
+    MemoryError, but none is left to the kernel's out-of-memory killer by a silly shape.
+    """
+    limit = _memory_limit_bytes()
+    n = math.prod(shape)
+    columns = sum(1 for a in arrays if a.size > 1)
+    per_point = 8 * columns + (0 if out_given and backend == "core" else BYTES_PER_POINT[backend])
+    needed = n * per_point
+    if limit is not None and needed > limit:
+        raise MemoryError(f"evaluate over the broadcast shape {shape} ({n:,} points) needs "
+                          f"about {needed / 2**30:,.1f} GiB, more than the "
+                          f"{limit / 2**30:,.1f} GiB of memory here; evaluate it in pieces")
 
 
 def _column(arr: np.ndarray, shape) -> np.ndarray:
@@ -250,11 +365,14 @@ def _column(arr: np.ndarray, shape) -> np.ndarray:
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver, t_mpe_rtol,
-              threads):
+              threads, out=None):
     from . import _core
 
     n = math.prod(shape)
     columns = [_column(a, shape) for a in arrays]
+    if out is not None:  # an input that is also an output would be overwritten while read
+        columns = [c.copy() if any(np.may_share_memory(c, o) for o in out.values()) else c
+                   for c in columns]
     if spec is None:
         wavelengths = weights = np.empty(0)
     else:
@@ -262,7 +380,7 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver, 
     return _core.evaluate(columns, size_is_pixel_count, params.domain_table(),
                           np.ascontiguousarray(wavelengths, dtype=np.float64),
                           np.ascontiguousarray(weights, dtype=np.float64), n, f50_rtol,
-                          t_mpe_solver, t_mpe_rtol, threads, CHUNK_POINTS)
+                          t_mpe_solver, t_mpe_rtol, threads, CHUNK_POINTS, out)
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec):

@@ -7,6 +7,15 @@ core receives the same bounds with every call, so the two backends cannot drift 
 A domain is an interval ``lo .. hi`` whose ends are open or closed. NaN is outside every
 domain; an infinite end is inside only when that end is closed (``full_well_e = inf`` means
 "no full well").
+
+Where physics sets no bound, the domain still stops at ``BIG`` = 1e30 (``TINY`` = 1e-30 below
+the f-number, the wavelength and the stabilisation; -3000 and +1000 dB for the SNR target): far
+beyond any camera, and where float64 stops being able to carry the model. Inside these bounds
+every intermediate of the evaluation is finite and normal where its digits matter (the
+electron rate stays below 3e167 e-/s, the electrons needed above 1e-300 and, whenever T_MPE
+is finite, below 1e162 or T_MPE itself, f50 below 1e66 cycles/mm, EPC below 5e216), so a
+point is either OK with finite outputs or carries a status that says why not;
+docs/numerics.md gives the derivation and what each output's accuracy is.
 """
 
 from __future__ import annotations
@@ -16,9 +25,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Param", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS", "in_domain"]
+__all__ = ["Param", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS", "in_domain", "BIG", "TINY",
+           "SNR_DB_MIN", "SNR_DB_MAX"]
 
 INF = math.inf
+#: The largest magnitude of a parameter that physics leaves unbounded (see the module docstring).
+BIG = 1e30
+#: The smallest f-number and wavelength (nm), which bound the diffraction cut-off 1/(lambda F),
+#: and the smallest stabilisation, which with BIG deg/s bounds the shake rate at 1e60 deg/s.
+TINY = 1e-30
+#: dB: the SNR target's range. The electrons needed are at least s = 10^(snr_db/10), a normal
+#: float64 from -3000 dB; up to +1000 dB (1e100 electrons) every product stays finite.
+SNR_DB_MIN = -3000.0
+SNR_DB_MAX = 1000.0
 
 
 @dataclass(frozen=True)
@@ -60,28 +79,30 @@ def _p(name, default, lo, hi, lo_closed, hi_closed, meaning):
 # The order is the core's parameter order (cpp/include/epc_fast/params.h, enum ParamIndex).
 # "size" is pixel_count or sensor_area_mm2: exactly one is given per call.
 PARAMETERS: tuple[Param, ...] = (
-    _p("illuminance_lux", None, 0, INF, True, False, "lux: illuminance on the gray target"),
-    _p("pixel_pitch_um", None, 0, INF, False, False, "um: pixel pitch"),
-    _p("f_number", None, 0, INF, False, False, "1: working f-number"),
-    _p("focal_length_mm", None, 0, INF, False, False, "mm: focal length"),
-    _p("size", None, 0, INF, False, False,
+    _p("illuminance_lux", None, 0, BIG, True, False, "lux: illuminance on the gray target"),
+    _p("pixel_pitch_um", None, 0, BIG, False, False, "um: pixel pitch"),
+    _p("f_number", None, TINY, INF, False, False, "1: working f-number"),
+    _p("focal_length_mm", None, 0, BIG, False, False, "mm: focal length"),
+    _p("size", None, 0, BIG, False, False,
        "pixels (pixel_count) or mm^2 (sensor_area_mm2): the sensor's size"),
     _p("reflectance", 0.4, 0, 1, True, True, "1: reflectance of the Lambertian gray target"),
     _p("lens_transmittance", 1.0, 0, 1, True, True, "1: lens and filter transmittance"),
     _p("field_angle_deg", 0.0, -90, 90, False, False,
        "degree: field angle of the image point (cos^4 falloff)"),
     _p("fill_factor", 1.0, 0, 1, False, True, "1: light-collecting fraction of the pixel area"),
-    _p("electrons_per_lux_s_m2", None, 0, INF, False, False,
+    _p("electrons_per_lux_s_m2", None, 0, BIG, False, False,
        "e-/(lux s m^2): photo-electrons per focal-plane lux second per m^2 (None: the D50 default)"),
-    _p("read_noise_e", 0.0, 0, INF, True, False, "e- rms: read noise"),
-    _p("dark_current_e_per_s", 0.0, 0, INF, True, False, "e-/s: dark current"),
+    _p("read_noise_e", 0.0, 0, BIG, True, False, "e- rms: read noise"),
+    _p("dark_current_e_per_s", 0.0, 0, BIG, True, False, "e-/s: dark current"),
     _p("prnu", 0.0, 0, INF, True, False, "1: photo-response non-uniformity, rms fraction"),
     _p("full_well_e", INF, 0, INF, False, True, "e-: full-well capacity (inf: none)"),
-    _p("snr_db", 30.0, -INF, INF, False, False, "dB: target SNR, 20 log10(signal/noise)"),
-    _p("shake_deg_per_s", 4.39, 0, INF, True, False, "degree/s: camera angular velocity"),
-    _p("stabilization", 1.0, 0, INF, False, False, "1: image stabilisation factor k (motion / k)"),
+    _p("snr_db", 30.0, SNR_DB_MIN, SNR_DB_MAX, True, True,
+       "dB: target SNR, 20 log10(signal/noise)"),
+    _p("shake_deg_per_s", 4.39, 0, BIG, True, False, "degree/s: camera angular velocity"),
+    _p("stabilization", 1.0, TINY, INF, False, False,
+       "1: image stabilisation factor k (motion / k)"),
     _p("jitter_um", 0.0, 0, INF, True, False, "um: rms Gaussian jitter (0: off)"),
-    _p("wavelength_nm", 550.0, 0, INF, False, False, "nm: wavelength for diffraction"),
+    _p("wavelength_nm", 550.0, TINY, INF, False, False, "nm: wavelength for diffraction"),
     _p("mtf_threshold", 0.5, 0, 1, False, False, "1: MTF level defining the cut-off (0.5: f50)"),
 )
 

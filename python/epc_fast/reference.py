@@ -11,16 +11,23 @@ Units: lengths in the MTF are in mm, spatial frequencies in cycles/mm, time in s
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .status import Cause, Status
 
 __all__ = [
+    "scaled_product",
     "electron_rate",
+    "prnu_product",
+    "prnu_capped",
+    "prnu_margin",
     "signal_electrons",
     "t_mpe_closed_form",
     "snr_db_at",
     "blur_length_mm",
+    "sinpi",
     "sinc",
     "mtf_diffraction",
     "mtf_pixel",
@@ -36,42 +43,112 @@ __all__ = [
 
 # --- Photometry and exposure (MODEL.md section 3) -------------------------------------------
 
+#: The smallest normal float64: a rate below it is no light (see :func:`electron_rate`).
+SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
+
+
+def scaled_product(factors, divisors=()):
+    """The product of ``factors`` over the product of ``divisors``, with no intermediate
+    overflow or underflow.
+
+    Each value is split into a mantissa in [0.5, 1) and a power of two (np.frexp); the
+    mantissas are multiplied in the order given (a dozen of them stay far inside float64's
+    range) and the exponents added, and the two are joined once (np.ldexp). The result rounds
+    like the plain product, and is inf or 0 only when the exact value is beyond float64's range.
+    """
+    mantissa, exponent = np.float64(1.0), 0
+    for value in factors:
+        m, e = np.frexp(value)
+        mantissa, exponent = mantissa * m, exponent + e
+    for value in divisors:
+        m, e = np.frexp(value)
+        mantissa, exponent = mantissa / m, exponent - e
+    return np.ldexp(mantissa, exponent)
+
 
 def electron_rate(illuminance_lux, reflectance, lens_transmittance, field_angle_deg, f_number,
                   electrons_per_lux_s_m2, fill_factor, pixel_pitch_um):
     """e-/s: photo-electron rate of one pixel.
 
     E = L R tau cos^4(theta) / (4 F^2) lux on the focal plane; r = E K a (p 1e-6 m)^2.
+    cos(theta) is evaluated as sin(90 deg - |theta|), whose argument is exact near 90 deg, so
+    the falloff keeps its digits at grazing field angles. The product is a
+    :func:`scaled_product`: no factor's size can push an intermediate out of range. A rate below
+    the smallest normal float64 (2.2e-308 e-/s) is returned as 0 (no light): it would carry too
+    few digits to divide by.
     """
-    cos_theta = np.cos(np.deg2rad(field_angle_deg))
-    focal_plane_lux = (illuminance_lux * reflectance * lens_transmittance * cos_theta**4
-                       / (4.0 * f_number**2))
-    pixel_area_m2 = (pixel_pitch_um * 1e-6) ** 2
-    return focal_plane_lux * electrons_per_lux_s_m2 * fill_factor * pixel_area_m2
+    cos_theta = np.sin(np.deg2rad(90.0 - np.abs(field_angle_deg)))
+    cos2 = cos_theta * cos_theta
+    rate = scaled_product(
+        [illuminance_lux, reflectance, lens_transmittance, cos2, cos2, electrons_per_lux_s_m2,
+         fill_factor, pixel_pitch_um, pixel_pitch_um, 1e-12],
+        [4.0, f_number, f_number])
+    return np.where(rate >= SMALLEST_NORMAL, rate, 0.0)
+
+
+def _split(a):
+    """Veltkamp's split of a into hi + lo, each with at most 26 significant bits."""
+    c = 134217729.0 * a  # 2^27 + 1
+    hi = c - (c - a)
+    return hi, a - hi
+
+
+def prnu_product(prnu, snr_db):
+    """1: u sqrt(s) = p + e exactly, s = 10^(snr_db/10): (p, e) with e the rounding error of p.
+
+    e comes from Dekker's exact product (the core uses a fused multiply-add); it is kept where
+    p is near 1, the only place it matters, and is 0 elsewhere.
+    """
+    root_s = 10.0 ** (np.asarray(snr_db, dtype=np.float64) / 20.0)
+    u = np.asarray(prnu, dtype=np.float64)
+    p = u * root_s
+    near = np.abs(p - 1.0) < 0.5
+    with np.errstate(over="ignore", invalid="ignore"):
+        u_hi, u_lo = _split(np.where(near, u, 0.0))
+        r_hi, r_lo = _split(np.where(near, root_s, 0.0))
+        e = ((u_hi * r_hi - p) + u_hi * r_lo + u_lo * r_hi) + u_lo * r_lo
+    return p, np.where(near, e, 0.0)
+
+
+def prnu_capped(prnu, snr_db):
+    """bool: PRNU caps the SNR below the target, u sqrt(s) >= 1, decided on the exact product
+    (exactly, whenever sqrt(s) = 10^(snr_db/20) is a double: 0, 20, 40, ... dB)."""
+    p, e = prnu_product(prnu, snr_db)
+    return (p > 1.0) | ((p == 1.0) & (e >= 0.0))
+
+
+def prnu_margin(prnu, snr_db):
+    """1: w = 1 - s u^2 as (1 - u sqrt(s))(1 + u sqrt(s)), from the exact product u sqrt(s):
+    1 - p is exact near the cap, so w keeps its digits however close u sqrt(s) is to 1."""
+    p, e = prnu_product(prnu, snr_db)
+    return ((1.0 - p) - e) * ((1.0 + p) + e)
 
 
 def signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu):
     """e-: the photo-electrons r T_MPE needed to reach ``snr_db``.
 
     T_MPE is the positive root of r^2 (1 - s u^2) T^2 - s (r + D) T - s sigma_r^2 = 0 with
-    s = 10^(snr_db/10). Multiplied by r, with q = 1 + D/r and w = 1 - s u^2 =
-    (1 - u sqrt(s))(1 + u sqrt(s)) (factored so that w keeps its digits near the PRNU cap),
-    the root reads
+    s = 10^(snr_db/10). Multiplied by r, with q = 1 + D/r and w = 1 - s u^2
+    (:func:`prnu_margin`), the root reads
 
-        r T = q / (2 w) * (s + hypot(s, 2 sigma_r sqrt(w s) / q))
+        r T = q a,   a = sqrt(s) / (2 w) * (sqrt(s) + hypot(sqrt(s), 2 sigma_r sqrt(w) / q))
 
-    which adds only positive terms (no cancellation), squares nothing that can overflow, and
-    stays right when s underflows to 0. Returns +inf where PRNU caps the SNR (u sqrt(s) >= 1)
-    and NaN where r = 0.
+    which adds only positive terms (no cancellation) and squares nothing; s itself is never
+    formed (it under- or overflows beyond 3080 dB from 0 dB). q a is formed as a + a D / r (a
+    :func:`scaled_product`), which overflows only when the answer does, and q alone only
+    divides (where it overflows, the read-noise term takes its true limit, 0). a >= s >= 1e-300
+    inside the domain, so the answer is a normal double. Returns +inf where PRNU caps the SNR
+    (:func:`prnu_capped`) and NaN where r = 0.
     """
     root_s = 10.0 ** (np.asarray(snr_db, dtype=np.float64) / 20.0)
-    s = root_s * root_s
-    w = (1.0 - prnu * root_s) * (1.0 + prnu * root_s)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    w = prnu_margin(prnu, snr_db)
+    capped = prnu_capped(prnu, snr_db)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         q = 1.0 + dark_current_e_per_s / rate_e_per_s
-        read_term = 2.0 * read_noise_e * np.sqrt(np.maximum(w, 0.0)) * root_s / q
-        electrons = q / (2.0 * w) * (s + np.hypot(s, read_term))
-    electrons = np.where(prnu * root_s >= 1.0, np.inf, electrons)
+        read_term = 2.0 * read_noise_e * np.sqrt(np.maximum(w, 0.0)) / q
+        a = root_s / (2.0 * w) * (root_s + np.hypot(root_s, read_term))
+        electrons = a + scaled_product([a, dark_current_e_per_s], [rate_e_per_s])
+    electrons = np.where(capped, np.inf, electrons)
     return np.where(rate_e_per_s > 0, electrons, np.nan)
 
 
@@ -97,8 +174,13 @@ def snr_db_at(t_s, rate_e_per_s, read_noise_e, dark_current_e_per_s, prnu):
 
 
 def blur_length_mm(focal_length_mm, shake_deg_per_s, stabilization, t_mpe_s):
-    """mm: blur length f_L tan(omega / k * T_MPE); +inf once the angle reaches pi/2."""
-    angle_rad = np.deg2rad(shake_deg_per_s) / stabilization * t_mpe_s
+    """mm: blur length f_L tan(omega / k * T_MPE); +inf once the angle reaches pi/2.
+
+    The angle is a :func:`scaled_product`, so that a huge shake over a tiny exposure (or the
+    reverse) gives its true size rather than inf * 0. "Reaches" compares with fl(pi/2), which is
+    6e-17 below pi/2: an angle of exactly fl(pi/2) counts as unbounded.
+    """
+    angle_rad = scaled_product([shake_deg_per_s, np.pi / 180.0, t_mpe_s], [stabilization])
     with np.errstate(invalid="ignore"):
         bounded = angle_rad < np.pi / 2
         return np.where(bounded, focal_length_mm * np.tan(np.where(bounded, angle_rad, 0.0)),
@@ -108,21 +190,43 @@ def blur_length_mm(focal_length_mm, shake_deg_per_s, stabilization, t_mpe_s):
 # --- MTF factors (MODEL.md section 5) --------------------------------------------------------
 
 
+def sinpi(x):
+    """1: sin(pi x), from r = x - round(x), which is exact: sin(pi x) = (-1)^round(x) sin(pi r).
+
+    sin(np.pi * x) would lose the digits of x's distance to the nearest integer (the zeros).
+    """
+    x = np.asarray(x, dtype=np.float64)
+    k = np.round(x)
+    s = np.sin(np.pi * (x - k))
+    return np.where(np.fmod(k, 2.0) == 0.0, s, -s)
+
+
 def sinc(x):
     """1: the normalised sinc, sin(pi x) / (pi x), equal to 1 at x = 0."""
     x = np.asarray(x, dtype=np.float64)
     safe = np.where(x == 0.0, 1.0, x)
-    return np.where(x == 0.0, 1.0, np.sin(np.pi * safe) / (np.pi * safe))
+    return np.where(x == 0.0, 1.0, sinpi(safe) / (np.pi * safe))
+
+
+#: x - sin x = x^3 * sum_k (-1)^k x^(2k) / (2k+3)!: enough terms for 2e-17 relative at x <= 2.1.
+_X_MINUS_SIN_SERIES = [(-1) ** k / math.factorial(2 * k + 3) for k in range(13)]
 
 
 def mtf_diffraction(f_cyc_per_mm, wavelength_nm, f_number):
     """1: aberration-free circular-pupil diffraction MTF at normalised frequency nu = f lambda F.
 
-    D = (2/pi) (acos nu - nu sqrt(1 - nu^2)) for nu < 1, else 0; 1 - nu^2 is written
-    (1 - nu)(1 + nu) so that it keeps its digits near nu = 1.
+    D = (2/pi) (acos nu - nu sqrt(1 - nu^2)) for nu < 1, else 0. Up to nu = 1/2 this is
+    evaluated as written (1 - nu^2 as (1 - nu)(1 + nu)). Above, its two terms cancel as
+    nu -> 1, and D is written with phi = acos nu as (2 phi - sin 2 phi) / pi: phi is
+    2 asin(sqrt((1 - nu)/2)), exact near nu = 1, and 2 phi - sin 2 phi (2 phi <= 2 pi/3) is
+    summed from its Taylor series, whose terms alternate and fall fast: D keeps its relative
+    precision down to the cut-off, where it vanishes as (1 - nu)^(3/2).
     """
     nu = np.minimum(f_cyc_per_mm * (wavelength_nm * 1e-6) * f_number, 1.0)
-    return (2.0 / np.pi) * (np.arccos(nu) - nu * np.sqrt((1.0 - nu) * (1.0 + nu)))
+    low = (2.0 / np.pi) * (np.arccos(nu) - nu * np.sqrt((1.0 - nu) * (1.0 + nu)))
+    x = 4.0 * np.arcsin(np.sqrt(0.5 * (1.0 - nu)))  # 2 phi
+    high = x**3 * np.polynomial.polynomial.polyval(x * x, _X_MINUS_SIN_SERIES) / np.pi
+    return np.where(nu <= 0.5, low, high)
 
 
 def mtf_pixel(f_cyc_per_mm, pixel_pitch_um, fill_factor):
@@ -243,8 +347,8 @@ def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid):
                                  q["dark_current_e_per_s"], q["prnu"])
     t_mpe = electrons / rate
 
-    # A rate so small that T_MPE overflows counts as no light.
-    prnu_cap = (rate > 0) & (q["prnu"] * 10.0 ** (q["snr_db"] / 20.0) >= 1.0)
+    # No light: a rate of 0 (or flushed to 0 by electron_rate), or a T_MPE beyond float64.
+    prnu_cap = (rate > 0) & prnu_capped(q["prnu"], q["snr_db"])
     no_light = ~prnu_cap & ~np.isfinite(t_mpe)
     full_well = ~no_light & ~prnu_cap & (electrons > q["full_well_e"])
     unreachable = no_light | prnu_cap | full_well

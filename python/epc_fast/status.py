@@ -29,7 +29,9 @@ class Cause(enum.IntEnum):
 
     NONE = 0
     NO_LIGHT = 1
-    """The electron rate is zero (no light, zero reflectance or transmittance, or an underflow)."""
+    """The electron rate is zero: no light, zero reflectance or transmittance, or a rate below
+    the smallest normal double (2.2e-308 e-/s, flushed to 0); also a T_MPE beyond the largest
+    double (1.8e308 s)."""
     PRNU = 2
     """PRNU caps the SNR: prnu * 10**(snr_db/20) >= 1."""
     FULL_WELL = 3

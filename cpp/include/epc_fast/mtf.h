@@ -18,10 +18,16 @@ inline double sinc(double x) {
 }
 
 // 1: circular-pupil diffraction at nu = f lambda F (clamped to 1, where it is 0):
-// (2/pi) (acos nu - nu sqrt((1 - nu)(1 + nu))).
+// (2/pi) (acos nu - nu sqrt((1 - nu)(1 + nu))) up to nu = 1/2; above, where those two terms
+// cancel, the same function written in z = sqrt((1 - nu)/2) (diffraction_from_half_angle_sine),
+// which keeps its relative precision down to the cut-off. Both are computed and one is
+// selected, so the lane loops have no branch.
 inline double mtf_diffraction(double nu) {
     const double v = nu < 1.0 ? nu : 1.0;
-    return (2.0 / pi) * (acos_unit(v) - v * std::sqrt((1.0 - v) * (1.0 + v)));
+    const double acos_v = half_pi - asin_small(v);
+    const double low = (2.0 / pi) * (acos_v - v * std::sqrt((1.0 - v) * (1.0 + v)));
+    const double high = diffraction_from_half_angle_sine(std::sqrt(0.5 * (1.0 - v)));
+    return v <= 0.5 ? low : high;
 }
 
 // mm: side of the square light-collecting aperture, sqrt(a) p.

@@ -34,10 +34,12 @@ inline int default_threads() {
 }
 
 // Calls body(i) for i in [0, n) on `threads` threads, static schedule. body must not throw.
+// The team is never larger than n: a small call does not wake idle threads.
 template <class Body>
 void parallel_for(std::ptrdiff_t n, int threads, Body&& body) {
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static) num_threads(threads)
+    const int team = n < threads ? static_cast<int>(n > 0 ? n : 1) : threads;
+#pragma omp parallel for schedule(static) num_threads(team)
     for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
 #else
     (void)threads;

@@ -7,7 +7,8 @@
 //
 // Coefficients: Chebyshev fits in 60-digit arithmetic by tools/fit_polynomials.py, which also
 // measures the float64 evaluation against mpmath (sinpi: <= 3 ulp on [-1/2, 1/2]; asin: <= 2 ulp
-// on [0, 1/2]). Argument reduction is exact for sinpi; acos uses asin's half-angle identity.
+// on [0, 1/2]; the diffraction MTF near its cut-off: <= 6 ulp, relative, on nu in [1/2, 1)).
+// Argument reduction is exact for sinpi.
 #pragma once
 
 #include <cmath>
@@ -42,6 +43,22 @@ constexpr double asin_coefficients[] = {
     -0.01924167174674304,
     0.02961201126495512,
 };
+constexpr double diffraction_coefficients[] = {
+    3.3953054526271007,
+    -1.0185916357881306,
+    -0.18189136353348995,
+    -0.07073553027373239,
+    -0.03617157740982837,
+    -0.02142472178421854,
+    -0.013925691684179769,
+    -0.009659667582268825,
+    -0.006970442160113385,
+    -0.005613116142106228,
+    -0.0026266874441750396,
+    -0.00783091943500316,
+    0.006129334829378577,
+    -0.010902965352930965,
+};
 
 template <int N>
 inline double horner(const double (&c)[N], double t) {
@@ -69,16 +86,19 @@ inline double sinpi(double x) {
     return odd ? -s : s;
 }
 
-// acos(v) for v in [0, 1]: pi/2 - asin(v) below 1/2, 2 asin(sqrt((1 - v) / 2)) above
-// (both asin arguments <= 1/2, where the polynomial holds). Both branches are computed and one
-// is selected, so the code has no branch.
-inline double acos_unit(double v) {
-    constexpr double half_pi_ = 1.57079632679489661923;
-    const double z_hi = std::sqrt(0.5 * (1.0 - v));
-    const double z = v <= 0.5 ? v : z_hi;
+// asin(z) for |z| <= 1/2.
+inline double asin_small(double z) {
     const double t = z * z;
-    const double asin_z = z + z * t * poly::horner(poly::asin_coefficients, t);
-    return v <= 0.5 ? half_pi_ - asin_z : 2.0 * asin_z;
+    return z + z * t * poly::horner(poly::asin_coefficients, t);
+}
+
+// The diffraction MTF (2/pi)(acos nu - nu sqrt(1 - nu^2)) for nu in [1/2, 1], as a function of
+// z = sqrt((1 - nu)/2) = sin(phi/2) in [0, 1/2], nu = cos phi: (4 asin z - sin(4 asin z)) / pi
+// = z^3 P(z^2). No two terms cancel, so it keeps its relative precision down to nu = 1, where
+// it vanishes as z^3.
+inline double diffraction_from_half_angle_sine(double z) {
+    const double t = z * z;
+    return z * t * poly::horner(poly::diffraction_coefficients, t);
 }
 
 }  // namespace epc_fast

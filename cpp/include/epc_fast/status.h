@@ -15,7 +15,7 @@ enum class Status : std::uint8_t {
 
 enum class Cause : std::uint8_t {
     none = 0,
-    no_light = 1,   // electron rate zero (or so small that T_MPE overflows)
+    no_light = 1,   // electron rate zero, or below 2.2e-308 e-/s (flushed), or T_MPE > 1.8e308 s
     prnu = 2,       // prnu * 10^(snr_db/20) >= 1
     full_well = 3,  // rate * T_MPE > full_well_e
 };

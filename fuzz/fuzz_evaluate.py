@@ -1,0 +1,210 @@
+"""Coverage-guided fuzzing of epc_fast.evaluate and of the core's entry point, with atheris.
+
+    python fuzz/fuzz_evaluate.py -max_total_time=60          # libFuzzer options after the name
+
+.ci/fuzz.sh runs it for a bounded time against the sanitizer build (EPC_FAST_CORE_DIR, as in
+tests/conftest.py). Each input is decoded (atheris.FuzzedDataProvider) into one of two calls:
+
+- the public API: every model parameter omitted, a scalar or an array (empty, broadcasting, or
+  not), its values arbitrary doubles (NaN, infinities, subnormals, huge) or the values next to
+  a domain's ends, sometimes not numbers at all; any backend, T_MPE solver, tolerance, thread
+  count, invalid= policy, size keyword, spectrum and out= arrays;
+- _core.evaluate directly, with columns, domains, spectrum, n, options and out= of any size
+  and type.
+
+What must hold: nothing crashes or trips a sanitizer; the only exceptions are TypeError,
+ValueError (invalid="raise", bad arguments) and MemoryError; every status and cause is a known
+code; OK points have finite outputs, INVALID points NaN outputs and no cause, UNREACHABLE
+points T_MPE = +inf and a cause, BLUR_UNBOUNDED points an infinite blur and f50 = EPC = 0; and
+the core and the reference agree on every status and cause.
+"""
+
+import inspect
+import math
+import os
+import sys
+
+import atheris
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+import conftest  # noqa: E402, F401  (loads EPC_FAST_CORE_DIR's core before epc_fast does)
+
+import epc_fast  # noqa: E402
+from epc_fast import Status, _core, api, params  # noqa: E402
+
+
+def instrument_package(package, skip=()):
+    """Coverage instrumentation for every function and method of `package`'s loaded modules.
+
+    (atheris.instrument_imports misses modules that an editable install's import hook loads,
+    so the functions are patched in place once imported.)
+    """
+    for name, module in list(sys.modules.items()):
+        if name != package and not name.startswith(package + ".") or name in skip:
+            continue
+        for obj in list(vars(module).values()):
+            members = [obj] + (list(vars(obj).values()) if inspect.isclass(obj) else [])
+            for member in members:
+                if inspect.isfunction(member) and member.__module__ == name:
+                    atheris.instrument_func(member)
+
+
+# Not the reference: its whole-array code has no branches worth steering towards, and tracing
+# the comparisons of its bisection (thousands per call) only costs time and memory.
+instrument_package("epc_fast", skip={"epc_fast.reference"})
+
+KEYWORDS = [p.name for p in params.PARAMETERS if p.name != "size"]
+EXPECTED_ERRORS = (TypeError, ValueError, MemoryError)
+FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
+                "epc")
+
+
+def _edges():
+    """Doubles at and next to every domain end, and the usual suspects."""
+    values = {0.0, -0.0, 5e-324, -5e-324, 2.2250738585072014e-308, 1.0, -1.0, 0.5,
+              1.7976931348623157e308, -1.7976931348623157e308, math.inf, -math.inf, math.nan}
+    for p in params.PARAMETERS:
+        for end in (p.lo, p.hi):
+            if math.isfinite(end):
+                values.update({end, float(np.nextafter(end, math.inf)),
+                               float(np.nextafter(end, -math.inf))})
+    return sorted(values, key=repr)
+
+
+EDGES = _edges()
+NOT_NUMBERS = ["1.0", None, 1 + 2j, object(), [1.0, "x"], b"\x00", True]
+
+
+def _value(fdp, shape):
+    kind = fdp.ConsumeIntInRange(0, 9)
+    if kind <= 2:
+        return fdp.ConsumeFloat()
+    if kind <= 4:
+        return EDGES[fdp.ConsumeIntInRange(0, len(EDGES) - 1)]
+    if kind <= 7:
+        size = int(np.prod(shape))
+        values = [fdp.ConsumeFloat() if fdp.ConsumeBool() else
+                  EDGES[fdp.ConsumeIntInRange(0, len(EDGES) - 1)] for _ in range(size)]
+        return np.array(values, dtype=np.float64).reshape(shape)
+    if kind == 8:  # an unrelated shape: broadcasts or not
+        return np.full(fdp.ConsumeIntInRange(0, 4), fdp.ConsumeFloat())
+    return NOT_NUMBERS[fdp.ConsumeIntInRange(0, len(NOT_NUMBERS) - 1)]
+
+
+def _public_call(fdp):
+    shape = [(), (0,), (fdp.ConsumeIntInRange(1, 70),), (2, 3), (3, 1)][
+        fdp.ConsumeIntInRange(0, 4)]
+    kwargs = {}
+    for name in KEYWORDS:
+        if fdp.ConsumeIntInRange(0, 2) > 0:
+            kwargs[name] = _value(fdp, shape)
+    for name in ("illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm"):
+        kwargs.setdefault(name, 1.0)
+    kwargs["pixel_count" if fdp.ConsumeBool() else "sensor_area_mm2"] = _value(fdp, shape)
+    backend = "core" if fdp.ConsumeBool() else "reference"
+    options = dict(
+        t_mpe_solver=["closed_form", "brent", "newton"][fdp.ConsumeIntInRange(0, 2)],
+        f50_rtol=[1e-14, 0.0, fdp.ConsumeFloat()][fdp.ConsumeIntInRange(0, 2)],
+        threads=[None, 1, 2, 3, 0, -1, 10**4, 1.5][fdp.ConsumeIntInRange(0, 7)],
+        invalid="raise" if fdp.ConsumeIntInRange(0, 4) == 0 else "status")
+    if fdp.ConsumeIntInRange(0, 5) == 0:
+        n = fdp.ConsumeIntInRange(0, 6)
+        kwargs["spectrum"] = (np.array([fdp.ConsumeFloat() for _ in range(n)]),
+                              np.array([fdp.ConsumeFloat() for _ in range(n)]))
+    if fdp.ConsumeIntInRange(0, 5) == 0:
+        out_shape = shape if fdp.ConsumeIntInRange(0, 3) else (fdp.ConsumeIntInRange(0, 5),)
+        options["out"] = {name: np.zeros(out_shape, dtype=dtype)
+                          for name, dtype in api.OUTPUT_DTYPES.items()}
+    try:
+        result = epc_fast.evaluate(**kwargs, backend=backend, **options)
+    except EXPECTED_ERRORS:
+        return
+    _check(result)
+    if options["invalid"] == "status" and options["t_mpe_solver"] != "newton":
+        other = "reference" if backend == "core" else "core"
+        options.pop("out", None)
+        try:
+            twin = epc_fast.evaluate(**kwargs, backend=other, **options)
+        except EXPECTED_ERRORS:
+            return  # e.g. a thread count only the core reads
+        assert np.array_equal(np.asarray(result.status), np.asarray(twin.status)), (kwargs,
+                                                                                   options)
+        assert np.array_equal(np.asarray(result.cause), np.asarray(twin.cause)), (kwargs,
+                                                                                 options)
+
+
+def _check(result):
+    status = np.asarray(result.status).reshape(-1)
+    cause = np.asarray(result.cause).reshape(-1)
+    values = {name: np.asarray(getattr(result, name), dtype=np.float64).reshape(-1)
+              for name in FLOAT_FIELDS}
+    assert np.all(status <= 3) and np.all(cause <= 3), (status, cause)
+    ok, invalid = status == Status.OK, status == Status.INVALID
+    unreachable, unbounded = status == Status.UNREACHABLE, status == Status.BLUR_UNBOUNDED
+    for name, v in values.items():
+        assert np.all(np.isfinite(v[ok])), name
+        assert np.all(np.isnan(v[invalid])), name
+    assert np.all(cause[ok | invalid | unbounded] == 0)
+    assert np.all(cause[unreachable] != 0)
+    assert np.all(values["t_mpe_s"][unreachable] == math.inf)
+    for name in ("blur_mm", "f50_cyc_per_mm", "epc"):
+        assert np.all(np.isnan(values[name][unreachable])), name
+    assert np.all(values["blur_mm"][unbounded] == math.inf)
+    assert np.all(values["f50_cyc_per_mm"][unbounded] == 0.0)
+    assert np.all(values["epc"][unbounded] == 0.0)
+
+
+def _array(fdp, n):
+    """An array the binding may or may not accept."""
+    kind = fdp.ConsumeIntInRange(0, 6)
+    size = [n, 1, 0, n + 1, max(n - 1, 0)][fdp.ConsumeIntInRange(0, 4)]
+    values = [fdp.ConsumeFloat() for _ in range(min(size, 80))] + [1.0] * max(size - 80, 0)
+    if kind <= 3:
+        return np.array(values, dtype=np.float64)
+    if kind == 4:
+        return np.array(values, dtype=np.float32)
+    if kind == 5:
+        return np.array(values, dtype=np.float64).reshape(-1, 1)[::1]
+    return values  # a list, not an ndarray
+
+
+def _core_call(fdp):
+    n = fdp.ConsumeIntInRange(-2, 70)
+    columns = [_array(fdp, max(n, 0)) for _ in range(fdp.ConsumeIntInRange(19, 21))]
+    domains = params.domain_table() if fdp.ConsumeIntInRange(0, 3) else np.array(
+        [[fdp.ConsumeFloat() for _ in range(4)] for _ in range(fdp.ConsumeIntInRange(0, 21))])
+    k = fdp.ConsumeIntInRange(0, 4)
+    wavelengths = np.array([fdp.ConsumeFloat() for _ in range(k)])
+    weights = np.array([fdp.ConsumeFloat() for _ in range(k + fdp.ConsumeIntInRange(0, 1))])
+    out = None
+    if fdp.ConsumeBool():
+        out = {name: np.zeros(max(n, 0) + fdp.ConsumeIntInRange(0, 1), dtype=dtype)
+               for name, dtype in api.OUTPUT_DTYPES.items()}
+    try:
+        result = _core.evaluate(
+            columns, fdp.ConsumeBool(), domains, wavelengths, weights, n,
+            fdp.ConsumeFloat(), ["closed_form", "brent", ""][fdp.ConsumeIntInRange(0, 2)],
+            fdp.ConsumeFloat(), fdp.ConsumeIntInRange(-1, 3), fdp.ConsumeIntInRange(-1, 100),
+            out)
+    except EXPECTED_ERRORS:
+        return
+    assert np.all(result["status"] <= 3) and np.all(result["cause"] <= 3)
+
+
+def test_one_input(data):
+    fdp = atheris.FuzzedDataProvider(data)
+    if fdp.ConsumeIntInRange(0, 3):
+        _public_call(fdp)
+    else:
+        _core_call(fdp)
+
+
+def main():
+    np.seterr(all="ignore")
+    atheris.Setup(sys.argv, test_one_input)
+    atheris.Fuzz()
+
+
+if __name__ == "__main__":
+    main()
