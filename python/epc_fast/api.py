@@ -111,17 +111,22 @@ def _spectrum_of(spectrum, wavelength_nm) -> Spectrum | None:
     return spectrum
 
 
+def _integer(name: str, value) -> int:
+    """``value`` as an int (bools and floats refused), or a TypeError naming ``name``."""
+    if isinstance(value, bool):
+        raise TypeError(f"{name} must be an integer, got {value!r}")
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be an integer, got {_short(value)}") from None
+
+
 def _threads_of(threads) -> int:
     from . import _core
 
     if threads is None:
         return _core.default_threads()
-    if isinstance(threads, bool):
-        raise TypeError(f"threads must be an integer, got {threads!r}")
-    try:
-        count = operator.index(threads)
-    except TypeError:
-        raise TypeError(f"threads must be an integer, got {_short(threads)}") from None
+    count = _integer("threads", threads)
     if not 1 <= count <= MAX_THREADS:
         raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")
     return count

@@ -24,7 +24,6 @@ from __future__ import annotations
 import enum
 import inspect
 import math
-import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -184,12 +183,7 @@ def _lux_range(lux_range) -> tuple[float, float]:
 
 
 def _grid_points(value) -> int:
-    if isinstance(value, bool):
-        raise TypeError(f"grid_points must be an integer, got {value!r}")
-    try:
-        count = operator.index(value)
-    except TypeError:
-        raise TypeError(f"grid_points must be an integer, got {api._short(value)}") from None
+    count = api._integer("grid_points", value)
     if count < 2:
         raise ValueError(f"grid_points must be at least 2, got {count}")
     return count
