@@ -326,5 +326,5 @@ def test_the_core_refuses_an_impossible_point_count_without_crashing():
     none = np.empty(0)
     for n, error in [(10**12, MemoryError), (2**62, ValueError)]:
         with pytest.raises(error):
-            _core.evaluate(columns, False, params.domain_table(), none, none, n, 1e-14,
+            _core.evaluate(columns, False, params.domain_table(), none, none, n, "halley", 1e-14,
                            "closed_form", 1e-15, 1, 1 << 18)

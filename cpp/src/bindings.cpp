@@ -68,6 +68,15 @@ TMpeSolver solver_of(const std::string& name) {
     throw std::invalid_argument("t_mpe_solver must be 'closed_form' or 'brent', got '" + name + "'");
 }
 
+F50Solver f50_solver_of(const std::string& name) {
+    if (name == "halley") return F50Solver::halley;
+    if (name == "newton") return F50Solver::newton;
+    if (name == "brent") return F50Solver::brent;
+    if (name == "bisection") return F50Solver::bisection;
+    throw std::invalid_argument(
+        "f50_solver must be 'halley', 'newton', 'brent' or 'bisection', got '" + name + "'");
+}
+
 // The columns and domains of one design set, as the kernel reads them.
 Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                  const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n) {
@@ -90,10 +99,12 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
     return in;
 }
 
-Options options_of(double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol) {
+Options options_of(const std::string& f50_solver, double f50_rtol,
+                   const std::string& t_mpe_solver, double t_mpe_rtol) {
     if (!(f50_rtol >= 0.0) || !(t_mpe_rtol >= 0.0))
         throw std::invalid_argument("tolerances must be >= 0");
     Options opt;
+    opt.f50_solver = f50_solver_of(f50_solver);
     opt.f50_rtol = f50_rtol;
     opt.t_mpe_solver = solver_of(t_mpe_solver);
     opt.t_mpe_rtol = t_mpe_rtol;
@@ -119,10 +130,11 @@ void run_chunked(py::ssize_t n, py::ssize_t chunk_points, int threads, Work&& wo
 
 py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                      const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
-                     double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol,
-                     int threads, py::ssize_t chunk_points, const py::object& out) {
+                     const std::string& f50_solver, double f50_rtol,
+                     const std::string& t_mpe_solver, double t_mpe_rtol, int threads,
+                     py::ssize_t chunk_points, const py::object& out) {
     const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
-    const Options opt = options_of(f50_rtol, t_mpe_solver, t_mpe_rtol);
+    const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol);
     py::dict result = out.is_none() ? new_outputs(n) : py::reinterpret_borrow<py::dict>(out);
     const Outputs outputs{
         output_column<double>(result, "electron_rate_e_per_s", n),
@@ -175,7 +187,7 @@ py::dict lux_for_epc_py(const py::list& columns, bool size_is_pixel_count,
                         double lux_lo, double lux_hi, double rtol, double f50_rtol, int threads) {
     const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
     const Column target = column_of(target_epc, -1, n);
-    const Options opt = options_of(f50_rtol, "closed_form", 0.0);
+    const Options opt = options_of("halley", f50_rtol, "closed_form", 0.0);
     const InverseOptions inv = inverse_options_of(lux_lo, lux_hi, rtol, 2);
     InverseResult result(n);
     const InverseOutputs out = result.outputs();
@@ -193,7 +205,7 @@ py::dict crossover_lux_py(const py::list& columns_a, const py::list& columns_b,
                           int threads) {
     const Inputs a = inputs_of(columns_a, size_is_pixel_count_a, domains, wavelengths_nm, weights, n);
     const Inputs b = inputs_of(columns_b, size_is_pixel_count_b, domains, wavelengths_nm, weights, n);
-    const Options opt = options_of(f50_rtol, "closed_form", 0.0);
+    const Options opt = options_of("halley", f50_rtol, "closed_form", 0.0);
     const InverseOptions inv = inverse_options_of(lux_lo, lux_hi, rtol, grid_points);
     InverseResult result(n);
     const InverseOutputs out = result.outputs();
@@ -235,7 +247,8 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           "Threads used when none are asked for (OMP_NUM_THREADS, else the cores).");
     m.def("evaluate", &evaluate_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
-          py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"), py::arg("threads"),
+          py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
+          py::arg("threads"),
           py::arg("chunk_points"), py::arg("out") = py::none(),
           "Evaluates the model; writes into `out` (a dict of the output arrays) when given.");
     m.def("lux_for_epc", &lux_for_epc_py, py::arg("columns"), py::arg("size_is_pixel_count"),

@@ -23,6 +23,7 @@ MAX_THREADS = 1024
 CHUNK_POINTS = 1 << 18
 BACKENDS = ("core", "reference")
 T_MPE_SOLVERS = ("closed_form", "brent")
+F50_SOLVERS = ("halley", "newton", "brent", "bisection")
 INVALID_POLICIES = ("status", "raise")
 
 
@@ -166,7 +167,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0, full_well_e=math.inf,
              snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
              wavelength_nm=550.0, mtf_threshold=0.5, spectrum=None, threads=None,
-             backend="core", invalid="status", f50_rtol=1e-14, t_mpe_solver="closed_form",
+             backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
+             t_mpe_solver="closed_form",
              t_mpe_rtol=1e-15, out=None) -> Result:
     """Effective pixel count and its intermediates for camera designs (MODEL.md).
 
@@ -210,7 +212,13 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     invalid : {"status", "raise"}
         Out-of-domain inputs give status INVALID and NaN outputs, or a ValueError naming the
         first offending argument, value and index.
-    f50_rtol : 1, relative tolerance of the f50 bisection (stops when hi - lo <= rtol lo).
+    f50_solver : {"halley", "newton", "brent", "bisection"}
+        f50's root finder; every one keeps its iterates inside the bisection bracket of
+        MODEL.md section 6. Halley (the default) and Newton use the MTF's analytic slopes from a
+        starting guess and stop once their last step predicts an error far below ``f50_rtol``;
+        Brent and bisection narrow the bracket to ``f50_rtol``. docs/numerics.md has their
+        measured errors and speeds.
+    f50_rtol : 1, relative tolerance on f50.
     t_mpe_solver : {"closed_form", "brent"}
         The closed-form quadratic root, or Brent's method on ln SNR(T) = ln SNR_target.
     t_mpe_rtol : 1, Brent's relative tolerance on T_MPE.
@@ -259,6 +267,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     _choice("backend", backend, BACKENDS)
     _choice("invalid", invalid, INVALID_POLICIES)
     _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
+    _choice("f50_solver", f50_solver, F50_SOLVERS)
     f50_rtol = _tolerance("f50_rtol", f50_rtol)
     t_mpe_rtol = _tolerance("t_mpe_rtol", t_mpe_rtol)
     given = None if out is None else _out_arrays(out, shape)
@@ -268,8 +277,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         threads = _threads_of(threads)
         flat = None if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
                                            for k, v in given.items()}
-        result = _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver,
-                           t_mpe_rtol, threads, out=flat)
+        result = _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol,
+                           t_mpe_solver, t_mpe_rtol, threads, out=flat)
     else:
         if threads is not None:
             _threads_of(threads)
@@ -369,8 +378,8 @@ def _column(arr: np.ndarray, shape) -> np.ndarray:
     return np.ascontiguousarray(np.broadcast_to(arr, shape)).reshape(-1)
 
 
-def _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver, t_mpe_rtol,
-              threads, out=None):
+def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
+              t_mpe_rtol, threads, out=None):
     from . import _core
 
     n = math.prod(shape)
@@ -384,8 +393,8 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_rtol, t_mpe_solver, 
         wavelengths, weights = spec.wavelengths_nm, spec.weights
     return _core.evaluate(columns, size_is_pixel_count, params.domain_table(),
                           np.ascontiguousarray(wavelengths, dtype=np.float64),
-                          np.ascontiguousarray(weights, dtype=np.float64), n, f50_rtol,
-                          t_mpe_solver, t_mpe_rtol, threads, CHUNK_POINTS, out)
+                          np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
+                          f50_rtol, t_mpe_solver, t_mpe_rtol, threads, CHUNK_POINTS, out)
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec):

@@ -1,5 +1,12 @@
 #pragma once
 
+// Lane-loop helpers must be inlined: a call left in a lane loop stops its vectorisation.
+#if defined(__GNUC__)
+#define EPC_FAST_INLINE inline __attribute__((always_inline))
+#else
+#define EPC_FAST_INLINE inline
+#endif
+
 namespace epc_fast {
 
 constexpr double pi = 3.141592653589793238462643383279502884;

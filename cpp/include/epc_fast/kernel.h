@@ -1,247 +1,377 @@
 // The per-point model, evaluated a block of points at a time.
 //
 // Layout: each block gathers its points' parameters into contiguous arrays (structure of
-// arrays) and runs the model stage by stage, each stage a loop over the block's lanes with no
-// branch a vectoriser cannot turn into a select. The f50 bisection advances every lane of the
-// block together; a lane stops moving once its own bracket meets the tolerance, so a point's
-// result never depends on its neighbours, the block size or the thread count.
+// arrays, block.h) and runs the model stage by stage, each stage a loop over the block's lanes
+// with no branch a vectoriser cannot turn into a select: gather, exposure (T_MPE and blur),
+// f50 (f50.h), scatter.
 //
 // The transcendental functions of the MTF are inlined polynomials (polynomials.h), so the lane
 // loops vectorise to the width the build targets.
-//
-// A block pays only for the terms it uses: the motion and jitter factors are compiled out of
-// the bisection when no lane of the block has them, and a monochromatic call never loops over
-// a spectrum.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 
+#include "block.h"
 #include "exposure.h"
-#include "mtf.h"
+#include "f50.h"
 #include "parallel.h"
 #include "params.h"
 #include "status.h"
 
 namespace epc_fast {
 
-constexpr std::size_t block_size = 64;
-// Enough halvings to take any finite bracket down to adjacent floats.
-constexpr int max_bisection_steps = 2200;
-
 namespace detail {
 
-constexpr double nan = std::numeric_limits<double>::quiet_NaN();
-constexpr double inf = std::numeric_limits<double>::infinity();
+// The value invalid and padding lanes compute on: no lane sees NaN or loops on garbage.
+inline double stand_in(int param) { return param == mtf_threshold ? 0.5 : 1.0; }
 
-// Per-lane state of one block. Every stage runs over all block_size lanes, whatever the
-// number n of real points: lanes past n hold stand-ins and are never written out. A constant,
-// aligned trip count leaves the vectoriser no scalar prologue or epilogue, so every lane runs
-// the same instructions and a point's result does not depend on its place in the block.
-struct alignas(64) Block {
-    std::size_t n;
-    double x[n_params][block_size];  // parameters; invalid lanes hold harmless stand-ins
-    bool valid[block_size];
-    double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
-    bool capped[block_size], no_light[block_size], full_well[block_size];
-    bool unbounded[block_size];
-    unsigned char solve[block_size];  // bytes, not bool: the lane loops vectorise on them
-    // f50 bisection
-    double lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm[block_size];
-    double lo[block_size], hi[block_size], mid[block_size], diffraction[block_size];
-    unsigned char active[block_size];
-};
+// valid[i] &= x[i] in d, for every lane; the domain's open or closed ends are decided once.
+inline void check_domain(const Domain& d, const double* __restrict x, unsigned char* __restrict valid) {
+    const double lo = d.lo, hi = d.hi;
+    if (d.lo_closed && d.hi_closed) {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] >= lo) & (x[i] <= hi);
+    } else if (d.lo_closed) {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] >= lo) & (x[i] < hi);
+    } else if (d.hi_closed) {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] > lo) & (x[i] <= hi);
+    } else {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] > lo) & (x[i] < hi);
+    }
+}
 
 // Reads points [begin, begin + n); `illuminance_lux`, when given, replaces that column with
-// n values of its own (the inverse solvers' trial illuminances).
+// n values of its own (the inverse solvers' trial illuminances). A broadcast column (stride 0)
+// is checked once and copied to every lane; padding lanes past n get stand-ins.
 inline void gather(const Inputs& in, std::size_t begin, const double* illuminance, Block& b) {
+    const std::size_t n = b.n;
+    unsigned char* __restrict valid = b.valid;
+    for (std::size_t i = 0; i < block_size; ++i) valid[i] = i < n;
+    b.uniform = 0;
     for (int j = 0; j < n_params; ++j) {
-        const Column& col = in.columns[j];
-        for (std::size_t i = 0; i < b.n; ++i) b.x[j][i] = col[begin + i];
-    }
-    if (illuminance != nullptr)
-        for (std::size_t i = 0; i < b.n; ++i) b.x[illuminance_lux][i] = illuminance[i];
-    for (std::size_t i = 0; i < block_size; ++i) b.valid[i] = i < b.n;
-    for (int j = 0; j < n_params; ++j)
-        for (std::size_t i = 0; i < b.n; ++i) b.valid[i] &= in.domains[j].contains(b.x[j][i]);
-    // Invalid and padding lanes compute on stand-ins: no lane sees NaN or loops on garbage.
-    for (int j = 0; j < n_params; ++j) {
-        const double stand_in = j == mtf_threshold ? 0.5 : 1.0;
-        for (std::size_t i = 0; i < block_size; ++i) b.x[j][i] = b.valid[i] ? b.x[j][i] : stand_in;
-    }
-}
-
-inline void exposure(const Options& opt, Block& b) {
-    const auto& x = b.x;
-    for (std::size_t i = 0; i < block_size; ++i) {
-        b.rate[i] = electron_rate(x[illuminance_lux][i], x[reflectance][i],
-                                  x[lens_transmittance][i], x[field_angle_deg][i], x[f_number][i],
-                                  x[electrons_per_lux_s_m2][i], x[fill_factor][i],
-                                  x[pixel_pitch_um][i]);
-        b.capped[i] = b.rate[i] > 0.0 && SnrTarget(x[snr_db][i]).capped_by(x[prnu][i]);
-    }
-    if (opt.t_mpe_solver == TMpeSolver::closed_form) {
-        for (std::size_t i = 0; i < block_size; ++i)
-            b.electrons[i] = signal_electrons(b.rate[i], SnrTarget(x[snr_db][i]), x[read_noise_e][i],
-                                              x[dark_current_e_per_s][i], x[prnu][i]);
-    } else {
-        for (std::size_t i = 0; i < block_size; ++i)
-            b.electrons[i] = b.rate[i] > 0.0 && !b.capped[i]
-                                 ? signal_electrons_brent(b.rate[i], SnrTarget(x[snr_db][i]),
-                                                          x[read_noise_e][i],
-                                                          x[dark_current_e_per_s][i], x[prnu][i],
-                                                          opt.t_mpe_rtol)
-                                 : nan;
-    }
-    for (std::size_t i = 0; i < block_size; ++i) {
-        const double t = b.electrons[i] / b.rate[i];
-        // A rate so small that T_MPE overflows counts as no light.
-        b.no_light[i] = !b.capped[i] && !std::isfinite(t);
-        b.full_well[i] = !b.no_light[i] && !b.capped[i] && b.electrons[i] > x[full_well_e][i];
-        const bool unreachable = b.capped[i] || b.no_light[i] || b.full_well[i];
-        b.t_mpe[i] = unreachable ? inf : t;
-        b.blur[i] = unreachable ? 0.0
-                                : blur_length_mm(x[focal_length_mm][i], x[shake_deg_per_s][i],
-                                                 x[stabilization][i], t);
-        b.unbounded[i] = !unreachable && std::isinf(b.blur[i]);
-        b.solve[i] = b.valid[i] && !unreachable && !b.unbounded[i];
-        if (!b.solve[i]) b.blur[i] = 0.0;
-    }
-}
-
-// One bisection step on every active lane: MTF_sys(mid) > threshold moves lo, else hi.
-// Local __restrict pointers and bitwise logic keep each lane loop a straight line.
-template <bool Motion, bool Jitter, bool Poly>
-void bisection_step(const Spectrum& spectrum, Block& b) {
-    constexpr std::size_t n = block_size;
-    const double* __restrict mid = b.mid;
-    const double* __restrict f_num = b.x[f_number];
-    double* __restrict diffraction = b.diffraction;
-    if (Poly) {
-        for (std::size_t i = 0; i < n; ++i) diffraction[i] = 0.0;
-        for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
-            const double lambda_mm = spectrum.wavelengths_nm[k] * nm_to_mm;
-            const double w = spectrum.weights[k];
-            EPC_FAST_SIMD
-            for (std::size_t i = 0; i < n; ++i)
-                diffraction[i] += w * mtf_diffraction(mid[i] * lambda_mm * f_num[i]);
+        const bool replaced = j == illuminance_lux && illuminance != nullptr;
+        const double* src = replaced ? illuminance : in.columns[j].data;
+        const std::ptrdiff_t stride = replaced ? 1 : in.columns[j].stride;
+        double* __restrict x = b.x[j];
+        if (stride == 0) {
+            const double v = src[0];
+            for (std::size_t i = 0; i < block_size; ++i) x[i] = v;
+            if (!in.domains[j].contains(v))
+                for (std::size_t i = 0; i < block_size; ++i) valid[i] = 0;
+            b.uniform |= std::uint32_t{1} << j;
+            continue;
         }
-    } else {
-        const double* __restrict lambda_f = b.lambda_f_mm;
+        if (!replaced) src += static_cast<std::ptrdiff_t>(begin) * stride;
+        if (stride == 1) {
+            for (std::size_t i = 0; i < n; ++i) x[i] = src[i];
+        } else {
+            for (std::size_t i = 0; i < n; ++i) x[i] = src[static_cast<std::ptrdiff_t>(i) * stride];
+        }
+        for (std::size_t i = n; i < block_size; ++i) x[i] = stand_in(j);
+        check_domain(in.domains[j], x, valid);
+    }
+    int n_valid = 0;
+    EPC_FAST_SIMD_REDUCTION(+ : n_valid)
+    for (std::size_t i = 0; i < block_size; ++i) n_valid += valid[i];
+    if (n_valid == static_cast<int>(block_size)) return;
+    for (int j = 0; j < n_params; ++j) {
+        double* __restrict x = b.x[j];
+        const double s = stand_in(j);
         EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) diffraction[i] = mtf_diffraction(mid[i] * lambda_f[i]);
-    }
-    const double* __restrict aperture = b.aperture_mm;
-    const double* __restrict blur = b.blur;
-    const double* __restrict jitter = b.jitter_mm;
-    // Two loops: GCC does not if-convert a select that depends on a vector-maths call.
-    double* __restrict mtf = b.diffraction;
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        const double f = mid[i];
-        double m = diffraction[i] * mtf_pixel(f, aperture[i]);
-        if (Motion) m *= mtf_motion(f, blur[i]);
-        if (Jitter) m *= mtf_jitter(f, jitter[i]);
-        mtf[i] = m;
-    }
-    const double* __restrict threshold = b.x[mtf_threshold];
-    const unsigned char* __restrict active = b.active;
-    double* __restrict lo = b.lo;
-    double* __restrict hi = b.hi;
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        const bool above = mtf[i] > threshold[i];
-        const bool act = active[i] != 0;
-        lo[i] = (act & above) ? mid[i] : lo[i];
-        hi[i] = (act & !above) ? mid[i] : hi[i];
+        for (std::size_t i = 0; i < block_size; ++i) x[i] = valid[i] ? x[i] : s;
     }
 }
 
-template <bool Motion, bool Jitter, bool Poly>
-void bisect(const Spectrum& spectrum, double rtol, Block& b) {
+// Whether a partial product is a normal double. A plain product of positive factors whose every
+// partial product is normal equals scaled_product's result bit for bit (the same roundings, no
+// scaling needed).
+EPC_FAST_INLINE bool normal(double v) {
+    return (v >= std::numeric_limits<double>::min()) & (v <= std::numeric_limits<double>::max());
+}
+
+// The rounding error a b - fl(a b), exactly (Dekker's product with Veltkamp's split): what
+// std::fma(a, b, -a * b) gives, in plain arithmetic that vectorises everywhere. Exact for
+// |a|, |b| < 1e300 whose product neither overflows nor underflows.
+EPC_FAST_INLINE double product_error(double a, double b) {
+    constexpr double split = 134217729.0;  // 2^27 + 1
+    const double p = a * b;
+    const double ca = split * a, cb = split * b;
+    const double a_hi = ca - (ca - a), a_lo = a - a_hi;
+    const double b_hi = cb - (cb - b), b_lo = b - b_hi;
+    return ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
+}
+
+// tan(angle) for 0 <= angle < pi/2, as sinpi(t) / cospi(t) with t = angle / pi carried in two
+// doubles (t_hi + t_lo, Dekker's product): cospi's argument 1/2 - t_hi is exact, and t_lo keeps
+// the digits that tan's condition number near pi/2 would otherwise amplify. Within a few ulp
+// of the C library's tan of the same angle.
+EPC_FAST_INLINE double tan_of_angle(double angle) {
+    constexpr double inv_pi_hi = 0.3183098861837907;     // 1/pi rounded
+    constexpr double inv_pi_lo = -1.9678676675182486e-17;  // 1/pi - inv_pi_hi
+    const double t_hi = angle * inv_pi_hi;
+    const double t_lo = product_error(angle, inv_pi_hi) + angle * inv_pi_lo;
+    const double cos_arg = (0.5 - t_hi) - t_lo;
+    return sinpi(t_hi + t_lo) / sinpi(cos_arg);
+}
+
+// hypot(x, y) for x > 0, y >= 0 without overflow: x exactly when y = 0, else within 2 ulp.
+EPC_FAST_INLINE double hypot_positive(double x, double y) {
+    const double big = x > y ? x : y, small = x > y ? y : x;
+    const double ratio = small / big;
+    const double h = big * std::sqrt(1.0 + ratio * ratio);
+    return y == 0.0 ? x : h;
+}
+
+// T_MPE, blur and the unreachable causes of one lane by the general formulas of exposure.h
+// (scaled products, the C library's pow, sin and tan, Brent when asked): for the lanes the
+// vector path below cannot vouch for.
+inline void exposure_lane(const Options& opt, Block& b, std::size_t i) {
+    const auto& x = b.x;
+    b.rate[i] = electron_rate(x[illuminance_lux][i], x[reflectance][i], x[lens_transmittance][i],
+                              x[field_angle_deg][i], x[f_number][i],
+                              x[electrons_per_lux_s_m2][i], x[fill_factor][i],
+                              x[pixel_pitch_um][i]);
+    const SnrTarget target(x[snr_db][i]);
+    b.capped[i] = b.rate[i] > 0.0 && target.capped_by(x[prnu][i]);
+    if (opt.t_mpe_solver == TMpeSolver::closed_form)
+        b.electrons[i] = signal_electrons(b.rate[i], target, x[read_noise_e][i],
+                                          x[dark_current_e_per_s][i], x[prnu][i]);
+    else
+        b.electrons[i] = b.rate[i] > 0.0 && !b.capped[i]
+                             ? signal_electrons_brent(b.rate[i], target, x[read_noise_e][i],
+                                                      x[dark_current_e_per_s][i], x[prnu][i],
+                                                      opt.t_mpe_rtol)
+                             : nan;
+    const double t = b.electrons[i] / b.rate[i];
+    b.t_mpe[i] = t;
+    const bool unreachable = b.capped[i] || !std::isfinite(t) || b.electrons[i] > x[full_well_e][i];
+    b.blur[i] = unreachable ? 0.0
+                            : blur_length_mm(x[focal_length_mm][i], x[shake_deg_per_s][i],
+                                             x[stabilization][i], t);
+}
+
+// T_MPE and blur for every lane. The vector path computes the closed form with plain products
+// and vectorised hypot and tan; a lane whose products leave the normal range, or any lane
+// when Brent is asked for, is redone by exposure_lane. cos(theta) and 10^(snr/20) are computed once for a
+// block when their columns are broadcast.
+inline void exposure(const Options& opt, Block& b) {
     constexpr std::size_t n = block_size;
-    const unsigned char* __restrict solve = b.solve;
-    const double* __restrict lo = b.lo;
-    const double* __restrict hi = b.hi;
-    double* __restrict mid = b.mid;
-    unsigned char* __restrict active = b.active;
-    for (int step = 0; step < max_bisection_steps; ++step) {
-        int n_active = 0;
-        EPC_FAST_SIMD_REDUCTION(+ : n_active)
-        for (std::size_t i = 0; i < n; ++i) {
-            const double m = lo[i] + 0.5 * (hi[i] - lo[i]);
-            mid[i] = m;
-            const bool a = (solve[i] != 0) & (hi[i] - lo[i] > rtol * lo[i]) & (m > lo[i]) &
-                           (m < hi[i]);
-            active[i] = a;
-            n_active += a;
-        }
-        if (n_active == 0) return;
-        bisection_step<Motion, Jitter, Poly>(spectrum, b);
-    }
-}
-
-inline void f50(const Inputs& in, const Options& opt, Block& b) {
     const auto& x = b.x;
-    const Spectrum& spectrum = in.spectrum;
-    const bool poly = spectrum.polychromatic();
-    double shortest_nm = inf;
-    for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k)
-        if (spectrum.weights[k] > 0.0) shortest_nm = std::fmin(shortest_nm, spectrum.wavelengths_nm[k]);
-    bool motion = false, jitter = false;
-    for (std::size_t i = 0; i < block_size; ++i) {
-        b.lambda_f_mm[i] = x[wavelength_nm][i] * nm_to_mm * x[f_number][i];
-        b.aperture_mm[i] = pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]);
-        b.jitter_mm[i] = x[jitter_um][i] * um_to_mm;
-        b.lo[i] = 0.0;
-        b.hi[i] = f50_bracket(x[f_number][i], poly ? shortest_nm : x[wavelength_nm][i],
-                              b.aperture_mm[i], b.blur[i], x[jitter_um][i], x[mtf_threshold][i]);
-        motion |= b.solve[i] != 0 && b.blur[i] > 0.0;
-        jitter |= b.solve[i] != 0 && x[jitter_um][i] > 0.0;
-    }
-    const double rtol = opt.f50_rtol;
-    // One instantiation per combination of the terms a block uses.
-    if (poly) {
-        if (motion && jitter) bisect<true, true, true>(spectrum, rtol, b);
-        else if (motion) bisect<true, false, true>(spectrum, rtol, b);
-        else if (jitter) bisect<false, true, true>(spectrum, rtol, b);
-        else bisect<false, false, true>(spectrum, rtol, b);
+    double* __restrict cos2 = b.lambda_f_mm;  // scratch until f50's start
+    double* __restrict root_s = b.aperture_mm;
+    if (b.uniform & (std::uint32_t{1} << field_angle_deg)) {
+        const double c = std::sin((90.0 - std::fabs(x[field_angle_deg][0])) * deg_to_rad);
+        for (std::size_t i = 0; i < n; ++i) cos2[i] = c * c;
     } else {
-        if (motion && jitter) bisect<true, true, false>(spectrum, rtol, b);
-        else if (motion) bisect<true, false, false>(spectrum, rtol, b);
-        else if (jitter) bisect<false, true, false>(spectrum, rtol, b);
-        else bisect<false, false, false>(spectrum, rtol, b);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double c = std::sin((90.0 - std::fabs(x[field_angle_deg][i])) * deg_to_rad);
+            cos2[i] = c * c;
+        }
+    }
+    if (b.uniform & (std::uint32_t{1} << snr_db)) {
+        const double r = SnrTarget(x[snr_db][0]).root_s;
+        for (std::size_t i = 0; i < n; ++i) root_s[i] = r;
+    } else {
+        for (std::size_t i = 0; i < n; ++i) root_s[i] = SnrTarget(x[snr_db][i]).root_s;
+    }
+    const double* __restrict lux = x[illuminance_lux];
+    const double* __restrict refl = x[reflectance];
+    const double* __restrict tau = x[lens_transmittance];
+    const double* __restrict f_num = x[f_number];
+    const double* __restrict k_e = x[electrons_per_lux_s_m2];
+    const double* __restrict fill = x[fill_factor];
+    const double* __restrict pitch = x[pixel_pitch_um];
+    const double* __restrict read = x[read_noise_e];
+    const double* __restrict dark = x[dark_current_e_per_s];
+    const double* __restrict u = x[prnu];
+    const double* __restrict well = x[full_well_e];
+    const double* __restrict focal = x[focal_length_mm];
+    const double* __restrict shake = x[shake_deg_per_s];
+    const double* __restrict stab = x[stabilization];
+    double* __restrict rate = b.rate;
+    double* __restrict electrons = b.electrons;
+    double* __restrict t_mpe = b.t_mpe;
+    double* __restrict blur = b.blur;
+    unsigned char* __restrict capped = b.capped;
+    unsigned char* __restrict slow = b.active;  // scratch until f50
+    // Three loops, each small enough for GCC to vectorise (one with all of it does not).
+    double* __restrict w_margin = b.lo;  // scratch until f50's start
+    unsigned char* __restrict rate_normal = b.unbounded;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        // electron_rate's product, in its order
+        double rv = lux[i];
+        bool ok = normal(rv);
+        rv *= refl[i];
+        ok &= normal(rv);
+        rv *= tau[i];
+        ok &= normal(rv);
+        rv *= cos2[i];
+        ok &= normal(rv);
+        rv *= cos2[i];
+        ok &= normal(rv);
+        rv *= k_e[i];
+        ok &= normal(rv);
+        rv *= fill[i];
+        ok &= normal(rv);
+        rv *= pitch[i];
+        ok &= normal(rv);
+        rv *= pitch[i];
+        ok &= normal(rv);
+        rv *= um_to_m * um_to_m;
+        ok &= normal(rv);
+        rv /= 4.0;
+        ok &= normal(rv);
+        rv /= f_num[i];
+        ok &= normal(rv);
+        rv /= f_num[i];
+        ok &= normal(rv);
+        rate[i] = rv;
+        rate_normal[i] = ok;
+    }
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        // SnrTarget::prnu_product, capped_by and prnu_margin; the product's rounding error is
+        // used only where p is near 1, where both factors are far inside product_error's range
+        const double rs = root_s[i];
+        const double p = u[i] * rs;
+        const double p_error = product_error(u[i], rs);
+        const double e = std::fabs(p - 1.0) < 0.5 ? p_error : 0.0;
+        capped[i] = (p > 1.0) | ((p == 1.0) & (e >= 0.0));
+        w_margin[i] = ((1.0 - p) - e) * ((1.0 + p) + e);
+    }
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double rs = root_s[i], w = w_margin[i], rv = rate[i];
+        // signal_electrons
+        const double q = 1.0 + dark[i] / rv;
+        const double read_term = 2.0 * read[i] * std::sqrt(w) / q;
+        const double a = rs / (2.0 * w) * (rs + hypot_positive(rs, read_term));
+        const double ad = a * dark[i];
+        const double extra = ad / rv;
+        const bool extra_normal = normal(a) & normal(ad) & normal(extra);
+        const bool no_dark = dark[i] == 0.0;
+        const double el = a + (no_dark ? 0.0 : extra);
+        const double t = el / rv;
+        // blur_length_mm
+        const double angle1 = shake[i] * deg_to_rad;
+        const double angle2 = angle1 * t;
+        const double angle = angle2 / stab[i];
+        const bool angle_normal = normal(shake[i]) & normal(angle1) & normal(angle2) & normal(angle);
+        const bool still = shake[i] == 0.0;
+        const double tan_angle = tan_of_angle(angle);
+        electrons[i] = el;
+        t_mpe[i] = t;
+        blur[i] = still ? 0.0 : angle < half_pi ? focal[i] * tan_angle : inf;
+        const bool unreachable = (capped[i] != 0) | !(t <= std::numeric_limits<double>::max()) | (el > well[i]);
+        const bool fast = (rate_normal[i] != 0) & (no_dark | extra_normal) &
+                          (unreachable | still | angle_normal);
+        slow[i] = !fast;
+    }
+    const bool brent = opt.t_mpe_solver != TMpeSolver::closed_form;
+    for (std::size_t i = 0; i < n; ++i)
+        if (brent || slow[i]) exposure_lane(opt, b, i);
+    unsigned char* __restrict no_light = b.no_light;
+    unsigned char* __restrict full_well = b.full_well;
+    unsigned char* __restrict unbounded = b.unbounded;
+    unsigned char* __restrict solve = b.solve;
+    const unsigned char* __restrict valid = b.valid;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double t = electrons[i] / rate[i];
+        // A rate so small that T_MPE overflows counts as no light.
+        const bool dark_lane = !capped[i] & !(t <= std::numeric_limits<double>::max());
+        const bool over = !dark_lane & !capped[i] & (electrons[i] > well[i]);
+        const bool unreachable = capped[i] | dark_lane | over;
+        const bool inf_blur = !unreachable & (blur[i] > std::numeric_limits<double>::max());
+        no_light[i] = dark_lane;
+        full_well[i] = over;
+        t_mpe[i] = unreachable ? inf : t;
+        unbounded[i] = inf_blur;
+        const bool s = (valid[i] != 0) & !unreachable & !inf_blur;
+        solve[i] = s;
+        blur[i] = s ? blur[i] : 0.0;
     }
 }
 
+// Writes the block's n points; an output pointer that is null is not computed.
 inline void scatter(const Inputs& in, const Block& b, const Outputs& out) {
+    const std::size_t n = b.n;
     const auto& x = b.x;
-    for (std::size_t i = 0; i < b.n; ++i) {
-        const bool valid = b.valid[i];
-        const bool unreachable = b.capped[i] || b.no_light[i] || b.full_well[i];
-        const bool solved = valid && !unreachable;  // ok or blur unbounded
-        const double f50 = b.unbounded[i] ? 0.0 : b.lo[i] + 0.5 * (b.hi[i] - b.lo[i]);
-        const double pitch_mm = x[pixel_pitch_um][i] * um_to_mm;
-        const double area_mm2 = in.size_is_pixel_count ? x[size][i] * (pitch_mm * pitch_mm) : x[size][i];
-        out.electron_rate_e_per_s[i] = valid ? b.rate[i] : nan;
-        out.electrons[i] = valid && !b.no_light[i] && !b.capped[i] ? b.electrons[i] : nan;
-        out.t_mpe_s[i] = valid ? b.t_mpe[i] : nan;
-        out.blur_mm[i] = !solved ? nan : b.unbounded[i] ? inf : b.blur[i];
-        out.f50_cyc_per_mm[i] = solved ? f50 : nan;
-        out.epc[i] = solved ? 4.0 * area_mm2 * (f50 * f50) : nan;
-        const Status status = !valid ? Status::invalid
-                              : unreachable ? Status::unreachable
-                              : b.unbounded[i] ? Status::blur_unbounded
-                                               : Status::ok;
-        const Cause cause = !valid ? Cause::none
-                            : b.no_light[i] ? Cause::no_light
-                            : b.capped[i] ? Cause::prnu
-                            : b.full_well[i] ? Cause::full_well
-                                             : Cause::none;
-        out.status[i] = static_cast<unsigned char>(status);
-        out.cause[i] = static_cast<unsigned char>(cause);
+    const unsigned char* __restrict valid = b.valid;
+    const unsigned char* __restrict capped = b.capped;
+    const unsigned char* __restrict no_light = b.no_light;
+    const unsigned char* __restrict full_well = b.full_well;
+    const unsigned char* __restrict unbounded = b.unbounded;
+    auto solved = [&](std::size_t i) {  // ok or blur unbounded
+        return (valid[i] != 0) & !(capped[i] | no_light[i] | full_well[i]);
+    };
+    if (out.electron_rate_e_per_s != nullptr) {
+        double* __restrict o = out.electron_rate_e_per_s;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) o[i] = valid[i] ? b.rate[i] : nan;
+    }
+    if (out.electrons != nullptr) {
+        double* __restrict o = out.electrons;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i)
+            o[i] = (valid[i] != 0) & !no_light[i] & !capped[i] ? b.electrons[i] : nan;
+    }
+    if (out.t_mpe_s != nullptr) {
+        double* __restrict o = out.t_mpe_s;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) o[i] = valid[i] ? b.t_mpe[i] : nan;
+    }
+    if (out.blur_mm != nullptr) {
+        double* __restrict o = out.blur_mm;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) o[i] = !solved(i) ? nan : unbounded[i] ? inf : b.blur[i];
+    }
+    if (out.f50_cyc_per_mm != nullptr) {
+        double* __restrict o = out.f50_cyc_per_mm;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) o[i] = !solved(i) ? nan : unbounded[i] ? 0.0 : b.f50[i];
+    }
+    if (out.epc != nullptr) {
+        double* __restrict o = out.epc;
+        const double* __restrict sz = x[size];
+        const double* __restrict pitch = x[pixel_pitch_um];
+        const bool count = in.size_is_pixel_count;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const double pitch_mm = pitch[i] * um_to_mm;
+            const double area_mm2 = count ? sz[i] * (pitch_mm * pitch_mm) : sz[i];
+            const double f = unbounded[i] ? 0.0 : b.f50[i];
+            o[i] = solved(i) ? 4.0 * area_mm2 * (f * f) : nan;
+        }
+    }
+    if (out.status != nullptr) {
+        unsigned char* __restrict o = out.status;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool unreachable = capped[i] | no_light[i] | full_well[i];
+            o[i] = !valid[i]    ? static_cast<unsigned char>(Status::invalid)
+                   : unreachable ? static_cast<unsigned char>(Status::unreachable)
+                   : unbounded[i] ? static_cast<unsigned char>(Status::blur_unbounded)
+                                  : static_cast<unsigned char>(Status::ok);
+        }
+    }
+    if (out.cause != nullptr) {
+        unsigned char* __restrict o = out.cause;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i)
+            o[i] = !valid[i]      ? static_cast<unsigned char>(Cause::none)
+                   : no_light[i]  ? static_cast<unsigned char>(Cause::no_light)
+                   : capped[i]    ? static_cast<unsigned char>(Cause::prnu)
+                   : full_well[i] ? static_cast<unsigned char>(Cause::full_well)
+                                  : static_cast<unsigned char>(Cause::none);
     }
 }
 
@@ -257,7 +387,7 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     b.n = n;
     detail::gather(in, begin, illuminance_lux, b);
     detail::exposure(opt, b);
-    detail::f50(in, opt, b);
+    detail::f50(in.spectrum, opt, b);
     detail::scatter(in, b, out);
 }
 

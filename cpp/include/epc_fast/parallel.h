@@ -12,7 +12,7 @@
 // OpenMP runtime).
 #define EPC_FAST_SIMD _Pragma("omp simd")
 #define EPC_FAST_PRAGMA(x) _Pragma(#x)
-#define EPC_FAST_SIMD_REDUCTION(op) EPC_FAST_PRAGMA(omp simd reduction(op))
+#define EPC_FAST_SIMD_REDUCTION(...) EPC_FAST_PRAGMA(omp simd reduction(__VA_ARGS__))
 
 namespace epc_fast {
 

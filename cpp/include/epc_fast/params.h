@@ -71,8 +71,13 @@ struct Inputs {
 
 enum class TMpeSolver { closed_form, brent };
 
+// f50's root finder (f50.h). Each keeps every iterate inside the bisection bracket of MODEL.md
+// section 6.
+enum class F50Solver { halley, newton, brent, bisection };
+
 struct Options {
-    double f50_rtol = 1e-14;   // bisection stops once hi - lo <= f50_rtol * lo
+    F50Solver f50_solver = F50Solver::halley;
+    double f50_rtol = 1e-14;   // relative tolerance on f50 (f50.h says how each solver meets it)
     TMpeSolver t_mpe_solver = TMpeSolver::closed_form;
     double t_mpe_rtol = 1e-15;  // Brent's tolerance on the electrons needed
 };

@@ -1,4 +1,5 @@
-// Vectorisable sin(pi x) and acos(x): inlined polynomials instead of calls to the C library.
+// Vectorisable sin(pi x), cos(pi x), acos(x) and exp(x): inlined polynomials instead of calls
+// to the C library.
 //
 // Inside a lane loop, a call to glibc's scalar sin/acos stops vectorisation, and glibc's vector
 // variants (libmvec) take special-case paths that couple neighbouring lanes, so that a point's
@@ -12,6 +13,10 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+
+#include "constants.h"
 
 namespace epc_fast {
 namespace poly {
@@ -60,8 +65,15 @@ constexpr double diffraction_coefficients[] = {
     -0.010902965352930965,
 };
 
+// 1/k!, k = 0..13: exp(r) on |r| <= ln(2)/2 to a truncation error below 4e-18.
+constexpr double exp_coefficients[] = {
+    1.0, 1.0, 0.5, 0.16666666666666666, 0.041666666666666664, 0.008333333333333333,
+    0.001388888888888889, 0.0001984126984126984, 2.48015873015873e-05, 2.7557319223985893e-06,
+    2.755731922398589e-07, 2.505210838544172e-08, 2.08767569878681e-09, 1.6059043836821613e-10,
+};
+
 template <int N>
-inline double horner(const double (&c)[N], double t) {
+EPC_FAST_INLINE double horner(const double (&c)[N], double t) {
     double acc = c[N - 1];
     for (int k = N - 2; k >= 0; --k) acc = acc * t + c[k];
     return acc;
@@ -71,14 +83,14 @@ inline double horner(const double (&c)[N], double t) {
 
 // round(x) to the nearest integer in plain arithmetic (SSE2 has no vector rounding): adding
 // and subtracting 1.5 * 2^52 rounds any |x| < 2^51; larger doubles are integers already.
-inline double round_to_integer(double x) {
+EPC_FAST_INLINE double round_to_integer(double x) {
     constexpr double shifter = 6755399441055744.0;  // 1.5 * 2^52
     const double k = (x + shifter) - shifter;
     return std::fabs(x) < 2251799813685248.0 ? k : x;  // 2^51
 }
 
 // sin(pi x) for any finite x: r = x - round(x) is exact, sin(pi x) = (-1)^round(x) sin(pi r).
-inline double sinpi(double x) {
+EPC_FAST_INLINE double sinpi(double x) {
     const double k = round_to_integer(x);
     const double r = x - k;
     const double s = r * poly::horner(poly::sinpi_coefficients, r * r);
@@ -86,8 +98,42 @@ inline double sinpi(double x) {
     return odd ? -s : s;
 }
 
+// cos(pi x) for |x| <= 1, as sin(pi (1/2 - |x|)): 1/2 - |x| is exact for |x| >= 1/4
+// (Sterbenz), so cos keeps its relative precision near its zero at 1/2; below 1/4 the rounding
+// of the subtraction moves cos by at most 1 ulp.
+EPC_FAST_INLINE double cospi_small(double x) { return sinpi(0.5 - std::fabs(x)); }
+
+// 2^k for an integer-valued double k in [-1022, 1023], built from its bits (vectorises where
+// ldexp does not): k + 1023 lands in the low mantissa bits of k + 1023 + 1.5 * 2^52.
+EPC_FAST_INLINE double pow2_integer(double k) {
+    const double t = (k + 1023.0) + 6755399441055744.0;
+    std::uint64_t bits;
+    std::memcpy(&bits, &t, sizeof bits);
+    bits <<= 52;
+    double r;
+    std::memcpy(&r, &bits, sizeof r);
+    return r;
+}
+
+// exp(x) for x <= 709 (the jitter factor's argument is never positive): x = k ln 2 + r with
+// |r| <= ln(2)/2 (Cody-Waite, ln 2 split so k ln2_hi is exact), exp(r) by its Taylor
+// polynomial, times 2^k applied in two halves so that results below the smallest normal
+// double underflow gradually. 0 below -746, where exp underflows to 0 anyway. <= 2 ulp.
+EPC_FAST_INLINE double exp_poly(double x) {
+    constexpr double inv_ln2 = 1.4426950408889634;
+    constexpr double ln2_hi = 0.6931471803691238;  // 0x3fe62e42fee00000: 32 significant bits
+    constexpr double ln2_lo = 1.9082149292705877e-10;
+    const double xc = x < -746.0 ? -746.0 : x;
+    const double k = round_to_integer(xc * inv_ln2);
+    const double r = (xc - k * ln2_hi) - k * ln2_lo;
+    const double e = poly::horner(poly::exp_coefficients, r);
+    const double k1 = round_to_integer(0.5 * k);
+    const double scaled = e * pow2_integer(k1) * pow2_integer(k - k1);
+    return x < -746.0 ? 0.0 : scaled;
+}
+
 // asin(z) for |z| <= 1/2.
-inline double asin_small(double z) {
+EPC_FAST_INLINE double asin_small(double z) {
     const double t = z * z;
     return z + z * t * poly::horner(poly::asin_coefficients, t);
 }
@@ -96,7 +142,7 @@ inline double asin_small(double z) {
 // z = sqrt((1 - nu)/2) = sin(phi/2) in [0, 1/2], nu = cos phi: (4 asin z - sin(4 asin z)) / pi
 // = z^3 P(z^2). No two terms cancel, so it keeps its relative precision down to nu = 1, where
 // it vanishes as z^3.
-inline double diffraction_from_half_angle_sine(double z) {
+EPC_FAST_INLINE double diffraction_from_half_angle_sine(double z) {
     const double t = z * z;
     return z * t * poly::horner(poly::diffraction_coefficients, t);
 }

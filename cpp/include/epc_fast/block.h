@@ -1,0 +1,46 @@
+// The per-lane state of one block of points, laid out as structure of arrays so that every
+// stage of the kernel (kernel.h, f50.h) is a loop over lanes that vectorises.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "params.h"
+
+namespace epc_fast {
+
+constexpr std::size_t block_size = 64;
+
+namespace detail {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+// Every stage runs over all block_size lanes, whatever the number n of real points: lanes past
+// n hold stand-ins and are never written out. A constant, aligned trip count leaves the
+// vectoriser no scalar prologue or epilogue, so every lane runs the same instructions and a
+// point's result does not depend on its place in the block.
+struct alignas(64) Block {
+    std::size_t n;
+    double x[n_params][block_size];  // parameters; invalid lanes hold harmless stand-ins
+    std::uint32_t uniform;  // bit j: parameter j is broadcast (the same in every lane)
+    // flags are bytes, not bool: the lane loops vectorise on them
+    unsigned char valid[block_size];
+    double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
+    unsigned char capped[block_size], no_light[block_size], full_well[block_size];
+    unsigned char unbounded[block_size];
+    unsigned char solve[block_size];
+    // f50: per-point lengths (mm) the frequency multiplies, the bracket, the iterate
+    double lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm[block_size];
+    double lo[block_size], hi[block_size], at[block_size];
+    // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
+    // over the factors, so that M''/M = R^2 + S
+    double mtf[block_size], slope[block_size], curvature[block_size];
+    double previous_step[block_size];  // Newton/Halley: each lane's previous step
+    double f50[block_size];
+    unsigned char active[block_size];
+};
+
+}  // namespace detail
+}  // namespace epc_fast

@@ -1,0 +1,424 @@
+// f50 (MODEL.md section 6) for every lane of a block: the first frequency where the system MTF
+// falls to the threshold c, found inside the bracket [0, f_hi] on which MTF_sys decreases
+// strictly from 1 to <= c.
+//
+// Four solvers, all safe by construction: every iterate lies strictly inside the lane's current
+// bracket, and the bracket shrinks around the root with every evaluation.
+// - halley (default): Halley's method on h(f) = MTF_sys(f) - c with analytic slopes and
+//   curvatures of every factor (mtf.h), from a starting guess that combines each factor's own
+//   cut-off. A step that would leave the bracket is replaced by a bisection step. Cubic
+//   convergence: it stops once the last step was below rtol^(1/2) relative, when the error left
+//   is of order (step)^3 (far below rtol); or when the bracket is narrower than rtol.
+// - newton: the same with Newton steps (quadratic: stops once the step is below rtol / 8 ...
+//   precisely: once step^2 <= rtol / 16 relative, or the bracket is narrower than rtol).
+// - brent: Brent's method (solvers.h) per lane, on the bracket, to rtol.
+// - bisection: halves the bracket until hi - lo <= rtol lo (or adjacent doubles).
+//
+// Every lane advances in lockstep with the others but stops on its own criterion, so a point's
+// result never depends on its neighbours, the block size or the thread count.
+//
+// The solvers are templates over the terms a block uses: motion and jitter are compiled out of
+// blocks that have none, and a monochromatic call never loops over a spectrum.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+
+#include "block.h"
+#include "mtf.h"
+#include "parallel.h"
+#include "params.h"
+#include "solvers.h"
+
+namespace epc_fast {
+
+// Enough halvings to take any finite bracket down to adjacent doubles.
+constexpr int max_bisection_steps = 2200;
+// After this many derivative steps a lane that has not converged takes bisection steps only.
+constexpr int max_derivative_steps = 64;
+
+namespace detail {
+
+// b.mtf = MTF_sys(b.at) for every lane (threshold and solve masks are the caller's).
+template <bool Motion, bool Jitter, bool Poly>
+void system_mtf(const Spectrum& spectrum, Block& b) {
+    constexpr std::size_t n = block_size;
+    const double* __restrict at = b.at;
+    const double* __restrict f_num = b.x[f_number];
+    double* __restrict mtf = b.mtf;
+    if (Poly) {
+        for (std::size_t i = 0; i < n; ++i) mtf[i] = 0.0;
+        for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
+            const double lambda_mm = spectrum.wavelengths_nm[k] * nm_to_mm;
+            const double w = spectrum.weights[k];
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) mtf[i] += w * mtf_diffraction(at[i] * lambda_mm * f_num[i]);
+        }
+    } else {
+        const double* __restrict lambda_f = b.lambda_f_mm;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) mtf[i] = mtf_diffraction(at[i] * lambda_f[i]);
+    }
+    const double* __restrict aperture = b.aperture_mm;
+    const double* __restrict blur = b.blur;
+    const double* __restrict jitter = b.jitter_mm;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double f = at[i];
+        double m = mtf[i] * mtf_pixel(f, aperture[i]);
+        if (Motion) m *= mtf_motion(f, blur[i]);
+        if (Jitter) m *= mtf_jitter(f, jitter[i]);
+        mtf[i] = m;
+    }
+}
+
+// Monochromatic diffraction at b.at into b.mtf, b.slope, b.curvature (see below).
+template <bool High, bool Curvature>
+void diffraction_factor(Block& b) {
+    const double* __restrict at = b.at;
+    const double* __restrict lambda_f = b.lambda_f_mm;
+    double* __restrict mtf = b.mtf;
+    double* __restrict slope = b.slope;
+    double* __restrict curvature = b.curvature;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const double lf = lambda_f[i];
+        const Slopes d = diffraction_log_slopes<High>(at[i] * lf);
+        mtf[i] = d.value;
+        slope[i] = lf * d.r;
+        if (Curvature) curvature[i] = (lf * lf) * d.dr;
+    }
+}
+
+// b.mtf, b.slope = M'/M and b.curvature = sum_i (M_i''/M_i - (M_i'/M_i)^2) at b.at, so that
+// M''/M = slope^2 + curvature (M the product of the factors M_i). Newton skips the curvature.
+template <bool Motion, bool Jitter, bool Poly, bool Curvature>
+void system_mtf_slopes(const Spectrum& spectrum, Block& b) {
+    constexpr std::size_t n = block_size;
+    const double* __restrict at = b.at;
+    const double* __restrict f_num = b.x[f_number];
+    double* __restrict mtf = b.mtf;
+    double* __restrict slope = b.slope;
+    double* __restrict curvature = b.curvature;
+    if (Poly) {  // D = sum_k w_k D_k, D' and D'' likewise; divided by D afterwards
+        for (std::size_t i = 0; i < n; ++i) mtf[i] = slope[i] = curvature[i] = 0.0;
+        for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
+            const double lambda_mm = spectrum.wavelengths_nm[k] * nm_to_mm;
+            const double w = spectrum.weights[k];
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                const double lf = lambda_mm * f_num[i];
+                const DiffractionSlopes d = diffraction_slopes(at[i] * lf);
+                mtf[i] += w * d.value;
+                slope[i] += (w * lf) * d.d1;
+                if (Curvature) curvature[i] += (w * (lf * lf)) * d.d2;
+            }
+        }
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const double r = slope[i] / mtf[i];
+            slope[i] = r;
+            if (Curvature) curvature[i] = curvature[i] / mtf[i] - r * r;
+        }
+    } else {
+        const double* __restrict lambda_f = b.lambda_f_mm;
+        double nu_max = 0.0;
+        EPC_FAST_SIMD_REDUCTION(max : nu_max)
+        for (std::size_t i = 0; i < n; ++i) {
+            const double nu = at[i] * lambda_f[i];
+            nu_max = nu > nu_max ? nu : nu_max;
+        }
+        if (nu_max > 0.5) diffraction_factor<true, Curvature>(b);
+        else diffraction_factor<false, Curvature>(b);
+    }
+    const double* __restrict aperture = b.aperture_mm;
+    const double* __restrict blur = b.blur;
+    const double* __restrict jitter = b.jitter_mm;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double f = at[i];
+        double m = mtf[i], r = slope[i], s = Curvature ? curvature[i] : 0.0;
+        const double a = aperture[i];
+        const Slopes p = sinc_slopes(a * f);
+        m *= p.value;
+        r += a * p.r;
+        if (Curvature) s += (a * a) * p.dr;
+        if (Motion) {
+            const double l = blur[i];
+            const Slopes q = sinc_slopes(l * f);
+            m *= q.value;
+            r += l * q.r;
+            if (Curvature) s += (l * l) * q.dr;
+        }
+        if (Jitter) {  // J = exp(-k f^2), k = 2 pi^2 sigma^2: J'/J = -2 k f, (J''/J - (J'/J)^2) = -2 k
+            const double sigma = jitter[i];
+            const double two_k = 4.0 * pi * pi * (sigma * sigma);
+            m *= mtf_jitter(f, sigma);
+            r += -two_k * f;
+            if (Curvature) s += -two_k;
+        }
+        mtf[i] = m;
+        slope[i] = r;
+        if (Curvature) curvature[i] = s;
+    }
+}
+
+// Bisection: lo, hi hold the bracket; the answer is written to b.f50.
+template <bool Motion, bool Jitter, bool Poly>
+void bisect(const Spectrum& spectrum, double rtol, Block& b) {
+    constexpr std::size_t n = block_size;
+    const unsigned char* __restrict solve = b.solve;
+    double* __restrict lo = b.lo;
+    double* __restrict hi = b.hi;
+    double* __restrict mid = b.at;
+    unsigned char* __restrict active = b.active;
+    const double* __restrict mtf = b.mtf;
+    const double* __restrict threshold = b.x[mtf_threshold];
+    for (int step = 0; step < max_bisection_steps; ++step) {
+        int n_active = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : n_active)
+        for (std::size_t i = 0; i < n; ++i) {
+            const double m = lo[i] + 0.5 * (hi[i] - lo[i]);
+            mid[i] = m;
+            const bool a = (solve[i] != 0) & (hi[i] - lo[i] > rtol * lo[i]) & (m > lo[i]) &
+                           (m < hi[i]);
+            active[i] = a;
+            n_active += a;
+        }
+        if (n_active == 0) break;
+        system_mtf<Motion, Jitter, Poly>(spectrum, b);
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool above = mtf[i] > threshold[i];
+            const bool act = active[i] != 0;
+            lo[i] = (act & above) ? mid[i] : lo[i];
+            hi[i] = (act & !above) ? mid[i] : hi[i];
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i) b.f50[i] = lo[i] + 0.5 * (hi[i] - lo[i]);
+}
+
+// Newton (Halley = false) or Halley steps from b.at, safeguarded by the bracket [lo, hi].
+template <bool Motion, bool Jitter, bool Poly, bool Halley>
+void polish(const Spectrum& spectrum, double rtol, Block& b) {
+    constexpr std::size_t n = block_size;
+    // Convergence test, on the last step d and the one before, p. In the cubic (Halley) or
+    // quadratic (Newton) regime d ~ K p^3 (K p^2) and the error left after d is about K d^3
+    // (K d^2): far below d (d/p)^2 = d^3 / p^2, the estimate used. A slow, linear approach (a
+    // root where the MTF is flat, near a factor's zero) shrinks its steps by a constant ratio
+    // r and leaves an error d r / (1 - r), within a few times d r^2 for r <= 1/2. A lane stops
+    // when d^3 / p^2 <= rtol / 10 and d <= rtol^(1/3) (Halley) or rtol^(1/2) (Newton), all
+    // relative to f. The first step is measured against the bracket's width.
+    const double step_rtol = Halley ? std::cbrt(rtol) : std::sqrt(rtol);
+    double* __restrict lo = b.lo;
+    double* __restrict hi = b.hi;
+    double* __restrict at = b.at;
+    double* __restrict f50 = b.f50;
+    double* __restrict previous = b.previous_step;
+    unsigned char* __restrict active = b.active;
+    const double* __restrict mtf = b.mtf;
+    const double* __restrict slope = b.slope;
+    const double* __restrict curvature = b.curvature;
+    const double* __restrict threshold = b.x[mtf_threshold];
+    for (std::size_t i = 0; i < n; ++i) {
+        active[i] = b.solve[i];
+        previous[i] = hi[i] - lo[i];
+    }
+    for (int step = 0; step < max_bisection_steps; ++step) {
+        const bool derivative = step < max_derivative_steps;
+        system_mtf_slopes<Motion, Jitter, Poly, Halley>(spectrum, b);
+        int n_active = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : n_active)
+        for (std::size_t i = 0; i < n; ++i) {
+            const double x = at[i], m = mtf[i], r = slope[i];
+            const double h = m - threshold[i];
+            const bool act = active[i] != 0;
+            const bool above = h > 0.0;
+            const double l = (act & above) ? x : lo[i];
+            const double u = (act & !above) ? x : hi[i];
+            lo[i] = l;
+            hi[i] = u;
+            // Newton: -h / (M R). Halley: -2 h h' / (2 h'^2 - h h'') with h' = M R and
+            // h'' = M (R^2 + S), i.e. -2 h R / (2 M R^2 - h (R^2 + S)).
+            const double d = Halley ? -2.0 * h * r / (2.0 * m * (r * r) - h * (r * r + curvature[i]))
+                                    : -h / (m * r);
+            const double next = x + d;
+            const double mid = l + 0.5 * (u - l);
+            const bool inside = derivative & (next > l) & (next < u);  // false for NaN
+            const double to = inside ? next : mid;
+            // A converged step ends it wherever it lands: the root is within it of x, and
+            // clamped to the bracket it can only come closer.
+            const double ad = std::fabs(d), ap = previous[i];
+            const double ratio = ad / ap;
+            const double left = ad * (ratio * ratio);
+            const bool small = derivative & (ad <= step_rtol * x) & (left <= 0.1 * rtol * x);  // false for NaN
+            previous[i] = act ? std::fabs(to - x) : ap;
+            const bool converged = small | (h == 0.0) | (u - l <= rtol * l) | !(mid > l) | !(mid < u);
+            const double clamped = next < l ? l : (next > u ? u : next);
+            const bool finish = act & converged;
+            f50[i] = finish ? (h == 0.0 ? x : small ? clamped : to) : f50[i];
+            at[i] = act ? to : x;
+            const bool still = act & !converged;
+            active[i] = still;
+            n_active += still;
+        }
+        if (n_active == 0) break;
+    }
+}
+
+// Brent's method per lane, in lockstep: each round proposes an abscissa per active lane, the
+// MTF is evaluated for all lanes at once, and each lane takes its value.
+template <bool Motion, bool Jitter, bool Poly>
+void brent(const Spectrum& spectrum, double rtol, Block& b) {
+    constexpr std::size_t n = block_size;
+    BrentState state[n];
+    for (std::size_t i = 0; i < n; ++i) b.at[i] = b.hi[i];
+    system_mtf<Motion, Jitter, Poly>(spectrum, b);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double c = b.x[mtf_threshold][i];
+        const double f_hi = b.mtf[i] - c;
+        b.active[i] = b.solve[i] && f_hi < 0.0;
+        b.f50[i] = b.hi[i];  // MTF(f_hi) == c: f_hi is the root
+        if (b.active[i]) state[i].start(b.lo[i], 1.0 - c, b.hi[i], f_hi, rtol, 0.0);
+    }
+    for (int step = 0; step < max_bisection_steps; ++step) {
+        int n_active = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!b.active[i]) continue;
+            double next = 0.0;
+            if (state[i].step(next)) {
+                b.active[i] = 0;
+                b.f50[i] = state[i].b;
+            } else {
+                b.at[i] = next;
+                ++n_active;
+            }
+        }
+        if (n_active == 0) break;
+        system_mtf<Motion, Jitter, Poly>(spectrum, b);
+        for (std::size_t i = 0; i < n; ++i)
+            if (b.active[i]) state[i].accept(b.mtf[i] - b.x[mtf_threshold][i]);
+    }
+}
+
+template <bool Motion, bool Jitter, bool Poly>
+void solve_f50(const Spectrum& spectrum, const Options& opt, Block& b) {
+    switch (opt.f50_solver) {
+        case F50Solver::halley: polish<Motion, Jitter, Poly, true>(spectrum, opt.f50_rtol, b); break;
+        case F50Solver::newton: polish<Motion, Jitter, Poly, false>(spectrum, opt.f50_rtol, b); break;
+        case F50Solver::brent: brent<Motion, Jitter, Poly>(spectrum, opt.f50_rtol, b); break;
+        case F50Solver::bisection: bisect<Motion, Jitter, Poly>(spectrum, opt.f50_rtol, b); break;
+    }
+}
+
+// The starting guess (tools/fit_f50_start.py). Each factor alone reaches 1/2 at its own
+// frequency f_i: diffraction at NU50/(lambda F), a sinc of length l at X50/l, jitter at
+// J50/sigma. With x_i = 1/f_i, S = sum x_i^2 and v_i = x_i/sqrt(S), f0 = P(v)/sqrt(S), P a cubic
+// in v_d, s = v_pixel + v_motion and t = v_pixel v_motion fitted to the exact f50 (largest
+// error 0.37%, median 2.4e-4, over factor ratios e^-7..e^7; jitter enters through S only).
+// For c != 1/2 it is scaled by sqrt(ln(1/c) / ln 2), exact for jitter alone. The guess only
+// decides how many steps the solver takes, never where it converges.
+constexpr double start_nu50 = 0.4039727532995172;   // D(nu) = 1/2
+constexpr double start_x50 = 0.6033545644016142;    // sinc(x) = 1/2
+constexpr double start_j50 = 0.18739640236613234;   // exp(-2 pi^2 y^2) = 1/2: sqrt(ln 2 / 2) / pi
+
+EPC_FAST_INLINE double start_polynomial(double v_d, double s, double t) {
+    // the cubic of tools/fit_f50_start.py: sum of c_ijk v_d^i s^j t^k
+    const double d2 = v_d * v_d, s2 = s * s;
+    return 1.0013379445198385 - 0.26588191638058467 * t - 0.15505341346674065 * s +
+           0.1074529526372338 * (s * t) + 0.15079619822963006 * s2 +
+           0.002722663306764486 * (s2 * s) - 0.29777013229383625 * v_d +
+           0.0949786064343061 * (v_d * t) + 0.08599482061958504 * (v_d * s) -
+           0.08579594370107604 * (v_d * s2) + 0.3187779135290404 * d2 +
+           0.057129828500959906 * (d2 * s) - 0.022016975724150373 * (d2 * v_d);
+}
+
+// Sets lo = 0, hi = f_hi and the starting abscissa for every lane; returns which terms the
+// block's lanes to solve use, as bits (1 motion, 2 jitter).
+inline int start_f50(const Spectrum& spectrum, Block& b) {
+    constexpr std::size_t n = block_size;
+    constexpr double ln2 = 0.6931471805599453;
+    const auto& x = b.x;
+    const bool poly = spectrum.polychromatic();
+    double shortest_nm = inf, mean_nm = 0.0;
+    for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
+        if (spectrum.weights[k] > 0.0) shortest_nm = std::fmin(shortest_nm, spectrum.wavelengths_nm[k]);
+        mean_nm += spectrum.weights[k] * spectrum.wavelengths_nm[k];
+    }
+    // ln(1/c) for the jitter bracket and the start's scaling; the C library's log only for a
+    // threshold other than 1/2.
+    double* __restrict ln_inv_c = b.mtf;  // scratch until the solver runs
+    for (std::size_t i = 0; i < n; ++i) {
+        const double c = x[mtf_threshold][i];
+        ln_inv_c[i] = c == 0.5 ? ln2 : std::log(1.0 / c);
+    }
+    const double* __restrict wavelength = x[wavelength_nm];
+    const double* __restrict f_num = x[f_number];
+    const double* __restrict pitch = x[pixel_pitch_um];
+    const double* __restrict fill = x[fill_factor];
+    const double* __restrict jitter_um_ = x[jitter_um];
+    const double* __restrict blur = b.blur;
+    const unsigned char* __restrict solve = b.solve;
+    double* __restrict lambda_f = b.lambda_f_mm;
+    double* __restrict aperture = b.aperture_mm;
+    double* __restrict jitter_mm = b.jitter_mm;
+    double* __restrict lo = b.lo;
+    double* __restrict hi = b.hi;
+    double* __restrict at = b.at;
+    const double mean_mm = mean_nm * nm_to_mm;
+    const double shortest_mm = shortest_nm * nm_to_mm;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        lambda_f[i] = wavelength[i] * nm_to_mm * f_num[i];
+        aperture[i] = pixel_aperture_mm(pitch[i], fill[i]);
+        jitter_mm[i] = jitter_um_[i] * um_to_mm;
+        lo[i] = 0.0;
+        // f50_bracket, with ln(1/c) given
+        const double diffraction_zero = 1.0 / ((poly ? shortest_mm : wavelength[i] * nm_to_mm) * f_num[i]);
+        const double pixel_zero = 1.0 / aperture[i];
+        const double motion_zero = blur[i] > 0.0 ? 1.0 / blur[i] : inf;
+        const double jitter_cross = jitter_um_[i] > 0.0
+                                        ? std::sqrt(ln_inv_c[i] * (1.0 / (2.0 * pi * pi))) / jitter_mm[i]
+                                        : inf;
+        const double f_hi_1 = diffraction_zero < pixel_zero ? diffraction_zero : pixel_zero;
+        const double f_hi_2 = motion_zero < jitter_cross ? motion_zero : jitter_cross;
+        const double f_hi = f_hi_1 < f_hi_2 ? f_hi_1 : f_hi_2;
+        hi[i] = f_hi;
+        // the starting guess
+        const double d = (poly ? mean_mm * f_num[i] : lambda_f[i]) * (1.0 / start_nu50);
+        const double p = aperture[i] * (1.0 / start_x50);
+        const double m = blur[i] * (1.0 / start_x50);
+        const double j = jitter_mm[i] * (1.0 / start_j50);
+        const double r = 1.0 / std::sqrt(d * d + p * p + m * m + j * j);
+        const double f0 = r * start_polynomial(d * r, (p + m) * r, (p * r) * (m * r)) *
+                          std::sqrt(ln_inv_c[i] * (1.0 / ln2));
+        at[i] = (f0 > 0.0) & (f0 < f_hi) ? f0 : 0.5 * f_hi;
+    }
+    int motion = 0, jitter = 0;
+    EPC_FAST_SIMD_REDUCTION(+ : motion)
+    for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > 0.0);
+    EPC_FAST_SIMD_REDUCTION(+ : jitter)
+    for (std::size_t i = 0; i < n; ++i) jitter += (solve[i] != 0) & (jitter_um_[i] > 0.0);
+    return (motion > 0 ? 1 : 0) | (jitter > 0 ? 2 : 0);
+}
+
+// f50 for every lane to solve, into b.f50.
+inline void f50(const Spectrum& spectrum, const Options& opt, Block& b) {
+    const int terms = start_f50(spectrum, b);
+    const bool motion = terms & 1, jitter = terms & 2;
+    // One instantiation per combination of the terms a block uses.
+    if (spectrum.polychromatic()) {
+        if (motion && jitter) solve_f50<true, true, true>(spectrum, opt, b);
+        else if (motion) solve_f50<true, false, true>(spectrum, opt, b);
+        else if (jitter) solve_f50<false, true, true>(spectrum, opt, b);
+        else solve_f50<false, false, true>(spectrum, opt, b);
+    } else {
+        if (motion && jitter) solve_f50<true, true, false>(spectrum, opt, b);
+        else if (motion) solve_f50<true, false, false>(spectrum, opt, b);
+        else if (jitter) solve_f50<false, true, false>(spectrum, opt, b);
+        else solve_f50<false, false, false>(spectrum, opt, b);
+    }
+}
+
+}  // namespace detail
+}  // namespace epc_fast
