@@ -1,0 +1,563 @@
+"""Speed against accuracy: the engine's knobs, each measured for error and throughput.
+
+A :class:`Setting` is a name and the keyword arguments it passes to :func:`epc_fast.evaluate`
+(the f50 solver and its tolerance, the T_MPE solver, the arithmetic precision, spectral samples
+for polychromatic diffraction). For each setting this module measures
+
+- **error**: the relative error of f50 against the NumPy reference (``backend="reference"``,
+  which bisects f50 to adjacent floats) on the same random designs, over the points where both
+  give status OK; polychromatic settings against the reference with the same spectrum. Status
+  mismatches are counted (there should be none: the knobs change how f50 is solved, not which
+  points have one);
+- **throughput**: points/s on 1 and 2 threads, the median of a few timed rounds after one
+  warm-up.
+
+:func:`pareto_front` picks the settings that no other setting beats on both at once, and
+:func:`plot_tradeoff` draws them. ``epc-fast bench`` (:mod:`epc_fast.commands.bench`) is the
+command line. Settings whose knob the installed :func:`evaluate` does not take are skipped
+(:func:`split_by_knobs`), so the list can name knobs before they land.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+import inspect
+import math
+import statistics
+import sys
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .api import evaluate
+from .selfcheck import random_designs
+from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
+from .status import Cause, Status
+
+__all__ = [
+    "Setting", "Accuracy", "Measurement", "MpmathCheck", "default_settings", "split_by_knobs",
+    "rejection", "evaluate_parameters", "knob_value", "f50_accuracy", "call_time_s",
+    "points_per_s", "measure", "speedups", "pareto_front", "front_of", "markdown_columns",
+    "csv_columns", "plot_tradeoff", "mpmath_check",
+]
+
+#: Thread counts the throughput is measured on; the last one is the plot's and the speed-up's.
+THREADS = (1, 2)
+#: The f50 solvers and tolerances (1, relative) of the default settings.
+F50_SOLVERS = ("halley", "newton", "bisection", "brent")
+F50_RTOLS = (1e-14, 1e-10, 1e-6)
+#: Wavelength samples of the polychromatic settings (epc_fast.spectra.diffraction_spectrum).
+SPECTRUM_SAMPLES = (1, 4, 16, 64)
+#: The setting every speed-up is relative to.
+BASELINE = "default"
+#: 1, where a relative error of exactly 0 is drawn on the plot's log axis.
+ZERO_ERROR_FLOOR = 1e-17
+#: What a build without a knob does: its f50 is bisected, its arithmetic float64.
+IMPLICIT_KNOB_VALUES = {"f50_solver": "bisection", "precision": "float64"}
+#: The design the settings are tried on before they are measured (the paper's 1.4 um design).
+PROBE_DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8,
+                    focal_length_mm=5.6, sensor_area_mm2=15.6751)
+
+
+@dataclass(frozen=True)
+class Setting:
+    """A way to run :func:`evaluate`: a name and the keyword arguments that make it.
+
+    Attributes
+    ----------
+    name : str
+    kwargs : mapping
+        Extra keyword arguments to :func:`evaluate` (``f50_solver``, ``f50_rtol``,
+        ``t_mpe_solver``, ``t_mpe_rtol``, ``precision``, ...).
+    spectrum_samples : int, optional
+        Count of wavelengths: polychromatic diffraction with
+        ``spectrum=diffraction_spectrum(spectrum_samples)`` (built on first use, it needs
+        colour-science). None: monochromatic, 550 nm.
+    """
+
+    name: str
+    kwargs: Mapping = field(default_factory=dict)
+    spectrum_samples: int | None = None
+
+    def knobs(self) -> set:
+        """The names of the :func:`evaluate` arguments this setting passes."""
+        return set(self.kwargs) | ({"spectrum"} if self.spectrum_samples else set())
+
+    def reference_kwargs(self) -> dict:
+        """Arguments for the reference run it is compared with: those that change the model
+        (the spectrum), not those that change how it is solved."""
+        if self.spectrum_samples is None:
+            return {}
+        return {"spectrum": _spectrum(self.spectrum_samples)}
+
+    def evaluate_kwargs(self) -> dict:
+        """Every extra argument to :func:`evaluate`, the spectrum built."""
+        return {**self.kwargs, **self.reference_kwargs()}
+
+
+@functools.lru_cache(maxsize=None)
+def _spectrum(samples: int):
+    from .spectra import diffraction_spectrum
+
+    return diffraction_spectrum(samples)
+
+
+def _rtol_text(rtol: float) -> str:
+    """A tolerance as short as it goes: 1e-6, not 1e-06."""
+    return f"{rtol:g}".replace("e-0", "e-")
+
+
+def default_settings() -> list[Setting]:
+    """The settings ``epc-fast bench`` measures: the default; each f50 solver at each of
+    :data:`F50_RTOLS`; Brent's T_MPE; float32 (default tolerance and 1e-6); polychromatic
+    diffraction with each of :data:`SPECTRUM_SAMPLES` wavelengths."""
+    settings = [Setting(BASELINE)]
+    settings += [Setting(f"{solver} rtol={_rtol_text(rtol)}",
+                         {"f50_solver": solver, "f50_rtol": rtol})
+                 for solver in F50_SOLVERS for rtol in F50_RTOLS]
+    settings.append(Setting("T_MPE brent", {"t_mpe_solver": "brent"}))
+    settings.append(Setting("float32", {"precision": "float32"}))
+    settings.append(Setting("float32 rtol=1e-6", {"precision": "float32", "f50_rtol": 1e-6}))
+    settings += [Setting(f"poly {n}", {}, spectrum_samples=n) for n in SPECTRUM_SAMPLES]
+    return settings
+
+
+def evaluate_parameters() -> Mapping:
+    """The installed :func:`evaluate`'s parameters (name -> inspect.Parameter)."""
+    return inspect.signature(evaluate).parameters
+
+
+def split_by_knobs(settings: Sequence[Setting], parameters) -> tuple[list, list]:
+    """The settings whose every knob is in ``parameters``, and the others.
+
+    Returns
+    -------
+    kept : list of Setting
+    skipped : list of (Setting, list of str)
+        Each with the names of the knobs ``parameters`` lacks, sorted.
+    """
+    kept, skipped = [], []
+    for setting in settings:
+        missing = sorted(setting.knobs() - set(parameters))
+        if missing:
+            skipped.append((setting, missing))
+        else:
+            kept.append(setting)
+    return kept, skipped
+
+
+def rejection(setting: Setting) -> str | None:
+    """Why :func:`evaluate` refuses ``setting`` on one design (a value it does not know, a
+    spectrum without colour-science), or None when it runs."""
+    try:
+        evaluate(**PROBE_DESIGN, **setting.evaluate_kwargs(), threads=1)
+    except (TypeError, ValueError, ImportError) as exc:
+        return f"{type(exc).__name__}: {exc}"
+    return None
+
+
+def knob_value(setting: Setting, name: str, parameters):
+    """The value of knob ``name`` in ``setting``: its own, else the installed default, else
+    what a build without the knob does (:data:`IMPLICIT_KNOB_VALUES`)."""
+    if name in setting.kwargs:
+        return setting.kwargs[name]
+    if name in parameters and parameters[name].default is not inspect.Parameter.empty:
+        return parameters[name].default
+    return IMPLICIT_KNOB_VALUES.get(name)
+
+
+# --- Measurement ---------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Accuracy:
+    """f50 of a setting against the reference, on the points both give status OK.
+
+    Attributes
+    ----------
+    max_rel_error, median_rel_error : 1, relative error of f50 (NaN where no point compares).
+    points_compared : count of points OK in both.
+    status_mismatches : count of points whose status differs (0 for a correct setting).
+    """
+
+    max_rel_error: float
+    median_rel_error: float
+    points_compared: int
+    status_mismatches: int
+
+
+def f50_accuracy(result, reference) -> Accuracy:
+    """:class:`Accuracy` of ``result`` against ``reference`` (two :class:`epc_fast.Result`
+    of the same points)."""
+    ok = (result.status == Status.OK) & (reference.status == Status.OK)
+    f50, exact = result.f50_cyc_per_mm[ok], reference.f50_cyc_per_mm[ok]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        errors = np.abs(f50 - exact) / np.abs(exact)
+    mismatches = int(np.count_nonzero(result.status != reference.status))
+    if errors.size == 0:
+        return Accuracy(math.nan, math.nan, 0, mismatches)
+    return Accuracy(float(np.max(errors)), float(np.median(errors)), int(errors.size),
+                    mismatches)
+
+
+def call_time_s(points: Mapping, kwargs: Mapping, threads: int) -> float:
+    """s, the wall time of one ``evaluate(**points, **kwargs, threads=threads)``."""
+    start = time.perf_counter()
+    evaluate(**points, **kwargs, threads=threads)
+    return time.perf_counter() - start
+
+
+def points_per_s(points: Mapping, kwargs_list: Sequence[Mapping], threads: Sequence[int],
+                 rounds: int, progress: Callable[[str], None] | None = None) -> list[dict]:
+    """points/s of ``evaluate(**points, **kwargs)`` for each ``kwargs`` of ``kwargs_list``
+    on each thread count: the points over the median wall time of ``rounds`` calls, after one
+    untimed warm-up call.
+
+    The rounds are interleaved (round 1 of every setting, then round 2, ...), so that a
+    machine that slows down or speeds up during the run (other work, clock changes) moves
+    every setting alike rather than the ones measured at the time.
+
+    Returns
+    -------
+    list of dict
+        For each ``kwargs``, threads -> points/s.
+    """
+    n = len(next(iter(points.values())))
+    calls = [(i, t) for i in range(len(kwargs_list)) for t in threads]
+    if progress is not None:
+        progress(f"warm-up: {len(calls)} calls of {n:,} points")
+    for i, t in calls:
+        evaluate(**points, **kwargs_list[i], threads=t)
+    times_s = {call: [] for call in calls}
+    for r in range(rounds):
+        if progress is not None:
+            progress(f"timing round {r + 1} of {rounds}")
+        for i, t in calls:
+            times_s[(i, t)].append(call_time_s(points, kwargs_list[i], t))
+    return [{t: n / statistics.median(times_s[(i, t)]) for t in threads}
+            for i in range(len(kwargs_list))]
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """One setting measured.
+
+    Attributes
+    ----------
+    setting : Setting
+    f50_solver : str, f50_rtol : float (1), precision : str
+        The knobs' values as run (:func:`knob_value`).
+    accuracy : Accuracy
+    points_per_s : dict
+        Threads -> points/s.
+    """
+
+    setting: Setting
+    f50_solver: str
+    f50_rtol: float
+    precision: str
+    accuracy: Accuracy
+    points_per_s: dict
+
+
+def measure(settings: Sequence[Setting], *, throughput_points: int, error_points: int,
+            rounds: int, seed: int = 0, threads: Sequence[int] = THREADS,
+            progress: Callable[[str], None] | None = None) -> list[Measurement]:
+    """Measure each setting's f50 error and throughput.
+
+    Parameters
+    ----------
+    settings : sequence of Setting
+        Each run as it is: filter them first (:func:`split_by_knobs`, :func:`rejection`).
+    throughput_points : count of random designs timed (``random_designs(n, seed)``).
+    error_points : count of random designs compared with the reference; the reference runs
+        once per spectrum.
+    rounds : timed calls per setting and thread count (their median counts), interleaved
+        across the settings (:func:`points_per_s`).
+    seed : random_designs' seed.
+    threads : thread counts to time.
+    progress : called with a line before each setting's error and each timing round.
+    """
+    parameters = evaluate_parameters()
+    compared = random_designs(error_points, seed)
+    references, accuracies = {}, []
+    for setting in settings:
+        if progress is not None:
+            progress(f"f50 error of {setting.name}")
+        if setting.spectrum_samples not in references:
+            references[setting.spectrum_samples] = evaluate(
+                **compared, **setting.reference_kwargs(), backend="reference")
+        accuracies.append(f50_accuracy(evaluate(**compared, **setting.evaluate_kwargs()),
+                                       references[setting.spectrum_samples]))
+    del compared, references
+    speeds = points_per_s(random_designs(throughput_points, seed),
+                          [s.evaluate_kwargs() for s in settings], threads, rounds, progress)
+    return [Measurement(setting, knob_value(setting, "f50_solver", parameters),
+                        knob_value(setting, "f50_rtol", parameters),
+                        knob_value(setting, "precision", parameters), accuracy, speed)
+            for setting, accuracy, speed in zip(settings, accuracies, speeds)]
+
+
+def speedups(measurements: Sequence[Measurement], threads: int = THREADS[-1],
+             baseline: str = BASELINE) -> list[float]:
+    """Each measurement's points/s on ``threads`` threads over the baseline's (NaN for all
+    when the baseline was not measured)."""
+    base = next((m.points_per_s[threads] for m in measurements if m.setting.name == baseline),
+                math.nan)
+    return [m.points_per_s[threads] / base for m in measurements]
+
+
+# --- The Pareto front ----------------------------------------------------------------------------
+
+
+def pareto_front(errors: Sequence[float], speeds: Sequence[float]) -> list[int]:
+    """Indices of the points no other point dominates, by increasing error.
+
+    Lower error and higher speed are better; a point dominates another when it is at least as
+    good in both and better in one. Equal points do not dominate each other (both are on the
+    front). Points with a NaN error or speed are left out.
+
+    Parameters
+    ----------
+    errors : relative errors (any unit: only their order counts).
+    speeds : points/s (likewise).
+    """
+    if len(errors) != len(speeds):
+        raise ValueError(f"errors and speeds differ in length: {len(errors)} != {len(speeds)}")
+    candidates = [i for i in range(len(errors))
+                  if not (math.isnan(errors[i]) or math.isnan(speeds[i]))]
+
+    def dominates(a, b):
+        return (errors[a] <= errors[b] and speeds[a] >= speeds[b]
+                and (errors[a] < errors[b] or speeds[a] > speeds[b]))
+
+    front = [i for i in candidates if not any(dominates(j, i) for j in candidates)]
+    return sorted(front, key=lambda i: (errors[i], -speeds[i], i))
+
+
+def front_of(measurements: Sequence[Measurement], threads: int = THREADS[-1]) -> list[int]:
+    """Indices of the Pareto front (:func:`pareto_front`) of max relative error against
+    points/s on ``threads`` threads, among the monochromatic settings.
+
+    The polychromatic settings compute another model (and are compared with a reference of
+    that model): they are slower for a reason no monochromatic setting shares, and their
+    errors differ from the others' only in the last digit, so they are left out of the front.
+    """
+    errors = [m.accuracy.max_rel_error if m.setting.spectrum_samples is None else math.nan
+              for m in measurements]
+    return pareto_front(errors, [m.points_per_s[threads] for m in measurements])
+
+
+# --- Tables --------------------------------------------------------------------------------------
+
+
+def _error_text(value: float) -> str:
+    if math.isnan(value):
+        return "n/a"
+    return "0" if value == 0 else f"{value:.1e}"
+
+
+def markdown_columns(measurements: Sequence[Measurement], front: Sequence[int] = ()) -> dict:
+    """{column: [text]} for the markdown table; settings on ``front`` are marked ``*``."""
+    ratios = speedups(measurements)
+    return {
+        "setting": [m.setting.name + (" *" if i in front else "")
+                    for i, m in enumerate(measurements)],
+        "f50 solver": [str(m.f50_solver) for m in measurements],
+        "rtol": [_rtol_text(m.f50_rtol) for m in measurements],
+        "precision": [str(m.precision) for m in measurements],
+        "max rel err": [_error_text(m.accuracy.max_rel_error) for m in measurements],
+        "median rel err": [_error_text(m.accuracy.median_rel_error) for m in measurements],
+        **{f"M points/s ({t} thread{'s' if t > 1 else ''})":
+           [f"{m.points_per_s[t] / 1e6:.3g}" for m in measurements] for t in THREADS},
+        "speed-up vs default": ["n/a" if math.isnan(r) else f"{r:.2f}" for r in ratios],
+    }
+
+
+def csv_columns(measurements: Sequence[Measurement], front: Sequence[int] = ()) -> dict:
+    """{column: [value]} for the CSV table, every number at full precision."""
+    ratios = speedups(measurements)
+    return {
+        "setting": [m.setting.name for m in measurements],
+        "f50_solver": [m.f50_solver for m in measurements],
+        "f50_rtol": [float(m.f50_rtol) for m in measurements],
+        "precision": [m.precision for m in measurements],
+        "spectrum_samples": [m.setting.spectrum_samples or "" for m in measurements],
+        "extra_kwargs": [" ".join(f"{k}={v!r}" for k, v in m.setting.kwargs.items())
+                         for m in measurements],
+        "max_rel_error": [m.accuracy.max_rel_error for m in measurements],
+        "median_rel_error": [m.accuracy.median_rel_error for m in measurements],
+        "points_compared": [m.accuracy.points_compared for m in measurements],
+        "status_mismatches": [m.accuracy.status_mismatches for m in measurements],
+        **{f"points_per_s_{t}_thread{'s' if t > 1 else ''}":
+           [m.points_per_s[t] for m in measurements] for t in THREADS},
+        "speedup_vs_default": ratios,
+        "pareto": [str(i in front).lower() for i in range(len(measurements))],
+    }
+
+
+# --- The plot ------------------------------------------------------------------------------------
+
+
+def plot_tradeoff(measurements: Sequence[Measurement], front: Sequence[int], *, title="",
+                  threads: int = THREADS[-1]):
+    """Points/s on ``threads`` threads (y, log) against max relative error of f50 (x, log),
+    each setting a labelled point, the Pareto front ``front`` (indices, by error) a line.
+
+    Polychromatic settings are squares. Errors of exactly 0 are drawn at
+    :data:`ZERO_ERROR_FLOOR`, as hollow markers. Needs matplotlib (ImportError otherwise).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from .plotting import _figure_class
+
+    figure = _figure_class()(figsize=(8.0, 5.6), layout="constrained")
+    ax = figure.subplots()
+    shown = [i for i, m in enumerate(measurements) if not math.isnan(m.accuracy.max_rel_error)]
+    x = {i: max(measurements[i].accuracy.max_rel_error, ZERO_ERROR_FLOOR) for i in shown}
+    y = {i: measurements[i].points_per_s[threads] / 1e6 for i in shown}
+    for group, marker, color, label in (
+            (False, "o", "C0", "monochromatic"),
+            (True, "s", "C2", "polychromatic (vs the reference with its spectrum)")):
+        members = [i for i in shown
+                   if (measurements[i].setting.spectrum_samples is not None) == group]
+        zero = [i for i in members if measurements[i].accuracy.max_rel_error == 0]
+        nonzero = [i for i in members if i not in zero]
+        if nonzero:
+            ax.plot([x[i] for i in nonzero], [y[i] for i in nonzero], marker, color=color,
+                    label=label)
+        if zero:
+            ax.plot([x[i] for i in zero], [y[i] for i in zero], marker, mfc="none",
+                    color=color, label=f"{label}, error exactly 0 (drawn at "
+                    f"{ZERO_ERROR_FLOOR:g})")
+    line = [i for i in front if i in x]
+    ax.plot([x[i] for i in line], [y[i] for i in line], "-", color="C3", lw=1.5, zorder=0,
+            label="Pareto front (monochromatic)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    names = [measurements[i].setting.name for i in shown]
+    offsets = _label_offsets(ax, [(x[i], y[i]) for i in shown], names, LABEL_FONTSIZE)
+    for i, name, offset in zip(shown, names, offsets):
+        ax.annotate(name, (x[i], y[i]), xytext=offset, textcoords="offset points",
+                    fontsize=LABEL_FONTSIZE, va="center",
+                    arrowprops=None if offset == LABEL_OFFSETS[0] else
+                    dict(arrowstyle="-", color="0.6", lw=0.5, shrinkA=0, shrinkB=3))
+    ax.set_xlabel("max relative error of f50 against the NumPy reference")
+    ax.set_ylabel(f"M points/s ({threads} thread{'s' if threads > 1 else ''})")
+    ax.set_title(title or "epc_fast: speed against accuracy", fontsize=10)
+    ax.grid(which="major", alpha=0.4)
+    ax.grid(which="minor", alpha=0.15)
+    ax.legend(loc="best", fontsize=8)
+    return figure
+
+
+#: pt, the size of the settings' labels on the plot.
+LABEL_FONTSIZE = 7
+#: pt, where a label may go relative to its point, in order of preference (x, y of its left
+#: end, vertically centred).
+LABEL_OFFSETS = [(5, 0)] + [(5 + 12 * abs(k), 9 * k) for k in (1, -1, 2, -2, 3, -3, 4, -4)]
+
+
+def _label_offsets(ax, points, texts, fontsize) -> list[tuple]:
+    """An offset (pt) from :data:`LABEL_OFFSETS` for each label, the first whose box (estimated
+    from the text's length) overlaps no label placed before it; the first offset when none is
+    free. Labels are placed from the top of the plot down."""
+    ax.autoscale_view()
+    to_pt = 72.0 / ax.figure.dpi
+    anchors = [tuple(v * to_pt for v in ax.transData.transform(p)) for p in points]
+    width = [0.55 * fontsize * len(t) for t in texts]
+    height = 1.1 * fontsize
+    placed, offsets = [], [LABEL_OFFSETS[0]] * len(texts)
+    for i in sorted(range(len(texts)), key=lambda i: -anchors[i][1]):
+        for dx, dy in LABEL_OFFSETS:
+            box = (anchors[i][0] + dx, anchors[i][1] + dy - height / 2,
+                   anchors[i][0] + dx + width[i], anchors[i][1] + dy + height / 2)
+            if not any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
+                       for b in placed):
+                offsets[i] = (dx, dy)
+                break
+        else:
+            dx, dy = offsets[i]
+            box = (anchors[i][0] + dx, anchors[i][1] + dy - height / 2,
+                   anchors[i][0] + dx + width[i], anchors[i][1] + dy + height / 2)
+        placed.append(box)
+    return offsets
+
+
+# --- The reference against mpmath ----------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class MpmathCheck:
+    """The reference against the 50-digit mpmath model of tests/test_extremes.py.
+
+    Attributes
+    ----------
+    points : count of points checked.
+    status_mismatches : count whose (status, cause) differs from the one mpmath owes.
+    max_rel_error : dict
+        Output name -> the largest relative error over the points mpmath finds OK.
+    """
+
+    points: int
+    status_mismatches: int
+    max_rel_error: dict
+
+    def summary(self) -> str:
+        errors = ", ".join(f"{name} {value:.1e}" for name, value in self.max_rel_error.items())
+        return (f"reference vs mpmath (50 digits) on {self.points} points: "
+                f"{self.status_mismatches} status mismatches, max relative error {errors}")
+
+
+def _tests_folders() -> list[Path]:
+    """Where tests/test_extremes.py may be: in this module's source checkout (an editable
+    install), or under the working folder."""
+    return [Path(__file__).resolve().parents[2] / "tests", Path.cwd() / "tests"]
+
+
+@functools.lru_cache(maxsize=1)
+def _mpmath_model():
+    """tests/test_extremes.py, imported: its ``mp_model`` (MODEL.md at 50 digits, statuses
+    included), ``expected_status`` and ``relative_error``. Needs a source checkout, mpmath and
+    pytest (the test extra)."""
+    for folder in _tests_folders():
+        if (folder / "test_extremes.py").is_file():
+            sys.path.insert(0, str(folder))  # it imports test_core_vs_reference
+            try:
+                return importlib.import_module("test_extremes")
+            finally:
+                sys.path.remove(str(folder))
+    raise ImportError("the mpmath check uses tests/test_extremes.py from a source checkout: "
+                      "run from the repository's root (searched "
+                      + ", ".join(str(f) for f in _tests_folders()) + ")")
+
+
+def mpmath_check(points: Mapping, reference, count: int) -> MpmathCheck:
+    """The first ``count`` of ``points`` (monochromatic designs, as :func:`random_designs`
+    gives) and the reference's results on them, against mpmath at 50 digits."""
+    model = _mpmath_model()
+    outputs = ("t_mpe_s", "f50_cyc_per_mm", "epc")
+    worst = dict.fromkeys(outputs, 0.0)
+    mismatches = 0
+    count = min(count, len(next(iter(points.values()))))
+    for i in range(count):
+        design = {name: float(values[i]) for name, values in points.items()}
+        design.setdefault("electrons_per_lux_s_m2", DEFAULT_ELECTRONS_PER_LUX_S_M2)
+        exact = model.mp_model(design)
+        got = (Status(int(reference.status[i])), Cause(int(reference.cause[i])))
+        if got != model.expected_status(exact):
+            mismatches += 1
+            continue
+        if exact["status"] != "ok":
+            continue
+        for name in outputs:
+            worst[name] = max(worst[name],
+                              model.relative_error(float(getattr(reference, name)[i]),
+                                                   exact[name]))
+    return MpmathCheck(count, mismatches, worst)

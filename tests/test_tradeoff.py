@@ -1,0 +1,197 @@
+"""Speed against accuracy (epc_fast.tradeoff, ``epc-fast bench``): the Pareto front, the
+settings and their knobs, the error measure, and one quick run of the command."""
+
+import csv
+import importlib.util
+import inspect
+import math
+import subprocess
+import sys
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast import Status
+from epc_fast.tradeoff import (ZERO_ERROR_FLOOR, Accuracy, Measurement, Setting,
+                               default_settings, evaluate_parameters, f50_accuracy, front_of,
+                               knob_value, markdown_columns, pareto_front, split_by_knobs)
+
+# --- The Pareto front ----------------------------------------------------------------------------
+
+
+def test_pareto_front_of_hand_made_points():
+    #          0     1     2     3     4     5     6
+    errors = [1e-6, 1e-14, 1e-10, 1e-10, 1e-8, 0.0, 1e-6]
+    speeds = [9.0, 2.0, 5.0, 4.0, 5.0, 1.0, 8.0]
+    # 3 loses to 2 (same error, slower), 4 to 2 (more error, as fast), 6 to 0 (same error,
+    # slower); 5 (exact) and 1 (slow but accurate) stay; 0 is the fastest.
+    assert pareto_front(errors, speeds) == [5, 1, 2, 0]
+
+
+def test_pareto_front_keeps_equal_points_and_drops_nan():
+    errors = [1e-12, 1e-12, math.nan, 1e-9, 1e-12]
+    speeds = [3.0, 3.0, 100.0, 2.0, math.nan]
+    assert pareto_front(errors, speeds) == [0, 1]
+
+
+def test_pareto_front_of_a_single_point_and_of_none():
+    assert pareto_front([1e-15], [1.0]) == [0]
+    assert pareto_front([], []) == []
+    with pytest.raises(ValueError, match="length"):
+        pareto_front([1.0, 2.0], [1.0])
+
+
+def measurement(name, max_error, speed_2_threads, spectrum_samples=None):
+    return Measurement(Setting(name, {}, spectrum_samples), "halley", 1e-14, "float64",
+                       Accuracy(max_error, max_error / 10, 100, 0),
+                       {1: speed_2_threads / 2, 2: speed_2_threads})
+
+
+def test_front_of_measurements_leaves_out_the_polychromatic_settings():
+    rows = [measurement("default", 5e-15, 2e6), measurement("fast", 1e-7, 4e6),
+            measurement("poly 4", 4e-15, 1e6, spectrum_samples=4)]
+    # "poly 4" has the smallest error, but solves another model.
+    assert front_of(rows) == [0, 1]
+
+
+def test_markdown_marks_the_front_and_writes_zero_errors_as_0():
+    rows = [measurement("default", 0.0, 2e6), measurement("slow", 1e-9, 1e6)]
+    columns = markdown_columns(rows, front_of(rows))
+    assert columns["setting"] == ["default *", "slow"]
+    assert columns["max rel err"] == ["0", "1.0e-09"]
+    assert columns["speed-up vs default"] == ["1.00", "0.50"]
+
+
+# --- Settings and knobs --------------------------------------------------------------------------
+
+
+def test_default_settings_cover_every_knob_once():
+    settings = default_settings()
+    names = [s.name for s in settings]
+    assert len(names) == len(set(names))
+    assert names[0] == "default" and settings[0].knobs() == set()
+    solvers = {(s.kwargs["f50_solver"], s.kwargs["f50_rtol"]) for s in settings
+               if "f50_solver" in s.kwargs}
+    assert solvers == {(solver, rtol) for solver in ("halley", "newton", "bisection", "brent")
+                       for rtol in (1e-14, 1e-10, 1e-6)}
+    assert {s.spectrum_samples for s in settings} >= {None, 4, 16, 64}
+    assert sum(s.kwargs.get("precision") == "float32" for s in settings) == 2
+    assert any(s.kwargs == {"t_mpe_solver": "brent"} for s in settings)
+
+
+def test_settings_with_unknown_knobs_are_skipped():
+    settings = default_settings() + [Setting("warp", {"warp_drive": 9})]
+    old_build = set(evaluate_parameters()) - {"f50_solver", "precision"}
+    kept, skipped = split_by_knobs(settings, old_build)
+    missing = {s.name: knobs for s, knobs in skipped}
+    assert missing["warp"] == ["warp_drive"]
+    assert missing["halley rtol=1e-14"] == ["f50_solver"]
+    assert missing["float32 rtol=1e-6"] == ["precision"]
+    assert {s.name for s in kept} >= {"default", "T_MPE brent", "poly 16"}
+    assert not any(s.knobs() - old_build for s in kept)
+    # The installed evaluate: only the made-up knob is always skipped.
+    kept, skipped = split_by_knobs(settings, evaluate_parameters())
+    assert "warp" in {s.name for s, _ in skipped}
+    assert {s.name for s in kept} >= {"default", "T_MPE brent"}
+
+
+def test_knob_values_come_from_the_setting_then_the_signature_then_the_old_build():
+    parameters = evaluate_parameters()
+    assert knob_value(Setting("x", {"f50_rtol": 1e-6}), "f50_rtol", parameters) == 1e-6
+    assert knob_value(Setting("x"), "f50_rtol", parameters) == \
+        inspect.signature(epc_fast.evaluate).parameters["f50_rtol"].default
+    without = {k: v for k, v in parameters.items() if k not in ("f50_solver", "precision")}
+    assert knob_value(Setting("x"), "f50_solver", without) == "bisection"
+    assert knob_value(Setting("x"), "precision", without) == "float64"
+
+
+# --- The error measure ---------------------------------------------------------------------------
+
+
+def test_f50_accuracy_compares_only_points_ok_in_both():
+    ok, unreachable = Status.OK, Status.UNREACHABLE
+    result = SimpleNamespace(status=np.array([ok, ok, ok, unreachable, ok], dtype=np.uint8),
+                             f50_cyc_per_mm=np.array([100.0, 201.0, 300.03, np.nan, 7.0]))
+    reference = SimpleNamespace(status=np.array([ok, ok, ok, unreachable, unreachable],
+                                                dtype=np.uint8),
+                                f50_cyc_per_mm=np.array([100.0, 200.0, 300.0, np.nan, np.nan]))
+    accuracy = f50_accuracy(result, reference)
+    assert accuracy.points_compared == 3
+    assert accuracy.status_mismatches == 1
+    assert accuracy.max_rel_error == pytest.approx(5e-3)
+    assert accuracy.median_rel_error == pytest.approx(1e-4)
+
+
+def test_f50_accuracy_of_the_core_on_random_designs():
+    from epc_fast.selfcheck import random_designs
+
+    points = random_designs(2000, seed=3)
+    accuracy = f50_accuracy(epc_fast.evaluate(**points),
+                            epc_fast.evaluate(**points, backend="reference"))
+    assert accuracy.status_mismatches == 0
+    assert accuracy.points_compared > 1500
+    assert accuracy.max_rel_error <= 1e-12
+
+
+def test_points_per_s_times_every_setting_on_every_thread_count():
+    from epc_fast.selfcheck import random_designs
+    from epc_fast.tradeoff import points_per_s
+
+    lines = []
+    speeds = points_per_s(random_designs(1000), [{}, {"t_mpe_solver": "brent"}], (1, 2),
+                          rounds=2, progress=lines.append)
+    assert len(speeds) == 2 and all(set(s) == {1, 2} for s in speeds)
+    assert all(v > 0 for s in speeds for v in s.values())
+    assert lines[-2:] == ["timing round 1 of 2", "timing round 2 of 2"]
+
+
+# --- The plot and the mpmath check ---------------------------------------------------------------
+
+
+def test_plot_draws_zero_errors_at_the_floor():
+    pytest.importorskip("matplotlib")
+    from epc_fast.tradeoff import plot_tradeoff
+
+    rows = [measurement("default", 0.0, 2e6), measurement("fast", 1e-7, 4e6)]
+    figure = plot_tradeoff(rows, front_of(rows))
+    ax = figure.axes[0]
+    labels = [line.get_label() for line in ax.get_lines()]
+    assert any("exactly 0" in label for label in labels)
+    zero = next(line for line in ax.get_lines() if "exactly 0" in line.get_label())
+    assert list(zero.get_xdata()) == [ZERO_ERROR_FLOOR]
+    front = next(line for line in ax.get_lines() if line.get_label().startswith("Pareto"))
+    assert list(front.get_xdata()) == [ZERO_ERROR_FLOOR, 1e-7]
+
+
+def test_reference_agrees_with_mpmath_on_a_few_random_designs():
+    pytest.importorskip("mpmath")
+    from epc_fast.selfcheck import random_designs
+    from epc_fast.tradeoff import mpmath_check
+
+    points = random_designs(8, seed=5)
+    check = mpmath_check(points, epc_fast.evaluate(**points, backend="reference"), 8)
+    assert check.points == 8 and check.status_mismatches == 0
+    assert check.max_rel_error["f50_cyc_per_mm"] <= 1e-13
+    assert "8 points" in check.summary()
+
+
+# --- The command ---------------------------------------------------------------------------------
+
+
+def test_quick_bench_writes_its_table_and_plot(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "epc_fast", "bench", "--quick", "--out",
+                           str(tmp_path)], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert "| setting | f50 solver | rtol | precision | max rel err |" in proc.stdout
+    assert (tmp_path / "trade.md").is_file()
+    if importlib.util.find_spec("matplotlib") is not None:
+        assert (tmp_path / "trade.png").stat().st_size > 0
+    with open(tmp_path / "trade.csv", newline="") as handle:
+        rows = {row["setting"]: row for row in csv.DictReader(handle)}
+    default = rows["default"]
+    assert float(default["max_rel_error"]) <= 1e-12
+    assert int(default["status_mismatches"]) == 0
+    assert float(default["speedup_vs_default"]) == 1.0
+    assert float(default["points_per_s_2_threads"]) > 0
