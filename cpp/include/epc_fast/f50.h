@@ -207,9 +207,9 @@ void polish(const Spectrum& spectrum, double rtol, Block& b) {
     // (K d^2): far below d (d/p)^2 = d^3 / p^2, the estimate used. A slow, linear approach (a
     // root where the MTF is flat, near a factor's zero) shrinks its steps by a constant ratio
     // r and leaves an error d r / (1 - r), within a few times d r^2 for r <= 1/2. A lane stops
-    // when d^3 / p^2 <= rtol / 10 and d <= rtol^(1/3) (Halley) or rtol^(1/2) (Newton), all
+    // when d^3 / p^2 <= rtol / 10 and d <= (rtol/10)^(1/3) (Halley) or ^(1/2) (Newton), all
     // relative to f. The first step is measured against the bracket's width.
-    const double step_rtol = Halley ? std::cbrt(rtol) : std::sqrt(rtol);
+    const double step_rtol = Halley ? std::cbrt(0.1 * rtol) : std::sqrt(0.1 * rtol);
     double* __restrict lo = b.lo;
     double* __restrict hi = b.hi;
     double* __restrict at = b.at;
