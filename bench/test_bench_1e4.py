@@ -1,0 +1,28 @@
+"""Every peer at 10^4 points, in one benchmark group (see engine_suite.py):
+
+    python -m pytest bench/test_bench_1e4.py --benchmark-only
+"""
+
+import pytest
+
+import engine_suite as suite
+
+SIZE = suite.SIZES["1e4"]
+pytestmark = pytest.mark.benchmark(group=SIZE.group)
+
+
+@pytest.mark.parametrize("threads", [1, 2], ids=["1 thread", "2 threads"])
+def test_core(benchmark, data, threads):
+    suite.bench_core(benchmark, data, SIZE, threads)
+
+
+def test_reference(benchmark, data):
+    suite.bench_reference(benchmark, data, SIZE)
+
+
+def test_numba(benchmark, data, numba_evaluate):
+    suite.bench_numba(benchmark, data, SIZE, numba_evaluate)
+
+
+def test_scipy_brentq_1000_points(benchmark, data, brentq_evaluate):
+    suite.bench_brentq(benchmark, data, SIZE, brentq_evaluate)

@@ -1,0 +1,43 @@
+"""Every peer at 10^7 points, in one benchmark group (see engine_suite.py), with the core's
+scan-style calls besides its default one:
+
+    python -m pytest bench/test_bench_1e7.py --benchmark-only
+
+The NumPy reference runs on the first 10^6 of the points (test_reference_scaled: compare its
+points/s, not its median), and every other peer is checked against it on those 10^6.
+"""
+
+import pytest
+
+import engine_suite as suite
+
+SIZE = suite.SIZES["1e7"]
+pytestmark = pytest.mark.benchmark(group=SIZE.group)
+
+
+@pytest.mark.parametrize("threads", [1, 2], ids=["1 thread", "2 threads"])
+def test_core(benchmark, data, threads):
+    suite.bench_core(benchmark, data, SIZE, threads)
+
+
+def test_core_2_threads_out_preallocated(benchmark, data, out_1e7):
+    """As a scan calls it: outputs written into the same preallocated arrays every round."""
+    suite.bench_core_into_outputs(benchmark, data, SIZE, out_1e7)
+
+
+@pytest.mark.skipif(not suite.HAS_OUTPUTS, reason="epc_fast.evaluate has no outputs= parameter")
+def test_core_2_threads_lean_outputs(benchmark, data):
+    """Only f50, EPC and status computed."""
+    suite.bench_core_lean(benchmark, data, SIZE)
+
+
+def test_reference_scaled(benchmark, data):
+    suite.bench_reference(benchmark, data, SIZE)
+
+
+def test_numba(benchmark, data, numba_evaluate):
+    suite.bench_numba(benchmark, data, SIZE, numba_evaluate)
+
+
+def test_scipy_brentq_1000_points(benchmark, data, brentq_evaluate):
+    suite.bench_brentq(benchmark, data, SIZE, brentq_evaluate)
