@@ -85,3 +85,15 @@ def test_a_looser_tolerance_is_faster_in_evaluations_not_in_correctness():
 def test_an_unknown_solver_is_refused_by_name():
     with pytest.raises(ValueError, match="f50_solver"):
         epc_fast.evaluate(1000.0, 1.4, 2.8, 5.6, sensor_area_mm2=15.7, f50_solver="secant")
+
+
+def test_an_invalid_point_in_a_block_does_not_change_its_neighbours_broadcast_values():
+    # Found by fuzz/fuzz_evaluate.py: an invalid lane 0 holds stand-in parameters, and the
+    # exposure stage once read a broadcast column's value (snr_db) from lane 0.
+    shake = np.array([np.nan, 4.39, 90.0])
+    core = epc_fast.evaluate(1.0, 1.0, 1.0, 1.0, sensor_area_mm2=90.0, shake_deg_per_s=shake,
+                             stabilization=0.5)
+    reference = epc_fast.evaluate(1.0, 1.0, 1.0, 1.0, sensor_area_mm2=90.0,
+                                  shake_deg_per_s=shake, stabilization=0.5, backend="reference")
+    assert np.array_equal(core.status, reference.status)
+    np.testing.assert_allclose(core.t_mpe_s[1:], reference.t_mpe_s[1:], rtol=1e-14)

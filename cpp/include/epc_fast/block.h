@@ -25,6 +25,7 @@ struct alignas(64) Block {
     std::size_t n;
     double x[n_params][block_size];  // parameters; invalid lanes hold harmless stand-ins
     std::uint32_t uniform;  // bit j: parameter j is broadcast (the same in every lane)
+    double broadcast[n_params];  // a broadcast parameter's value (its stand-in if invalid)
     // flags are bytes, not bool: the lane loops vectorise on them
     unsigned char valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];

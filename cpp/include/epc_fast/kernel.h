@@ -63,9 +63,12 @@ inline void gather(const Inputs& in, std::size_t begin, const double* illuminanc
         if (stride == 0) {
             const double v = src[0];
             for (std::size_t i = 0; i < block_size; ++i) x[i] = v;
-            if (!in.domains[j].contains(v))
+            const bool ok = in.domains[j].contains(v);
+            if (!ok)
                 for (std::size_t i = 0; i < block_size; ++i) valid[i] = 0;
             b.uniform |= std::uint32_t{1} << j;
+            // lane 0 may get a stand-in below (an invalid lane): keep the value itself here
+            b.broadcast[j] = ok ? v : stand_in(j);
             continue;
         }
         if (!replaced) src += static_cast<std::ptrdiff_t>(begin) * stride;
@@ -167,7 +170,7 @@ inline void exposure(const Options& opt, Block& b) {
     double* __restrict cos2 = b.lambda_f_mm;  // scratch until f50's start
     double* __restrict root_s = b.aperture_mm;
     if (b.uniform & (std::uint32_t{1} << field_angle_deg)) {
-        const double c = std::sin((90.0 - std::fabs(x[field_angle_deg][0])) * deg_to_rad);
+        const double c = std::sin((90.0 - std::fabs(b.broadcast[field_angle_deg])) * deg_to_rad);
         for (std::size_t i = 0; i < n; ++i) cos2[i] = c * c;
     } else {
         for (std::size_t i = 0; i < n; ++i) {
@@ -176,7 +179,7 @@ inline void exposure(const Options& opt, Block& b) {
         }
     }
     if (b.uniform & (std::uint32_t{1} << snr_db)) {
-        const double r = SnrTarget(x[snr_db][0]).root_s;
+        const double r = SnrTarget(b.broadcast[snr_db]).root_s;
         for (std::size_t i = 0; i < n; ++i) root_s[i] = r;
     } else {
         for (std::size_t i = 0; i < n; ++i) root_s[i] = SnrTarget(x[snr_db][i]).root_s;
