@@ -366,23 +366,14 @@ inline int start_f50(const Spectrum& spectrum, Block& b) {
     double* __restrict hi = b.hi;
     double* __restrict at = b.at;
     const double mean_mm = mean_nm * nm_to_mm;
-    const double shortest_mm = shortest_nm * nm_to_mm;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         lambda_f[i] = wavelength[i] * nm_to_mm * f_num[i];
         aperture[i] = pixel_aperture_mm(pitch[i], fill[i]);
         jitter_mm[i] = jitter_um_[i] * um_to_mm;
         lo[i] = 0.0;
-        // f50_bracket, with ln(1/c) given
-        const double diffraction_zero = 1.0 / ((poly ? shortest_mm : wavelength[i] * nm_to_mm) * f_num[i]);
-        const double pixel_zero = 1.0 / aperture[i];
-        const double motion_zero = blur[i] > 0.0 ? 1.0 / blur[i] : inf;
-        const double jitter_cross = jitter_um_[i] > 0.0
-                                        ? std::sqrt(ln_inv_c[i] * (1.0 / (2.0 * pi * pi))) / jitter_mm[i]
-                                        : inf;
-        const double f_hi_1 = diffraction_zero < pixel_zero ? diffraction_zero : pixel_zero;
-        const double f_hi_2 = motion_zero < jitter_cross ? motion_zero : jitter_cross;
-        const double f_hi = f_hi_1 < f_hi_2 ? f_hi_1 : f_hi_2;
+        const double f_hi = f50_bracket(f_num[i], poly ? shortest_nm : wavelength[i], aperture[i],
+                                        blur[i], jitter_um_[i], ln_inv_c[i]);
         hi[i] = f_hi;
         // the starting guess
         const double d = (poly ? mean_mm * f_num[i] : lambda_f[i]) * (1.0 / start_nu50);

@@ -9,7 +9,6 @@
 // loops vectorise to the width the build targets.
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -288,7 +287,7 @@ inline void exposure(const Options& opt, Block& b) {
     const unsigned char* __restrict valid = b.valid;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        const double t = electrons[i] / rate[i];
+        const double t = t_mpe[i];  // electrons / rate, from either path
         // A rate so small that T_MPE overflows counts as no light.
         const bool dark_lane = !capped[i] & !(t <= std::numeric_limits<double>::max());
         const bool over = !dark_lane & !capped[i] & (electrons[i] > well[i]);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 #include "constants.h"
 #include "polynomials.h"
@@ -113,16 +114,23 @@ EPC_FAST_INLINE Slopes diffraction_log_slopes(double nu) {
 }
 
 // cycles/mm: f_hi, the smallest first zero of the factors (diffraction 1/(lambda_min F),
-// pixel 1/(sqrt(a) p), motion 1/b) and, with jitter, jitter's own threshold crossing.
-// MTF_sys decreases strictly on [0, f_hi] and is <= threshold at f_hi (MODEL.md section 6).
-EPC_FAST_INLINE double f50_bracket(double f_number, double shortest_wavelength_nm, double aperture_mm,
-                          double blur_mm, double jitter_um, double mtf_threshold) {
-    double f_hi = std::fmin(1.0 / (shortest_wavelength_nm * nm_to_mm * f_number), 1.0 / aperture_mm);
-    if (blur_mm > 0.0) f_hi = std::fmin(f_hi, 1.0 / blur_mm);
-    if (jitter_um > 0.0)
-        f_hi = std::fmin(f_hi, std::sqrt(std::log(1.0 / mtf_threshold) / (2.0 * pi * pi)) /
-                                   (jitter_um * um_to_mm));
-    return f_hi;
+// pixel 1/(sqrt(a) p), motion 1/b) and, with jitter, jitter's own threshold crossing
+// sqrt(ln(1/c) / (2 pi^2)) / sigma_j (ln(1/c) is the caller's: the C library's log has no
+// place in a lane loop). MTF_sys decreases strictly on [0, f_hi] and is <= threshold at f_hi
+// (MODEL.md section 6). Selects, not branches, so that lane loops vectorise.
+EPC_FAST_INLINE double f50_bracket(double f_number, double shortest_wavelength_nm,
+                                   double aperture_mm, double blur_mm, double jitter_um,
+                                   double ln_inv_threshold) {
+    const double diffraction_zero = 1.0 / (shortest_wavelength_nm * nm_to_mm * f_number);
+    const double pixel_zero = 1.0 / aperture_mm;
+    const double motion_zero = blur_mm > 0.0 ? 1.0 / blur_mm : std::numeric_limits<double>::infinity();
+    const double jitter_cross = jitter_um > 0.0
+                                    ? std::sqrt(ln_inv_threshold * (1.0 / (2.0 * pi * pi))) /
+                                          (jitter_um * um_to_mm)
+                                    : std::numeric_limits<double>::infinity();
+    const double optics = diffraction_zero < pixel_zero ? diffraction_zero : pixel_zero;
+    const double blurs = motion_zero < jitter_cross ? motion_zero : jitter_cross;
+    return optics < blurs ? optics : blurs;
 }
 
 }  // namespace epc_fast
