@@ -7,6 +7,16 @@
 #define EPC_FAST_INLINE inline
 #endif
 
+// Set where the target has a hardware fused multiply-add: the x86-64-v3 and -v4 modules, which
+// are also compiled with -ffp-contract=fast (CMakeLists.txt). The code that needs a product's
+// exact rounding error, or must not have one product fused and its twin not, spells the fused
+// operation out with std::fma under this macro; everywhere else the compiler may fuse freely.
+#if defined(__FMA__)
+#define EPC_FAST_FMA 1
+#else
+#define EPC_FAST_FMA 0
+#endif
+
 namespace epc_fast {
 
 constexpr double pi = 3.141592653589793238462643383279502884;

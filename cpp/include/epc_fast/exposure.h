@@ -77,8 +77,13 @@ struct SnrTarget {
     // w = 1 - s u^2 as (1 - u sqrt(s))(1 + u sqrt(s)) from the exact product: 1 - p is exact
     // near the cap, so w keeps its digits however close u sqrt(s) is to 1.
     double prnu_margin(double prnu) const {
+#if EPC_FAST_FMA
+        // the same from the fused operation: 1 -+ u sqrt(s), each rounded once
+        return std::fma(-prnu, root_s, 1.0) * std::fma(prnu, root_s, 1.0);
+#else
         const PrnuProduct x = prnu_product(prnu);
         return ((1.0 - x.p) - x.e) * ((1.0 + x.p) + x.e);
+#endif
     }
 };
 

@@ -102,12 +102,16 @@ EPC_FAST_INLINE bool normal(double v) {
 // std::fma(a, b, -a * b) gives, in plain arithmetic that vectorises everywhere. Exact for
 // |a|, |b| < 1e300 whose product neither overflows nor underflows.
 EPC_FAST_INLINE double product_error(double a, double b) {
+#if EPC_FAST_FMA
+    return std::fma(a, b, -(a * b));  // one instruction where the hardware fuses
+#else
     constexpr double split = 134217729.0;  // 2^27 + 1
     const double p = a * b;
     const double ca = split * a, cb = split * b;
     const double a_hi = ca - (ca - a), a_lo = a - a_hi;
     const double b_hi = cb - (cb - b), b_lo = b - b_hi;
     return ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
+#endif
 }
 
 // tan(angle) for 0 <= angle < pi/2, as sinpi(t) / cospi(t) with t = angle / pi carried in two
@@ -117,10 +121,17 @@ EPC_FAST_INLINE double product_error(double a, double b) {
 EPC_FAST_INLINE double tan_of_angle(double angle) {
     constexpr double inv_pi_hi = 0.3183098861837907;     // 1/pi rounded
     constexpr double inv_pi_lo = -1.9678676675182486e-17;  // 1/pi - inv_pi_hi
+#if EPC_FAST_FMA
+    // 1/2 - angle inv_pi_hi exactly, rounded once: no rounding error to carry (and none that a
+    // fused t_hi could count twice)
+    const double fused_cos_arg = std::fma(-angle, inv_pi_hi, 0.5) - angle * inv_pi_lo;
+    return sinpi(angle * inv_pi_hi + angle * inv_pi_lo) / sinpi(fused_cos_arg);
+#else
     const double t_hi = angle * inv_pi_hi;
     const double t_lo = product_error(angle, inv_pi_hi) + angle * inv_pi_lo;
     const double cos_arg = (0.5 - t_hi) - t_lo;
     return sinpi(t_hi + t_lo) / sinpi(cos_arg);
+#endif
 }
 
 // hypot(x, y) for x > 0, y >= 0 without overflow: x exactly when y = 0, else within 2 ulp.
@@ -247,7 +258,13 @@ inline void exposure(const Options& opt, Block& b) {
         const double p_error = product_error(u[i], rs);
         const double e = std::fabs(p - 1.0) < 0.5 ? p_error : 0.0;
         capped[i] = (p > 1.0) | ((p == 1.0) & (e >= 0.0));
+#if EPC_FAST_FMA
+        // 1 -+ u sqrt(s) from the exact product (the compiler must not fuse p into one and not
+        // the other, or subtract e from an already exact difference)
+        w_margin[i] = std::fma(-u[i], rs, 1.0) * std::fma(u[i], rs, 1.0);
+#else
         w_margin[i] = ((1.0 - p) - e) * ((1.0 + p) + e);
+#endif
     }
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
