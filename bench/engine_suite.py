@@ -63,6 +63,11 @@ THREADS = 2
 #: 1e-12 is the package's own self-check bound (epc_fast.selfcheck.TOLERANCE), with two orders
 #: of magnitude to spare.
 CORE_RTOL = 1e-12
+#: The core with ``precision="float32"``: f50 solved in float32 to its tolerance floor 2^-21 =
+#: 4.8e-7 plus the float32 rounding of the MTF near the root (measured max 6.3e-7 over 10^6
+#: random designs, every solver); EPC ~ f50^2 doubles it. 2e-6 covers both with margin and still
+#: fails on a float64 fallback gone wrong or a solver stopping early (errors >= 1e-5).
+CORE_FLOAT32_RTOL = 2e-6
 #: Numba: Halley stops at |step| <= 1e-14 f, but the MTF is an independent implementation (libm
 #: acos and sin, the direct diffraction formula rather than the reference's series above
 #: nu = 1/2, sin(pi x) rather than sinpi); it agrees to ~1e-15 (extra_info's max_rel_error).
@@ -245,13 +250,17 @@ def output_arrays(n: int) -> dict:
 # --- The benchmarks, one function per peer; each size's module calls them --------------------
 
 
-def bench_core(benchmark, data: Data, size: Size, threads: int) -> None:
+def bench_core(benchmark, data: Data, size: Size, threads: int,
+               precision: str = "float64") -> None:
     designs = data.designs(size.points)
-    record(benchmark, "core", size.points, threads)
-    result = benchmark.pedantic(epc_fast.evaluate, kwargs=dict(designs, threads=threads),
+    extra = {} if precision == "float64" else {"variant": f"precision={precision}"}
+    record(benchmark, "core", size.points, threads, precision=precision, **extra)
+    result = benchmark.pedantic(epc_fast.evaluate,
+                                kwargs=dict(designs, threads=threads, precision=precision),
                                 iterations=1, **size.rounds_of("core"))
     record_throughput(benchmark)
-    check(benchmark, as_fields(result), data.reference(size), CORE_RTOL)
+    rtol = CORE_RTOL if precision == "float64" else CORE_FLOAT32_RTOL
+    check(benchmark, as_fields(result), data.reference(size), rtol)
 
 
 def bench_core_into_outputs(benchmark, data: Data, size: Size, outputs: dict) -> None:

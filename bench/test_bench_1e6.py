@@ -16,6 +16,12 @@ def test_core(benchmark, data, threads):
     suite.bench_core(benchmark, data, SIZE, threads)
 
 
+@pytest.mark.parametrize("threads", [1, 2], ids=["1 thread", "2 threads"])
+def test_core_float32(benchmark, data, threads):
+    """precision="float32": f50 solved in float32."""
+    suite.bench_core(benchmark, data, SIZE, threads, precision="float32")
+
+
 def test_reference(benchmark, data):
     suite.bench_reference(benchmark, data, SIZE)
 

@@ -20,6 +20,12 @@ def test_core(benchmark, data, threads):
     suite.bench_core(benchmark, data, SIZE, threads)
 
 
+@pytest.mark.parametrize("threads", [1, 2], ids=["1 thread", "2 threads"])
+def test_core_float32(benchmark, data, threads):
+    """precision="float32": f50 solved in float32."""
+    suite.bench_core(benchmark, data, SIZE, threads, precision="float32")
+
+
 def test_core_2_threads_out_preallocated(benchmark, data, out_1e7):
     """As a scan calls it: outputs written into the same preallocated arrays every round."""
     suite.bench_core_into_outputs(benchmark, data, SIZE, out_1e7)

@@ -327,4 +327,4 @@ def test_the_core_refuses_an_impossible_point_count_without_crashing():
     for n, error in [(10**12, MemoryError), (2**62, ValueError)]:
         with pytest.raises(error):
             _core.evaluate(columns, False, params.domain_table(), none, none, n, "halley", 1e-14,
-                           "closed_form", 1e-15, 1, 1 << 18)
+                           "closed_form", 1e-15, "float64", 1, 1 << 18)

@@ -77,6 +77,12 @@ F50Solver f50_solver_of(const std::string& name) {
         "f50_solver must be 'halley', 'newton', 'brent' or 'bisection', got '" + name + "'");
 }
 
+Precision precision_of(const std::string& name) {
+    if (name == "float64") return Precision::float64;
+    if (name == "float32") return Precision::float32;
+    throw std::invalid_argument("precision must be 'float64' or 'float32', got '" + name + "'");
+}
+
 // The columns and domains of one design set, as the kernel reads them.
 Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                  const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n) {
@@ -100,7 +106,8 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
 }
 
 Options options_of(const std::string& f50_solver, double f50_rtol,
-                   const std::string& t_mpe_solver, double t_mpe_rtol) {
+                   const std::string& t_mpe_solver, double t_mpe_rtol,
+                   const std::string& precision = "float64") {
     if (!(f50_rtol >= 0.0) || !(t_mpe_rtol >= 0.0))
         throw std::invalid_argument("tolerances must be >= 0");
     Options opt;
@@ -108,6 +115,7 @@ Options options_of(const std::string& f50_solver, double f50_rtol,
     opt.f50_rtol = f50_rtol;
     opt.t_mpe_solver = solver_of(t_mpe_solver);
     opt.t_mpe_rtol = t_mpe_rtol;
+    opt.precision = precision_of(precision);
     return opt;
 }
 
@@ -131,10 +139,11 @@ void run_chunked(py::ssize_t n, py::ssize_t chunk_points, int threads, Work&& wo
 py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                      const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
                      const std::string& f50_solver, double f50_rtol,
-                     const std::string& t_mpe_solver, double t_mpe_rtol, int threads,
-                     py::ssize_t chunk_points, const py::object& out) {
+                     const std::string& t_mpe_solver, double t_mpe_rtol,
+                     const std::string& precision, int threads, py::ssize_t chunk_points,
+                     const py::object& out) {
     const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
-    const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol);
+    const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
     py::dict result = out.is_none() ? new_outputs(n) : py::reinterpret_borrow<py::dict>(out);
     const Outputs outputs{
         output_column<double>(result, "electron_rate_e_per_s", n),
@@ -248,7 +257,7 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     m.def("evaluate", &evaluate_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
-          py::arg("threads"),
+          py::arg("precision"), py::arg("threads"),
           py::arg("chunk_points"), py::arg("out") = py::none(),
           "Evaluates the model; writes into `out` (a dict of the output arrays) when given.");
     m.def("lux_for_epc", &lux_for_epc_py, py::arg("columns"), py::arg("size_is_pixel_count"),
@@ -263,8 +272,8 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           py::arg("threads"),
           "Highest illuminance in [lux_lo, lux_hi] where designs a and b have equal EPC.");
     // Single formulas, elementwise, so that tests can hold the C++ against known values.
-    m.def("sinc", py::vectorize(&sinc));
-    m.def("mtf_diffraction", py::vectorize(&mtf_diffraction), py::arg("nu"));
+    m.def("sinc", py::vectorize(&sinc<double>));
+    m.def("mtf_diffraction", py::vectorize(&mtf_diffraction<double>), py::arg("nu"));
     m.def("signal_electrons",
           py::vectorize([](double rate, double snr_db, double read, double dark, double prnu) {
               return signal_electrons(rate, SnrTarget(snr_db), read, dark, prnu);

@@ -24,6 +24,8 @@ CHUNK_POINTS = 1 << 18
 BACKENDS = ("core", "reference")
 T_MPE_SOLVERS = ("closed_form", "brent")
 F50_SOLVERS = ("halley", "newton", "brent", "bisection")
+#: The floating-point types f50 can be solved in (``precision=``).
+PRECISIONS = ("float64", "float32")
 INVALID_POLICIES = ("status", "raise")
 
 
@@ -169,7 +171,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              wavelength_nm=550.0, mtf_threshold=0.5, spectrum=None, threads=None,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
-             t_mpe_rtol=1e-15, out=None) -> Result:
+             t_mpe_rtol=1e-15, precision="float64", out=None) -> Result:
     """Effective pixel count and its intermediates for camera designs (MODEL.md).
 
     Every model parameter is a float or an array_like of floats; all of them broadcast against
@@ -222,6 +224,13 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     t_mpe_solver : {"closed_form", "brent"}
         The closed-form quadratic root, or Brent's method on ln SNR(T) = ln SNR_target.
     t_mpe_rtol : 1, Brent's relative tolerance on T_MPE.
+    precision : {"float64", "float32"}
+        The type f50 is solved in by the core. ``"float32"`` runs twice the vector lanes and
+        about 1.6x the points/s, for f50 and EPC to a few 1e-7 relative (docs/numerics.md has
+        the measured errors): ``f50_rtol`` is raised to at least 2^-21 = 4.8e-7 there. Statuses,
+        T_MPE, blur and the electron counts are float64 in both, so they are the same in both;
+        a point whose lengths float32 cannot hold (outside 2^-40..2^40 mm) is solved in float64.
+        Outputs are float64 arrays either way. The reference backend ignores it.
     out : Result or mapping of its field names to arrays, optional
         Arrays to write the outputs into, one per :class:`Result` field: each of the broadcast
         shape, C-contiguous, writeable, native float64 (``status`` and ``cause``: uint8), none
@@ -268,6 +277,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     _choice("invalid", invalid, INVALID_POLICIES)
     _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
     _choice("f50_solver", f50_solver, F50_SOLVERS)
+    _choice("precision", precision, PRECISIONS)
     f50_rtol = _tolerance("f50_rtol", f50_rtol)
     t_mpe_rtol = _tolerance("t_mpe_rtol", t_mpe_rtol)
     given = None if out is None else _out_arrays(out, shape)
@@ -278,7 +288,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         flat = None if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
                                            for k, v in given.items()}
         result = _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol,
-                           t_mpe_solver, t_mpe_rtol, threads, out=flat)
+                           t_mpe_solver, t_mpe_rtol, threads, out=flat, precision=precision)
     else:
         if threads is not None:
             _threads_of(threads)
@@ -379,7 +389,7 @@ def _column(arr: np.ndarray, shape) -> np.ndarray:
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
-              t_mpe_rtol, threads, out=None):
+              t_mpe_rtol, threads, out=None, precision="float64"):
     from . import _core
 
     n = math.prod(shape)
@@ -394,7 +404,8 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_
     return _core.evaluate(columns, size_is_pixel_count, params.domain_table(),
                           np.ascontiguousarray(wavelengths, dtype=np.float64),
                           np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
-                          f50_rtol, t_mpe_solver, t_mpe_rtol, threads, CHUNK_POINTS, out)
+                          f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, CHUNK_POINTS,
+                          out)
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec):

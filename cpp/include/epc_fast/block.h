@@ -21,6 +21,10 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 // n hold stand-ins and are never written out. A constant, aligned trip count leaves the
 // vectoriser no scalar prologue or epilogue, so every lane runs the same instructions and a
 // point's result does not depend on its place in the block.
+//
+// T is the type f50 is solved in (f50.h): float64, or float32 in the float32 precision mode.
+// The parameters, the exposure stage and the outputs are float64 in both.
+template <class T>
 struct alignas(64) Block {
     std::size_t n;
     double x[n_params][block_size];  // parameters; invalid lanes hold harmless stand-ins
@@ -32,14 +36,21 @@ struct alignas(64) Block {
     unsigned char capped[block_size], no_light[block_size], full_well[block_size];
     unsigned char unbounded[block_size];
     unsigned char solve[block_size];
-    // f50: per-point lengths (mm) the frequency multiplies, the bracket, the iterate
-    double lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm[block_size];
-    double lo[block_size], hi[block_size], at[block_size];
+    double scratch[3][block_size];  // the exposure stage's
+    unsigned char flag_scratch[2][block_size];
+    // float32 mode: a lane f50 cannot be solved for in float32 (a length outside
+    // [2^-40, 2^40] mm); the block is redone in float64 for it (kernel.h)
+    unsigned char wide[block_size];
+    // f50, in T: per-point lengths (mm) the frequency multiplies, the other inputs of the
+    // solve, the bracket, the iterate
+    T lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm[block_size];
+    T blur_mm[block_size], threshold[block_size], f_number[block_size];
+    T lo[block_size], hi[block_size], at[block_size];
     // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
     // over the factors, so that M''/M = R^2 + S
-    double mtf[block_size], slope[block_size], curvature[block_size];
-    double previous_step[block_size];  // Newton/Halley: each lane's previous step
-    double f50[block_size];
+    T mtf[block_size], slope[block_size], curvature[block_size];
+    T previous_step[block_size];  // Newton/Halley: each lane's previous step
+    T f50[block_size];
     unsigned char active[block_size];
 };
 

@@ -36,36 +36,43 @@ namespace epc_fast {
 constexpr int max_bisection_steps = 2200;
 // After this many derivative steps a lane that has not converged takes bisection steps only.
 constexpr int max_derivative_steps = 64;
+// float32 mode: the smallest relative tolerance f50 is solved to (4 float32 ulps; f50.h).
+constexpr double f50_rtol_floor_float32 = 4.76837158203125e-07;  // 2^-21
+// float32 mode: a lane solves in float32 when its lengths (lambda F, pixel aperture, blur,
+// jitter) are 0 or in [2^-40, 2^40] mm. Then f <= f_hi <= 2^40 and every product the MTF and
+// its slopes form (length f, length^2, the Halley step) stays inside float32's range.
+constexpr double float32_length_lo_mm = 9.094947017729282e-13;  // 2^-40
+constexpr double float32_length_hi_mm = 1099511627776.0;        // 2^40
 
 namespace detail {
 
 // b.mtf = MTF_sys(b.at) for every lane (threshold and solve masks are the caller's).
-template <bool Motion, bool Jitter, bool Poly>
-void system_mtf(const Spectrum& spectrum, Block& b) {
+template <bool Motion, bool Jitter, bool Poly, class T>
+void system_mtf(const Spectrum& spectrum, Block<T>& b) {
     constexpr std::size_t n = block_size;
-    const double* __restrict at = b.at;
-    const double* __restrict f_num = b.x[f_number];
-    double* __restrict mtf = b.mtf;
+    const T* __restrict at = b.at;
+    const T* __restrict f_num = b.f_number;
+    T* __restrict mtf = b.mtf;
     if (Poly) {
-        for (std::size_t i = 0; i < n; ++i) mtf[i] = 0.0;
+        for (std::size_t i = 0; i < n; ++i) mtf[i] = T(0);
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
-            const double lambda_mm = spectrum.wavelengths_nm[k] * nm_to_mm;
-            const double w = spectrum.weights[k];
+            const T lambda_mm = static_cast<T>(spectrum.wavelengths_nm[k] * nm_to_mm);
+            const T w = static_cast<T>(spectrum.weights[k]);
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < n; ++i) mtf[i] += w * mtf_diffraction(at[i] * lambda_mm * f_num[i]);
         }
     } else {
-        const double* __restrict lambda_f = b.lambda_f_mm;
+        const T* __restrict lambda_f = b.lambda_f_mm;
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) mtf[i] = mtf_diffraction(at[i] * lambda_f[i]);
     }
-    const double* __restrict aperture = b.aperture_mm;
-    const double* __restrict blur = b.blur;
-    const double* __restrict jitter = b.jitter_mm;
+    const T* __restrict aperture = b.aperture_mm;
+    const T* __restrict blur = b.blur_mm;
+    const T* __restrict jitter = b.jitter_mm;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        const double f = at[i];
-        double m = mtf[i] * mtf_pixel(f, aperture[i]);
+        const T f = at[i];
+        T m = mtf[i] * mtf_pixel(f, aperture[i]);
         if (Motion) m *= mtf_motion(f, blur[i]);
         if (Jitter) m *= mtf_jitter(f, jitter[i]);
         mtf[i] = m;
@@ -73,17 +80,17 @@ void system_mtf(const Spectrum& spectrum, Block& b) {
 }
 
 // Monochromatic diffraction at b.at into b.mtf, b.slope, b.curvature (see below).
-template <bool High, bool Curvature>
-void diffraction_factor(Block& b) {
-    const double* __restrict at = b.at;
-    const double* __restrict lambda_f = b.lambda_f_mm;
-    double* __restrict mtf = b.mtf;
-    double* __restrict slope = b.slope;
-    double* __restrict curvature = b.curvature;
+template <bool High, bool Curvature, class T>
+void diffraction_factor(Block<T>& b) {
+    const T* __restrict at = b.at;
+    const T* __restrict lambda_f = b.lambda_f_mm;
+    T* __restrict mtf = b.mtf;
+    T* __restrict slope = b.slope;
+    T* __restrict curvature = b.curvature;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
-        const double lf = lambda_f[i];
-        const Slopes d = diffraction_log_slopes<High>(at[i] * lf);
+        const T lf = lambda_f[i];
+        const Slopes<T> d = diffraction_log_slopes<High>(at[i] * lf);
         mtf[i] = d.value;
         slope[i] = lf * d.r;
         if (Curvature) curvature[i] = (lf * lf) * d.dr;
@@ -92,23 +99,23 @@ void diffraction_factor(Block& b) {
 
 // b.mtf, b.slope = M'/M and b.curvature = sum_i (M_i''/M_i - (M_i'/M_i)^2) at b.at, so that
 // M''/M = slope^2 + curvature (M the product of the factors M_i). Newton skips the curvature.
-template <bool Motion, bool Jitter, bool Poly, bool Curvature>
-void system_mtf_slopes(const Spectrum& spectrum, Block& b) {
+template <bool Motion, bool Jitter, bool Poly, bool Curvature, class T>
+void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
     constexpr std::size_t n = block_size;
-    const double* __restrict at = b.at;
-    const double* __restrict f_num = b.x[f_number];
-    double* __restrict mtf = b.mtf;
-    double* __restrict slope = b.slope;
-    double* __restrict curvature = b.curvature;
+    const T* __restrict at = b.at;
+    const T* __restrict f_num = b.f_number;
+    T* __restrict mtf = b.mtf;
+    T* __restrict slope = b.slope;
+    T* __restrict curvature = b.curvature;
     if (Poly) {  // D = sum_k w_k D_k, D' and D'' likewise; divided by D afterwards
-        for (std::size_t i = 0; i < n; ++i) mtf[i] = slope[i] = curvature[i] = 0.0;
+        for (std::size_t i = 0; i < n; ++i) mtf[i] = slope[i] = curvature[i] = T(0);
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
-            const double lambda_mm = spectrum.wavelengths_nm[k] * nm_to_mm;
-            const double w = spectrum.weights[k];
+            const T lambda_mm = static_cast<T>(spectrum.wavelengths_nm[k] * nm_to_mm);
+            const T w = static_cast<T>(spectrum.weights[k]);
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < n; ++i) {
-                const double lf = lambda_mm * f_num[i];
-                const DiffractionSlopes d = diffraction_slopes(at[i] * lf);
+                const T lf = lambda_mm * f_num[i];
+                const DiffractionSlopes<T> d = diffraction_slopes(at[i] * lf);
                 mtf[i] += w * d.value;
                 slope[i] += (w * lf) * d.d1;
                 if (Curvature) curvature[i] += (w * (lf * lf)) * d.d2;
@@ -116,43 +123,43 @@ void system_mtf_slopes(const Spectrum& spectrum, Block& b) {
         }
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
-            const double r = slope[i] / mtf[i];
+            const T r = slope[i] / mtf[i];
             slope[i] = r;
             if (Curvature) curvature[i] = curvature[i] / mtf[i] - r * r;
         }
     } else {
-        const double* __restrict lambda_f = b.lambda_f_mm;
-        double nu_max = 0.0;
+        const T* __restrict lambda_f = b.lambda_f_mm;
+        T nu_max = T(0);
         EPC_FAST_SIMD_REDUCTION(max : nu_max)
         for (std::size_t i = 0; i < n; ++i) {
-            const double nu = at[i] * lambda_f[i];
+            const T nu = at[i] * lambda_f[i];
             nu_max = nu > nu_max ? nu : nu_max;
         }
-        if (nu_max > 0.5) diffraction_factor<true, Curvature>(b);
+        if (nu_max > T(0.5)) diffraction_factor<true, Curvature>(b);
         else diffraction_factor<false, Curvature>(b);
     }
-    const double* __restrict aperture = b.aperture_mm;
-    const double* __restrict blur = b.blur;
-    const double* __restrict jitter = b.jitter_mm;
+    const T* __restrict aperture = b.aperture_mm;
+    const T* __restrict blur = b.blur_mm;
+    const T* __restrict jitter = b.jitter_mm;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        const double f = at[i];
-        double m = mtf[i], r = slope[i], s = Curvature ? curvature[i] : 0.0;
-        const double a = aperture[i];
-        const Slopes p = sinc_slopes(a * f);
+        const T f = at[i];
+        T m = mtf[i], r = slope[i], s = Curvature ? curvature[i] : T(0);
+        const T a = aperture[i];
+        const Slopes<T> p = sinc_slopes(a * f);
         m *= p.value;
         r += a * p.r;
         if (Curvature) s += (a * a) * p.dr;
         if (Motion) {
-            const double l = blur[i];
-            const Slopes q = sinc_slopes(l * f);
+            const T l = blur[i];
+            const Slopes<T> q = sinc_slopes(l * f);
             m *= q.value;
             r += l * q.r;
             if (Curvature) s += (l * l) * q.dr;
         }
         if (Jitter) {  // J = exp(-k f^2), k = 2 pi^2 sigma^2: J'/J = -2 k f, (J''/J - (J'/J)^2) = -2 k
-            const double sigma = jitter[i];
-            const double two_k = 4.0 * pi * pi * (sigma * sigma);
+            const T sigma = jitter[i];
+            const T two_k = T(4.0 * pi * pi) * (sigma * sigma);
             m *= mtf_jitter(f, sigma);
             r += -two_k * f;
             if (Curvature) s += -two_k;
@@ -164,21 +171,21 @@ void system_mtf_slopes(const Spectrum& spectrum, Block& b) {
 }
 
 // Bisection: lo, hi hold the bracket; the answer is written to b.f50.
-template <bool Motion, bool Jitter, bool Poly>
-void bisect(const Spectrum& spectrum, double rtol, Block& b) {
+template <bool Motion, bool Jitter, bool Poly, class T>
+void bisect(const Spectrum& spectrum, T rtol, Block<T>& b) {
     constexpr std::size_t n = block_size;
     const unsigned char* __restrict solve = b.solve;
-    double* __restrict lo = b.lo;
-    double* __restrict hi = b.hi;
-    double* __restrict mid = b.at;
+    T* __restrict lo = b.lo;
+    T* __restrict hi = b.hi;
+    T* __restrict mid = b.at;
     unsigned char* __restrict active = b.active;
-    const double* __restrict mtf = b.mtf;
-    const double* __restrict threshold = b.x[mtf_threshold];
+    const T* __restrict mtf = b.mtf;
+    const T* __restrict threshold = b.threshold;
     for (int step = 0; step < max_bisection_steps; ++step) {
         int n_active = 0;
         EPC_FAST_SIMD_REDUCTION(+ : n_active)
         for (std::size_t i = 0; i < n; ++i) {
-            const double m = lo[i] + 0.5 * (hi[i] - lo[i]);
+            const T m = lo[i] + T(0.5) * (hi[i] - lo[i]);
             mid[i] = m;
             const bool a = (solve[i] != 0) & (hi[i] - lo[i] > rtol * lo[i]) & (m > lo[i]) &
                            (m < hi[i]);
@@ -195,12 +202,12 @@ void bisect(const Spectrum& spectrum, double rtol, Block& b) {
             hi[i] = (act & !above) ? mid[i] : hi[i];
         }
     }
-    for (std::size_t i = 0; i < n; ++i) b.f50[i] = lo[i] + 0.5 * (hi[i] - lo[i]);
+    for (std::size_t i = 0; i < n; ++i) b.f50[i] = lo[i] + T(0.5) * (hi[i] - lo[i]);
 }
 
 // Newton (Halley = false) or Halley steps from b.at, safeguarded by the bracket [lo, hi].
-template <bool Motion, bool Jitter, bool Poly, bool Halley>
-void polish(const Spectrum& spectrum, double rtol, Block& b) {
+template <bool Motion, bool Jitter, bool Poly, bool Halley, class T>
+void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     constexpr std::size_t n = block_size;
     // Convergence test, on the last step d and the one before, p. In the cubic (Halley) or
     // quadratic (Newton) regime d ~ K p^3 (K p^2) and the error left after d is about K d^3
@@ -209,17 +216,17 @@ void polish(const Spectrum& spectrum, double rtol, Block& b) {
     // r and leaves an error d r / (1 - r), within a few times d r^2 for r <= 1/2. A lane stops
     // when d^3 / p^2 <= rtol / 10 and d <= (rtol/10)^(1/3) (Halley) or ^(1/2) (Newton), all
     // relative to f. The first step is measured against the bracket's width.
-    const double step_rtol = Halley ? std::cbrt(0.1 * rtol) : std::sqrt(0.1 * rtol);
-    double* __restrict lo = b.lo;
-    double* __restrict hi = b.hi;
-    double* __restrict at = b.at;
-    double* __restrict f50 = b.f50;
-    double* __restrict previous = b.previous_step;
+    const T step_rtol = Halley ? std::cbrt(T(0.1) * rtol) : std::sqrt(T(0.1) * rtol);
+    T* __restrict lo = b.lo;
+    T* __restrict hi = b.hi;
+    T* __restrict at = b.at;
+    T* __restrict f50 = b.f50;
+    T* __restrict previous = b.previous_step;
     unsigned char* __restrict active = b.active;
-    const double* __restrict mtf = b.mtf;
-    const double* __restrict slope = b.slope;
-    const double* __restrict curvature = b.curvature;
-    const double* __restrict threshold = b.x[mtf_threshold];
+    const T* __restrict mtf = b.mtf;
+    const T* __restrict slope = b.slope;
+    const T* __restrict curvature = b.curvature;
+    const T* __restrict threshold = b.threshold;
     for (std::size_t i = 0; i < n; ++i) {
         active[i] = b.solve[i];
         previous[i] = hi[i] - lo[i];
@@ -230,33 +237,33 @@ void polish(const Spectrum& spectrum, double rtol, Block& b) {
         int n_active = 0;
         EPC_FAST_SIMD_REDUCTION(+ : n_active)
         for (std::size_t i = 0; i < n; ++i) {
-            const double x = at[i], m = mtf[i], r = slope[i];
-            const double h = m - threshold[i];
+            const T x = at[i], m = mtf[i], r = slope[i];
+            const T h = m - threshold[i];
             const bool act = active[i] != 0;
-            const bool above = h > 0.0;
-            const double l = (act & above) ? x : lo[i];
-            const double u = (act & !above) ? x : hi[i];
+            const bool above = h > T(0);
+            const T l = (act & above) ? x : lo[i];
+            const T u = (act & !above) ? x : hi[i];
             lo[i] = l;
             hi[i] = u;
             // Newton: -h / (M R). Halley: -2 h h' / (2 h'^2 - h h'') with h' = M R and
             // h'' = M (R^2 + S), i.e. -2 h R / (2 M R^2 - h (R^2 + S)).
-            const double d = Halley ? -2.0 * h * r / (2.0 * m * (r * r) - h * (r * r + curvature[i]))
-                                    : -h / (m * r);
-            const double next = x + d;
-            const double mid = l + 0.5 * (u - l);
+            const T d = Halley ? T(-2) * h * r / (T(2) * m * (r * r) - h * (r * r + curvature[i]))
+                               : -h / (m * r);
+            const T next = x + d;
+            const T mid = l + T(0.5) * (u - l);
             const bool inside = derivative & (next > l) & (next < u);  // false for NaN
-            const double to = inside ? next : mid;
+            const T to = inside ? next : mid;
             // A converged step ends it wherever it lands: the root is within it of x, and
             // clamped to the bracket it can only come closer.
-            const double ad = std::fabs(d), ap = previous[i];
-            const double ratio = ad / ap;
-            const double left = ad * (ratio * ratio);
-            const bool small = derivative & (ad <= step_rtol * x) & (left <= 0.1 * rtol * x);  // false for NaN
+            const T ad = std::fabs(d), ap = previous[i];
+            const T ratio = ad / ap;
+            const T left = ad * (ratio * ratio);
+            const bool small = derivative & (ad <= step_rtol * x) & (left <= T(0.1) * rtol * x);  // false for NaN
             previous[i] = act ? std::fabs(to - x) : ap;
-            const bool converged = small | (h == 0.0) | (u - l <= rtol * l) | !(mid > l) | !(mid < u);
-            const double clamped = next < l ? l : (next > u ? u : next);
+            const bool converged = small | (h == T(0)) | (u - l <= rtol * l) | !(mid > l) | !(mid < u);
+            const T clamped = next < l ? l : (next > u ? u : next);
             const bool finish = act & converged;
-            f50[i] = finish ? (h == 0.0 ? x : small ? clamped : to) : f50[i];
+            f50[i] = finish ? (h == T(0) ? x : small ? clamped : to) : f50[i];
             at[i] = act ? to : x;
             const bool still = act & !converged;
             active[i] = still;
@@ -268,15 +275,15 @@ void polish(const Spectrum& spectrum, double rtol, Block& b) {
 
 // Brent's method per lane, in lockstep: each round proposes an abscissa per active lane, the
 // MTF is evaluated for all lanes at once, and each lane takes its value.
-template <bool Motion, bool Jitter, bool Poly>
-void brent(const Spectrum& spectrum, double rtol, Block& b) {
+template <bool Motion, bool Jitter, bool Poly, class T>
+void brent(const Spectrum& spectrum, T rtol, Block<T>& b) {
     constexpr std::size_t n = block_size;
     BrentState state[n];
     for (std::size_t i = 0; i < n; ++i) b.at[i] = b.hi[i];
     system_mtf<Motion, Jitter, Poly>(spectrum, b);
     for (std::size_t i = 0; i < n; ++i) {
-        const double c = b.x[mtf_threshold][i];
-        const double f_hi = b.mtf[i] - c;
+        const double c = b.threshold[i];
+        const double f_hi = double{b.mtf[i]} - c;
         b.active[i] = b.solve[i] && f_hi < 0.0;
         b.f50[i] = b.hi[i];  // MTF(f_hi) == c: f_hi is the root
         if (b.active[i]) state[i].start(b.lo[i], 1.0 - c, b.hi[i], f_hi, rtol, 0.0);
@@ -288,26 +295,35 @@ void brent(const Spectrum& spectrum, double rtol, Block& b) {
             double next = 0.0;
             if (state[i].step(next)) {
                 b.active[i] = 0;
-                b.f50[i] = state[i].b;
+                b.f50[i] = static_cast<T>(state[i].b);
             } else {
-                b.at[i] = next;
+                b.at[i] = static_cast<T>(next);
                 ++n_active;
             }
         }
         if (n_active == 0) break;
         system_mtf<Motion, Jitter, Poly>(spectrum, b);
         for (std::size_t i = 0; i < n; ++i)
-            if (b.active[i]) state[i].accept(b.mtf[i] - b.x[mtf_threshold][i]);
+            if (b.active[i]) state[i].accept(double{b.mtf[i]} - double{b.threshold[i]});
     }
 }
 
-template <bool Motion, bool Jitter, bool Poly>
-void solve_f50(const Spectrum& spectrum, const Options& opt, Block& b) {
+// The tolerance f50 is solved to in T: float32 cannot resolve a relative tolerance much below its
+// epsilon (1.2e-7), so there it is at least f50_rtol_floor_float32.
+template <class T>
+T effective_rtol(double rtol) {
+    if (sizeof(T) == sizeof(double)) return static_cast<T>(rtol);
+    return static_cast<T>(rtol > f50_rtol_floor_float32 ? rtol : f50_rtol_floor_float32);
+}
+
+template <bool Motion, bool Jitter, bool Poly, class T>
+void solve_f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
+    const T rtol = effective_rtol<T>(opt.f50_rtol);
     switch (opt.f50_solver) {
-        case F50Solver::halley: polish<Motion, Jitter, Poly, true>(spectrum, opt.f50_rtol, b); break;
-        case F50Solver::newton: polish<Motion, Jitter, Poly, false>(spectrum, opt.f50_rtol, b); break;
-        case F50Solver::brent: brent<Motion, Jitter, Poly>(spectrum, opt.f50_rtol, b); break;
-        case F50Solver::bisection: bisect<Motion, Jitter, Poly>(spectrum, opt.f50_rtol, b); break;
+        case F50Solver::halley: polish<Motion, Jitter, Poly, true>(spectrum, rtol, b); break;
+        case F50Solver::newton: polish<Motion, Jitter, Poly, false>(spectrum, rtol, b); break;
+        case F50Solver::brent: brent<Motion, Jitter, Poly>(spectrum, rtol, b); break;
+        case F50Solver::bisection: bisect<Motion, Jitter, Poly>(spectrum, rtol, b); break;
     }
 }
 
@@ -322,79 +338,120 @@ constexpr double start_nu50 = 0.4039727532995172;   // D(nu) = 1/2
 constexpr double start_x50 = 0.6033545644016142;    // sinc(x) = 1/2
 constexpr double start_j50 = 0.18739640236613234;   // exp(-2 pi^2 y^2) = 1/2: sqrt(ln 2 / 2) / pi
 
-EPC_FAST_INLINE double start_polynomial(double v_d, double s, double t) {
+template <class T>
+EPC_FAST_INLINE T start_polynomial(T v_d, T s, T t) {
     // the cubic of tools/fit_f50_start.py: sum of c_ijk v_d^i s^j t^k
-    const double d2 = v_d * v_d, s2 = s * s;
-    return 1.0013379445198385 - 0.26588191638058467 * t - 0.15505341346674065 * s +
-           0.1074529526372338 * (s * t) + 0.15079619822963006 * s2 +
-           0.002722663306764486 * (s2 * s) - 0.29777013229383625 * v_d +
-           0.0949786064343061 * (v_d * t) + 0.08599482061958504 * (v_d * s) -
-           0.08579594370107604 * (v_d * s2) + 0.3187779135290404 * d2 +
-           0.057129828500959906 * (d2 * s) - 0.022016975724150373 * (d2 * v_d);
+    const T d2 = v_d * v_d, s2 = s * s;
+    return T(1.0013379445198385) - T(0.26588191638058467) * t - T(0.15505341346674065) * s +
+           T(0.1074529526372338) * (s * t) + T(0.15079619822963006) * s2 +
+           T(0.002722663306764486) * (s2 * s) - T(0.29777013229383625) * v_d +
+           T(0.0949786064343061) * (v_d * t) + T(0.08599482061958504) * (v_d * s) -
+           T(0.08579594370107604) * (v_d * s2) + T(0.3187779135290404) * d2 +
+           T(0.057129828500959906) * (d2 * s) - T(0.022016975724150373) * (d2 * v_d);
 }
 
-// Sets lo = 0, hi = f_hi and the starting abscissa for every lane; returns which terms the
-// block's lanes to solve use, as bits (1 motion, 2 jitter).
-inline int start_f50(const Spectrum& spectrum, Block& b) {
+// Whether a length (mm) is 0 or inside the range float32 lanes solve f50 for.
+EPC_FAST_INLINE bool float32_length(double length_mm) {
+    return (length_mm == 0.0) | ((length_mm >= float32_length_lo_mm) & (length_mm <= float32_length_hi_mm));
+}
+
+// Sets lo = 0, hi = f_hi, the starting abscissa and the solve's inputs in T for every lane;
+// returns which terms the block's lanes to solve use, as bits (1 motion, 2 jitter). With T =
+// float32, a lane to solve whose lengths float32 cannot hold is marked `wide` and taken out of
+// the solve (kernel.h redoes it in float64).
+template <class T>
+int start_f50(const Spectrum& spectrum, Block<T>& b) {
     constexpr std::size_t n = block_size;
     constexpr double ln2 = 0.6931471805599453;
+    constexpr bool narrow = sizeof(T) != sizeof(double);
     const auto& x = b.x;
     const bool poly = spectrum.polychromatic();
-    double shortest_nm = inf, mean_nm = 0.0;
+    double shortest_nm = inf, longest_nm = 0.0, mean_nm = 0.0;
     for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
         if (spectrum.weights[k] > 0.0) shortest_nm = std::fmin(shortest_nm, spectrum.wavelengths_nm[k]);
+        longest_nm = std::fmax(longest_nm, spectrum.wavelengths_nm[k]);
         mean_nm += spectrum.weights[k] * spectrum.wavelengths_nm[k];
     }
     // ln(1/c) for the jitter bracket and the start's scaling; the C library's log only for a
     // threshold other than 1/2.
-    double* __restrict ln_inv_c = b.mtf;  // scratch until the solver runs
+    T* __restrict ln_inv_c = b.mtf;  // scratch until the solver runs
     for (std::size_t i = 0; i < n; ++i) {
         const double c = x[mtf_threshold][i];
-        ln_inv_c[i] = c == 0.5 ? ln2 : std::log(1.0 / c);
+        ln_inv_c[i] = static_cast<T>(c == 0.5 ? ln2 : std::log(1.0 / c));
     }
     const double* __restrict wavelength = x[wavelength_nm];
-    const double* __restrict f_num = x[f_number];
+    const double* __restrict f_num_in = x[f_number];
     const double* __restrict pitch = x[pixel_pitch_um];
     const double* __restrict fill = x[fill_factor];
     const double* __restrict jitter_um_ = x[jitter_um];
-    const double* __restrict blur = b.blur;
-    const unsigned char* __restrict solve = b.solve;
-    double* __restrict lambda_f = b.lambda_f_mm;
-    double* __restrict aperture = b.aperture_mm;
-    double* __restrict jitter_mm = b.jitter_mm;
-    double* __restrict lo = b.lo;
-    double* __restrict hi = b.hi;
-    double* __restrict at = b.at;
-    const double mean_mm = mean_nm * nm_to_mm;
+    const double* __restrict threshold_in = x[mtf_threshold];
+    const double* __restrict blur_in = b.blur;
+    unsigned char* __restrict solve = b.solve;
+    unsigned char* __restrict wide = b.wide;
+    T* __restrict lambda_f = b.lambda_f_mm;
+    T* __restrict aperture = b.aperture_mm;
+    T* __restrict jitter_mm = b.jitter_mm;
+    T* __restrict blur = b.blur_mm;
+    T* __restrict threshold = b.threshold;
+    T* __restrict f_num = b.f_number;
+    T* __restrict lo = b.lo;
+    T* __restrict hi = b.hi;
+    T* __restrict at = b.at;
+    if (narrow) {
+        // the lengths in float64, checked, before they are rounded to float32
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const double lf_short = (poly ? shortest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
+            const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
+            const bool fits = float32_length(lf_short) & float32_length(lf_long) &
+                              float32_length(pixel_aperture_mm(pitch[i], fill[i])) &
+                              float32_length(blur_in[i]) & float32_length(jitter_um_[i] * um_to_mm);
+            wide[i] = (solve[i] != 0) & !fits;
+            solve[i] = (solve[i] != 0) & fits;
+            b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
+        }
+    } else {
+        for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
+    }
+    const T mean_mm = static_cast<T>(mean_nm * nm_to_mm);
+    const T shortest = static_cast<T>(shortest_nm);
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        lambda_f[i] = wavelength[i] * nm_to_mm * f_num[i];
-        aperture[i] = pixel_aperture_mm(pitch[i], fill[i]);
-        jitter_mm[i] = jitter_um_[i] * um_to_mm;
-        lo[i] = 0.0;
-        const double f_hi = f50_bracket(f_num[i], poly ? shortest_nm : wavelength[i], aperture[i],
-                                        blur[i], jitter_um_[i], ln_inv_c[i]);
+        // float32: a lane not solved computes on its float32-rounded inputs, harmlessly
+        const T f_number_i = static_cast<T>(f_num_in[i]);
+        const T wavelength_i = static_cast<T>(wavelength[i]);
+        const T jitter_um_i = static_cast<T>(jitter_um_[i]);
+        f_num[i] = f_number_i;
+        threshold[i] = static_cast<T>(threshold_in[i]);
+        blur[i] = static_cast<T>(blur_in[i]);
+        lambda_f[i] = wavelength_i * T(nm_to_mm) * f_number_i;
+        aperture[i] = pixel_aperture_mm(static_cast<T>(pitch[i]), static_cast<T>(fill[i]));
+        jitter_mm[i] = jitter_um_i * T(um_to_mm);
+        lo[i] = T(0);
+        const T f_hi = f50_bracket(f_number_i, poly ? shortest : wavelength_i, aperture[i],
+                                   blur[i], jitter_um_i, ln_inv_c[i]);
         hi[i] = f_hi;
         // the starting guess
-        const double d = (poly ? mean_mm * f_num[i] : lambda_f[i]) * (1.0 / start_nu50);
-        const double p = aperture[i] * (1.0 / start_x50);
-        const double m = blur[i] * (1.0 / start_x50);
-        const double j = jitter_mm[i] * (1.0 / start_j50);
-        const double r = 1.0 / std::sqrt(d * d + p * p + m * m + j * j);
-        const double f0 = r * start_polynomial(d * r, (p + m) * r, (p * r) * (m * r)) *
-                          std::sqrt(ln_inv_c[i] * (1.0 / ln2));
-        at[i] = (f0 > 0.0) & (f0 < f_hi) ? f0 : 0.5 * f_hi;
+        const T d = (poly ? mean_mm * f_number_i : lambda_f[i]) * T(1.0 / start_nu50);
+        const T p = aperture[i] * T(1.0 / start_x50);
+        const T m = blur[i] * T(1.0 / start_x50);
+        const T j = jitter_mm[i] * T(1.0 / start_j50);
+        const T r = T(1) / std::sqrt(d * d + p * p + m * m + j * j);
+        const T f0 = r * start_polynomial(d * r, (p + m) * r, (p * r) * (m * r)) *
+                     std::sqrt(ln_inv_c[i] * T(1.0 / ln2));
+        at[i] = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
     }
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
-    for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > 0.0);
+    for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));
     EPC_FAST_SIMD_REDUCTION(+ : jitter)
-    for (std::size_t i = 0; i < n; ++i) jitter += (solve[i] != 0) & (jitter_um_[i] > 0.0);
+    for (std::size_t i = 0; i < n; ++i) jitter += (solve[i] != 0) & (jitter_mm[i] > T(0));
     return (motion > 0 ? 1 : 0) | (jitter > 0 ? 2 : 0);
 }
 
 // f50 for every lane to solve, into b.f50.
-inline void f50(const Spectrum& spectrum, const Options& opt, Block& b) {
+template <class T>
+void f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
     const int terms = start_f50(spectrum, b);
     const bool motion = terms & 1, jitter = terms & 2;
     // One instantiation per combination of the terms a block uses.

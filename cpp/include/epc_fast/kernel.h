@@ -49,7 +49,8 @@ inline void check_domain(const Domain& d, const double* __restrict x, unsigned c
 // Reads points [begin, begin + n); `illuminance_lux`, when given, replaces that column with
 // n values of its own (the inverse solvers' trial illuminances). A broadcast column (stride 0)
 // is checked once and copied to every lane; padding lanes past n get stand-ins.
-inline void gather(const Inputs& in, std::size_t begin, const double* illuminance, Block& b) {
+template <class T>
+void gather(const Inputs& in, std::size_t begin, const double* illuminance, Block<T>& b) {
     const std::size_t n = b.n;
     unsigned char* __restrict valid = b.valid;
     for (std::size_t i = 0; i < block_size; ++i) valid[i] = i < n;
@@ -145,7 +146,8 @@ EPC_FAST_INLINE double hypot_positive(double x, double y) {
 // T_MPE, blur and the unreachable causes of one lane by the general formulas of exposure.h
 // (scaled products, the C library's pow, sin and tan, Brent when asked): for the lanes the
 // vector path below cannot vouch for.
-inline void exposure_lane(const Options& opt, Block& b, std::size_t i) {
+template <class T>
+void exposure_lane(const Options& opt, Block<T>& b, std::size_t i) {
     const auto& x = b.x;
     b.rate[i] = electron_rate(x[illuminance_lux][i], x[reflectance][i], x[lens_transmittance][i],
                               x[field_angle_deg][i], x[f_number][i],
@@ -174,13 +176,25 @@ inline void exposure_lane(const Options& opt, Block& b, std::size_t i) {
 // and vectorised hypot and tan; a lane whose products leave the normal range, or any lane
 // when Brent is asked for, is redone by exposure_lane. cos(theta) and 10^(snr/20) are computed once for a
 // block when their columns are broadcast.
-inline void exposure(const Options& opt, Block& b) {
+template <class T>
+void exposure(const Options& opt, Block<T>& b) {
     constexpr std::size_t n = block_size;
     const auto& x = b.x;
-    double* __restrict cos2 = b.lambda_f_mm;  // scratch until f50's start
-    double* __restrict root_s = b.aperture_mm;
+    double* __restrict cos2 = b.scratch[0];
+    double* __restrict root_s = b.scratch[1];
+    // A broadcast column's cos(theta) and 10^(snr/20) are the same for every block of a call:
+    // each thread remembers the last ones it computed (pure functions: the same bits).
+    struct Remembered {
+        double angle_deg = 0.0, cos_theta = 1.0, snr_db = 30.0, root_s = SnrTarget(30.0).root_s;
+    };
+    static thread_local Remembered remembered;
     if (b.uniform & (std::uint32_t{1} << field_angle_deg)) {
-        const double c = std::sin((90.0 - std::fabs(b.broadcast[field_angle_deg])) * deg_to_rad);
+        const double angle = b.broadcast[field_angle_deg];
+        if (!(angle == remembered.angle_deg)) {
+            remembered.cos_theta = std::sin((90.0 - std::fabs(angle)) * deg_to_rad);
+            remembered.angle_deg = angle;
+        }
+        const double c = remembered.cos_theta;
         for (std::size_t i = 0; i < n; ++i) cos2[i] = c * c;
     } else {
         for (std::size_t i = 0; i < n; ++i) {
@@ -189,7 +203,12 @@ inline void exposure(const Options& opt, Block& b) {
         }
     }
     if (b.uniform & (std::uint32_t{1} << snr_db)) {
-        const double r = SnrTarget(b.broadcast[snr_db]).root_s;
+        const double snr = b.broadcast[snr_db];
+        if (!(snr == remembered.snr_db)) {
+            remembered.root_s = SnrTarget(snr).root_s;
+            remembered.snr_db = snr;
+        }
+        const double r = remembered.root_s;
         for (std::size_t i = 0; i < n; ++i) root_s[i] = r;
     } else {
         for (std::size_t i = 0; i < n; ++i) root_s[i] = SnrTarget(x[snr_db][i]).root_s;
@@ -213,10 +232,10 @@ inline void exposure(const Options& opt, Block& b) {
     double* __restrict t_mpe = b.t_mpe;
     double* __restrict blur = b.blur;
     unsigned char* __restrict capped = b.capped;
-    unsigned char* __restrict slow = b.active;  // scratch until f50
+    unsigned char* __restrict slow = b.flag_scratch[0];
     // Three loops, each small enough for GCC to vectorise (one with all of it does not).
-    double* __restrict w_margin = b.lo;  // scratch until f50's start
-    unsigned char* __restrict rate_normal = b.unbounded;
+    double* __restrict w_margin = b.scratch[2];
+    unsigned char* __restrict rate_normal = b.flag_scratch[1];
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         // electron_rate's product, in its order
@@ -321,7 +340,8 @@ inline void exposure(const Options& opt, Block& b) {
 }
 
 // Writes the block's n points; an output pointer that is null is not computed.
-inline void scatter(const Inputs& in, const Block& b, const Outputs& out) {
+template <class T>
+void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     const std::size_t n = b.n;
     const auto& x = b.x;
     const unsigned char* __restrict valid = b.valid;
@@ -356,7 +376,7 @@ inline void scatter(const Inputs& in, const Block& b, const Outputs& out) {
     if (out.f50_cyc_per_mm != nullptr) {
         double* __restrict o = out.f50_cyc_per_mm;
         EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) o[i] = !solved(i) ? nan : unbounded[i] ? 0.0 : b.f50[i];
+        for (std::size_t i = 0; i < n; ++i) o[i] = !solved(i) ? nan : unbounded[i] ? 0.0 : double{b.f50[i]};
     }
     if (out.epc != nullptr) {
         double* __restrict o = out.epc;
@@ -367,7 +387,7 @@ inline void scatter(const Inputs& in, const Block& b, const Outputs& out) {
         for (std::size_t i = 0; i < n; ++i) {
             const double pitch_mm = pitch[i] * um_to_mm;
             const double area_mm2 = count ? sz[i] * (pitch_mm * pitch_mm) : sz[i];
-            const double f = unbounded[i] ? 0.0 : b.f50[i];
+            const double f = unbounded[i] ? 0.0 : double{b.f50[i]};
             o[i] = solved(i) ? 4.0 * area_mm2 * (f * f) : nan;
         }
     }
@@ -396,18 +416,61 @@ inline void scatter(const Inputs& in, const Block& b, const Outputs& out) {
 
 }  // namespace detail
 
+namespace detail {
+
+// Evaluates points [begin, begin + n) with f50 solved in T (block.h).
+template <class T>
+void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
+                       std::size_t n, const double* illuminance_lux, Block<T>& b) {
+    b.n = n;
+    gather(in, begin, illuminance_lux, b);
+    exposure(opt, b);
+    f50(in.spectrum, opt, b);
+    scatter(in, b, out);
+}
+
+}  // namespace detail
+
 // Evaluates points [begin, begin + n), n <= block_size, writing point begin + i to index i of
 // `out`. `illuminance_lux`, when not null, holds n illuminances that replace the input column.
 // Never throws: every per-point problem is a status in `out`.
+//
+// Precision::float32 solves f50 in float32 (everything else stays float64, so statuses and
+// T_MPE are those of float64). A lane whose lengths float32 cannot hold (f50.h) is redone with
+// the whole block in float64 and takes that result: each point's result still depends only on
+// its own inputs.
 inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& out,
                            std::size_t begin, std::size_t n,
                            const double* illuminance_lux = nullptr) noexcept {
-    detail::Block b;
-    b.n = n;
-    detail::gather(in, begin, illuminance_lux, b);
-    detail::exposure(opt, b);
-    detail::f50(in.spectrum, opt, b);
-    detail::scatter(in, b, out);
+    if (opt.precision == Precision::float64) {
+        detail::Block<double> b;
+        detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, b);
+        return;
+    }
+    detail::Block<float> b;
+    detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, b);
+    int n_wide = 0;
+    for (std::size_t i = 0; i < n; ++i) n_wide += b.wide[i];
+    if (n_wide == 0) return;
+    double values[6][block_size];
+    unsigned char codes[2][block_size];
+    const Outputs wide_out{values[0], values[1], values[2], values[3], values[4], values[5],
+                           codes[0], codes[1]};
+    detail::Block<double> wide;
+    detail::evaluate_block_as(in, opt, wide_out, begin, n, illuminance_lux, wide);
+    auto take = [&](auto* to, const auto* from) {
+        if (to != nullptr)
+            for (std::size_t i = 0; i < n; ++i)
+                if (b.wide[i]) to[i] = from[i];
+    };
+    take(out.electron_rate_e_per_s, values[0]);
+    take(out.electrons, values[1]);
+    take(out.t_mpe_s, values[2]);
+    take(out.blur_mm, values[3]);
+    take(out.f50_cyc_per_mm, values[4]);
+    take(out.epc, values[5]);
+    take(out.status, codes[0]);
+    take(out.cause, codes[1]);
 }
 
 // Evaluates points [begin, end) on `threads` threads (static schedule over blocks), writing

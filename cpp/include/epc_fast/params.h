@@ -75,7 +75,11 @@ enum class TMpeSolver { closed_form, brent };
 // section 6.
 enum class F50Solver { halley, newton, brent, bisection };
 
+// The floating-point type f50 is solved in (kernel.h); the rest of the model is float64.
+enum class Precision { float64, float32 };
+
 struct Options {
+    Precision precision = Precision::float64;
     F50Solver f50_solver = F50Solver::halley;
     double f50_rtol = 1e-14;   // relative tolerance on f50 (f50.h says how each solver meets it)
     TMpeSolver t_mpe_solver = TMpeSolver::closed_form;

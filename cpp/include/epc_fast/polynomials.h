@@ -72,69 +72,102 @@ constexpr double exp_coefficients[] = {
     2.755731922398589e-07, 2.505210838544172e-08, 2.08767569878681e-09, 1.6059043836821613e-10,
 };
 
-template <int N>
-EPC_FAST_INLINE double horner(const double (&c)[N], double t) {
-    double acc = c[N - 1];
-    for (int k = N - 2; k >= 0; --k) acc = acc * t + c[k];
+// Horner's scheme in the lanes' type T (float64 or float32); the coefficients are rounded to T
+// at compile time.
+template <class T, int N>
+EPC_FAST_INLINE T horner(const double (&c)[N], T t) {
+    T acc = static_cast<T>(c[N - 1]);
+    for (int k = N - 2; k >= 0; --k) acc = acc * t + static_cast<T>(c[k]);
     return acc;
 }
 
 }  // namespace poly
 
+// The constants of T's format that the bit tricks below need.
+template <class T>
+struct FloatFormat;
+template <>
+struct FloatFormat<double> {
+    static constexpr double shifter = 6755399441055744.0;  // 1.5 * 2^52
+    static constexpr double integral = 2251799813685248.0;  // 2^51: |x| above is an integer
+    using Bits = std::uint64_t;
+    static constexpr int mantissa_bits = 52, bias = 1023;
+};
+template <>
+struct FloatFormat<float> {
+    static constexpr float shifter = 12582912.0f;  // 1.5 * 2^23
+    static constexpr float integral = 4194304.0f;  // 2^22
+    using Bits = std::uint32_t;
+    static constexpr int mantissa_bits = 23, bias = 127;
+};
+
 // round(x) to the nearest integer in plain arithmetic (SSE2 has no vector rounding): adding
-// and subtracting 1.5 * 2^52 rounds any |x| < 2^51; larger doubles are integers already.
-EPC_FAST_INLINE double round_to_integer(double x) {
-    constexpr double shifter = 6755399441055744.0;  // 1.5 * 2^52
-    const double k = (x + shifter) - shifter;
-    return std::fabs(x) < 2251799813685248.0 ? k : x;  // 2^51
+// and subtracting 1.5 * 2^52 (float: 2^23) rounds any |x| < 2^51 (2^22); larger values are
+// integers already.
+template <class T>
+EPC_FAST_INLINE T round_to_integer(T x) {
+    constexpr T shifter = FloatFormat<T>::shifter;
+    const T k = (x + shifter) - shifter;
+    return std::fabs(x) < FloatFormat<T>::integral ? k : x;
 }
 
 // sin(pi x) for any finite x: r = x - round(x) is exact, sin(pi x) = (-1)^round(x) sin(pi r).
-EPC_FAST_INLINE double sinpi(double x) {
-    const double k = round_to_integer(x);
-    const double r = x - k;
-    const double s = r * poly::horner(poly::sinpi_coefficients, r * r);
-    const bool odd = k != 2.0 * round_to_integer(0.5 * k);
+template <class T>
+EPC_FAST_INLINE T sinpi(T x) {
+    const T k = round_to_integer(x);
+    const T r = x - k;
+    const T s = r * poly::horner(poly::sinpi_coefficients, r * r);
+    const bool odd = k != T(2) * round_to_integer(T(0.5) * k);
     return odd ? -s : s;
 }
 
 // cos(pi x) for |x| <= 1, as sin(pi (1/2 - |x|)): 1/2 - |x| is exact for |x| >= 1/4
 // (Sterbenz), so cos keeps its relative precision near its zero at 1/2; below 1/4 the rounding
 // of the subtraction moves cos by at most 1 ulp.
-EPC_FAST_INLINE double cospi_small(double x) { return sinpi(0.5 - std::fabs(x)); }
+template <class T>
+EPC_FAST_INLINE T cospi_small(T x) { return sinpi(T(0.5) - std::fabs(x)); }
 
-// 2^k for an integer-valued double k in [-1022, 1023], built from its bits (vectorises where
-// ldexp does not): k + 1023 lands in the low mantissa bits of k + 1023 + 1.5 * 2^52.
-EPC_FAST_INLINE double pow2_integer(double k) {
-    const double t = (k + 1023.0) + 6755399441055744.0;
-    std::uint64_t bits;
+// 2^k for an integer-valued k in T's normal exponent range ([-1022, 1023] for float64,
+// [-126, 127] for float32), built from its bits (vectorises where ldexp does not): k + bias
+// lands in the low mantissa bits of k + bias + 1.5 * 2^mantissa_bits.
+template <class T>
+EPC_FAST_INLINE T pow2_integer(T k) {
+    using F = FloatFormat<T>;
+    const T t = (k + T(F::bias)) + F::shifter;
+    typename F::Bits bits;
     std::memcpy(&bits, &t, sizeof bits);
-    bits <<= 52;
-    double r;
+    bits <<= F::mantissa_bits;
+    T r;
     std::memcpy(&r, &bits, sizeof r);
     return r;
 }
 
-// exp(x) for x <= 709 (the jitter factor's argument is never positive): x = k ln 2 + r with
+// exp(x) for x <= 0 (the jitter factor's argument is never positive): x = k ln 2 + r with
 // |r| <= ln(2)/2 (Cody-Waite, ln 2 split so k ln2_hi is exact), exp(r) by its Taylor
 // polynomial, times 2^k applied in two halves so that results below the smallest normal
-// double underflow gradually. 0 below -746, where exp underflows to 0 anyway. <= 2 ulp.
-EPC_FAST_INLINE double exp_poly(double x) {
-    constexpr double inv_ln2 = 1.4426950408889634;
-    constexpr double ln2_hi = 0.6931471803691238;  // 0x3fe62e42fee00000: 32 significant bits
-    constexpr double ln2_lo = 1.9082149292705877e-10;
-    const double xc = x < -746.0 ? -746.0 : x;
-    const double k = round_to_integer(xc * inv_ln2);
-    const double r = (xc - k * ln2_hi) - k * ln2_lo;
-    const double e = poly::horner(poly::exp_coefficients, r);
-    const double k1 = round_to_integer(0.5 * k);
-    const double scaled = e * pow2_integer(k1) * pow2_integer(k - k1);
-    return x < -746.0 ? 0.0 : scaled;
+// underflow gradually. 0 below -746 (float32: -104), where exp underflows to 0 anyway.
+// float64: <= 2 ulp.
+template <class T>
+EPC_FAST_INLINE T exp_poly(T x) {
+    constexpr bool wide = sizeof(T) == sizeof(double);
+    constexpr T inv_ln2 = T(1.4426950408889634);
+    // ln 2 in two parts, the first with few enough significant bits that k ln2_hi is exact
+    constexpr T ln2_hi = wide ? T(0.6931471803691238) : T(0.693145751953125);  // 32 / 16 bits
+    constexpr T ln2_lo = wide ? T(1.9082149292705877e-10) : T(1.428606765330187e-06);
+    constexpr T lowest = wide ? T(-746.0) : T(-104.0);
+    const T xc = x < lowest ? lowest : x;
+    const T k = round_to_integer(xc * inv_ln2);
+    const T r = (xc - k * ln2_hi) - k * ln2_lo;
+    const T e = poly::horner(poly::exp_coefficients, r);
+    const T k1 = round_to_integer(T(0.5) * k);
+    const T scaled = e * pow2_integer(k1) * pow2_integer(k - k1);
+    return x < lowest ? T(0) : scaled;
 }
 
 // asin(z) for |z| <= 1/2.
-EPC_FAST_INLINE double asin_small(double z) {
-    const double t = z * z;
+template <class T>
+EPC_FAST_INLINE T asin_small(T z) {
+    const T t = z * z;
     return z + z * t * poly::horner(poly::asin_coefficients, t);
 }
 
@@ -142,8 +175,9 @@ EPC_FAST_INLINE double asin_small(double z) {
 // z = sqrt((1 - nu)/2) = sin(phi/2) in [0, 1/2], nu = cos phi: (4 asin z - sin(4 asin z)) / pi
 // = z^3 P(z^2). No two terms cancel, so it keeps its relative precision down to nu = 1, where
 // it vanishes as z^3.
-EPC_FAST_INLINE double diffraction_from_half_angle_sine(double z) {
-    const double t = z * z;
+template <class T>
+EPC_FAST_INLINE T diffraction_from_half_angle_sine(T z) {
+    const T t = z * z;
     return z * t * poly::horner(poly::diffraction_coefficients, t);
 }
 

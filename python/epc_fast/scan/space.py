@@ -30,7 +30,8 @@ BLOCK_POINTS = 1 << 16
 POINT_PARAMETERS = tuple(n for n in PARAMETER_NAMES if n != "size") + SIZE_PARAMETERS
 REQUIRED_PARAMETERS = ("illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm")
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
-EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol")
+EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
+                    "precision")
 
 
 def block_generator(seed: int, block: int, name: str) -> np.random.Generator:
