@@ -36,7 +36,7 @@ struct alignas(64) Block {
     unsigned char capped[block_size], no_light[block_size], full_well[block_size];
     unsigned char unbounded[block_size];
     unsigned char solve[block_size];
-    double scratch[3][block_size];  // the exposure stage's
+    double scratch[5][block_size];  // the exposure stage's, then f50's start's
     unsigned char flag_scratch[2][block_size];
     // float32 mode: a lane f50 cannot be solved for in float32 (a length outside
     // [2^-40, 2^40] mm); the block is redone in float64 for it (kernel.h)

@@ -355,6 +355,12 @@ EPC_FAST_INLINE bool float32_length(double length_mm) {
     return (length_mm == 0.0) | ((length_mm >= float32_length_lo_mm) & (length_mm <= float32_length_hi_mm));
 }
 
+// Whether a factor of a length is inside 2^-60..2^60, where float32 multiplies it exactly as
+// far as range goes (a product of two such within 2^-40..2^40 never leaves float32's range).
+EPC_FAST_INLINE bool float32_factor(double x) {
+    return (x >= 8.673617379884035e-19) & (x <= 1152921504606846976.0);  // 2^-60, 2^60
+}
+
 // Sets lo = 0, hi = f_hi, the starting abscissa and the solve's inputs in T for every lane;
 // returns which terms the block's lanes to solve use, as bits (1 motion, 2 jitter). With T =
 // float32, a lane to solve whose lengths float32 cannot hold is marked `wide` and taken out of
@@ -397,15 +403,36 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     T* __restrict lo = b.lo;
     T* __restrict hi = b.hi;
     T* __restrict at = b.at;
+    // float32: the spectrum's wavelengths and the f-number enter the polychromatic MTF as
+    // separate float32 factors, so they too must fit (2^-60..2^60; the lengths are checked below)
+    bool spectrum_fits = true;
+    for (const double nm : spectrum.wavelengths_nm) spectrum_fits &= float32_factor(nm * nm_to_mm);
+    const double mean_mm = mean_nm * nm_to_mm;
+    // every length in float64 first, then rounded once to T (float32: after checking it fits);
+    // two loops, each of one type, as GCC vectorises them
+    double* __restrict lf = b.scratch[0];
+    double* __restrict lf_short = b.scratch[1];
+    double* __restrict ap = b.scratch[2];
+    double* __restrict jit = b.scratch[3];
+    double* __restrict d_length = b.scratch[4];
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double f_number_i = f_num_in[i];
+        lf[i] = wavelength[i] * nm_to_mm * f_number_i;
+        lf_short[i] = (poly ? shortest_nm : wavelength[i]) * nm_to_mm * f_number_i;
+        ap[i] = pixel_aperture_mm(pitch[i], fill[i]);
+        jit[i] = jitter_um_[i] * um_to_mm;
+        d_length[i] = poly ? mean_mm * f_number_i : lf[i];
+    }
     if (narrow) {
-        // the lengths in float64, checked, before they are rounded to float32
+        const bool lambdas_fit = !poly || spectrum_fits;
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
-            const double lf_short = (poly ? shortest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
             const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
-            const bool fits = float32_length(lf_short) & float32_length(lf_long) &
-                              float32_length(pixel_aperture_mm(pitch[i], fill[i])) &
-                              float32_length(blur_in[i]) & float32_length(jitter_um_[i] * um_to_mm);
+            const bool fits = float32_length(lf_short[i]) & float32_length(lf_long) &
+                              float32_length(ap[i]) & float32_length(blur_in[i]) &
+                              float32_length(jit[i]) & lambdas_fit &
+                              (!poly | float32_factor(f_num_in[i]));
             wide[i] = (solve[i] != 0) & !fits;
             solve[i] = (solve[i] != 0) & fits;
             b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
@@ -413,26 +440,21 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     } else {
         for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
     }
-    const T mean_mm = static_cast<T>(mean_nm * nm_to_mm);
-    const T shortest = static_cast<T>(shortest_nm);
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        // float32: a lane not solved computes on its float32-rounded inputs, harmlessly
-        const T f_number_i = static_cast<T>(f_num_in[i]);
-        const T wavelength_i = static_cast<T>(wavelength[i]);
-        const T jitter_um_i = static_cast<T>(jitter_um_[i]);
-        f_num[i] = f_number_i;
+        // float32: a lane not solved computes on rounded stand-ins, harmlessly
+        f_num[i] = static_cast<T>(f_num_in[i]);
         threshold[i] = static_cast<T>(threshold_in[i]);
         blur[i] = static_cast<T>(blur_in[i]);
-        lambda_f[i] = wavelength_i * T(nm_to_mm) * f_number_i;
-        aperture[i] = pixel_aperture_mm(static_cast<T>(pitch[i]), static_cast<T>(fill[i]));
-        jitter_mm[i] = jitter_um_i * T(um_to_mm);
+        lambda_f[i] = static_cast<T>(lf[i]);
+        aperture[i] = static_cast<T>(ap[i]);
+        jitter_mm[i] = static_cast<T>(jit[i]);
         lo[i] = T(0);
-        const T f_hi = f50_bracket(f_number_i, poly ? shortest : wavelength_i, aperture[i],
-                                   blur[i], jitter_um_i, ln_inv_c[i]);
+        const T f_hi = f50_bracket(static_cast<T>(lf_short[i]), aperture[i], blur[i], jitter_mm[i],
+                                   ln_inv_c[i]);
         hi[i] = f_hi;
         // the starting guess
-        const T d = (poly ? mean_mm * f_number_i : lambda_f[i]) * T(1.0 / start_nu50);
+        const T d = static_cast<T>(d_length[i]) * T(1.0 / start_nu50);
         const T p = aperture[i] * T(1.0 / start_x50);
         const T m = blur[i] * T(1.0 / start_x50);
         const T j = jitter_mm[i] * T(1.0 / start_j50);

@@ -138,17 +138,18 @@ EPC_FAST_INLINE Slopes<T> diffraction_log_slopes(T nu) {
 // pixel 1/(sqrt(a) p), motion 1/b) and, with jitter, jitter's own threshold crossing
 // sqrt(ln(1/c) / (2 pi^2)) / sigma_j (ln(1/c) is the caller's: the C library's log has no
 // place in a lane loop). MTF_sys decreases strictly on [0, f_hi] and is <= threshold at f_hi
-// (MODEL.md section 6). Selects, not branches, so that lane loops vectorise.
+// (MODEL.md section 6). Selects, not branches, so that lane loops vectorise. Takes the lengths
+// (mm) the frequency multiplies, as the solvers do.
 template <class T>
-EPC_FAST_INLINE T f50_bracket(T f_number, T shortest_wavelength_nm, T aperture_mm, T blur_mm,
-                              T jitter_um, T ln_inv_threshold) {
+EPC_FAST_INLINE T f50_bracket(T shortest_lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm,
+                              T ln_inv_threshold) {
     constexpr T infinity = std::numeric_limits<T>::infinity();
-    const T diffraction_zero = T(1) / (shortest_wavelength_nm * T(nm_to_mm) * f_number);
+    const T diffraction_zero = T(1) / shortest_lambda_f_mm;
     const T pixel_zero = T(1) / aperture_mm;
     const T motion_zero = blur_mm > T(0) ? T(1) / blur_mm : infinity;
-    const T jitter_cross = jitter_um > T(0) ? std::sqrt(ln_inv_threshold * T(1.0 / (2.0 * pi * pi))) /
-                                                  (jitter_um * T(um_to_mm))
-                                            : infinity;
+    const T jitter_cross = jitter_mm > T(0)
+                               ? std::sqrt(ln_inv_threshold * T(1.0 / (2.0 * pi * pi))) / jitter_mm
+                               : infinity;
     const T optics = diffraction_zero < pixel_zero ? diffraction_zero : pixel_zero;
     const T blurs = motion_zero < jitter_cross ? motion_zero : jitter_cross;
     return optics < blurs ? optics : blurs;
