@@ -225,9 +225,10 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         The closed-form quadratic root, or Brent's method on ln SNR(T) = ln SNR_target.
     t_mpe_rtol : 1, Brent's relative tolerance on T_MPE.
     precision : {"float64", "float32"}
-        The type f50 is solved in by the core. ``"float32"`` runs twice the vector lanes and
-        about 1.6x the points/s, for f50 and EPC to a few 1e-7 relative (docs/numerics.md has
-        the measured errors): ``f50_rtol`` is raised to at least 2^-21 = 4.8e-7 there. Statuses,
+        The type f50 is solved in by the core. ``"float32"`` runs f50's solve on twice the
+        vector lanes, 1.3-1.4x the points/s in all, for f50 to about 5e-7 relative
+        (docs/numerics.md has the measured errors): ``f50_rtol`` is raised to at least
+        2^-21 = 4.8e-7 there. Statuses,
         T_MPE, blur and the electron counts are float64 in both, so they are the same in both;
         a point whose lengths float32 cannot hold (outside 2^-40..2^40 mm) is solved in float64.
         Outputs are float64 arrays either way. The reference backend ignores it.
