@@ -403,10 +403,6 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     T* __restrict lo = b.lo;
     T* __restrict hi = b.hi;
     T* __restrict at = b.at;
-    // float32: the spectrum's wavelengths and the f-number enter the polychromatic MTF as
-    // separate float32 factors, so they too must fit (2^-60..2^60; the lengths are checked below)
-    bool spectrum_fits = true;
-    for (const double nm : spectrum.wavelengths_nm) spectrum_fits &= float32_factor(nm * nm_to_mm);
     const double mean_mm = mean_nm * nm_to_mm;
     // every length in float64 first, then rounded once to T (float32: after checking it fits);
     // two loops, each of one type, as GCC vectorises them
@@ -425,7 +421,10 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         d_length[i] = poly ? mean_mm * f_number_i : lf[i];
     }
     if (narrow) {
-        const bool lambdas_fit = !poly || spectrum_fits;
+        // the spectrum's wavelengths and the f-number enter the polychromatic MTF as separate
+        // float32 factors, so they too must fit (2^-60..2^60)
+        bool lambdas_fit = true;
+        for (const double nm : spectrum.wavelengths_nm) lambdas_fit &= float32_factor(nm * nm_to_mm);
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
             const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];

@@ -414,10 +414,6 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     }
 }
 
-}  // namespace detail
-
-namespace detail {
-
 // Evaluates points [begin, begin + n) with f50 solved in T (block.h).
 template <class T>
 void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
