@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "block.h"
 #include "exposure.h"
@@ -172,6 +173,88 @@ void exposure_lane(const Options& opt, Block<T>& b, std::size_t i) {
                                              x[stabilization][i], t);
 }
 
+// The terms of T_MPE and blur a block uses: a broadcast dark current, read noise or PRNU of 0
+// drops that term, and so does a broadcast shake of 0 (motion 0); motion 1 is shake with a
+// broadcast stabilisation of 1, 2 any other.
+struct ExposureTerms {
+    bool dark, read, prnu;
+    int motion;
+};
+
+template <class T>
+ExposureTerms exposure_terms(const Block<T>& b) {
+    auto broadcast_is = [&](int j, double v) {
+        return (b.uniform & (std::uint32_t{1} << j)) != 0 && b.broadcast[j] == v;
+    };
+    const bool shake = !broadcast_is(shake_deg_per_s, 0.0);
+    return {!broadcast_is(dark_current_e_per_s, 0.0), !broadcast_is(read_noise_e, 0.0),
+            !broadcast_is(prnu, 0.0), !shake ? 0 : broadcast_is(stabilization, 1.0) ? 1 : 2};
+}
+
+// signal_electrons and blur_length_mm for every lane, from the rate, sqrt(s) and the PRNU margin
+// w; flag_scratch[0] marks the lanes whose products leave the normal range (exposure_lane redoes
+// them). The template drops the terms the block does not use: Dark (q = 1), Read (hypot(x, 0) =
+// x), Prnu (w = 1), Motion 0 (no blur), 1 (stabilisation 1) or 2.
+template <bool Dark, bool Read, bool Prnu, int Motion, class T>
+void electrons_and_blur(Block<T>& b, const double* __restrict root_s,
+                        const double* __restrict w_margin) {
+    const auto& x = b.x;
+    const double* __restrict read = x[read_noise_e];
+    const double* __restrict dark = x[dark_current_e_per_s];
+    const double* __restrict well = x[full_well_e];
+    const double* __restrict focal = x[focal_length_mm];
+    const double* __restrict shake = x[shake_deg_per_s];
+    const double* __restrict stab = x[stabilization];
+    const double* __restrict rate = b.rate;
+    const unsigned char* __restrict rate_normal = b.flag_scratch[1];
+    const unsigned char* __restrict capped = b.capped;
+    double* __restrict electrons = b.electrons;
+    double* __restrict t_mpe = b.t_mpe;
+    double* __restrict blur = b.blur;
+    unsigned char* __restrict slow = b.flag_scratch[0];
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const double rs = root_s[i], rv = rate[i];
+        // signal_electrons
+        double a = 0.0, el = 0.0;
+        bool electrons_normal = true;
+        {
+            const double w = Prnu ? w_margin[i] : 1.0;
+            const double q = Dark ? 1.0 + dark[i] / rv : 1.0;
+            const double read_term = Read ? 2.0 * read[i] * (Prnu ? std::sqrt(w) : 1.0) / q : 0.0;
+            a = (Prnu ? rs / (2.0 * w) : 0.5 * rs) * (rs + (Read ? hypot_positive(rs, read_term) : rs));
+            if (Dark) {
+                const double ad = a * dark[i];
+                const double extra = ad / rv;
+                const bool no_dark = dark[i] == 0.0;
+                electrons_normal = no_dark | (normal(a) & normal(ad) & normal(extra));
+                el = a + (no_dark ? 0.0 : extra);
+            } else {
+                el = a;
+            }
+        }
+        const double t = el / rv;
+        electrons[i] = el;
+        t_mpe[i] = t;
+        const bool unreachable = (capped[i] != 0) | !(t <= std::numeric_limits<double>::max()) | (el > well[i]);
+        bool motion_ok = true;
+        if (Motion == 0) {
+            blur[i] = 0.0;
+        } else {
+            // blur_length_mm
+            const double angle1 = shake[i] * deg_to_rad;
+            const double angle2 = angle1 * t;
+            const double angle = Motion == 2 ? angle2 / stab[i] : angle2;
+            const bool angle_normal = normal(shake[i]) & normal(angle1) & normal(angle2) & normal(angle);
+            const bool still = shake[i] == 0.0;
+            const double tan_angle = tan_of_angle(angle);
+            blur[i] = still ? 0.0 : angle < half_pi ? focal[i] * tan_angle : inf;
+            motion_ok = unreachable | still | angle_normal;
+        }
+        slow[i] = !((rate_normal[i] != 0) & electrons_normal & motion_ok);
+    }
+}
+
 // T_MPE and blur for every lane. The vector path computes the closed form with plain products
 // and vectorised hypot and tan; a lane whose products leave the normal range, or any lane
 // when Brent is asked for, is redone by exposure_lane. cos(theta) and 10^(snr/20) are computed once for a
@@ -220,20 +303,14 @@ void exposure(const Options& opt, Block<T>& b) {
     const double* __restrict k_e = x[electrons_per_lux_s_m2];
     const double* __restrict fill = x[fill_factor];
     const double* __restrict pitch = x[pixel_pitch_um];
-    const double* __restrict read = x[read_noise_e];
-    const double* __restrict dark = x[dark_current_e_per_s];
-    const double* __restrict u = x[prnu];
     const double* __restrict well = x[full_well_e];
-    const double* __restrict focal = x[focal_length_mm];
-    const double* __restrict shake = x[shake_deg_per_s];
-    const double* __restrict stab = x[stabilization];
     double* __restrict rate = b.rate;
     double* __restrict electrons = b.electrons;
     double* __restrict t_mpe = b.t_mpe;
     double* __restrict blur = b.blur;
     unsigned char* __restrict capped = b.capped;
-    unsigned char* __restrict slow = b.flag_scratch[0];
-    // Three loops, each small enough for GCC to vectorise (one with all of it does not).
+    // Three stages, each small enough for GCC to vectorise (one loop with all of it does not):
+    // the rate, the PRNU margin, then electrons and blur.
     double* __restrict w_margin = b.scratch[2];
     unsigned char* __restrict rate_normal = b.flag_scratch[1];
     EPC_FAST_SIMD
@@ -268,54 +345,62 @@ void exposure(const Options& opt, Block<T>& b) {
         rate[i] = rv;
         rate_normal[i] = ok;
     }
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        // SnrTarget::prnu_product, capped_by and prnu_margin; the product's rounding error is
-        // used only where p is near 1, where both factors are far inside product_error's range
-        const double rs = root_s[i];
-        const double p = u[i] * rs;
-        const double p_error = product_error(u[i], rs);
-        const double e = std::fabs(p - 1.0) < 0.5 ? p_error : 0.0;
-        capped[i] = (p > 1.0) | ((p == 1.0) & (e >= 0.0));
+    const ExposureTerms terms = exposure_terms(b);
+    if (terms.prnu) {
+        const double* __restrict u = x[prnu];
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            // SnrTarget::capped_by and prnu_margin: capped when u sqrt(s) >= 1 exactly
+            const double rs = root_s[i];
 #if EPC_FAST_FMA
-        // 1 -+ u sqrt(s) from the exact product (the compiler must not fuse p into one and not
-        // the other, or subtract e from an already exact difference)
-        w_margin[i] = std::fma(-u[i], rs, 1.0) * std::fma(u[i], rs, 1.0);
+            // u sqrt(s) - 1 rounded once has the exact difference's sign; 1 -+ u sqrt(s) from
+            // the exact product (the compiler must not fuse p into one and not the other). No
+            // fma(u, s, -u s) here: GCC 12 does not vectorise a loop with it.
+            capped[i] = std::fma(u[i], rs, -1.0) >= 0.0;
+            w_margin[i] = std::fma(-u[i], rs, 1.0) * std::fma(u[i], rs, 1.0);
 #else
-        w_margin[i] = ((1.0 - p) - e) * ((1.0 + p) + e);
+            // the product p and its rounding error e; e is used only where p is near 1, where
+            // both factors are far inside product_error's range
+            const double p = u[i] * rs;
+            const double p_error = product_error(u[i], rs);
+            const double e = std::fabs(p - 1.0) < 0.5 ? p_error : 0.0;
+            capped[i] = (p > 1.0) | ((p == 1.0) & (e >= 0.0));
+            w_margin[i] = ((1.0 - p) - e) * ((1.0 + p) + e);
 #endif
+        }
+    } else {  // u = 0: never capped, w = 1 exactly
+        for (std::size_t i = 0; i < n; ++i) capped[i] = 0;
+        for (std::size_t i = 0; i < n; ++i) w_margin[i] = 1.0;
     }
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        const double rs = root_s[i], w = w_margin[i], rv = rate[i];
-        // signal_electrons
-        const double q = 1.0 + dark[i] / rv;
-        const double read_term = 2.0 * read[i] * std::sqrt(w) / q;
-        const double a = rs / (2.0 * w) * (rs + hypot_positive(rs, read_term));
-        const double ad = a * dark[i];
-        const double extra = ad / rv;
-        const bool extra_normal = normal(a) & normal(ad) & normal(extra);
-        const bool no_dark = dark[i] == 0.0;
-        const double el = a + (no_dark ? 0.0 : extra);
-        const double t = el / rv;
-        // blur_length_mm
-        const double angle1 = shake[i] * deg_to_rad;
-        const double angle2 = angle1 * t;
-        const double angle = angle2 / stab[i];
-        const bool angle_normal = normal(shake[i]) & normal(angle1) & normal(angle2) & normal(angle);
-        const bool still = shake[i] == 0.0;
-        const double tan_angle = tan_of_angle(angle);
-        electrons[i] = el;
-        t_mpe[i] = t;
-        blur[i] = still ? 0.0 : angle < half_pi ? focal[i] * tan_angle : inf;
-        const bool unreachable = (capped[i] != 0) | !(t <= std::numeric_limits<double>::max()) | (el > well[i]);
-        const bool fast = (rate_normal[i] != 0) & (no_dark | extra_normal) &
-                          (unreachable | still | angle_normal);
-        slow[i] = !fast;
+    // One instantiation per combination of the terms the block uses (each exact where it
+    // drops a term: x / 1, x + 0, hypot(x, 0) and sqrt(1) are x and 1 bit for bit).
+    const int code = (terms.dark ? 1 : 0) | (terms.read ? 2 : 0) | (terms.prnu ? 4 : 0);
+    auto run = [&](auto dark, auto read, auto prnu) {
+        constexpr bool D = decltype(dark)::value, R = decltype(read)::value, P = decltype(prnu)::value;
+        if (terms.motion == 0) electrons_and_blur<D, R, P, 0>(b, root_s, w_margin);
+        else if (terms.motion == 1) electrons_and_blur<D, R, P, 1>(b, root_s, w_margin);
+        else electrons_and_blur<D, R, P, 2>(b, root_s, w_margin);
+    };
+    using yes = std::true_type;
+    using no = std::false_type;
+    switch (code) {
+        case 0: run(no{}, no{}, no{}); break;
+        case 1: run(yes{}, no{}, no{}); break;
+        case 2: run(no{}, yes{}, no{}); break;
+        case 3: run(yes{}, yes{}, no{}); break;
+        case 4: run(no{}, no{}, yes{}); break;
+        case 5: run(yes{}, no{}, yes{}); break;
+        case 6: run(no{}, yes{}, yes{}); break;
+        default: run(yes{}, yes{}, yes{}); break;
     }
+    const unsigned char* __restrict slow = b.flag_scratch[0];
     const bool brent = opt.t_mpe_solver != TMpeSolver::closed_form;
-    for (std::size_t i = 0; i < n; ++i)
-        if (brent || slow[i]) exposure_lane(opt, b, i);
+    int n_slow = 0;
+    EPC_FAST_SIMD_REDUCTION(+ : n_slow)
+    for (std::size_t i = 0; i < n; ++i) n_slow += slow[i];
+    if (brent || n_slow > 0)
+        for (std::size_t i = 0; i < n; ++i)
+            if (brent || slow[i]) exposure_lane(opt, b, i);
     unsigned char* __restrict no_light = b.no_light;
     unsigned char* __restrict full_well = b.full_well;
     unsigned char* __restrict unbounded = b.unbounded;
