@@ -23,6 +23,8 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <type_traits>
 
 #include "block.h"
 #include "mtf.h"
@@ -378,13 +380,25 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         longest_nm = std::fmax(longest_nm, spectrum.wavelengths_nm[k]);
         mean_nm += spectrum.weights[k] * spectrum.wavelengths_nm[k];
     }
-    // ln(1/c) for the jitter bracket and the start's scaling; the C library's log only for a
-    // threshold other than 1/2.
+    // ln(1/c) for the jitter bracket and sqrt(ln(1/c) / ln 2) for the start's scaling; the C
+    // library's log only for a threshold other than 1/2, once for a broadcast threshold.
     T* __restrict ln_inv_c = b.mtf;  // scratch until the solver runs
-    for (std::size_t i = 0; i < n; ++i) {
-        const double c = x[mtf_threshold][i];
-        ln_inv_c[i] = static_cast<T>(c == 0.5 ? ln2 : std::log(1.0 / c));
+    T* __restrict start_scale = b.slope;
+    auto ln_inv = [&](double c) { return static_cast<T>(c == 0.5 ? ln2 : std::log(1.0 / c)); };
+    if (b.uniform & (std::uint32_t{1} << mtf_threshold)) {
+        const T l = ln_inv(b.broadcast[mtf_threshold]);
+        const T scale = std::sqrt(l * T(1.0 / ln2));
+        for (std::size_t i = 0; i < n; ++i) ln_inv_c[i] = l;
+        for (std::size_t i = 0; i < n; ++i) start_scale[i] = scale;
+    } else {
+        for (std::size_t i = 0; i < n; ++i) ln_inv_c[i] = ln_inv(x[mtf_threshold][i]);
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) start_scale[i] = std::sqrt(ln_inv_c[i] * T(1.0 / ln2));
     }
+    auto broadcast_is = [&](int j, double v) {
+        return (b.uniform & (std::uint32_t{1} << j)) != 0 && b.broadcast[j] == v;
+    };
+    const bool any_jitter = !broadcast_is(jitter_um, 0.0);
     const double* __restrict wavelength = x[wavelength_nm];
     const double* __restrict f_num_in = x[f_number];
     const double* __restrict pitch = x[pixel_pitch_um];
@@ -411,12 +425,19 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     double* __restrict ap = b.scratch[2];
     double* __restrict jit = b.scratch[3];
     double* __restrict d_length = b.scratch[4];
+    if (b.uniform & (std::uint32_t{1} << fill_factor)) {  // pixel_aperture_mm, one sqrt
+        const double root_fill = std::sqrt(b.broadcast[fill_factor]);
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) ap[i] = root_fill * (pitch[i] * um_to_mm);
+    } else {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) ap[i] = pixel_aperture_mm(pitch[i], fill[i]);
+    }
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         const double f_number_i = f_num_in[i];
         lf[i] = wavelength[i] * nm_to_mm * f_number_i;
         lf_short[i] = (poly ? shortest_nm : wavelength[i]) * nm_to_mm * f_number_i;
-        ap[i] = pixel_aperture_mm(pitch[i], fill[i]);
         jit[i] = jitter_um_[i] * um_to_mm;
         d_length[i] = poly ? mean_mm * f_number_i : lf[i];
     }
@@ -439,29 +460,33 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     } else {
         for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
     }
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        // float32: a lane not solved computes on rounded stand-ins, harmlessly
-        f_num[i] = static_cast<T>(f_num_in[i]);
-        threshold[i] = static_cast<T>(threshold_in[i]);
-        blur[i] = static_cast<T>(blur_in[i]);
-        lambda_f[i] = static_cast<T>(lf[i]);
-        aperture[i] = static_cast<T>(ap[i]);
-        jitter_mm[i] = static_cast<T>(jit[i]);
-        lo[i] = T(0);
-        const T f_hi = f50_bracket(static_cast<T>(lf_short[i]), aperture[i], blur[i], jitter_mm[i],
-                                   ln_inv_c[i]);
-        hi[i] = f_hi;
-        // the starting guess
-        const T d = static_cast<T>(d_length[i]) * T(1.0 / start_nu50);
-        const T p = aperture[i] * T(1.0 / start_x50);
-        const T m = blur[i] * T(1.0 / start_x50);
-        const T j = jitter_mm[i] * T(1.0 / start_j50);
-        const T r = T(1) / std::sqrt(d * d + p * p + m * m + j * j);
-        const T f0 = r * start_polynomial(d * r, (p + m) * r, (p * r) * (m * r)) *
-                     std::sqrt(ln_inv_c[i] * T(1.0 / ln2));
-        at[i] = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
-    }
+    auto finish = [&](auto with_jitter) {
+        constexpr bool J = decltype(with_jitter)::value;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            // float32: a lane not solved computes on rounded stand-ins, harmlessly
+            f_num[i] = static_cast<T>(f_num_in[i]);
+            threshold[i] = static_cast<T>(threshold_in[i]);
+            blur[i] = static_cast<T>(blur_in[i]);
+            lambda_f[i] = static_cast<T>(lf[i]);
+            aperture[i] = static_cast<T>(ap[i]);
+            jitter_mm[i] = static_cast<T>(jit[i]);
+            lo[i] = T(0);
+            const T f_hi = f50_bracket<J>(static_cast<T>(lf_short[i]), aperture[i], blur[i],
+                                          jitter_mm[i], ln_inv_c[i]);
+            hi[i] = f_hi;
+            // the starting guess
+            const T d = static_cast<T>(d_length[i]) * T(1.0 / start_nu50);
+            const T p = aperture[i] * T(1.0 / start_x50);
+            const T m = blur[i] * T(1.0 / start_x50);
+            const T j = jitter_mm[i] * T(1.0 / start_j50);
+            const T r = T(1) / std::sqrt(d * d + p * p + m * m + j * j);
+            const T f0 = r * start_polynomial(d * r, (p + m) * r, (p * r) * (m * r)) * start_scale[i];
+            at[i] = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
+        }
+    };
+    if (any_jitter) finish(std::true_type{});
+    else finish(std::false_type{});
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));

@@ -140,19 +140,22 @@ EPC_FAST_INLINE Slopes<T> diffraction_log_slopes(T nu) {
 // place in a lane loop). MTF_sys decreases strictly on [0, f_hi] and is <= threshold at f_hi
 // (MODEL.md section 6). Selects, not branches, so that lane loops vectorise. Takes the lengths
 // (mm) the frequency multiplies, as the solvers do.
-template <class T>
+//
+// The first zeros are one division: min(1/x, 1/y) is 1/max(x, y) bit for bit, as division
+// rounds monotonically. `Jitter` = false, when the caller knows that no lane has jitter, skips
+// the crossing's square root and division.
+template <bool Jitter = true, class T>
 EPC_FAST_INLINE T f50_bracket(T shortest_lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm,
                               T ln_inv_threshold) {
     constexpr T infinity = std::numeric_limits<T>::infinity();
-    const T diffraction_zero = T(1) / shortest_lambda_f_mm;
-    const T pixel_zero = T(1) / aperture_mm;
-    const T motion_zero = blur_mm > T(0) ? T(1) / blur_mm : infinity;
+    const T optics = shortest_lambda_f_mm > aperture_mm ? shortest_lambda_f_mm : aperture_mm;
+    const T longest = optics > blur_mm ? optics : blur_mm;  // blur 0: no motion zero
+    const T zero = T(1) / longest;
+    if (!Jitter) return zero;
     const T jitter_cross = jitter_mm > T(0)
                                ? std::sqrt(ln_inv_threshold * T(1.0 / (2.0 * pi * pi))) / jitter_mm
                                : infinity;
-    const T optics = diffraction_zero < pixel_zero ? diffraction_zero : pixel_zero;
-    const T blurs = motion_zero < jitter_cross ? motion_zero : jitter_cross;
-    return optics < blurs ? optics : blurs;
+    return zero < jitter_cross ? zero : jitter_cross;
 }
 
 }  // namespace epc_fast
