@@ -147,14 +147,15 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
     for (std::size_t i = 0; i < n; ++i) {
         const T f = at[i];
         T m = mtf[i], r = slope[i], s = Curvature ? curvature[i] : T(0);
-        const T a = aperture[i];
-        const Slopes<T> p = sinc_slopes(a * f);
+        // pixel aperture and motion: one division between them
+        const T a = aperture[i], l = Motion ? blur[i] : T(0);
+        const SlopesPair<T> pq = Motion ? sinc_slopes_pair(a * f, l * f)
+                                        : SlopesPair<T>{sinc_slopes(a * f), Slopes<T>{}};
+        const Slopes<T> p = pq.first, q = pq.second;
         m *= p.value;
         r += a * p.r;
         if (Curvature) s += (a * a) * p.dr;
         if (Motion) {
-            const T l = blur[i];
-            const Slopes<T> q = sinc_slopes(l * f);
             m *= q.value;
             r += l * q.r;
             if (Curvature) s += (l * l) * q.dr;

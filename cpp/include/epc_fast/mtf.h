@@ -81,15 +81,16 @@ template <class T>
 constexpr T sinc_series_below = sizeof(T) == sizeof(double) ? T(1e-3) : T(3e-2);
 
 // sinc(y), r = pi cot(pi y) - 1/y and r' = 1/y^2 - pi^2 / sin^2(pi y), for 0 <= y < 1 (inside
-// f50's bracket). Below sinc_series_below, where those cancel, the series of ln sinc(y) =
+// f50's bracket), given sin(pi y) and 1/(y sin(pi y)): 1/y and 1/sin(pi y) are sin(pi y) and y
+// times it, so a factor costs one division, and two factors one between them (sinc_slopes_pair).
+// Below sinc_series_below, where those cancel, the series of ln sinc(y) =
 // -(pi y)^2/6 - (pi y)^4/180 - ...: r = -pi^2 y/3 - pi^4 y^3/45, r' = -pi^2/3 - pi^4 y^2/15
-// and sinc = 1 - (pi y)^2/6 + (pi y)^4/120.
+// and sinc = 1 - (pi y)^2/6 + (pi y)^4/120 (the caller passes any finite inv_y_sin there).
 template <class T>
-EPC_FAST_INLINE Slopes<T> sinc_slopes(T y) {
+EPC_FAST_INLINE Slopes<T> sinc_slopes_given(T y, T sin_py, T inv_y_sin) {
     constexpr double pi2 = pi * pi, pi4 = pi2 * pi2;
-    const T sin_py = sinpi(y);
-    const T inv_y = T(1) / y;
-    const T inv_sin = T(1) / sin_py;
+    const T inv_y = sin_py * inv_y_sin;
+    const T inv_sin = y * inv_y_sin;
     const T value = sin_py * inv_y * T(1.0 / pi);
     const T r = T(pi) * cospi_small(y) * inv_sin - inv_y;
     const T dr = inv_y * inv_y - T(pi2) * (inv_sin * inv_sin);
@@ -99,6 +100,37 @@ EPC_FAST_INLINE Slopes<T> sinc_slopes(T y) {
     const T series = T(1) - T(pi2 / 6.0) * y2 + T(pi4 / 120.0) * (y2 * y2);
     return {small ? series : value, small ? -y * (T(pi2 / 3.0) + T(pi4 / 45.0) * y2) : r,
             small ? T(-(pi2 / 3.0)) - T(pi4 / 15.0) * y2 : dr};
+}
+
+// y sin(pi y), or 1 where the series is used (so that it never underflows into a product).
+template <class T>
+EPC_FAST_INLINE T sinc_denominator(T y, T sin_py) {
+    return y < sinc_series_below<T> ? T(1) : y * sin_py;
+}
+
+// One factor's sinc and log-slopes (one division).
+template <class T>
+EPC_FAST_INLINE Slopes<T> sinc_slopes(T y) {
+    const T sin_py = sinpi(y);
+    return sinc_slopes_given(y, sin_py, T(1) / sinc_denominator(y, sin_py));
+}
+
+// Two factors' (pixel and motion) sincs and log-slopes with one division:
+// 1/D1 = D2 / (D1 D2), D = y sin(pi y) in [sinc_series_below sin(pi sinc_series_below), 1) or
+// 1, so the product neither overflows nor underflows while both y < 1 - 1e-15 or so. At a
+// factor's zero (y = 1, which only an end of the bracket reaches) both come out NaN instead of
+// 0, which the solvers treat the same: not above the threshold.
+template <class T>
+struct SlopesPair {
+    Slopes<T> first, second;
+};
+
+template <class T>
+EPC_FAST_INLINE SlopesPair<T> sinc_slopes_pair(T y1, T y2) {
+    const T sin1 = sinpi(y1), sin2 = sinpi(y2);
+    const T d1 = sinc_denominator(y1, sin1), d2 = sinc_denominator(y2, sin2);
+    const T inv = T(1) / (d1 * d2);
+    return {sinc_slopes_given(y1, sin1, d2 * inv), sinc_slopes_given(y2, sin2, d1 * inv)};
 }
 
 // The diffraction MTF at nu with its first and second derivatives in nu (not divided by it:
