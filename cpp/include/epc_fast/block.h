@@ -30,6 +30,10 @@ struct alignas(64) Block {
     double x[n_params][block_size];  // parameters; invalid lanes hold harmless stand-ins
     std::uint32_t uniform;  // bit j: parameter j is broadcast (the same in every lane)
     double broadcast[n_params];  // a broadcast parameter's value (its stand-in if invalid)
+    // bit j: row x[j] holds row_value[j] in every lane, from an earlier block of the same
+    // thread (a Block lives on per thread: kernel.h), so a broadcast row is filled once a call
+    std::uint32_t row_filled;
+    double row_value[n_params];
     // flags are bytes, not bool: the lane loops vectorise on them
     unsigned char valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];

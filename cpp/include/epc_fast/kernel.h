@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -47,6 +48,13 @@ inline void check_domain(const Domain& d, const double* __restrict x, unsigned c
     }
 }
 
+inline bool same_bits(double a, double b) {
+    std::uint64_t x = 0, y = 0;
+    std::memcpy(&x, &a, sizeof x);
+    std::memcpy(&y, &b, sizeof y);
+    return x == y;
+}
+
 // Reads points [begin, begin + n); `illuminance_lux`, when given, replaces that column with
 // n values of its own (the inverse solvers' trial illuminances). A broadcast column (stride 0)
 // is checked once and copied to every lane; padding lanes past n get stand-ins.
@@ -61,17 +69,25 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
         const double* src = replaced ? illuminance : in.columns[j].data;
         const std::ptrdiff_t stride = replaced ? 1 : in.columns[j].stride;
         double* __restrict x = b.x[j];
+        const std::uint32_t bit = std::uint32_t{1} << j;
         if (stride == 0) {
+            // every lane holds the value, or the stand-in if it is invalid, even a lane that is
+            // invalid for another parameter (harmless: a value inside the domain)
             const double v = src[0];
-            for (std::size_t i = 0; i < block_size; ++i) x[i] = v;
             const bool ok = in.domains[j].contains(v);
+            const double fill = ok ? v : stand_in(j);
+            if (!((b.row_filled & bit) != 0 && same_bits(b.row_value[j], fill))) {
+                for (std::size_t i = 0; i < block_size; ++i) x[i] = fill;
+                b.row_value[j] = fill;
+                b.row_filled |= bit;
+            }
             if (!ok)
                 for (std::size_t i = 0; i < block_size; ++i) valid[i] = 0;
-            b.uniform |= std::uint32_t{1} << j;
-            // lane 0 may get a stand-in below (an invalid lane): keep the value itself here
-            b.broadcast[j] = ok ? v : stand_in(j);
+            b.uniform |= bit;
+            b.broadcast[j] = fill;
             continue;
         }
+        b.row_filled &= ~bit;
         if (!replaced) src += static_cast<std::ptrdiff_t>(begin) * stride;
         if (stride == 1) {
             for (std::size_t i = 0; i < n; ++i) x[i] = src[i];
@@ -86,6 +102,7 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
     for (std::size_t i = 0; i < block_size; ++i) n_valid += valid[i];
     if (n_valid == static_cast<int>(block_size)) return;
     for (int j = 0; j < n_params; ++j) {
+        if (b.uniform & (std::uint32_t{1} << j)) continue;  // already harmless
         double* __restrict x = b.x[j];
         const double s = stand_in(j);
         EPC_FAST_SIMD
@@ -523,12 +540,15 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
 inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& out,
                            std::size_t begin, std::size_t n,
                            const double* illuminance_lux = nullptr) noexcept {
+    // One Block per thread and lane type, kept between calls: its broadcast rows are filled
+    // once (gather). Zero-initialised (static storage), so row_filled starts empty.
+    static thread_local detail::Block<double> block64;
     if (opt.precision == Precision::float64) {
-        detail::Block<double> b;
-        detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, b);
+        detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, block64);
         return;
     }
-    detail::Block<float> b;
+    static thread_local detail::Block<float> block32;
+    detail::Block<float>& b = block32;
     detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, b);
     int n_wide = 0;
     for (std::size_t i = 0; i < n; ++i) n_wide += b.wide[i];
@@ -537,8 +557,7 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     unsigned char codes[2][block_size];
     const Outputs wide_out{values[0], values[1], values[2], values[3], values[4], values[5],
                            codes[0], codes[1]};
-    detail::Block<double> wide;
-    detail::evaluate_block_as(in, opt, wide_out, begin, n, illuminance_lux, wide);
+    detail::evaluate_block_as(in, opt, wide_out, begin, n, illuminance_lux, block64);
     auto take = [&](auto* to, const auto* from) {
         if (to != nullptr)
             for (std::size_t i = 0; i < n; ++i)
