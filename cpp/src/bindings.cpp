@@ -46,10 +46,11 @@ py::dict new_outputs(py::ssize_t n) {
     return result;
 }
 
-// A caller's output array: present, 1-D, C-contiguous, writeable, of dtype T and length n.
+// A caller's output array: 1-D, C-contiguous, writeable, of dtype T and length n; null when
+// `out` has no such field (that output is not computed).
 template <class T>
 T* output_column(const py::dict& out, const char* name, py::ssize_t n) {
-    if (!out.contains(name)) throw std::invalid_argument(std::string("out has no '") + name + "'");
+    if (!out.contains(name)) return nullptr;
     py::object obj = out[name];
     if (!py::isinstance<py::array>(obj))
         throw std::invalid_argument(std::string("out['") + name + "'] is not an ndarray");
@@ -259,7 +260,8 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
           py::arg("precision"), py::arg("threads"),
           py::arg("chunk_points"), py::arg("out") = py::none(),
-          "Evaluates the model; writes into `out` (a dict of the output arrays) when given.");
+          "Evaluates the model; writes into `out` (a dict of the output arrays) when given: "
+          "only the outputs it has are computed.");
     m.def("lux_for_epc", &lux_for_epc_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("target_epc"), py::arg("lux_lo"), py::arg("lux_hi"), py::arg("rtol"),

@@ -44,16 +44,18 @@ class Result:
     epc : pixels, effective pixel count 4 S f50^2.
     status : :class:`Status` codes (uint8 array).
     cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
+
+    A field left out of ``evaluate(outputs=...)`` is None.
     """
 
-    electron_rate_e_per_s: np.ndarray | float
-    electrons: np.ndarray | float
-    t_mpe_s: np.ndarray | float
-    blur_mm: np.ndarray | float
-    f50_cyc_per_mm: np.ndarray | float
-    epc: np.ndarray | float
-    status: np.ndarray | Status
-    cause: np.ndarray | Cause
+    electron_rate_e_per_s: np.ndarray | float | None
+    electrons: np.ndarray | float | None
+    t_mpe_s: np.ndarray | float | None
+    blur_mm: np.ndarray | float | None
+    f50_cyc_per_mm: np.ndarray | float | None
+    epc: np.ndarray | float | None
+    status: np.ndarray | Status | None
+    cause: np.ndarray | Cause | None
 
     def as_dict(self) -> dict:
         """The outputs by name."""
@@ -171,7 +173,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              wavelength_nm=550.0, mtf_threshold=0.5, spectrum=None, threads=None,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
-             t_mpe_rtol=1e-15, precision="float64", out=None) -> Result:
+             t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None) -> Result:
     """Effective pixel count and its intermediates for camera designs (MODEL.md).
 
     Every model parameter is a float or an array_like of floats; all of them broadcast against
@@ -237,6 +239,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         shape, C-contiguous, writeable, native float64 (``status`` and ``cause``: uint8), none
         overlapping another. The returned Result holds these same arrays (0-d arrays, not
         scalars, for scalar input). With ``invalid="raise"`` they are written before the error.
+        With ``outputs=``, exactly the fields it names.
+    outputs : str or iterable of str, optional
+        The :class:`Result` fields to compute (default: all); the others are None in the
+        Result. The core writes only these, and skips f50's solve when neither
+        ``f50_cyc_per_mm`` nor ``epc`` is asked for: e.g. ``("epc", "status")`` for a scan that
+        keeps only those, ``("t_mpe_s",)`` for exposures alone.
 
     Returns
     -------
@@ -281,13 +289,21 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     _choice("precision", precision, PRECISIONS)
     f50_rtol = _tolerance("f50_rtol", f50_rtol)
     t_mpe_rtol = _tolerance("t_mpe_rtol", t_mpe_rtol)
-    given = None if out is None else _out_arrays(out, shape)
-    _check_memory(shape, arrays, backend, given is not None)
+    selected = _outputs_of(outputs)
+    given = None if out is None else _out_arrays(out, shape, selected)
+    # invalid="raise" reads the status even when it is not returned
+    computed = selected + (("status",) if invalid == "raise" and "status" not in selected else ())
+    _check_memory(shape, arrays, backend, given is not None, computed)
 
+    n = math.prod(shape)
     if backend == "core":
         threads = _threads_of(threads)
-        flat = None if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
-                                           for k, v in given.items()}
+        if given is None and computed == tuple(OUTPUT_DTYPES):
+            flat = None  # the core allocates them all
+        else:  # the core writes exactly the arrays it is given
+            flat = {} if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
+                                             for k, v in given.items()}
+            flat.update({k: np.empty(n, OUTPUT_DTYPES[k]) for k in computed if k not in flat})
         result = _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol,
                            t_mpe_solver, t_mpe_rtol, threads, out=flat, precision=precision)
     else:
@@ -298,25 +314,47 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
             for name, array in given.items():
                 np.copyto(array, result[name].reshape(shape))
 
-    status = result["status"].reshape(shape)
+    status = result["status"].reshape(shape) if "status" in result else None
     if invalid == "raise" and np.any(status == Status.INVALID):
         _raise_first_invalid(arrays, names, status, shape)
-    return Result(**given) if given is not None else _result(result, shape)
+    if given is not None:
+        return Result(**{name: given.get(name) for name in OUTPUT_DTYPES})
+    return _result({k: v for k, v in result.items() if k in selected}, shape)
 
 
-def _out_arrays(out, shape) -> dict:
+def _outputs_of(outputs) -> tuple:
+    """The Result fields ``outputs=`` asks for, in Result's order; all of them for None."""
+    if outputs is None:
+        return tuple(OUTPUT_DTYPES)
+    if isinstance(outputs, str):
+        outputs = (outputs,)
+    try:
+        names = list(outputs)
+    except TypeError:
+        raise TypeError(f"outputs must be a field name or an iterable of them, got "
+                        f"{_short(outputs)}") from None
+    unknown = [name for name in names if name not in OUTPUT_DTYPES]
+    if unknown or not names:
+        what = f"unknown field(s) {unknown}" if unknown else "none"
+        raise ValueError(f"outputs must name at least one of {', '.join(OUTPUT_DTYPES)}; "
+                         f"got {what}")
+    return tuple(name for name in OUTPUT_DTYPES if name in names)
+
+
+def _out_arrays(out, shape, selected) -> dict:
     """The caller's ``out=`` arrays by field name, each checked, or an error naming it."""
     if isinstance(out, Result):
-        out = out.as_dict()
+        out = {k: v for k, v in out.as_dict().items() if v is not None}
     if not isinstance(out, Mapping):
         raise TypeError(f"out must be a Result or a mapping of its field names to arrays, "
                         f"got {_short(out)}")
-    unknown = sorted(set(out) - set(OUTPUT_DTYPES), key=str)
-    missing = [name for name in OUTPUT_DTYPES if name not in out]
+    unknown = sorted(set(out) - set(selected), key=str)
+    missing = [name for name in selected if name not in out]
     if unknown or missing:
-        raise ValueError(f"out must have exactly the fields {', '.join(OUTPUT_DTYPES)}; "
+        raise ValueError(f"out must have exactly the fields {', '.join(selected)}; "
                          f"missing: {missing}, unknown: {unknown}")
-    for name, dtype in OUTPUT_DTYPES.items():
+    for name in selected:
+        dtype = OUTPUT_DTYPES[name]
         array = out[name]
         where = f"out[{name!r}]"
         if not isinstance(array, np.ndarray):
@@ -331,7 +369,7 @@ def _out_arrays(out, shape) -> dict:
             raise ValueError(f"{where} must be C-contiguous")
         if not array.flags.writeable:
             raise ValueError(f"{where} is read-only")
-    names = list(OUTPUT_DTYPES)
+    names = list(selected)
     for i, a in enumerate(names):
         for b in names[i + 1:]:
             if np.may_share_memory(out[a], out[b]):
@@ -364,7 +402,7 @@ def _memory_limit_bytes() -> int | None:
     return min(limits) if limits else None
 
 
-def _check_memory(shape, arrays, backend, out_given):
+def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES)):
     """A MemoryError, before any allocation, for a call that cannot fit in memory.
 
     The estimate counts the contiguous copy of every input that is not a scalar and the
@@ -374,7 +412,11 @@ def _check_memory(shape, arrays, backend, out_given):
     limit = _memory_limit_bytes()
     n = math.prod(shape)
     columns = sum(1 for a in arrays if a.size > 1)
-    per_point = 8 * columns + (0 if out_given and backend == "core" else BYTES_PER_POINT[backend])
+    if backend == "core":  # the outputs it computes, unless the caller gave them
+        own = 0 if out_given else sum(OUTPUT_DTYPES[k].itemsize for k in computed)
+    else:
+        own = BYTES_PER_POINT[backend]
+    per_point = 8 * columns + own
     needed = n * per_point
     if limit is not None and needed > limit:
         raise MemoryError(f"evaluate over the broadcast shape {shape} ({n:,} points) needs "
@@ -423,9 +465,12 @@ def _run_reference(arrays, shape, size_is_pixel_count, spec):
 
 
 def _result(out, shape) -> Result:
-    if shape == ():
-        return Result(**{
-            name: (Status(int(v[0])) if name == "status" else
-                   Cause(int(v[0])) if name == "cause" else float(v[0]))
-            for name, v in out.items()})
-    return Result(**{name: v.reshape(shape) for name, v in out.items()})
+    """A Result of the flat arrays in ``out``; a field ``out`` lacks is None."""
+    def value(name, v):
+        if v is None:
+            return None
+        if shape != ():
+            return v.reshape(shape)
+        return (Status(int(v[0])) if name == "status" else
+                Cause(int(v[0])) if name == "cause" else float(v[0]))
+    return Result(**{name: value(name, out.get(name)) for name in OUTPUT_DTYPES})

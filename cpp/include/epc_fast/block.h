@@ -30,10 +30,13 @@ struct alignas(64) Block {
     double x[n_params][block_size];  // parameters; invalid lanes hold harmless stand-ins
     std::uint32_t uniform;  // bit j: parameter j is broadcast (the same in every lane)
     double broadcast[n_params];  // a broadcast parameter's value (its stand-in if invalid)
-    // bit j: row x[j] holds row_value[j] in every lane, from an earlier block of the same
-    // thread (a Block lives on per thread: kernel.h), so a broadcast row is filled once a call
-    std::uint32_t row_filled;
+    // bit j: row x[j] holds row_value[j] in every lane, from an earlier block on the same
+    // Block (each thread of a call keeps one: kernel.h), so a broadcast row is filled once
+    std::uint32_t row_filled = 0;
     double row_value[n_params];
+    // a broadcast field angle's cos(theta) and SNR target's 10^(snr/20), from the last block
+    // that computed them (NaN keys: none yet)
+    double memo_angle_deg = nan, memo_cos_theta = 1.0, memo_snr_db = nan, memo_root_s = 1.0;
     // flags are bytes, not bool: the lane loops vectorise on them
     unsigned char valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];

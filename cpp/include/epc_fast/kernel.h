@@ -283,18 +283,14 @@ void exposure(const Options& opt, Block<T>& b) {
     double* __restrict cos2 = b.scratch[0];
     double* __restrict root_s = b.scratch[1];
     // A broadcast column's cos(theta) and 10^(snr/20) are the same for every block of a call:
-    // each thread remembers the last ones it computed (pure functions: the same bits).
-    struct Remembered {
-        double angle_deg = 0.0, cos_theta = 1.0, snr_db = 30.0, root_s = SnrTarget(30.0).root_s;
-    };
-    static thread_local Remembered remembered;
+    // the Block remembers the last ones it computed (pure functions: the same bits).
     if (b.uniform & (std::uint32_t{1} << field_angle_deg)) {
         const double angle = b.broadcast[field_angle_deg];
-        if (!(angle == remembered.angle_deg)) {
-            remembered.cos_theta = std::sin((90.0 - std::fabs(angle)) * deg_to_rad);
-            remembered.angle_deg = angle;
+        if (!(angle == b.memo_angle_deg)) {
+            b.memo_cos_theta = std::sin((90.0 - std::fabs(angle)) * deg_to_rad);
+            b.memo_angle_deg = angle;
         }
-        const double c = remembered.cos_theta;
+        const double c = b.memo_cos_theta;
         for (std::size_t i = 0; i < n; ++i) cos2[i] = c * c;
     } else {
         for (std::size_t i = 0; i < n; ++i) {
@@ -304,11 +300,11 @@ void exposure(const Options& opt, Block<T>& b) {
     }
     if (b.uniform & (std::uint32_t{1} << snr_db)) {
         const double snr = b.broadcast[snr_db];
-        if (!(snr == remembered.snr_db)) {
-            remembered.root_s = SnrTarget(snr).root_s;
-            remembered.snr_db = snr;
+        if (!(snr == b.memo_snr_db)) {
+            b.memo_root_s = SnrTarget(snr).root_s;
+            b.memo_snr_db = snr;
         }
-        const double r = remembered.root_s;
+        const double r = b.memo_root_s;
         for (std::size_t i = 0; i < n; ++i) root_s[i] = r;
     } else {
         for (std::size_t i = 0; i < n; ++i) root_s[i] = SnrTarget(x[snr_db][i]).root_s;
@@ -523,11 +519,22 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
     b.n = n;
     gather(in, begin, illuminance_lux, b);
     exposure(opt, b);
-    f50(in.spectrum, opt, b);
+    if (out.f50_cyc_per_mm != nullptr || out.epc != nullptr) {
+        f50(in.spectrum, opt, b);
+    } else {  // f50 not asked for: not solved (status and the rest need only the exposure)
+        for (std::size_t i = 0; i < block_size; ++i) b.wide[i] = 0;
+    }
     scatter(in, b, out);
 }
 
 }  // namespace detail
+
+// The per-thread state of evaluate: one Block per lane type, kept from block to block (its
+// broadcast rows and remembered constants carry over; gather, exposure).
+struct Workspace {
+    detail::Block<double> block64;
+    detail::Block<float> block32;
+};
 
 // Evaluates points [begin, begin + n), n <= block_size, writing point begin + i to index i of
 // `out`. `illuminance_lux`, when not null, holds n illuminances that replace the input column.
@@ -538,17 +545,13 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
 // the whole block in float64 and takes that result: each point's result still depends only on
 // its own inputs.
 inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& out,
-                           std::size_t begin, std::size_t n,
-                           const double* illuminance_lux = nullptr) noexcept {
-    // One Block per thread and lane type, kept between calls: its broadcast rows are filled
-    // once (gather). Zero-initialised (static storage), so row_filled starts empty.
-    static thread_local detail::Block<double> block64;
+                           std::size_t begin, std::size_t n, const double* illuminance_lux,
+                           Workspace& ws) noexcept {
     if (opt.precision == Precision::float64) {
-        detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, block64);
+        detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, ws.block64);
         return;
     }
-    static thread_local detail::Block<float> block32;
-    detail::Block<float>& b = block32;
+    detail::Block<float>& b = ws.block32;
     detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, b);
     int n_wide = 0;
     for (std::size_t i = 0; i < n; ++i) n_wide += b.wide[i];
@@ -557,7 +560,7 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     unsigned char codes[2][block_size];
     const Outputs wide_out{values[0], values[1], values[2], values[3], values[4], values[5],
                            codes[0], codes[1]};
-    detail::evaluate_block_as(in, opt, wide_out, begin, n, illuminance_lux, block64);
+    detail::evaluate_block_as(in, opt, wide_out, begin, n, illuminance_lux, ws.block64);
     auto take = [&](auto* to, const auto* from) {
         if (to != nullptr)
             for (std::size_t i = 0; i < n; ++i)
@@ -573,13 +576,22 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     take(out.cause, codes[1]);
 }
 
+// The same with a Workspace of its own (for callers that evaluate a single block).
+inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& out,
+                           std::size_t begin, std::size_t n,
+                           const double* illuminance_lux = nullptr) noexcept {
+    Workspace ws;
+    evaluate_block(in, opt, out, begin, n, illuminance_lux, ws);
+}
+
 // Evaluates points [begin, end) on `threads` threads (static schedule over blocks), writing
-// point i to index i of `out`.
+// point i to index i of `out`. Each thread keeps one Workspace for all its blocks.
 inline void evaluate(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
                      std::size_t end, int threads) noexcept {
-    for_each_block(begin, end, block_size, threads, [&](std::size_t first, std::size_t n) {
-        evaluate_block(in, opt, out.at(first), first, n);
-    });
+    for_each_block_with<Workspace>(
+        begin, end, block_size, threads, [&](std::size_t first, std::size_t n, Workspace& ws) {
+            evaluate_block(in, opt, out.at(first), first, n, nullptr, ws);
+        });
 }
 
 }  // namespace epc_fast

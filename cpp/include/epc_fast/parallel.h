@@ -61,4 +61,30 @@ void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, 
     });
 }
 
+// The same, with a State (default-constructed) per thread that the thread's blocks share:
+// block(first, count, state).
+template <class State, class Block>
+void for_each_block_with(std::size_t begin, std::size_t end, std::size_t block_size, int threads,
+                         Block&& block) {
+    const std::size_t n = end > begin ? end - begin : 0;
+    const auto n_blocks = static_cast<std::ptrdiff_t>((n + block_size - 1) / block_size);
+    auto run = [&](std::ptrdiff_t k, State& state) {
+        const std::size_t first = begin + static_cast<std::size_t>(k) * block_size;
+        block(first, end - first < block_size ? end - first : block_size, state);
+    };
+#ifdef _OPENMP
+    const int team = n_blocks < threads ? static_cast<int>(n_blocks > 0 ? n_blocks : 1) : threads;
+#pragma omp parallel num_threads(team)
+    {
+        State state;
+#pragma omp for schedule(static)
+        for (std::ptrdiff_t k = 0; k < n_blocks; ++k) run(k, state);
+    }
+#else
+    (void)threads;
+    State state;
+    for (std::ptrdiff_t k = 0; k < n_blocks; ++k) run(k, state);
+#endif
+}
+
 }  // namespace epc_fast

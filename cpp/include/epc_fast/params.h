@@ -87,7 +87,8 @@ struct Options {
 };
 
 // Output columns, contiguous. Point i of a call to evaluate_block is written at index i: the
-// caller offsets the pointers to the block (Outputs::at).
+// caller offsets the pointers to the block (Outputs::at). A null pointer: that output is not
+// computed (and without f50 and EPC, f50 is not solved).
 struct Outputs {
     double* electron_rate_e_per_s;
     double* electrons;
@@ -98,10 +99,12 @@ struct Outputs {
     unsigned char* status;
     unsigned char* cause;
 
+    // The outputs from point `offset` on; a null output (not computed) stays null.
     Outputs at(std::size_t offset) const {
-        return Outputs{electron_rate_e_per_s + offset, electrons + offset, t_mpe_s + offset,
-                       blur_mm + offset, f50_cyc_per_mm + offset, epc + offset,
-                       status + offset, cause + offset};
+        auto shift = [offset](auto* p) { return p != nullptr ? p + offset : p; };
+        return Outputs{shift(electron_rate_e_per_s), shift(electrons), shift(t_mpe_s),
+                       shift(blur_mm), shift(f50_cyc_per_mm), shift(epc), shift(status),
+                       shift(cause)};
     }
 };
 
