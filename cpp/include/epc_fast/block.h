@@ -57,6 +57,9 @@ struct alignas(64) Block {
     // over the factors, so that M''/M = R^2 + S
     T mtf[block_size], slope[block_size], curvature[block_size];
     T previous_step[block_size];  // Newton/Halley: each lane's previous step
+    // Newton/Halley: the step tolerance last derived from f50_rtol (a cube or square root)
+    T memo_rtol = T(-1), memo_step_rtol = T(0);
+    bool memo_halley = false;
     T f50[block_size];
     unsigned char active[block_size];
 };

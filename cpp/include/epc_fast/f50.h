@@ -219,7 +219,12 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     // r and leaves an error d r / (1 - r), within a few times d r^2 for r <= 1/2. A lane stops
     // when d^3 / p^2 <= rtol / 10 and d <= (rtol/10)^(1/3) (Halley) or ^(1/2) (Newton), all
     // relative to f. The first step is measured against the bracket's width.
-    const T step_rtol = Halley ? std::cbrt(T(0.1) * rtol) : std::sqrt(T(0.1) * rtol);
+    if (!(b.memo_rtol == rtol && b.memo_halley == Halley)) {  // once per call, not per block
+        b.memo_step_rtol = Halley ? std::cbrt(T(0.1) * rtol) : std::sqrt(T(0.1) * rtol);
+        b.memo_rtol = rtol;
+        b.memo_halley = Halley;
+    }
+    const T step_rtol = b.memo_step_rtol;
     T* __restrict lo = b.lo;
     T* __restrict hi = b.hi;
     T* __restrict at = b.at;
