@@ -29,7 +29,8 @@ def evaluate(
     threads: int,
     chunk_points: int,
     out: dict[str, np.ndarray] | None = None,
-) -> dict[str, np.ndarray]: ...
+) -> dict[str, np.ndarray]:
+    """Every output, or only those ``out`` has (the others are not computed)."""
 def lux_for_epc(
     columns: Sequence[npt.NDArray[np.float64]],
     size_is_pixel_count: bool,
