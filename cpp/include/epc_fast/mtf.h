@@ -111,7 +111,7 @@ EPC_FAST_INLINE T sinc_denominator(T y, T sin_py) {
 // One factor's sinc and log-slopes (one division).
 template <class T>
 EPC_FAST_INLINE Slopes<T> sinc_slopes(T y) {
-    const T sin_py = sinpi(y);
+    const T sin_py = sinpi_unit(y);
     return sinc_slopes_given(y, sin_py, T(1) / sinc_denominator(y, sin_py));
 }
 
@@ -127,7 +127,7 @@ struct SlopesPair {
 
 template <class T>
 EPC_FAST_INLINE SlopesPair<T> sinc_slopes_pair(T y1, T y2) {
-    const T sin1 = sinpi(y1), sin2 = sinpi(y2);
+    const T sin1 = sinpi_unit(y1), sin2 = sinpi_unit(y2);
     const T d1 = sinc_denominator(y1, sin1), d2 = sinc_denominator(y2, sin2);
     const T inv = T(1) / (d1 * d2);
     return {sinc_slopes_given(y1, sin1, d2 * inv), sinc_slopes_given(y2, sin2, d1 * inv)};

@@ -121,11 +121,25 @@ EPC_FAST_INLINE T sinpi(T x) {
     return odd ? -s : s;
 }
 
+// sinpi for x in [-1/2, 3/2], where round(x) is 0 or 1: the same bits as sinpi without its
+// general reduction (the f50 solvers' sinc arguments lie in [0, 1], up to a rounding).
+template <class T>
+EPC_FAST_INLINE T sinpi_unit(T x) {
+    const bool past_half = x > T(0.5);  // round(x) = 1 (0.5 itself rounds to even, 0)
+    const T r = past_half ? x - T(1) : x;  // exact (Sterbenz)
+    const T s = r * poly::horner(poly::sinpi_coefficients, r * r);
+    return past_half ? -s : s;
+}
+
 // cos(pi x) for |x| <= 1, as sin(pi (1/2 - |x|)): 1/2 - |x| is exact for |x| >= 1/4
 // (Sterbenz), so cos keeps its relative precision near its zero at 1/2; below 1/4 the rounding
-// of the subtraction moves cos by at most 1 ulp.
+// of the subtraction moves cos by at most 1 ulp. 1/2 - |x| lies in [-1/2, 1/2], where sinpi
+// needs no reduction (round gives 0, ties to even included).
 template <class T>
-EPC_FAST_INLINE T cospi_small(T x) { return sinpi(T(0.5) - std::fabs(x)); }
+EPC_FAST_INLINE T cospi_small(T x) {
+    const T r = T(0.5) - std::fabs(x);
+    return r * poly::horner(poly::sinpi_coefficients, r * r);
+}
 
 // 2^k for an integer-valued k in T's normal exponent range ([-1022, 1023] for float64,
 // [-126, 127] for float32), built from its bits (vectorises where ldexp does not): k + bias
