@@ -1,0 +1,84 @@
+// The kernel's speed without Python: evaluate() on random phone designs (those of
+// epc_fast.selfcheck.random_designs: 1-100k lux, 0.8-3 um, F/1.4-8, focal 2-20 mm, 1-40 mm^2,
+// half with read noise 0-5 e-, shake 0-10 deg/s), one thread, outputs preallocated; prints the
+// best points/s of `rounds` calls. For profiling the kernel (perf record) and comparing two
+// versions of a header on the same machine in one sitting; bench/ measures the package.
+//
+//   g++ -std=c++17 -O3 -march=x86-64-v4 -mprefer-vector-width=512 -ffp-contract=fast
+//       -fno-math-errno -fno-trapping-math -fopenmp -I cpp/include tools/kernel_speed.cpp
+//       -o /tmp/kernel_speed      (one command, from the repository's root)
+//   /tmp/kernel_speed [points=1000000] [rounds=5] [halley|newton|brent|bisection] [float32]
+//
+// 8192 points stay in the caches (the kernel alone); 10^6 and more stream from memory.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "epc_fast/kernel.h"
+
+using namespace epc_fast;
+
+int main(int argc, char** argv) {
+    const std::size_t n = argc > 1 ? std::strtoul(argv[1], nullptr, 10) : 1000000;
+    const int rounds = argc > 2 ? std::atoi(argv[2]) : 5;
+    const std::string solver = argc > 3 ? argv[3] : "halley";
+    const bool float32 = argc > 4 && std::string(argv[4]) == "float32";
+    if (n == 0 || rounds <= 0) {
+        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32]\n");
+        return 2;
+    }
+    std::mt19937_64 rng(1);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<double> lux(n), pitch(n), f_num(n), focal(n), area(n), read(n), shake(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        lux[i] = std::pow(10.0, 5.0 * u(rng));
+        pitch[i] = 0.8 + 2.2 * u(rng);
+        f_num[i] = 1.4 + 6.6 * u(rng);
+        focal[i] = 2.0 + 18.0 * u(rng);
+        area[i] = 1.0 + 39.0 * u(rng);
+        read[i] = u(rng) < 0.5 ? 0.0 : 5.0 * u(rng);
+        shake[i] = 10.0 * u(rng);
+    }
+    // the API's defaults, in params.h's order (K: D50 with a rectangular QE)
+    double defaults[n_params] = {0, 0, 0, 0, 0, 0.4, 1.0, 0.0, 1.0, 2557705539053827.5, 0, 0, 0,
+                                 INFINITY, 30, 4.39, 1, 0, 550, 0.5};
+    Inputs in;
+    for (int j = 0; j < n_params; ++j) {
+        in.columns[j] = Column{&defaults[j], 0};
+        in.domains[j] = Domain{-1e300, INFINITY, true, true};
+    }
+    in.columns[illuminance_lux] = {lux.data(), 1};
+    in.columns[pixel_pitch_um] = {pitch.data(), 1};
+    in.columns[f_number] = {f_num.data(), 1};
+    in.columns[focal_length_mm] = {focal.data(), 1};
+    in.columns[size] = {area.data(), 1};
+    in.columns[read_noise_e] = {read.data(), 1};
+    in.columns[shake_deg_per_s] = {shake.data(), 1};
+    Options opt;
+    opt.precision = float32 ? Precision::float32 : Precision::float64;
+    opt.f50_solver = solver == "bisection" ? F50Solver::bisection
+                     : solver == "newton"  ? F50Solver::newton
+                     : solver == "brent"   ? F50Solver::brent
+                                           : F50Solver::halley;
+    std::vector<double> values[6];
+    for (auto& v : values) v.assign(n, 0.0);
+    std::vector<unsigned char> status(n), cause(n);
+    const Outputs out{values[0].data(), values[1].data(), values[2].data(), values[3].data(),
+                      values[4].data(), values[5].data(), status.data(),    cause.data()};
+    double best = 0.0;
+    for (int r = 0; r < rounds; ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        evaluate(in, opt, out, 0, n, 1);
+        const double s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        best = std::max(best, static_cast<double>(n) / s);
+    }
+    std::printf("%zu points, %s, %s: best %.2f M points/s (f50[0] = %.17g)\n", n, solver.c_str(),
+                float32 ? "float32" : "float64", best / 1e6, values[4][0]);
+    return 0;
+}
