@@ -391,7 +391,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     T* __restrict ln_inv_c = b.mtf;  // scratch until the solver runs
     T* __restrict start_scale = b.slope;
     auto ln_inv = [&](double c) { return static_cast<T>(c == 0.5 ? ln2 : std::log(1.0 / c)); };
-    if (b.uniform & (std::uint32_t{1} << mtf_threshold)) {
+    if (b.is_broadcast(mtf_threshold)) {
         const T l = ln_inv(b.broadcast[mtf_threshold]);
         const T scale = std::sqrt(l * T(1.0 / ln2));
         for (std::size_t i = 0; i < n; ++i) ln_inv_c[i] = l;
@@ -401,10 +401,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) start_scale[i] = std::sqrt(ln_inv_c[i] * T(1.0 / ln2));
     }
-    auto broadcast_is = [&](int j, double v) {
-        return (b.uniform & (std::uint32_t{1} << j)) != 0 && b.broadcast[j] == v;
-    };
-    const bool any_jitter = !broadcast_is(jitter_um, 0.0);
+    const bool any_jitter = !b.broadcast_is(jitter_um, 0.0);
     const double* __restrict wavelength = x[wavelength_nm];
     const double* __restrict f_num_in = x[f_number];
     const double* __restrict pitch = x[pixel_pitch_um];
@@ -431,7 +428,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     double* __restrict ap = b.scratch[2];
     double* __restrict jit = b.scratch[3];
     double* __restrict d_length = b.scratch[4];
-    if (b.uniform & (std::uint32_t{1} << fill_factor)) {  // pixel_aperture_mm, one sqrt
+    if (b.is_broadcast(fill_factor)) {  // pixel_aperture_mm, one sqrt
         const double root_fill = std::sqrt(b.broadcast[fill_factor]);
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) ap[i] = root_fill * (pitch[i] * um_to_mm);

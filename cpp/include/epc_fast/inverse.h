@@ -40,14 +40,15 @@ struct InverseOutputs {
 namespace detail {
 
 // EPC of points [begin, begin + n) at the given illuminances; invalid[i] when the point's
-// inputs are out of their domains. Unreachable points count as EPC 0.
+// inputs are out of their domains. Unreachable points count as EPC 0. `ws` is the calling
+// thread's (its broadcast rows and remembered constants serve every trial of the block).
 inline void epc_at(const Inputs& in, const Options& opt, std::size_t begin, std::size_t n,
-                   const double* lux, double* epc, bool* invalid) {
+                   const double* lux, double* epc, bool* invalid, Workspace& ws) {
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
     double f50[block_size];
     unsigned char status[block_size], cause[block_size];
     const Outputs out{rate, electrons, t_mpe, blur, f50, epc, status, cause};
-    evaluate_block(in, opt, out, begin, n, lux);
+    evaluate_block(in, opt, out, begin, n, lux, ws);
     for (std::size_t i = 0; i < n; ++i) {
         invalid[i] = status[i] == static_cast<unsigned char>(Status::invalid);
         if (status[i] == static_cast<unsigned char>(Status::unreachable)) epc[i] = 0.0;
@@ -79,11 +80,11 @@ void brent_lanes(std::size_t n, BrentState* state, bool* running, int max_iter, 
 
 // Writes each OK lane's root illuminance e^b and the EPC of `in` there; NaN elsewhere.
 inline void write_roots(const Inputs& in, const Options& opt, std::size_t begin, std::size_t n,
-                        const BrentState* state, const InverseOutputs& out) {
+                        const BrentState* state, const InverseOutputs& out, Workspace& ws) {
     double lux[block_size], epc[block_size];
     bool invalid[block_size];
     for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(state[i].b);
-    epc_at(in, opt, begin, n, lux, epc, invalid);
+    epc_at(in, opt, begin, n, lux, epc, invalid, ws);
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     for (std::size_t i = 0; i < n; ++i) {
         const bool ok = out.status[i] == static_cast<unsigned char>(InverseStatus::ok);
@@ -94,15 +95,15 @@ inline void write_roots(const Inputs& in, const Options& opt, std::size_t begin,
 
 inline void lux_for_epc_block(const Inputs& in, const Column& target_epc, const Options& opt,
                               const InverseOptions& inv, std::size_t begin, std::size_t n,
-                              const InverseOutputs& out) {
+                              const InverseOutputs& out, Workspace& ws) {
     const double u_lo = std::log(inv.lux_lo), u_hi = std::log(inv.lux_hi);
     double lux[block_size], epc_lo[block_size], epc_hi[block_size], target[block_size];
     bool invalid_lo[block_size], invalid_hi[block_size], running[block_size];
     BrentState state[block_size];
     for (std::size_t i = 0; i < n; ++i) lux[i] = inv.lux_lo;
-    epc_at(in, opt, begin, n, lux, epc_lo, invalid_lo);
+    epc_at(in, opt, begin, n, lux, epc_lo, invalid_lo, ws);
     for (std::size_t i = 0; i < n; ++i) lux[i] = inv.lux_hi;
-    epc_at(in, opt, begin, n, lux, epc_hi, invalid_hi);
+    epc_at(in, opt, begin, n, lux, epc_hi, invalid_hi, ws);
     for (std::size_t i = 0; i < n; ++i) {
         target[i] = target_epc[begin + i];
         const bool invalid = invalid_lo[i] || invalid_hi[i] || !(target[i] > 0.0) ||
@@ -117,15 +118,15 @@ inline void lux_for_epc_block(const Inputs& in, const Column& target_epc, const 
     bool invalid[block_size];
     brent_lanes(n, state, running, inv.max_iter, [&](const double* u, double* g) {
         for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(u[i]);
-        epc_at(in, opt, begin, n, lux, g, invalid);
+        epc_at(in, opt, begin, n, lux, g, invalid, ws);
         for (std::size_t i = 0; i < n; ++i) g[i] -= target[i];
     });
-    write_roots(in, opt, begin, n, state, out);
+    write_roots(in, opt, begin, n, state, out, ws);
 }
 
 inline void crossover_lux_block(const Inputs& a, const Inputs& b, const Options& opt,
                                 const InverseOptions& inv, std::size_t begin, std::size_t n,
-                                const InverseOutputs& out) {
+                                const InverseOutputs& out, Workspace& ws) {
     const double u_lo = std::log(inv.lux_lo), u_hi = std::log(inv.lux_hi);
     double lux[block_size], epc_a[block_size], epc_b[block_size];
     bool invalid_a[block_size], invalid_b[block_size], invalid[block_size] = {};
@@ -133,8 +134,8 @@ inline void crossover_lux_block(const Inputs& a, const Inputs& b, const Options&
     double u_prev[block_size], d_prev[block_size], u_bracket[block_size], d_bracket[block_size];
     auto difference = [&](const double* u, double* d) {
         for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(u[i]);
-        epc_at(a, opt, begin, n, lux, epc_a, invalid_a);
-        epc_at(b, opt, begin, n, lux, epc_b, invalid_b);
+        epc_at(a, opt, begin, n, lux, epc_a, invalid_a, ws);
+        epc_at(b, opt, begin, n, lux, epc_b, invalid_b, ws);
         for (std::size_t i = 0; i < n; ++i) {
             d[i] = epc_a[i] - epc_b[i];
             invalid[i] |= invalid_a[i] || invalid_b[i];
@@ -176,7 +177,7 @@ inline void crossover_lux_block(const Inputs& a, const Inputs& b, const Options&
         else state[i].start(u_lo, 0.0, u_hi, 0.0, 0.0, inv.rtol);
     }
     brent_lanes(n, state, running, inv.max_iter, difference);
-    write_roots(a, opt, begin, n, state, out);
+    write_roots(a, opt, begin, n, state, out, ws);
 }
 
 inline InverseOutputs offset(const InverseOutputs& out, std::size_t first) {
@@ -189,9 +190,11 @@ inline InverseOutputs offset(const InverseOutputs& out, std::size_t first) {
 inline void lux_for_epc(const Inputs& in, const Column& target_epc, const Options& opt,
                         const InverseOptions& inv, const InverseOutputs& out, std::size_t begin,
                         std::size_t end, int threads) noexcept {
-    for_each_block(begin, end, block_size, threads, [&](std::size_t first, std::size_t n) {
-        detail::lux_for_epc_block(in, target_epc, opt, inv, first, n, detail::offset(out, first));
-    });
+    for_each_block<Workspace>(begin, end, block_size, threads,
+                              [&](std::size_t first, std::size_t n, Workspace& ws) {
+                                  detail::lux_for_epc_block(in, target_epc, opt, inv, first, n,
+                                                            detail::offset(out, first), ws);
+                              });
 }
 
 // Points [begin, end): the highest illuminance in the range where designs a[i] and b[i] have
@@ -199,9 +202,11 @@ inline void lux_for_epc(const Inputs& in, const Column& target_epc, const Option
 inline void crossover_lux(const Inputs& a, const Inputs& b, const Options& opt,
                           const InverseOptions& inv, const InverseOutputs& out, std::size_t begin,
                           std::size_t end, int threads) noexcept {
-    for_each_block(begin, end, block_size, threads, [&](std::size_t first, std::size_t n) {
-        detail::crossover_lux_block(a, b, opt, inv, first, n, detail::offset(out, first));
-    });
+    for_each_block<Workspace>(begin, end, block_size, threads,
+                              [&](std::size_t first, std::size_t n, Workspace& ws) {
+                                  detail::crossover_lux_block(a, b, opt, inv, first, n,
+                                                              detail::offset(out, first), ws);
+                              });
 }
 
 }  // namespace epc_fast

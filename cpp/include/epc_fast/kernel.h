@@ -102,7 +102,7 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
     for (std::size_t i = 0; i < block_size; ++i) n_valid += valid[i];
     if (n_valid == static_cast<int>(block_size)) return;
     for (int j = 0; j < n_params; ++j) {
-        if (b.uniform & (std::uint32_t{1} << j)) continue;  // already harmless
+        if (b.is_broadcast(j)) continue;  // already harmless
         double* __restrict x = b.x[j];
         const double s = stand_in(j);
         EPC_FAST_SIMD
@@ -117,21 +117,21 @@ EPC_FAST_INLINE bool normal(double v) {
     return (v >= std::numeric_limits<double>::min()) & (v <= std::numeric_limits<double>::max());
 }
 
+#if !EPC_FAST_FMA
 // The rounding error a b - fl(a b), exactly (Dekker's product with Veltkamp's split): what
 // std::fma(a, b, -a * b) gives, in plain arithmetic that vectorises everywhere. Exact for
-// |a|, |b| < 1e300 whose product neither overflows nor underflows.
+// |a|, |b| < 1e300 whose product neither overflows nor underflows. Only in the unfused build:
+// under -ffp-contract=fast the compiler could fuse inside the split, and the fused build has
+// std::fma at the places that need an exact product.
 EPC_FAST_INLINE double product_error(double a, double b) {
-#if EPC_FAST_FMA
-    return std::fma(a, b, -(a * b));  // one instruction where the hardware fuses
-#else
     constexpr double split = 134217729.0;  // 2^27 + 1
     const double p = a * b;
     const double ca = split * a, cb = split * b;
     const double a_hi = ca - (ca - a), a_lo = a - a_hi;
     const double b_hi = cb - (cb - b), b_lo = b - b_hi;
     return ((a_hi * b_hi - p) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
-#endif
 }
+#endif
 
 // tan(angle) for 0 <= angle < pi/2, as sinpi(t) / cospi(t) with t = angle / pi carried in two
 // doubles (t_hi + t_lo, Dekker's product): cospi's argument 1/2 - t_hi is exact, and t_lo keeps
@@ -200,12 +200,9 @@ struct ExposureTerms {
 
 template <class T>
 ExposureTerms exposure_terms(const Block<T>& b) {
-    auto broadcast_is = [&](int j, double v) {
-        return (b.uniform & (std::uint32_t{1} << j)) != 0 && b.broadcast[j] == v;
-    };
-    const bool shake = !broadcast_is(shake_deg_per_s, 0.0);
-    return {!broadcast_is(dark_current_e_per_s, 0.0), !broadcast_is(read_noise_e, 0.0),
-            !broadcast_is(prnu, 0.0), !shake ? 0 : broadcast_is(stabilization, 1.0) ? 1 : 2};
+    const bool shake = !b.broadcast_is(shake_deg_per_s, 0.0);
+    return {!b.broadcast_is(dark_current_e_per_s, 0.0), !b.broadcast_is(read_noise_e, 0.0),
+            !b.broadcast_is(prnu, 0.0), !shake ? 0 : b.broadcast_is(stabilization, 1.0) ? 1 : 2};
 }
 
 // signal_electrons and blur_length_mm for every lane, from the rate, sqrt(s) and the PRNU margin
@@ -284,7 +281,7 @@ void exposure(const Options& opt, Block<T>& b) {
     double* __restrict root_s = b.scratch[1];
     // A broadcast column's cos(theta) and 10^(snr/20) are the same for every block of a call:
     // the Block remembers the last ones it computed (pure functions: the same bits).
-    if (b.uniform & (std::uint32_t{1} << field_angle_deg)) {
+    if (b.is_broadcast(field_angle_deg)) {
         const double angle = b.broadcast[field_angle_deg];
         if (!(angle == b.memo_angle_deg)) {
             b.memo_cos_theta = std::sin((90.0 - std::fabs(angle)) * deg_to_rad);
@@ -298,7 +295,7 @@ void exposure(const Options& opt, Block<T>& b) {
             cos2[i] = c * c;
         }
     }
-    if (b.uniform & (std::uint32_t{1} << snr_db)) {
+    if (b.is_broadcast(snr_db)) {
         const double snr = b.broadcast[snr_db];
         if (!(snr == b.memo_snr_db)) {
             b.memo_root_s = SnrTarget(snr).root_s;
@@ -576,19 +573,11 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     take(out.cause, codes[1]);
 }
 
-// The same with a Workspace of its own (for callers that evaluate a single block).
-inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& out,
-                           std::size_t begin, std::size_t n,
-                           const double* illuminance_lux = nullptr) noexcept {
-    Workspace ws;
-    evaluate_block(in, opt, out, begin, n, illuminance_lux, ws);
-}
-
 // Evaluates points [begin, end) on `threads` threads (static schedule over blocks), writing
 // point i to index i of `out`. Each thread keeps one Workspace for all its blocks.
 inline void evaluate(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
                      std::size_t end, int threads) noexcept {
-    for_each_block_with<Workspace>(
+    for_each_block<Workspace>(
         begin, end, block_size, threads, [&](std::size_t first, std::size_t n, Workspace& ws) {
             evaluate_block(in, opt, out.at(first), first, n, nullptr, ws);
         });

@@ -33,39 +33,14 @@ inline int default_threads() {
 #endif
 }
 
-// Calls body(i) for i in [0, n) on `threads` threads, static schedule. body must not throw.
-// The team is never larger than n: a small call does not wake idle threads.
-template <class Body>
-void parallel_for(std::ptrdiff_t n, int threads, Body&& body) {
-#ifdef _OPENMP
-    const int team = n < threads ? static_cast<int>(n > 0 ? n : 1) : threads;
-#pragma omp parallel for schedule(static) num_threads(team)
-    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
-#else
-    (void)threads;
-    for (std::ptrdiff_t i = 0; i < n; ++i) body(i);
-#endif
-}
-
-// Calls block(first, count) for consecutive blocks of at most block_size points covering
-// [begin, end), on `threads` threads. Block boundaries depend only on begin, never on the thread
-// count.
-template <class Block>
+// Calls block(first, count, state) for consecutive blocks of at most block_size points covering
+// [begin, end), on `threads` threads. Each thread default-constructs one State and hands it to
+// every block it runs. Static schedule; block must not throw. The team is never larger than
+// the number of blocks: a small call does not wake idle threads. Block boundaries depend only
+// on begin, never on the thread count.
+template <class State, class Block>
 void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, int threads,
                     Block&& block) {
-    const std::size_t n = end > begin ? end - begin : 0;
-    const auto n_blocks = static_cast<std::ptrdiff_t>((n + block_size - 1) / block_size);
-    parallel_for(n_blocks, threads, [&](std::ptrdiff_t k) {
-        const std::size_t first = begin + static_cast<std::size_t>(k) * block_size;
-        block(first, end - first < block_size ? end - first : block_size);
-    });
-}
-
-// The same, with a State (default-constructed) per thread that the thread's blocks share:
-// block(first, count, state).
-template <class State, class Block>
-void for_each_block_with(std::size_t begin, std::size_t end, std::size_t block_size, int threads,
-                         Block&& block) {
     const std::size_t n = end > begin ? end - begin : 0;
     const auto n_blocks = static_cast<std::ptrdiff_t>((n + block_size - 1) / block_size);
     auto run = [&](std::ptrdiff_t k, State& state) {
