@@ -1,4 +1,11 @@
-"""Fits the f50 solvers' starting guess (cpp/include/epc_fast/f50.h, start_f50).
+"""Fits the f50 solvers' starting guesses (cpp/include/epc_fast/f50_start.h).
+
+Two fits, printed as C++ for f50_start.h with their largest and median errors:
+
+- `accurate`: the common scene (one wavelength, threshold 1/2, no jitter), where f50 depends on
+  two numbers only. Fitted to about 1e-7, so that one Halley step reaches float64's precision
+  and the solver stops after one evaluation of the MTF.
+- `cubic`: every other scene (jitter, another threshold, a spectrum), a cheap guess to 0.4%.
 
 Each MTF factor alone reaches 1/2 at its own frequency: diffraction at nu = NU50 / (lambda F),
 a sinc of length l at X50 / l. With x_i = 1 / f_i (diffraction, pixel, motion), S = sum x_i^2 and
@@ -6,6 +13,14 @@ v_i = x_i / sqrt(S), the system's f50 is f50 = P(v) / sqrt(S), where P is a smoo
 the unit sphere; this script fits P as a cubic polynomial in v_d, s = v_p + v_m and t = v_p v_m
 (symmetric in the two sincs), by least squares on the relative error over factor ratios
 e^-7..e^7, and prints the coefficients for f50.h with the largest and median errors.
+
+The accurate fit: with no jitter the sphere has two coordinates, v_d and
+w = v_p^2 - v_m^2 (|w| <= 1 - v_d^2: no division to form it), and P(v) is smooth in both (the
+sincs enter through the squares of their lengths, diffraction linearly). P is a polynomial of
+total degree ACCURATE_DEGREE in a = 2 v_d - 1 and w, even in w (swapping pixel and motion
+changes w's sign), fitted in the Chebyshev basis on Chebyshev
+nodes in v_d and s = v_p^2 / (v_p^2 + v_m^2), the largest relative error then reduced by
+Lawson's reweighting, and printed in the power basis of (a, w^2) for Horner's rule.
 
     python tools/fit_f50_start.py
 """
@@ -15,6 +30,7 @@ import numpy as np
 NU50 = 0.4039727532995172   # D(nu) = 1/2, the circular-pupil diffraction MTF
 X50 = 0.6033545644016142    # sinc(x) = 1/2
 DEGREE = 3
+ACCURATE_DEGREE = 10
 
 
 def diffraction(nu):
@@ -47,7 +63,7 @@ def terms(v_d, s, t, degree=DEGREE):
     return np.stack(columns, 1), exponents
 
 
-def main(n=400_000, seed=0):
+def fit_cubic(n=400_000, seed=0):
     rng = np.random.default_rng(seed)
     x_d = np.ones(n)
     x_p = np.exp(rng.uniform(-7, 7, n))
@@ -63,5 +79,79 @@ def main(n=400_000, seed=0):
         print(f"    {{{i}, {j}, {k}, {float(c)!r}}},")
 
 
+def accurate_target(v_d, s):
+    """f50 sqrt(S) at v_d and s = v_p^2 / (v_p^2 + v_m^2), by bisection (relative 1e-15)."""
+    rest = 1 - v_d ** 2
+    return f50(v_d, np.sqrt(s * rest), np.sqrt((1 - s) * rest))
+
+
+def accurate_columns(a, w, degree=ACCURATE_DEGREE):
+    """T_i(a) T_2j(w) for i + 2j <= degree, i outer (P is even in w: pixel and motion swap)."""
+    ta = np.polynomial.chebyshev.chebvander(a, degree)
+    tw = np.polynomial.chebyshev.chebvander(w, degree)
+    return np.stack([ta[:, i] * tw[:, 2 * j] for i in range(degree + 1)
+                     for j in range((degree - i) // 2 + 1)], 1)
+
+
+def accurate_power_basis(chebyshev, degree=ACCURATE_DEGREE):
+    """The same polynomial as c[i][j] a^i z^j with z = w^2 (i + 2j <= degree), from the
+    Chebyshev coefficients; rows padded with zeros."""
+    def cheb2poly(c):  # numpy drops trailing zeros; keep degree + 1 coefficients
+        p = np.polynomial.chebyshev.cheb2poly(c)
+        return np.concatenate([p, np.zeros(degree + 1 - len(p))])
+
+    grid = np.zeros((degree + 1, degree + 1))  # Chebyshev coefficient of T_i(a) T_k(w)
+    k = 0
+    for i in range(degree + 1):
+        for j in range((degree - i) // 2 + 1):
+            grid[i, 2 * j] = chebyshev[k]
+            k += 1
+    grid = np.stack([cheb2poly(row) for row in grid], 0)  # along w: a polynomial in w
+    grid = np.stack([cheb2poly(col) for col in grid.T], 1)  # along a
+    return grid[:, 0::2]  # the odd powers of w are 0: coefficients of z^j
+
+
+def horner(power, a, w, degree=ACCURATE_DEGREE):
+    """Evaluates the power-basis polynomial as f50_start.h does: Horner in z = w^2, then in a."""
+    z = w * w
+    total = np.zeros_like(a)
+    for i in range(degree, -1, -1):
+        inner = np.zeros_like(a)
+        for j in range((degree - i) // 2, -1, -1):
+            inner = inner * z + power[i, j]
+        total = total * a + inner
+    return total
+
+
+def fit_accurate(nodes=140, check=400_000, seed=1, rounds=30):
+    t = 0.5 - 0.5 * np.cos(np.pi * np.arange(nodes) / (nodes - 1))
+    v_d, s = (g.ravel() for g in np.meshgrid(t, t, indexing="ij"))
+    h = accurate_target(v_d, s)
+    columns = accurate_columns(2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2)) / h[:, None]
+    weight = np.ones_like(h)
+    for _ in range(rounds):  # Lawson: weights grow where the relative error is largest
+        root = np.sqrt(weight)
+        chebyshev, *_ = np.linalg.lstsq(columns * root[:, None], root, rcond=None)
+        error = np.abs(columns @ chebyshev - 1)
+        weight = weight * error / np.sum(weight * error) * len(h)
+    power = accurate_power_basis(chebyshev)
+    rng = np.random.default_rng(seed)
+    edge = np.linspace(0, 1, 2001)
+    v_d = np.concatenate([rng.random(check), edge, edge, edge, np.zeros_like(edge), np.ones_like(edge)])
+    s = np.concatenate([rng.random(check), np.zeros_like(edge), np.ones_like(edge), edge, edge, edge])
+    h = accurate_target(v_d, s)
+    error = np.abs(horner(power, 2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2)) / h - 1)
+    print(f"accurate start (degree {ACCURATE_DEGREE}, power basis in float64): "
+          f"relative error max {error.max():.2e}, median {np.median(error):.2e}")
+    print("constexpr double accurate_start_coefficients[] = {")
+    for i in range(ACCURATE_DEGREE + 1):
+        print(f"    // a^{i}: z^0 .. z^{(ACCURATE_DEGREE - i) // 2}")
+        for j in range((ACCURATE_DEGREE - i) // 2 + 1):
+            print(f"    {float(power[i, j])!r},")
+    print("};")
+    return power
+
+
 if __name__ == "__main__":
-    main()
+    fit_accurate()
+    fit_cubic()

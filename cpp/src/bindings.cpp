@@ -285,4 +285,7 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
                            double rtol) {
               return signal_electrons_brent(rate, SnrTarget(snr_db), read, dark, prnu, rtol);
           }));
+    m.def("f50_start", py::vectorize(&detail::f50_start), py::arg("lambda_f_mm"),
+          py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("jitter_mm"),
+          py::arg("mtf_threshold"));
 }

@@ -71,3 +71,7 @@ def signal_electrons_brent(
     rate: npt.ArrayLike, snr_db: npt.ArrayLike, read: npt.ArrayLike, dark: npt.ArrayLike,
     prnu: npt.ArrayLike, rtol: npt.ArrayLike,
 ) -> np.ndarray: ...
+def f50_start(
+    lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
+    jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
+) -> np.ndarray: ...

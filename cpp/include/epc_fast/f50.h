@@ -5,8 +5,8 @@
 // Four solvers, all safe by construction: every iterate lies strictly inside the lane's current
 // bracket, and the bracket shrinks around the root with every evaluation.
 // - halley (default): Halley's method on h(f) = MTF_sys(f) - c with analytic slopes and
-//   curvatures of every factor (mtf.h), from a starting guess that combines each factor's own
-//   cut-off. A step that would leave the bracket is replaced by a bisection step. Cubic
+//   curvatures of every factor (mtf.h), from a starting guess (f50_start.h; in the common
+//   scene accurate enough that one step converges). A step that would leave the bracket is replaced by a bisection step. Cubic
 //   convergence: it stops once the last step was below rtol^(1/2) relative, when the error left
 //   is of order (step)^3 (far below rtol); or when the bracket is narrower than rtol.
 // - newton: the same with Newton steps (quadratic: stops once the step is below rtol / 8 ...
@@ -27,6 +27,7 @@
 #include <type_traits>
 
 #include "block.h"
+#include "f50_start.h"
 #include "mtf.h"
 #include "parallel.h"
 #include "params.h"
@@ -40,11 +41,6 @@ constexpr int max_bisection_steps = 2200;
 constexpr int max_derivative_steps = 64;
 // float32 mode: the smallest relative tolerance f50 is solved to (4 float32 ulps; f50.h).
 constexpr double f50_rtol_floor_float32 = 4.76837158203125e-07;  // 2^-21
-// float32 mode: a lane solves in float32 when its lengths (lambda F, pixel aperture, blur,
-// jitter) are 0 or in [2^-40, 2^40] mm. Then f <= f_hi <= 2^40 and every product the MTF and
-// its slopes form (length f, length^2, the Halley step) stays inside float32's range.
-constexpr double float32_length_lo_mm = 9.094947017729282e-13;  // 2^-40
-constexpr double float32_length_hi_mm = 1099511627776.0;        // 2^40
 
 namespace detail {
 
@@ -333,169 +329,6 @@ void solve_f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
         case F50Solver::brent: brent<Motion, Jitter, Poly>(spectrum, rtol, b); break;
         case F50Solver::bisection: bisect<Motion, Jitter, Poly>(spectrum, rtol, b); break;
     }
-}
-
-// The starting guess (tools/fit_f50_start.py). Each factor alone reaches 1/2 at its own
-// frequency f_i: diffraction at NU50/(lambda F), a sinc of length l at X50/l, jitter at
-// J50/sigma. With x_i = 1/f_i, S = sum x_i^2 and v_i = x_i/sqrt(S), f0 = P(v)/sqrt(S), P a cubic
-// in v_d, s = v_pixel + v_motion and t = v_pixel v_motion fitted to the exact f50 (largest
-// error 0.37%, median 2.4e-4, over factor ratios e^-7..e^7; jitter enters through S only).
-// For c != 1/2 it is scaled by sqrt(ln(1/c) / ln 2), exact for jitter alone. The guess only
-// decides how many steps the solver takes, never where it converges.
-constexpr double start_nu50 = 0.4039727532995172;   // D(nu) = 1/2
-constexpr double start_x50 = 0.6033545644016142;    // sinc(x) = 1/2
-constexpr double start_j50 = 0.18739640236613234;   // exp(-2 pi^2 y^2) = 1/2: sqrt(ln 2 / 2) / pi
-
-template <class T>
-EPC_FAST_INLINE T start_polynomial(T v_d, T s, T t) {
-    // the cubic of tools/fit_f50_start.py: sum of c_ijk v_d^i s^j t^k
-    const T d2 = v_d * v_d, s2 = s * s;
-    return T(1.0013379445198385) - T(0.26588191638058467) * t - T(0.15505341346674065) * s +
-           T(0.1074529526372338) * (s * t) + T(0.15079619822963006) * s2 +
-           T(0.002722663306764486) * (s2 * s) - T(0.29777013229383625) * v_d +
-           T(0.0949786064343061) * (v_d * t) + T(0.08599482061958504) * (v_d * s) -
-           T(0.08579594370107604) * (v_d * s2) + T(0.3187779135290404) * d2 +
-           T(0.057129828500959906) * (d2 * s) - T(0.022016975724150373) * (d2 * v_d);
-}
-
-// Whether a length (mm) is 0 or inside the range float32 lanes solve f50 for.
-EPC_FAST_INLINE bool float32_length(double length_mm) {
-    return (length_mm == 0.0) | ((length_mm >= float32_length_lo_mm) & (length_mm <= float32_length_hi_mm));
-}
-
-// Whether a factor of a length is inside 2^-60..2^60, where float32 multiplies it exactly as
-// far as range goes (a product of two such within 2^-40..2^40 never leaves float32's range).
-EPC_FAST_INLINE bool float32_factor(double x) {
-    return (x >= 8.673617379884035e-19) & (x <= 1152921504606846976.0);  // 2^-60, 2^60
-}
-
-// Sets lo = 0, hi = f_hi, the starting abscissa and the solve's inputs in T for every lane;
-// returns which terms the block's lanes to solve use, as bits (1 motion, 2 jitter). With T =
-// float32, a lane to solve whose lengths float32 cannot hold is marked `wide` and taken out of
-// the solve (kernel.h redoes it in float64).
-template <class T>
-int start_f50(const Spectrum& spectrum, Block<T>& b) {
-    constexpr std::size_t n = block_size;
-    constexpr double ln2 = 0.6931471805599453;
-    constexpr bool narrow = sizeof(T) != sizeof(double);
-    const auto& x = b.x;
-    const bool poly = spectrum.polychromatic();
-    double shortest_nm = inf, longest_nm = 0.0, mean_nm = 0.0;
-    for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
-        if (spectrum.weights[k] > 0.0) shortest_nm = std::fmin(shortest_nm, spectrum.wavelengths_nm[k]);
-        longest_nm = std::fmax(longest_nm, spectrum.wavelengths_nm[k]);
-        mean_nm += spectrum.weights[k] * spectrum.wavelengths_nm[k];
-    }
-    // ln(1/c) for the jitter bracket and sqrt(ln(1/c) / ln 2) for the start's scaling; the C
-    // library's log only for a threshold other than 1/2, once for a broadcast threshold.
-    T* __restrict ln_inv_c = b.mtf;  // scratch until the solver runs
-    T* __restrict start_scale = b.slope;
-    auto ln_inv = [&](double c) { return static_cast<T>(c == 0.5 ? ln2 : std::log(1.0 / c)); };
-    if (b.is_broadcast(mtf_threshold)) {
-        const T l = ln_inv(b.broadcast[mtf_threshold]);
-        const T scale = std::sqrt(l * T(1.0 / ln2));
-        for (std::size_t i = 0; i < n; ++i) ln_inv_c[i] = l;
-        for (std::size_t i = 0; i < n; ++i) start_scale[i] = scale;
-    } else {
-        for (std::size_t i = 0; i < n; ++i) ln_inv_c[i] = ln_inv(x[mtf_threshold][i]);
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) start_scale[i] = std::sqrt(ln_inv_c[i] * T(1.0 / ln2));
-    }
-    const bool any_jitter = !b.broadcast_is(jitter_um, 0.0);
-    const double* __restrict wavelength = x[wavelength_nm];
-    const double* __restrict f_num_in = x[f_number];
-    const double* __restrict pitch = x[pixel_pitch_um];
-    const double* __restrict fill = x[fill_factor];
-    const double* __restrict jitter_um_ = x[jitter_um];
-    const double* __restrict threshold_in = x[mtf_threshold];
-    const double* __restrict blur_in = b.blur;
-    unsigned char* __restrict solve = b.solve;
-    unsigned char* __restrict wide = b.wide;
-    T* __restrict lambda_f = b.lambda_f_mm;
-    T* __restrict aperture = b.aperture_mm;
-    T* __restrict jitter_mm = b.jitter_mm;
-    T* __restrict blur = b.blur_mm;
-    T* __restrict threshold = b.threshold;
-    T* __restrict f_num = b.f_number;
-    T* __restrict lo = b.lo;
-    T* __restrict hi = b.hi;
-    T* __restrict at = b.at;
-    const double mean_mm = mean_nm * nm_to_mm;
-    // every length in float64 first, then rounded once to T (float32: after checking it fits);
-    // two loops, each of one type, as GCC vectorises them
-    double* __restrict lf = b.scratch[0];
-    double* __restrict lf_short = b.scratch[1];
-    double* __restrict ap = b.scratch[2];
-    double* __restrict jit = b.scratch[3];
-    double* __restrict d_length = b.scratch[4];
-    if (b.is_broadcast(fill_factor)) {  // pixel_aperture_mm, one sqrt
-        const double root_fill = std::sqrt(b.broadcast[fill_factor]);
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) ap[i] = root_fill * (pitch[i] * um_to_mm);
-    } else {
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) ap[i] = pixel_aperture_mm(pitch[i], fill[i]);
-    }
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        const double f_number_i = f_num_in[i];
-        lf[i] = wavelength[i] * nm_to_mm * f_number_i;
-        lf_short[i] = (poly ? shortest_nm : wavelength[i]) * nm_to_mm * f_number_i;
-        jit[i] = jitter_um_[i] * um_to_mm;
-        d_length[i] = poly ? mean_mm * f_number_i : lf[i];
-    }
-    if (narrow) {
-        // the spectrum's wavelengths and the f-number enter the polychromatic MTF as separate
-        // float32 factors, so they too must fit (2^-60..2^60)
-        bool lambdas_fit = true;
-        for (const double nm : spectrum.wavelengths_nm) lambdas_fit &= float32_factor(nm * nm_to_mm);
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
-            const bool fits = float32_length(lf_short[i]) & float32_length(lf_long) &
-                              float32_length(ap[i]) & float32_length(blur_in[i]) &
-                              float32_length(jit[i]) & lambdas_fit &
-                              (!poly | float32_factor(f_num_in[i]));
-            wide[i] = (solve[i] != 0) & !fits;
-            solve[i] = (solve[i] != 0) & fits;
-            b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
-        }
-    } else {
-        for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
-    }
-    auto finish = [&](auto with_jitter) {
-        constexpr bool J = decltype(with_jitter)::value;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            // float32: a lane not solved computes on rounded stand-ins, harmlessly
-            f_num[i] = static_cast<T>(f_num_in[i]);
-            threshold[i] = static_cast<T>(threshold_in[i]);
-            blur[i] = static_cast<T>(blur_in[i]);
-            lambda_f[i] = static_cast<T>(lf[i]);
-            aperture[i] = static_cast<T>(ap[i]);
-            jitter_mm[i] = static_cast<T>(jit[i]);
-            lo[i] = T(0);
-            const T f_hi = f50_bracket<J>(static_cast<T>(lf_short[i]), aperture[i], blur[i],
-                                          jitter_mm[i], ln_inv_c[i]);
-            hi[i] = f_hi;
-            // the starting guess
-            const T d = static_cast<T>(d_length[i]) * T(1.0 / start_nu50);
-            const T p = aperture[i] * T(1.0 / start_x50);
-            const T m = blur[i] * T(1.0 / start_x50);
-            const T j = jitter_mm[i] * T(1.0 / start_j50);
-            const T r = T(1) / std::sqrt(d * d + p * p + m * m + j * j);
-            const T f0 = r * start_polynomial(d * r, (p + m) * r, (p * r) * (m * r)) * start_scale[i];
-            at[i] = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
-        }
-    };
-    if (any_jitter) finish(std::true_type{});
-    else finish(std::false_type{});
-    int motion = 0, jitter = 0;
-    EPC_FAST_SIMD_REDUCTION(+ : motion)
-    for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));
-    EPC_FAST_SIMD_REDUCTION(+ : jitter)
-    for (std::size_t i = 0; i < n; ++i) jitter += (solve[i] != 0) & (jitter_mm[i] > T(0));
-    return (motion > 0 ? 1 : 0) | (jitter > 0 ? 2 : 0);
 }
 
 // f50 for every lane to solve, into b.f50.

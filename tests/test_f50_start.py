@@ -1,0 +1,137 @@
+"""The f50 solvers' starting guesses (cpp/include/epc_fast/f50_start.h) against the exact f50,
+and the per-lane choice between them."""
+
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast import Status, _core, reference
+from epc_fast.selfcheck import random_designs
+
+WAVELENGTH_NM = 550.0
+
+
+def _exact_f50(f_number, aperture_mm, blur_mm, jitter_mm, threshold):
+    """The reference's f50 (bisection to adjacent doubles) for one wavelength, from lengths."""
+    f_number, aperture_mm, blur_mm, jitter_mm, threshold = np.broadcast_arrays(
+        *(np.asarray(a, dtype=np.float64) for a in (f_number, aperture_mm, blur_mm, jitter_mm,
+                                                    threshold)))
+    pitch_um = aperture_mm * 1e3  # fill factor 1: the aperture is the pitch
+    jitter_um = jitter_mm * 1e3
+    f_hi = reference.f50_bracket(f_number, WAVELENGTH_NM, pitch_um, 1.0, blur_mm, jitter_um,
+                                 threshold)
+
+    def mtf(f):
+        return reference.mtf_system(f, f_number, pitch_um, 1.0, blur_mm, jitter_um,
+                                    [WAVELENGTH_NM], [1.0])
+
+    return reference.f50_bisection(mtf, f_hi, threshold)
+
+
+def _lengths(n, seed, blur_share=0.8):
+    """Lengths whose ratios span e^-7..e^7 (the fits' range) and past it: pure diffraction,
+    pure pixel, pure motion and every mix, with a fifth of the points without motion."""
+    rng = np.random.default_rng(seed)
+    f_number = rng.uniform(1.0, 16.0, n)
+    lambda_f = WAVELENGTH_NM * 1e-6 * f_number
+    aperture = lambda_f * np.exp(rng.uniform(-9.0, 9.0, n))
+    blur = lambda_f * np.exp(rng.uniform(-9.0, 9.0, n)) * (rng.random(n) < blur_share)
+    return f_number, lambda_f, aperture, blur
+
+
+def test_the_accurate_start_is_within_5e_8_of_f50_everywhere():
+    # tools/fit_f50_start.py measures 4.2e-8 (largest, over the whole (v_d, w) domain); 5e-8
+    # leaves room for the rounding of the lengths and of Horner's rule. At 5e-8 one Halley step
+    # leaves an error of order (5e-8)^3, far below float64's precision.
+    f_number, lambda_f, aperture, blur = _lengths(20_000, seed=3)
+    # and the edges of the domain: one factor alone, two equal, the three equal
+    lf = WAVELENGTH_NM * 1e-6 * 4.0
+    edges = np.array([[lf, lf * 1e-9, 0.0], [lf, lf * 1e9, 0.0], [lf, lf * 1e-9, lf * 1e9],
+                      [lf, lf * 1e9, lf * 1e9], [lf, lf, lf], [lf, lf, 0.0], [lf, lf * 1e-9, lf],
+                      [lf, lf * 3.0, lf * 3.0]])
+    f_number = np.concatenate([f_number, np.full(len(edges), 4.0)])
+    lambda_f = np.concatenate([lambda_f, edges[:, 0]])
+    aperture = np.concatenate([aperture, edges[:, 1]])
+    blur = np.concatenate([blur, edges[:, 2]])
+    exact = _exact_f50(f_number, aperture, blur, 0.0, 0.5)
+    start = _core.f50_start(lambda_f, aperture, blur, 0.0, 0.5)
+    assert np.max(np.abs(start / exact - 1)) <= 5e-8
+
+
+def test_the_cubic_start_is_within_its_fit_at_one_half():
+    # tools/fit_f50_start.py: 0.37% over ratios e^-7..e^7; measured 0.369% over these e^-9..e^9.
+    # A jitter of 1e-300 mm changes no MTF digit but takes the cubic start.
+    f_number, lambda_f, aperture, blur = _lengths(20_000, seed=4)
+    exact = _exact_f50(f_number, aperture, blur, 0.0, 0.5)
+    start = _core.f50_start(lambda_f, aperture, blur, 1e-300, 0.5)
+    assert np.max(np.abs(start / exact - 1)) <= 3.8e-3
+
+
+@pytest.mark.parametrize("threshold", [0.05, 0.3, 0.95])
+def test_the_start_for_other_thresholds_and_jitter_is_a_finite_positive_guess(threshold):
+    # Another threshold scales the cubic by sqrt(ln(1/c) / ln 2), exact for jitter alone and
+    # coarse otherwise (measured: median 25% at c = 0.05, up to 180% at c = 0.95). It only sets
+    # the solvers' first abscissa; one outside the bracket is replaced by f_hi / 2 (f50_start.h),
+    # so what it must be is finite and positive.
+    f_number, lambda_f, aperture, blur = _lengths(5_000, seed=4)
+    rng = np.random.default_rng(5)
+    jitter = lambda_f * np.exp(rng.uniform(-3.0, 3.0, len(lambda_f))) * (rng.random(len(lambda_f)) < 0.5)
+    start = _core.f50_start(lambda_f, aperture, blur, jitter, threshold)
+    assert np.all(np.isfinite(start)) and np.all(start > 0)
+    exact = _exact_f50(f_number, aperture, blur, jitter, threshold)
+    assert np.median(np.abs(start / exact - 1)) <= 0.3
+
+
+def test_the_accurate_start_is_the_cubic_one_where_it_does_not_apply():
+    # jitter, or a threshold other than 1/2: the accurate polynomial was not fitted there
+    lf = WAVELENGTH_NM * 1e-6 * 2.8
+    aperture, blur = np.array([0.5, 2.0, 8.0]) * lf, np.array([0.0, 1.0, 3.0]) * lf
+    exact = _exact_f50(2.8, aperture, blur, 0.0, 0.5)
+    accurate = _core.f50_start(lf, aperture, blur, 0.0, 0.5)
+    cubic_at_half = _core.f50_start(lf, aperture, blur, 1e-300, 0.5)  # no jitter to speak of
+    assert np.max(np.abs(accurate / exact - 1)) <= 5e-8
+    assert np.max(np.abs(cubic_at_half / exact - 1)) > 1e-6  # the cubic's own error
+    assert np.max(np.abs(cubic_at_half / exact - 1)) <= 4e-3
+
+
+def _designs(n, seed):
+    d = random_designs(n, seed=seed)
+    rng = np.random.default_rng(seed)
+    # lanes of both kinds in every block: a third with jitter, a third with another threshold
+    kind = rng.integers(0, 3, n)
+    d["jitter_um"] = np.where(kind == 1, rng.uniform(0.1, 2.0, n), 0.0)
+    d["mtf_threshold"] = np.where(kind == 2, rng.uniform(0.1, 0.9, n), 0.5)
+    return d
+
+
+def test_a_point_gets_the_same_bits_in_a_mixed_block_as_among_its_own_kind():
+    # start_f50 picks the start per lane: a block that mixes accurate-start lanes with cubic
+    # ones computes both and selects, a block of one kind computes one. A point's result must
+    # not depend on which kind of block it lands in.
+    d = _designs(3000, seed=11)
+    mixed = epc_fast.evaluate(**d, threads=1)
+    accurate = (d["jitter_um"] == 0) & (d["mtf_threshold"] == 0.5)
+    for kind in (accurate, ~accurate):
+        alone = epc_fast.evaluate(**{k: v[kind] for k, v in d.items()}, threads=1)
+        for field in ("f50_cyc_per_mm", "epc", "status"):
+            assert np.array_equal(getattr(mixed, field)[kind], getattr(alone, field),
+                                  equal_nan=True), field
+
+
+def test_a_broadcast_threshold_of_one_half_gives_the_bits_of_an_array_of_halves():
+    d = random_designs(2000, seed=12)
+    broadcast = epc_fast.evaluate(**d, mtf_threshold=0.5, jitter_um=0.0)
+    arrays = epc_fast.evaluate(**d, mtf_threshold=np.full(2000, 0.5), jitter_um=np.zeros(2000))
+    assert np.array_equal(broadcast.f50_cyc_per_mm, arrays.f50_cyc_per_mm, equal_nan=True)
+
+
+@pytest.mark.parametrize("solver", ["halley", "newton"])
+def test_mixed_blocks_meet_the_tolerance(solver):
+    d = _designs(3000, seed=13)
+    core = epc_fast.evaluate(**d, f50_solver=solver)
+    ref = epc_fast.evaluate(**d, backend="reference")
+    ok = ref.status == Status.OK
+    assert np.array_equal(core.status, ref.status) and ok.sum() > 1500
+    # f50_rtol 1e-14 plus both engines' rounding of these well-conditioned phones
+    # (test_f50_solvers.py)
+    assert np.max(np.abs(core.f50_cyc_per_mm[ok] / ref.f50_cyc_per_mm[ok] - 1)) <= 1e-14 + 3e-14
