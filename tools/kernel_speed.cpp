@@ -1,13 +1,15 @@
 // The kernel's speed without Python: evaluate() on random phone designs (those of
 // epc_fast.selfcheck.random_designs: 1-100k lux, 0.8-3 um, F/1.4-8, focal 2-20 mm, 1-40 mm^2,
-// half with read noise 0-5 e-, shake 0-10 deg/s), one thread, outputs preallocated; prints the
+// half with read noise 0-5 e-, shake 0-10 deg/s), outputs preallocated (one thread unless
+// asked for more); prints the
 // best points/s of `rounds` calls. For profiling the kernel (perf record) and comparing two
 // versions of a header on the same machine in one sitting; bench/ measures the package.
 //
 //   g++ -std=c++17 -O3 -march=x86-64-v4 -mprefer-vector-width=512 -ffp-contract=fast
 //       -fno-math-errno -fno-trapping-math -fopenmp -I cpp/include tools/kernel_speed.cpp
 //       -o /tmp/kernel_speed      (one command, from the repository's root)
-//   /tmp/kernel_speed [points=1000000] [rounds=5] [halley|newton|brent|bisection] [float32]
+//   /tmp/kernel_speed [points=1000000] [rounds=5] [halley|newton|brent|bisection] [float32|float64]
+//                     [threads=1]
 //
 // 8192 points stay in the caches (the kernel alone); 10^6 and more stream from memory.
 #include <algorithm>
@@ -28,8 +30,9 @@ int main(int argc, char** argv) {
     const int rounds = argc > 2 ? std::atoi(argv[2]) : 5;
     const std::string solver = argc > 3 ? argv[3] : "halley";
     const bool float32 = argc > 4 && std::string(argv[4]) == "float32";
-    if (n == 0 || rounds <= 0) {
-        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32]\n");
+    const int threads = argc > 5 ? std::atoi(argv[5]) : 1;
+    if (n == 0 || rounds <= 0 || threads <= 0) {
+        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32|float64] [threads]\n");
         return 2;
     }
     std::mt19937_64 rng(1);
@@ -73,12 +76,12 @@ int main(int argc, char** argv) {
     double best = 0.0;
     for (int r = 0; r < rounds; ++r) {
         const auto start = std::chrono::steady_clock::now();
-        evaluate(in, opt, out, 0, n, 1);
+        evaluate(in, opt, out, 0, n, threads);
         const double s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         best = std::max(best, static_cast<double>(n) / s);
     }
-    std::printf("%zu points, %s, %s: best %.2f M points/s (f50[0] = %.17g)\n", n, solver.c_str(),
-                float32 ? "float32" : "float64", best / 1e6, values[4][0]);
+    std::printf("%zu points, %s, %s, %d thread(s): best %.2f M points/s (f50[0] = %.17g)\n", n,
+                solver.c_str(), float32 ? "float32" : "float64", threads, best / 1e6, values[4][0]);
     return 0;
 }
