@@ -148,3 +148,21 @@ def test_the_memory_estimate_counts_only_the_selected_outputs(monkeypatch):
     monkeypatch.setattr(api, "_memory_limit_bytes", lambda: 8 * 10**9)
     with pytest.raises(MemoryError, match="needs about 8.4 GiB"):  # 9 bytes a point
         api._check_memory((10**9,), scalars, "core", False, ("epc", "status"))
+
+
+def test_out_may_reuse_input_arrays_each_point_is_read_before_it_is_written(designs):
+    # The kernel reads full blocks of contiguous input columns in place (kernel.h gather) and
+    # writes a block's outputs one after another, so api._run_core copies an input column that
+    # shares memory with an output. Here the rate overwrites the pitch, which the EPC of pixel
+    # counts reads after the rate is written, and f50 the pixel count, read for the EPC too.
+    few = {k: np.array(v[:3000]) for k, v in designs.items() if k != "sensor_area_mm2"}
+    few["pixel_count"] = np.random.default_rng(3).uniform(1e6, 5e7, 3000)
+    expected = epc_fast.evaluate(**few)
+    out = {name: np.empty(3000, api.OUTPUT_DTYPES[name]) for name in ALL_FIELDS}
+    out["electron_rate_e_per_s"] = few["pixel_pitch_um"]
+    out["f50_cyc_per_mm"] = few["pixel_count"]
+    out["t_mpe_s"] = few["illuminance_lux"]
+    result = epc_fast.evaluate(**few, out=out)
+    for name in ALL_FIELDS:
+        assert _same_bits(getattr(result, name), getattr(expected, name)), name
+    assert result.electron_rate_e_per_s is few["pixel_pitch_um"]

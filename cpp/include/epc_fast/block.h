@@ -27,13 +27,18 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 template <class T>
 struct alignas(64) Block {
     std::size_t n;
-    double x[n_params][block_size];  // parameters; invalid lanes hold harmless stand-ins
+    // parameters: x[j] points at block_size values, in the caller's column itself (a full
+    // block of a contiguous column whose points are all valid: nothing to copy) or in
+    // x_store[j] (a broadcast row, a partial or strided block, or a block with invalid lanes,
+    // which hold harmless stand-ins there)
+    const double* x[n_params];
+    double x_store[n_params][block_size];
     std::uint32_t uniform;  // bit j: parameter j is broadcast (the same in every lane)
     double broadcast[n_params];  // a broadcast parameter's value (its stand-in if invalid)
     bool is_broadcast(int j) const { return (uniform & (std::uint32_t{1} << j)) != 0; }
     // whether parameter j is broadcast with the value v (the terms a block can drop)
     bool broadcast_is(int j, double v) const { return is_broadcast(j) && broadcast[j] == v; }
-    // bit j: row x[j] holds row_value[j] in every lane, from an earlier block on the same
+    // bit j: row x_store[j] holds row_value[j] in every lane, from an earlier block on the same
     // Block (each thread of a call keeps one: kernel.h), so a broadcast row is filled once
     std::uint32_t row_filled = 0;
     double row_value[n_params];

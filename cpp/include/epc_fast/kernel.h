@@ -68,7 +68,7 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
         const bool replaced = j == illuminance_lux && illuminance != nullptr;
         const double* src = replaced ? illuminance : in.columns[j].data;
         const std::ptrdiff_t stride = replaced ? 1 : in.columns[j].stride;
-        double* __restrict x = b.x[j];
+        double* __restrict x = b.x_store[j];
         const std::uint32_t bit = std::uint32_t{1} << j;
         if (stride == 0) {
             // every lane holds the value, or the stand-in if it is invalid, even a lane that is
@@ -85,10 +85,16 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
                 for (std::size_t i = 0; i < block_size; ++i) valid[i] = 0;
             b.uniform |= bit;
             b.broadcast[j] = fill;
+            b.x[j] = x;
             continue;
         }
         b.row_filled &= ~bit;
         if (!replaced) src += static_cast<std::ptrdiff_t>(begin) * stride;
+        if (stride == 1 && n == block_size) {
+            b.x[j] = src;  // read in place (copied below if a lane turns out invalid)
+            check_domain(in.domains[j], src, valid);
+            continue;
+        }
         if (stride == 1) {
             for (std::size_t i = 0; i < n; ++i) x[i] = src[i];
         } else {
@@ -96,6 +102,7 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
         }
         for (std::size_t i = n; i < block_size; ++i) x[i] = stand_in(j);
         check_domain(in.domains[j], x, valid);
+        b.x[j] = x;
     }
     int n_valid = 0;
     EPC_FAST_SIMD_REDUCTION(+ : n_valid)
@@ -103,7 +110,12 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
     if (n_valid == static_cast<int>(block_size)) return;
     for (int j = 0; j < n_params; ++j) {
         if (b.is_broadcast(j)) continue;  // already harmless
-        double* __restrict x = b.x[j];
+        double* __restrict x = b.x_store[j];
+        if (b.x[j] != x) {  // read in place so far: copy, to hold the stand-ins
+            const double* __restrict src = b.x[j];
+            for (std::size_t i = 0; i < block_size; ++i) x[i] = src[i];
+            b.x[j] = x;
+        }
         const double s = stand_in(j);
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < block_size; ++i) x[i] = valid[i] ? x[i] : s;

@@ -88,7 +88,9 @@ struct Options {
 
 // Output columns, contiguous. Point i of a call to evaluate_block is written at index i: the
 // caller offsets the pointers to the block (Outputs::at). A null pointer: that output is not
-// computed (and without f50 and EPC, f50 is not solved).
+// computed (and without f50 and EPC, f50 is not solved). No output may share memory with an
+// input column: the kernel reads full blocks of contiguous columns in place (kernel.h gather)
+// while it writes outputs (the Python API copies such a column first).
 struct Outputs {
     double* electron_rate_e_per_s;
     double* electrons;
