@@ -221,3 +221,35 @@ def test_a_grid_space_scans_its_grid_once_by_default():
 def test_bad_run_arguments_are_refused(kwargs, error, message):
     with pytest.raises(error, match=message):
         run(SPACE, **{"points": 10, **kwargs})
+
+
+def test_a_chunk_computes_only_the_outputs_its_reductions_use(reference, monkeypatch):
+    # chunk_outputs: the reductions' outputs and the status; the same numbers as a scan that
+    # computes every field (all outputs of one point come from one evaluation, bit for bit).
+    asked = []
+    real = epc_fast.scan.tasks.evaluate
+
+    def recording(*args, **kwargs):
+        asked.append(kwargs.get("outputs"))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", recording)
+    lean = _run(chunk_points=BLOCK_POINTS, threads=2)
+    assert set(asked) == {("status", "epc")}
+    assert_same_numbers(lean, reference)
+    asked.clear()  # T_MPE alone: f50 is not solved, and the summary counts every point
+    only_t = _run(reductions={"t": Summary(of="t_mpe_s")}, chunk_points=BLOCK_POINTS)
+    assert set(asked) == {("status", "t_mpe_s")} and only_t["t"].points.sum() == POINTS
+    monkeypatch.setattr(epc_fast.scan.tasks, "chunk_outputs", lambda plan, parquet: None)
+    asked.clear()
+    assert_same_numbers(_run(chunk_points=BLOCK_POINTS, threads=2), reference)
+    assert set(asked) == {None}
+
+
+def test_a_chunk_asks_for_each_output_its_reductions_summarise():
+    plan = tuple(epc_fast.scan.tasks.PlanItem(name, r, None) for name, r in {
+        "a": Summary(of="t_mpe_s"), "b": Histogram(1e-3, 1.0, 10, of="blur_mm"),
+        "c": TopK(3)}.items())
+    assert epc_fast.scan.tasks.chunk_outputs(plan, parquet=False) == (
+        "status", "blur_mm", "epc", "t_mpe_s")
+    assert epc_fast.scan.tasks.chunk_outputs(plan, parquet=True) is None

@@ -14,7 +14,7 @@ from .chunk import Chunk
 from .groups import GroupKey
 from .space import Space
 
-__all__ = ["PlanItem", "ChunkOutcome", "reduce_chunk"]
+__all__ = ["PlanItem", "ChunkOutcome", "chunk_outputs", "reduce_chunk"]
 
 
 @dataclass(frozen=True)
@@ -47,13 +47,25 @@ class ChunkOutcome:
     reduction_s: float
 
 
+def chunk_outputs(plan: tuple, parquet: bool) -> tuple | None:
+    """The :class:`~epc_fast.Result` fields a chunk needs: the output of each reduction and the
+    status (summaries count statuses), or every field (None) when the points go to Parquet.
+    The core computes only these (``evaluate(outputs=...)``): without f50 or EPC among them it
+    does not solve f50 at all."""
+    if parquet:
+        return None
+    return ("status",) + tuple(sorted({item.reduction.of for item in plan}))
+
+
 def reduce_chunk(space: Space, plan: tuple, seed: int, start: int, stop: int, points_total: int,
                  threads: int | None, parquet_dir: str | None = None) -> ChunkOutcome:
     """Draw, evaluate and reduce points ``start .. stop - 1`` of a scan of ``points_total``."""
     t0 = time.perf_counter()
     points = space.points(seed, start, stop)
     t1 = time.perf_counter()
-    result = evaluate(**points.parameters, threads=threads, **space.evaluate_options)
+    result = evaluate(**points.parameters, threads=threads,
+                      outputs=chunk_outputs(plan, parquet_dir is not None),
+                      **space.evaluate_options)
     t2 = time.perf_counter()
     if parquet_dir is not None:
         from .parquet import write_part
