@@ -147,6 +147,24 @@ def test_points_per_s_times_every_setting_on_every_thread_count():
     assert lines[-2:] == ["timing round 1 of 2", "timing round 2 of 2"]
 
 
+def test_points_per_s_writes_every_timed_call_into_the_same_arrays(monkeypatch):
+    from epc_fast import tradeoff
+    from epc_fast.selfcheck import random_designs
+
+    seen = []
+    real = tradeoff.evaluate
+
+    def recording(*args, out=None, **kwargs):
+        seen.append(out)
+        return real(*args, out=out, **kwargs)
+
+    monkeypatch.setattr(tradeoff, "evaluate", recording)
+    tradeoff.points_per_s(random_designs(500), [{}, {"precision": "float32"}], (1, 2), rounds=2)
+    first = seen[0]
+    assert first is None and len(seen) == 4 + 8  # the first warm-up call makes the arrays
+    assert all(out is not None and out.epc is seen[1].epc for out in seen[1:])
+
+
 # --- The plot and the mpmath check ---------------------------------------------------------------
 
 
