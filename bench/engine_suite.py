@@ -299,9 +299,17 @@ def bench_reference(benchmark, data: Data, size: Size) -> None:
     check(benchmark, as_fields(result), data.reference(size), REFERENCE_RTOL)
 
 
-def bench_numba(benchmark, data: Data, size: Size, numba_evaluate) -> None:
+def bench_numba(benchmark, data: Data, size: Size, numba_evaluate,
+                same_algorithm: bool = False) -> None:
+    """The Numba peer; with ``same_algorithm``, running the core's own f50 algorithm (its
+    accurate start and stop test: peers/numba_peer.py), recorded as peer numba_same_algorithm."""
     designs = data.designs(size.points)
-    record(benchmark, "numba", size.points, THREADS, f50_solver="safeguarded Halley")
+    if same_algorithm:
+        record(benchmark, "numba_same_algorithm", size.points, THREADS,
+               f50_solver="safeguarded Halley, the core's start and stop test")
+        designs = dict(designs, same_algorithm=True)
+    else:
+        record(benchmark, "numba", size.points, THREADS, f50_solver="safeguarded Halley")
     result = benchmark.pedantic(numba_evaluate, kwargs=designs, iterations=1,
                                 **size.rounds_of("numba"))
     record_throughput(benchmark)

@@ -55,11 +55,14 @@ def group_table(benchmarks: list) -> str:
     for bench in benchmarks:
         by_peer.setdefault(_peer(bench), bench)
     reference, numba = by_peer.get("reference"), by_peer.get("numba")
+    same = by_peer.get("numba_same_algorithm")
     ref_rate = _throughput(reference) if reference else None
     numba_rate = _throughput(numba) if numba else None
+    same_rate = _throughput(same) if same else None
 
     rows = ["| name | median (s) | points | M points/s | vs reference | vs numba "
-            "| max rel. error | max rel. error / κ |", "|---|---|---|---|---|---|---|---|"]
+            "| vs numba, same algorithm | max rel. error | max rel. error / κ |",
+            "|---|---|---|---|---|---|---|---|---|"]
     ordered = sorted(benchmarks, key=lambda b: -(_throughput(b) or 1.0 / b["stats"]["median"]))
     for bench in ordered:
         info = bench.get("extra_info", {})
@@ -70,10 +73,10 @@ def group_table(benchmarks: list) -> str:
             points_text += f" (of {info['of_points']:,})"
         error = info.get("max_rel_error")
         scaled = info.get("max_rel_error_per_condition")
-        rows.append("| {} | {} | {} | {} | {} | {} | {} | {} |".format(
+        rows.append("| {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
             bench["name"], _seconds(bench["stats"]["median"]), points_text,
             f"{rate / 1e6:.3g}" if rate else "—",
-            _ratio(rate, ref_rate), _ratio(rate, numba_rate),
+            _ratio(rate, ref_rate), _ratio(rate, numba_rate), _ratio(rate, same_rate),
             f"{error:.1e}" if error is not None else "—",
             f"{scaled:.1e}" if scaled is not None else "—"))
     return "\n".join(rows)

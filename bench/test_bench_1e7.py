@@ -45,5 +45,10 @@ def test_numba(benchmark, data, numba_evaluate):
     suite.bench_numba(benchmark, data, SIZE, numba_evaluate)
 
 
+def test_numba_same_algorithm(benchmark, data, numba_evaluate):
+    """The Numba peer running the core's f50 algorithm: what the C++ buys beyond it."""
+    suite.bench_numba(benchmark, data, SIZE, numba_evaluate, same_algorithm=True)
+
+
 def test_scipy_brentq_1000_points(benchmark, data, brentq_evaluate):
     suite.bench_brentq(benchmark, data, SIZE, brentq_evaluate)

@@ -14,6 +14,13 @@ derivatives, inside the bisection bracket [0, f_hi] of MODEL.md section 6:
 - it stops when |step| <= rtol * f (rtol = 1e-14), before the safeguard (a converged step
   may round onto a bracket end), or when the bracket is that narrow.
 
+With ``same_algorithm=True`` the peer runs the core's own algorithm instead, to separate what
+the algorithm buys from what the C++ buys: the core's accurate start (f50_start.h, its
+coefficients read from ``epc_fast._core``, threshold 1/2 only: within 4.2e-8 of f50) and the
+core's stop test (a lane stops when its step d <= (rtol/10)^(1/3) f and d^3 / p^2 <=
+(rtol/10) f, p the step before, the bracket's width at first), so that it too stops after one
+MTF evaluation on these designs.
+
 The scene is that of the engine benchmarks (``epc_fast.selfcheck.random_designs``):
 monochromatic, on axis, lens transmittance and fill factor 1, no dark current, PRNU, full well
 or jitter; statuses OK, UNREACHABLE (no light) and BLUR_UNBOUNDED as the core gives them.
@@ -25,6 +32,7 @@ import math
 import numba
 import numpy as np
 
+from epc_fast import _core
 from epc_fast.spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from epc_fast.status import Status
 
@@ -37,6 +45,12 @@ UNREACHABLE = int(Status.UNREACHABLE)
 BLUR_UNBOUNDED = int(Status.BLUR_UNBOUNDED)
 #: Below this |pi x| the sinc's derivatives come from their Taylor series (no cancellation).
 SMALL_PI_X = 1e-2
+#: The core's accurate start (f50_start.h): each factor's own f50 in units of its length, and
+#: the polynomial in a = 2 v_d - 1 and z = w^2, rows a^0 .. a^degree of z^0 .. z^((degree-i)/2).
+NU50 = 0.4039727532995172
+X50 = 0.6033545644016142
+START_DEGREE = int(_core.accurate_start_degree)
+START_COEFFICIENTS = np.asarray(_core.accurate_start_coefficients, dtype=np.float64)
 
 
 @numba.njit(inline="always")
@@ -134,16 +148,82 @@ def _f50_halley(lambda_f, aperture, blur, threshold, rtol, alpha_per_lambda_f,
     return f, evaluations
 
 
+@numba.njit(inline="always")
+def _accurate_start(lambda_f, aperture, blur, coefficients, degree):
+    """The core's start_guess for one wavelength, threshold 1/2 and no jitter (cycles/mm)."""
+    d = lambda_f / NU50
+    p = aperture / X50
+    m = blur / X50
+    r = 1.0 / math.sqrt(d * d + p * p + m * m)
+    pr, mr = p * r, m * r
+    w = (pr - mr) * (pr + mr)
+    a, z = 2.0 * (d * r) - 1.0, w * w
+    total = 0.0
+    end = coefficients.shape[0]
+    for i in range(degree, -1, -1):  # Horner in a over the rows, each by Horner in z
+        length = (degree - i) // 2 + 1
+        start = end - length
+        row = 0.0
+        for j in range(end - 1, start - 1, -1):
+            row = row * z + coefficients[j]
+        end = start
+        total = total * a + row
+    return r * total
+
+
+@numba.njit(inline="always")
+def _f50_core_algorithm(lambda_f, aperture, blur, threshold, rtol, coefficients, degree):
+    """f50 as the core solves it at threshold 1/2: safeguarded Halley from the accurate start,
+    stopping on the core's estimate of the error left; and the MTF evaluations it took."""
+    hi = 1.0 / max(lambda_f, aperture, blur)
+    lo = 0.0
+    f = _accurate_start(lambda_f, aperture, blur, coefficients, degree)
+    if not (lo < f < hi):
+        f = 0.5 * hi
+    step_rtol = (0.1 * rtol) ** (1.0 / 3.0)
+    previous = hi - lo
+    evaluations = 0
+    for _ in range(200):
+        g, dg, d2g = _mtf3(f, lambda_f, aperture, blur)
+        evaluations += 1
+        g -= threshold
+        if g == 0.0:
+            return f, evaluations
+        if g > 0.0:
+            lo = f
+        else:
+            hi = f
+        denominator = 2.0 * dg * dg - g * d2g
+        step = -2.0 * g * dg / denominator if denominator != 0.0 else math.nan
+        ad = abs(step)
+        if ad <= step_rtol * f and ad * (ad / previous) ** 2 <= 0.1 * rtol * f:  # converged
+            return min(max(f + step, lo), hi), evaluations
+        x = f + step
+        if not (lo < x < hi):  # left the bracket, or NaN: bisect
+            x = lo + 0.5 * (hi - lo)
+        if hi - lo <= rtol * lo:
+            return x, evaluations
+        previous = abs(x - f)
+        f = x
+    return f, evaluations
+
+
 @numba.njit(parallel=True)
 def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, sensor_area_mm2,
              read_noise_e, shake_deg_per_s, k_e_per_lux_s_m2=DEFAULT_ELECTRONS_PER_LUX_S_M2,
-             snr_db=30.0, reflectance=0.4, wavelength_nm=550.0, threshold=0.5, rtol=1e-14):
-    """t_mpe_s, f50_cyc_per_mm, epc and status (uint8) for 1-D arrays of equal length."""
+             snr_db=30.0, reflectance=0.4, wavelength_nm=550.0, threshold=0.5, rtol=1e-14,
+             same_algorithm=False, start_coefficients=START_COEFFICIENTS,
+             start_degree=START_DEGREE):
+    """t_mpe_s, f50_cyc_per_mm, epc and status (uint8) for 1-D arrays of equal length.
+
+    ``same_algorithm``: f50 by the core's algorithm (threshold 1/2 only), see the module."""
     n = illuminance_lux.shape[0]
     t_out = np.empty(n)
     f50_out = np.empty(n)
     epc_out = np.empty(n)
     status = np.empty(n, dtype=np.uint8)
+    if same_algorithm and threshold != 0.5:
+        raise ValueError("same_algorithm: the accurate start holds at threshold 0.5 only")
     root_s = 10.0 ** (snr_db / 20.0)
     alpha, beta, log_c = _guess_coefficients(threshold)
     for i in numba.prange(n):
@@ -167,8 +247,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, sensor_
             status[i] = BLUR_UNBOUNDED
             continue
         blur = focal_length_mm[i] * math.tan(angle)
-        f, _ = _f50_halley(wavelength_nm * 1e-6 * f_number[i], pitch * 1e-3, blur, threshold,
-                           rtol, alpha, beta, log_c)
+        if same_algorithm:
+            f, _ = _f50_core_algorithm(wavelength_nm * 1e-6 * f_number[i], pitch * 1e-3, blur,
+                                       threshold, rtol, start_coefficients, start_degree)
+        else:
+            f, _ = _f50_halley(wavelength_nm * 1e-6 * f_number[i], pitch * 1e-3, blur,
+                               threshold, rtol, alpha, beta, log_c)
         f50_out[i] = f
         epc_out[i] = 4.0 * sensor_area_mm2[i] * f * f
         status[i] = OK
@@ -177,12 +261,18 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, sensor_
 
 @numba.njit(parallel=True)
 def halley_evaluations(pixel_pitch_um, f_number, blur_mm, wavelength_nm=550.0, threshold=0.5,
-                       rtol=1e-14):
+                       rtol=1e-14, same_algorithm=False, start_coefficients=START_COEFFICIENTS,
+                       start_degree=START_DEGREE):
     """MTF evaluations per point of the f50 solver (for the benchmarks' extra_info)."""
     n = pixel_pitch_um.shape[0]
     out = np.empty(n, dtype=np.int64)
     alpha, beta, log_c = _guess_coefficients(threshold)
     for i in numba.prange(n):
-        out[i] = _f50_halley(wavelength_nm * 1e-6 * f_number[i], pixel_pitch_um[i] * 1e-3,
-                             blur_mm[i], threshold, rtol, alpha, beta, log_c)[1]
+        lambda_f, aperture = wavelength_nm * 1e-6 * f_number[i], pixel_pitch_um[i] * 1e-3
+        if same_algorithm:
+            out[i] = _f50_core_algorithm(lambda_f, aperture, blur_mm[i], threshold, rtol,
+                                         start_coefficients, start_degree)[1]
+        else:
+            out[i] = _f50_halley(lambda_f, aperture, blur_mm[i], threshold, rtol, alpha, beta,
+                                 log_c)[1]
     return out

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -288,4 +289,10 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     m.def("f50_start", py::vectorize(&detail::f50_start), py::arg("lambda_f_mm"),
           py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("jitter_mm"),
           py::arg("mtf_threshold"));
+    // The accurate start's polynomial (f50_start.h), row by row, for the benchmarks' Numba peer
+    // that runs the core's algorithm.
+    m.attr("accurate_start_degree") = detail::accurate_start_degree;
+    m.attr("accurate_start_coefficients") = py::array_t<double>(
+        static_cast<py::ssize_t>(std::size(detail::accurate_start_coefficients)),
+        detail::accurate_start_coefficients);
 }

@@ -75,3 +75,5 @@ def f50_start(
     lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
     jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
 ) -> np.ndarray: ...
+accurate_start_degree: int
+accurate_start_coefficients: np.ndarray
