@@ -585,7 +585,7 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     take(out.cause, codes[1]);
 }
 
-// Evaluates points [begin, end) on `threads` threads (static schedule over blocks), writing
+// Evaluates points [begin, end) on `threads` threads (blocks shared out dynamically), writing
 // point i to index i of `out`. Each thread keeps one Workspace for all its blocks.
 inline void evaluate(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
                      std::size_t end, int threads) noexcept {

@@ -35,9 +35,14 @@ inline int default_threads() {
 
 // Calls block(first, count, state) for consecutive blocks of at most block_size points covering
 // [begin, end), on `threads` threads. Each thread default-constructs one State and hands it to
-// every block it runs. Static schedule; block must not throw. The team is never larger than
-// the number of blocks: a small call does not wake idle threads. Block boundaries depend only
-// on begin, never on the thread count.
+// every block it runs. Dynamic schedule, 16 blocks (1024 points) a grab: blocks differ in cost
+// (lanes that stop early, slow lanes, Brent's T_MPE, the inverse solvers' trials), and a static
+// split leaves one thread idle at the end of every chunk while the other finishes its half
+// (on 10^7 random designs with out=: 40.6 -> 42.8 M points/s on 2 threads, mean of 5 runs).
+// Which thread runs a block never changes its result: the State holds only caches keyed by
+// value (kernel.h Workspace). block must not throw. The team is never larger than the number
+// of blocks: a small call does not wake idle threads. Block boundaries depend only on begin,
+// never on the thread count.
 template <class State, class Block>
 void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, int threads,
                     Block&& block) {
@@ -52,7 +57,7 @@ void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, 
 #pragma omp parallel num_threads(team)
     {
         State state;
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 16)
         for (std::ptrdiff_t k = 0; k < n_blocks; ++k) run(k, state);
     }
 #else
