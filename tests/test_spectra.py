@@ -8,6 +8,7 @@ import mpmath
 import numpy as np
 import pytest
 
+import epc_fast
 from epc_fast import spectra
 
 # float64 sums in a different order from the mpmath reference: agreement to ~1e-15, checked to 1e-12.
@@ -177,3 +178,32 @@ def test_importing_spectra_does_not_import_colour():
     code = ("import sys; sys.path.insert(0, 'python'); import epc_fast.spectra; "
             "assert 'colour' not in sys.modules")
     subprocess.run([sys.executable, "-c", code], cwd=root, check=True)
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+def test_a_spectrum_with_its_weight_on_one_wavelength_is_that_monochromatic_call(backend):
+    # api._one_wavelength: 1 D + 0 D' = D, so the monochromatic model at that wavelength, which
+    # the core solves on its monochromatic path (the accurate f50 start): the same bits.
+    from epc_fast.selfcheck import random_designs
+
+    d = random_designs(3000, seed=21)
+    mono = epc_fast.evaluate(**d, wavelength_nm=620.0, backend=backend)
+    for spectrum in (spectra.Spectrum([620.0], [1.0]), ([450.0, 620.0, 700.0], [0.0, 2.0, 0.0])):
+        one = epc_fast.evaluate(**d, spectrum=spectrum, backend=backend)
+        for field in ("t_mpe_s", "f50_cyc_per_mm", "epc", "status"):
+            assert np.array_equal(getattr(one, field), getattr(mono, field), equal_nan=True)
+
+
+def test_a_one_wavelength_spectrum_agrees_with_the_polychromatic_reference():
+    # The reference's sum over the spectrum, zero weights included, is the same model: the
+    # routed core call must agree with it as any core call does with the reference.
+    from epc_fast.selfcheck import random_designs
+
+    d = random_designs(3000, seed=22)
+    spectrum = ([450.0, 620.0], [0.0, 1.0])
+    core = epc_fast.evaluate(**d, spectrum=spectrum)
+    ref = epc_fast.evaluate(**d, spectrum=spectrum, backend="reference")
+    ok = ref.status == epc_fast.Status.OK
+    assert np.array_equal(core.status, ref.status) and ok.sum() > 1500
+    # f50_rtol 1e-14 plus both engines' rounding of these well-conditioned phones
+    assert np.max(np.abs(core.f50_cyc_per_mm[ok] / ref.f50_cyc_per_mm[ok] - 1)) <= 4e-14
