@@ -4,8 +4,9 @@
 // Two starting guesses, both fitted by tools/fit_f50_start.py to the exact f50. The guess only
 // decides how many steps the solver takes, never where it converges:
 // - the accurate start, float64, for a lane with one wavelength, threshold 1/2 and no jitter
-//   (the common scene): within 4.2e-8 of f50, so that Halley's or Newton's first step lands at
-//   float64's precision and the solver stops after one evaluation of the MTF;
+//   (the common scene): within 4.2e-8 of f50, so that Halley's first step lands at float64's
+//   precision and the solver stops after one evaluation of the MTF (Newton's stop test asks
+//   for a first step below 3e-8 at the default tolerance: it takes two on part of the lanes);
 // - the cubic start for every other lane, and in float32 (whose tolerance one step from it
 //   already meets): within 0.37%.
 #pragma once
@@ -30,9 +31,9 @@ constexpr double float32_length_hi_mm = 1099511627776.0;        // 2^40
 
 namespace detail {
 
-// The cubic start, for every scene. Each factor alone reaches 1/2 at its own
-// frequency f_i: diffraction at NU50/(lambda F), a sinc of length l at X50/l, jitter at
-// J50/sigma. With x_i = 1/f_i, S = sum x_i^2 and v_i = x_i/sqrt(S), f0 = P(v)/sqrt(S), P a cubic
+// The cubic start, for the lanes the accurate one does not cover. Each factor alone reaches 1/2
+// at its own frequency f_i: diffraction at NU50/(lambda F), a sinc of length l at X50/l, jitter
+// at J50/sigma. With x_i = 1/f_i, S = sum x_i^2 and v_i = x_i/sqrt(S), f0 = P(v)/sqrt(S), P a cubic
 // in v_d, s = v_pixel + v_motion and t = v_pixel v_motion fitted to the exact f50 (largest
 // error 0.37%, median 2.4e-4, over factor ratios e^-7..e^7; jitter enters through S only).
 // For c != 1/2 it is scaled by sqrt(ln(1/c) / ln 2), exact for jitter alone. The guess only
