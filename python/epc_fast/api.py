@@ -100,11 +100,13 @@ def _short(value) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _one_wavelength(spec: Spectrum, arrays: list) -> tuple:
+def _one_wavelength(spec: Spectrum | None, arrays: list) -> tuple:
     """A spectrum whose weight is all on one wavelength is the monochromatic model at it,
     exactly (1 D + 0 D' = D, and the bracket's shortest wavelength is that one): the arrays with
     that wavelength and no spectrum, so that the core takes its monochromatic path (no loop over
-    the spectrum, the accurate f50 start). Any other spectrum is returned as it is."""
+    the spectrum, the accurate f50 start). No spectrum, or any other, is returned as it is."""
+    if spec is None:
+        return spec, arrays
     positive = np.flatnonzero(spec.weights > 0)
     index = params.PARAMETER_NAMES.index("wavelength_nm")
     if positive.size != 1 or not params.in_domain(params.PARAMETERS[index],
@@ -296,9 +298,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     except ValueError:
         shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
         raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None
-    spec = _spectrum_of(spectrum, wavelength_nm)
-    if spec is not None:
-        spec, arrays = _one_wavelength(spec, arrays)
+    spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     _choice("backend", backend, BACKENDS)
     _choice("invalid", invalid, INVALID_POLICIES)
     _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)

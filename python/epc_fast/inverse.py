@@ -265,9 +265,9 @@ def model_inputs(design: dict) -> ModelInputs:
     arrays = tuple(api._as_float_array(name, values[name]) for name in params.PARAMETER_NAMES)
     shape = _broadcast_shape({name: a.shape for name, a in
                               zip(params.PARAMETER_NAMES[1:], arrays[1:])})
-    spec = api._spectrum_of(values["spectrum"], values["wavelength_nm"])
-    if spec is not None:  # all the weight on one wavelength: the monochromatic model at it
-        spec, arrays = api._one_wavelength(spec, list(arrays))
+    # a spectrum with all its weight on one wavelength becomes the monochromatic model at it
+    spec, arrays = api._one_wavelength(
+        api._spectrum_of(values["spectrum"], values["wavelength_nm"]), arrays)
     return ModelInputs(tuple(arrays), shape, size_is_pixel_count, spec)
 
 

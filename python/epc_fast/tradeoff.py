@@ -204,9 +204,14 @@ def f50_accuracy(result, reference) -> Accuracy:
                     mismatches)
 
 
+def _out_kwarg(out) -> dict:
+    """``out=out`` for evaluate, or nothing (an older build may not have out=)."""
+    return {} if out is None else {"out": out}
+
+
 def call_time_s(points: Mapping, kwargs: Mapping, threads: int, out=None) -> float:
     """s, the wall time of one ``evaluate(**points, **kwargs, threads=threads, out=out)``."""
-    extra = {} if out is None else {"out": out}
+    extra = _out_kwarg(out)
     start = time.perf_counter()
     evaluate(**points, **kwargs, threads=threads, **extra)
     return time.perf_counter() - start
@@ -239,7 +244,7 @@ def points_per_s(points: Mapping, kwargs_list: Sequence[Mapping], threads: Seque
     reuse = "out" in evaluate_parameters()  # an older build without out= pages in fresh arrays
     out = None
     for i, t in calls:
-        result = evaluate(**points, **kwargs_list[i], threads=t, **({"out": out} if out else {}))
+        result = evaluate(**points, **kwargs_list[i], threads=t, **_out_kwarg(out))
         out = result if reuse and out is None else out
     times_s = {call: [] for call in calls}
     for r in range(rounds):

@@ -160,14 +160,32 @@ EPC_FAST_INLINE T start_guess(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_
     return f0;
 }
 
+constexpr double ln2 = 0.6931471805599453;
+
+// ln(1/c) for threshold c, in T: the C library's log only for c other than 1/2.
+template <class T>
+T ln_inverse_threshold(double c) {
+    return static_cast<T>(c == 0.5 ? ln2 : std::log(1.0 / c));
+}
+
+// The cubic start's factor for threshold c, from ln(1/c): sqrt(ln(1/c) / ln 2), 1 at c = 1/2.
+template <class T>
+EPC_FAST_INLINE T start_scale_of(T ln_inverse_c) {
+    return std::sqrt(ln_inverse_c * T(1.0 / ln2));
+}
+
+// Whether a float64, monochromatic lane takes the accurate start: no jitter, threshold 1/2.
+EPC_FAST_INLINE bool accurate_start_applies(double jitter_mm, double mtf_threshold) {
+    return (jitter_mm == 0.0) & (mtf_threshold == 0.5);
+}
+
 // cycles/mm: the start start_f50 gives a monochromatic float64 lane (the formula alone, for
 // tests: the accurate start where c = 1/2 and there is no jitter, else the cubic one).
 inline double f50_start(double lambda_f_mm, double aperture_mm, double blur_mm, double jitter_mm,
                         double mtf_threshold) {
-    constexpr double ln2 = 0.6931471805599453;
-    const bool accurate = jitter_mm == 0.0 && mtf_threshold == 0.5;
-    const double scale = std::sqrt((mtf_threshold == 0.5 ? ln2 : std::log(1.0 / mtf_threshold)) * (1.0 / ln2));
-    return start_guess<true, true>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, accurate);
+    const double scale = start_scale_of(ln_inverse_threshold<double>(mtf_threshold));
+    return start_guess<true, true>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale,
+                                   accurate_start_applies(jitter_mm, mtf_threshold));
 }
 
 // Whether a length (mm) is 0 or inside the range float32 lanes solve f50 for.
@@ -188,7 +206,6 @@ EPC_FAST_INLINE bool float32_factor(double x) {
 template <class T>
 int start_f50(const Spectrum& spectrum, Block<T>& b) {
     constexpr std::size_t n = block_size;
-    constexpr double ln2 = 0.6931471805599453;
     constexpr bool narrow = sizeof(T) != sizeof(double);
     const auto& x = b.x;
     const bool poly = spectrum.polychromatic();
@@ -202,16 +219,15 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     // library's log only for a threshold other than 1/2, once for a broadcast threshold.
     T* __restrict ln_inv_c = b.mtf;  // scratch until the solver runs
     T* __restrict start_scale = b.slope;
-    auto ln_inv = [&](double c) { return static_cast<T>(c == 0.5 ? ln2 : std::log(1.0 / c)); };
     if (b.is_broadcast(mtf_threshold)) {
-        const T l = ln_inv(b.broadcast[mtf_threshold]);
-        const T scale = std::sqrt(l * T(1.0 / ln2));
+        const T l = ln_inverse_threshold<T>(b.broadcast[mtf_threshold]);
+        const T scale = start_scale_of(l);
         for (std::size_t i = 0; i < n; ++i) ln_inv_c[i] = l;
         for (std::size_t i = 0; i < n; ++i) start_scale[i] = scale;
     } else {
-        for (std::size_t i = 0; i < n; ++i) ln_inv_c[i] = ln_inv(x[mtf_threshold][i]);
+        for (std::size_t i = 0; i < n; ++i) ln_inv_c[i] = ln_inverse_threshold<T>(x[mtf_threshold][i]);
         EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) start_scale[i] = std::sqrt(ln_inv_c[i] * T(1.0 / ln2));
+        for (std::size_t i = 0; i < n; ++i) start_scale[i] = start_scale_of(ln_inv_c[i]);
     }
     const bool any_jitter = !b.broadcast_is(jitter_um, 0.0);
     const double* __restrict wavelength = x[wavelength_nm];
@@ -283,7 +299,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     if (!narrow && !poly) {
         EPC_FAST_SIMD_REDUCTION(+ : n_accurate, n_cubic)
         for (std::size_t i = 0; i < n; ++i) {
-            const bool a = (jit[i] == 0.0) & (threshold_in[i] == 0.5);
+            const bool a = accurate_start_applies(jit[i], threshold_in[i]);
             accurate[i] = a;
             n_accurate += (solve[i] != 0) & a;
             n_cubic += (solve[i] != 0) & !a;
