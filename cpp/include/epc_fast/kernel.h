@@ -129,6 +129,29 @@ EPC_FAST_INLINE bool normal(double v) {
     return (v >= std::numeric_limits<double>::min()) & (v <= std::numeric_limits<double>::max());
 }
 
+// Whether v lies inside 2^-900..2^900, where a quotient formed by divide_by is the correctly
+// rounded one (its residual neither underflows nor overflows).
+EPC_FAST_INLINE bool moderate(double v) {
+    return (v >= 0x1p-900) & (v <= 0x1p900);
+}
+
+// a / b, rounded correctly, from inverse_b = 1 / b rounded: one division then serves every
+// quotient by b. q = a inverse_b is within an ulp of a / b; the residual a - q b is exact with a
+// fused multiply-add, and q + (a - q b) inverse_b, rounded once, is the correctly rounded a / b
+// (Markstein, IBM J. Res. Dev. 34(1), 1990) for a, b and a / b inside 2^-900..2^900 (moderate;
+// the callers send other lanes to exposure_lane). Checked against the division for 2e8 random
+// and adversarial pairs (tests/test_exposure.py checks the kernel's results). The
+// unfused build divides.
+EPC_FAST_INLINE double divide_by(double a, double b, double inverse_b) {
+#if EPC_FAST_FMA
+    const double q = a * inverse_b;
+    return std::fma(std::fma(-q, b, a), inverse_b, q);
+#else
+    (void)inverse_b;
+    return a / b;
+#endif
+}
+
 #if !EPC_FAST_FMA
 // The rounding error a b - fl(a b), exactly (Dekker's product with Veltkamp's split): what
 // std::fma(a, b, -a * b) gives, in plain arithmetic that vectorises everywhere. Exact for
@@ -232,6 +255,7 @@ void electrons_and_blur(Block<T>& b, const double* __restrict root_s,
     const double* __restrict shake = x[shake_deg_per_s];
     const double* __restrict stab = x[stabilization];
     const double* __restrict rate = b.rate;
+    // moderate rates only (the rate's stage): the divisions by the rate share one reciprocal
     const unsigned char* __restrict rate_normal = b.flag_scratch[1];
     const unsigned char* __restrict capped = b.capped;
     double* __restrict electrons = b.electrons;
@@ -240,26 +264,33 @@ void electrons_and_blur(Block<T>& b, const double* __restrict root_s,
     unsigned char* __restrict slow = b.flag_scratch[0];
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
-        const double rs = root_s[i], rv = rate[i];
+        const double rs = root_s[i], rv = rate[i], inverse_rv = 1.0 / rv;
         // signal_electrons
         double a = 0.0, el = 0.0;
         bool electrons_normal = true;
         {
             const double w = Prnu ? w_margin[i] : 1.0;
-            const double q = Dark ? 1.0 + dark[i] / rv : 1.0;
+            // dark / rate: a lane where it is above 2^900 is redone (divide_by's range); below
+            // 2^-900 it does not move q = 1 + dark / rate from 1
+            const double dark_per_rate = Dark ? divide_by(dark[i], rv, inverse_rv) : 0.0;
+            const double q = 1.0 + dark_per_rate;
             const double read_term = Read ? 2.0 * read[i] * (Prnu ? std::sqrt(w) : 1.0) / q : 0.0;
             a = (Prnu ? rs / (2.0 * w) : 0.5 * rs) * (rs + (Read ? hypot_positive(rs, read_term) : rs));
             if (Dark) {
                 const double ad = a * dark[i];
-                const double extra = ad / rv;
+                const double extra = divide_by(ad, rv, inverse_rv);
                 const bool no_dark = dark[i] == 0.0;
-                electrons_normal = no_dark | (normal(a) & normal(ad) & normal(extra));
+                electrons_normal &= no_dark | ((dark_per_rate <= 0x1p900) & normal(a) & moderate(ad) &
+                                               moderate(extra));
                 el = a + (no_dark ? 0.0 : extra);
             } else {
                 el = a;
             }
         }
-        const double t = el / rv;
+        // T_MPE: a lane where it leaves 2^-900..2^900 (a rate so small that T_MPE is 1e270 s,
+        // or overflows) is redone, unless PRNU caps it (its T_MPE is then infinite, whatever t)
+        const double t = divide_by(el, rv, inverse_rv);
+        electrons_normal &= moderate(t) | (capped[i] != 0);
         electrons[i] = el;
         t_mpe[i] = t;
         const bool unreachable = (capped[i] != 0) | !(t <= std::numeric_limits<double>::max()) | (el > well[i]);
@@ -359,11 +390,14 @@ void exposure(const Options& opt, Block<T>& b) {
         rv *= um_to_m * um_to_m;
         ok &= normal(rv);
         rv /= 4.0;
-        ok &= normal(rv);
-        rv /= f_num[i];
-        ok &= normal(rv);
-        rv /= f_num[i];
-        ok &= normal(rv);
+        ok &= moderate(rv);
+        // the two divisions by F with one reciprocal (divide_by: the same roundings)
+        const double f = f_num[i], inverse_f = 1.0 / f;
+        ok &= moderate(f);
+        rv = divide_by(rv, f, inverse_f);
+        ok &= moderate(rv);
+        rv = divide_by(rv, f, inverse_f);
+        ok &= moderate(rv);
         rate[i] = rv;
         rate_normal[i] = ok;
     }
