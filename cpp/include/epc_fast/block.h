@@ -48,8 +48,11 @@ struct alignas(64) Block {
     // flags are bytes, not bool: the lane loops vectorise on them
     unsigned char valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
-    unsigned char capped[block_size], no_light[block_size], full_well[block_size];
-    unsigned char unbounded[block_size];
+    unsigned char capped[block_size];
+    // what the exposure stage decides (kernel.h): each lane's Status and Cause codes (status.h),
+    // the blur as written out (NaN where undefined, +inf where unbounded), the lanes to solve
+    unsigned char status[block_size], cause[block_size];
+    double blur_out[block_size];
     unsigned char solve[block_size];
     double scratch[5][block_size];  // the exposure stage's, then f50's start's
     unsigned char flag_scratch[2][block_size];

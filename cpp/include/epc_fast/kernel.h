@@ -457,68 +457,70 @@ void exposure(const Options& opt, Block<T>& b) {
     if (brent || n_slow > 0)
         for (std::size_t i = 0; i < n; ++i)
             if (brent || slow[i]) exposure_lane(opt, b, i);
-    unsigned char* __restrict no_light = b.no_light;
-    unsigned char* __restrict full_well = b.full_well;
-    unsigned char* __restrict unbounded = b.unbounded;
+    // Each lane's status and cause, and its rate, electrons, T_MPE and blur as they are written
+    // out (NaN where undefined): decided once here, where the flags are at hand, so that
+    // scatter only copies them.
+    unsigned char* __restrict status = b.status;
+    unsigned char* __restrict cause = b.cause;
+    double* __restrict blur_out = b.blur_out;
     unsigned char* __restrict solve = b.solve;
     const unsigned char* __restrict valid = b.valid;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         const double t = t_mpe[i];  // electrons / rate, from either path
+        const bool ok = valid[i] != 0, cap = capped[i] != 0;
         // A rate so small that T_MPE overflows counts as no light.
-        const bool dark_lane = !capped[i] & !(t <= std::numeric_limits<double>::max());
-        const bool over = !dark_lane & !capped[i] & (electrons[i] > well[i]);
-        const bool unreachable = capped[i] | dark_lane | over;
+        const bool dark_lane = !cap & !(t <= std::numeric_limits<double>::max());
+        const bool over = !dark_lane & !cap & (electrons[i] > well[i]);
+        const bool unreachable = cap | dark_lane | over;
         const bool inf_blur = !unreachable & (blur[i] > std::numeric_limits<double>::max());
-        no_light[i] = dark_lane;
-        full_well[i] = over;
-        t_mpe[i] = unreachable ? inf : t;
-        unbounded[i] = inf_blur;
-        const bool s = (valid[i] != 0) & !unreachable & !inf_blur;
+        const bool s = ok & !unreachable & !inf_blur;
+        status[i] = !ok          ? static_cast<unsigned char>(Status::invalid)
+                    : unreachable ? static_cast<unsigned char>(Status::unreachable)
+                    : inf_blur    ? static_cast<unsigned char>(Status::blur_unbounded)
+                                  : static_cast<unsigned char>(Status::ok);
+        cause[i] = !ok        ? static_cast<unsigned char>(Cause::none)
+                   : dark_lane ? static_cast<unsigned char>(Cause::no_light)
+                   : cap       ? static_cast<unsigned char>(Cause::prnu)
+                   : over      ? static_cast<unsigned char>(Cause::full_well)
+                               : static_cast<unsigned char>(Cause::none);
+        rate[i] = ok ? rate[i] : nan;
+        electrons[i] = ok & !dark_lane & !cap ? electrons[i] : nan;
+        t_mpe[i] = !ok ? nan : unreachable ? inf : t;
+        blur_out[i] = !ok | unreachable ? nan : inf_blur ? inf : blur[i];
         solve[i] = s;
         blur[i] = s ? blur[i] : 0.0;
     }
 }
 
-// Writes the block's n points; an output pointer that is null is not computed.
+// Writes the block's n points; an output pointer that is null is not computed. The exposure
+// stage left the rate, electrons, T_MPE, blur, status and cause as they are written out.
 template <class T>
 void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     const std::size_t n = b.n;
     const auto& x = b.x;
-    const unsigned char* __restrict valid = b.valid;
-    const unsigned char* __restrict capped = b.capped;
-    const unsigned char* __restrict no_light = b.no_light;
-    const unsigned char* __restrict full_well = b.full_well;
-    const unsigned char* __restrict unbounded = b.unbounded;
-    auto solved = [&](std::size_t i) {  // ok or blur unbounded
-        return (valid[i] != 0) & !(capped[i] | no_light[i] | full_well[i]);
+    auto copy = [n](auto* to, const auto* from) {
+        if (to != nullptr) std::memcpy(to, from, n * sizeof *from);
     };
-    if (out.electron_rate_e_per_s != nullptr) {
-        double* __restrict o = out.electron_rate_e_per_s;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) o[i] = valid[i] ? b.rate[i] : nan;
+    copy(out.electron_rate_e_per_s, b.rate);
+    copy(out.electrons, b.electrons);
+    copy(out.t_mpe_s, b.t_mpe);
+    copy(out.blur_mm, b.blur_out);
+    copy(out.status, b.status);
+    copy(out.cause, b.cause);
+    if (out.f50_cyc_per_mm == nullptr && out.epc == nullptr) return;
+    // f50 where solved, 0 where the blur is unbounded, NaN elsewhere; EPC from it
+    const unsigned char* __restrict status = b.status;
+    const T* __restrict f50 = b.f50;
+    double f_out[block_size];
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const unsigned char st = status[i];
+        f_out[i] = st == static_cast<unsigned char>(Status::ok)               ? double{f50[i]}
+                   : st == static_cast<unsigned char>(Status::blur_unbounded) ? 0.0
+                                                                              : nan;
     }
-    if (out.electrons != nullptr) {
-        double* __restrict o = out.electrons;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i)
-            o[i] = (valid[i] != 0) & !no_light[i] & !capped[i] ? b.electrons[i] : nan;
-    }
-    if (out.t_mpe_s != nullptr) {
-        double* __restrict o = out.t_mpe_s;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) o[i] = valid[i] ? b.t_mpe[i] : nan;
-    }
-    if (out.blur_mm != nullptr) {
-        double* __restrict o = out.blur_mm;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) o[i] = !solved(i) ? nan : unbounded[i] ? inf : b.blur[i];
-    }
-    if (out.f50_cyc_per_mm != nullptr) {
-        double* __restrict o = out.f50_cyc_per_mm;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) o[i] = !solved(i) ? nan : unbounded[i] ? 0.0 : double{b.f50[i]};
-    }
+    copy(out.f50_cyc_per_mm, f_out);
     if (out.epc != nullptr) {
         double* __restrict o = out.epc;
         const double* __restrict sz = x[size];
@@ -528,30 +530,9 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
         for (std::size_t i = 0; i < n; ++i) {
             const double pitch_mm = pitch[i] * um_to_mm;
             const double area_mm2 = count ? sz[i] * (pitch_mm * pitch_mm) : sz[i];
-            const double f = unbounded[i] ? 0.0 : double{b.f50[i]};
-            o[i] = solved(i) ? 4.0 * area_mm2 * (f * f) : nan;
+            const double f = f_out[i];
+            o[i] = 4.0 * area_mm2 * (f * f);
         }
-    }
-    if (out.status != nullptr) {
-        unsigned char* __restrict o = out.status;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            const bool unreachable = capped[i] | no_light[i] | full_well[i];
-            o[i] = !valid[i]    ? static_cast<unsigned char>(Status::invalid)
-                   : unreachable ? static_cast<unsigned char>(Status::unreachable)
-                   : unbounded[i] ? static_cast<unsigned char>(Status::blur_unbounded)
-                                  : static_cast<unsigned char>(Status::ok);
-        }
-    }
-    if (out.cause != nullptr) {
-        unsigned char* __restrict o = out.cause;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i)
-            o[i] = !valid[i]      ? static_cast<unsigned char>(Cause::none)
-                   : no_light[i]  ? static_cast<unsigned char>(Cause::no_light)
-                   : capped[i]    ? static_cast<unsigned char>(Cause::prnu)
-                   : full_well[i] ? static_cast<unsigned char>(Cause::full_well)
-                                  : static_cast<unsigned char>(Cause::none);
     }
 }
 
