@@ -39,10 +39,20 @@ def _lengths(n, seed, blur_share=0.8):
     return f_number, lambda_f, aperture, blur
 
 
-def test_the_accurate_start_is_within_5e_8_of_f50_everywhere():
-    # tools/fit_f50_start.py measures 4.2e-8 (largest, over the whole (v_d, w) domain); 5e-8
-    # leaves room for the rounding of the lengths and of Horner's rule. At 5e-8 one Halley step
-    # leaves an error of order (5e-8)^3, far below float64's precision.
+#: Each accurate start's largest relative error, as tools/fit_f50_start.py measures it over the
+#: whole (v_d, w) domain, with room for the rounding of the lengths and of Horner's rule. One
+#: Halley step from 5.2e-6 leaves an error of order (5.2e-6)^3 and meets the default stop test
+#: (f50.h); from 0.1's 5.2e-5 it takes a second step.
+ACCURATE_BOUND = {0.5: 5e-8, 0.3: 1.5e-6, 0.2: 6e-6, 0.1: 6e-5}
+
+
+def test_the_thresholds_with_an_accurate_start_are_mtf50_30_20_10():
+    assert list(_core.accurate_start_thresholds) == list(ACCURATE_BOUND)
+    assert _core.accurate_start_coefficients.shape == (4, 36)
+
+
+@pytest.mark.parametrize("threshold", list(ACCURATE_BOUND))
+def test_each_accurate_start_is_within_its_fit_everywhere(threshold):
     f_number, lambda_f, aperture, blur = _lengths(20_000, seed=3)
     # and the edges of the domain: one factor alone, two equal, the three equal
     lf = WAVELENGTH_NM * 1e-6 * 4.0
@@ -53,9 +63,13 @@ def test_the_accurate_start_is_within_5e_8_of_f50_everywhere():
     lambda_f = np.concatenate([lambda_f, edges[:, 0]])
     aperture = np.concatenate([aperture, edges[:, 1]])
     blur = np.concatenate([blur, edges[:, 2]])
-    exact = _exact_f50(f_number, aperture, blur, 0.0, 0.5)
-    start = _core.f50_start(lambda_f, aperture, blur, 0.0, 0.5)
-    assert np.max(np.abs(start / exact - 1)) <= 5e-8
+    exact = _exact_f50(f_number, aperture, blur, 0.0, threshold)
+    start = _core.f50_start(lambda_f, aperture, blur, 0.0, threshold)
+    error = np.max(np.abs(start / exact - 1))
+    assert error <= ACCURATE_BOUND[threshold]
+    # and it is this threshold's row: the bound is far below what the cubic start gets
+    cubic = _core.f50_start(lambda_f, aperture, blur, 1e-300, threshold)
+    assert np.max(np.abs(cubic / exact - 1)) > 100 * error
 
 
 def test_the_cubic_start_is_within_its_fit_at_one_half():
@@ -69,7 +83,8 @@ def test_the_cubic_start_is_within_its_fit_at_one_half():
 
 @pytest.mark.parametrize("threshold", [0.05, 0.3, 0.95])
 def test_the_start_for_other_thresholds_and_jitter_is_a_finite_positive_guess(threshold):
-    # Another threshold scales the cubic by sqrt(ln(1/c) / ln 2), exact for jitter alone and
+    # Jitter, or a threshold without an accurate start, scales the cubic by
+    # sqrt(ln(1/c) / ln 2), exact for jitter alone and
     # coarse otherwise (measured: median 25% at c = 0.05, up to 180% at c = 0.95). It only sets
     # the solvers' first abscissa; one outside the bracket is replaced by f_hi / 2 (f50_start.h),
     # so what it must be is finite and positive.
@@ -83,7 +98,7 @@ def test_the_start_for_other_thresholds_and_jitter_is_a_finite_positive_guess(th
 
 
 def test_the_accurate_start_is_the_cubic_one_where_it_does_not_apply():
-    # jitter, or a threshold other than 1/2: the accurate polynomial was not fitted there
+    # jitter, or a threshold without a row: no accurate polynomial was fitted there
     lf = WAVELENGTH_NM * 1e-6 * 2.8
     aperture, blur = np.array([0.5, 2.0, 8.0]) * lf, np.array([0.0, 1.0, 3.0]) * lf
     exact = _exact_f50(2.8, aperture, blur, 0.0, 0.5)
@@ -92,6 +107,10 @@ def test_the_accurate_start_is_the_cubic_one_where_it_does_not_apply():
     assert np.max(np.abs(accurate / exact - 1)) <= 5e-8
     assert np.max(np.abs(cubic_at_half / exact - 1)) > 1e-6  # the cubic's own error
     assert np.max(np.abs(cubic_at_half / exact - 1)) <= 4e-3
+    # 0.25 has no row: the cubic start, scaled; the same lane with jitter gets the same
+    scaled = _core.f50_start(lf, aperture, blur, 0.0, 0.25)
+    assert np.array_equal(scaled, _core.f50_start(lf, aperture, blur, 1e-300, 0.25))
+    assert np.max(np.abs(scaled / _exact_f50(2.8, aperture, blur, 0.0, 0.25) - 1)) > 1e-3
 
 
 def _designs(n, seed):
@@ -116,6 +135,32 @@ def test_a_point_gets_the_same_bits_in_a_mixed_block_as_among_its_own_kind():
         for field in ("f50_cyc_per_mm", "epc", "status"):
             assert np.array_equal(getattr(mixed, field)[kind], getattr(alone, field),
                                   equal_nan=True), field
+
+
+def test_a_point_gets_the_same_bits_whichever_accurate_starts_share_its_block():
+    # a block whose lanes take several rows computes the first in its main loop and each
+    # further one in a pass of its own; a block of one row (a broadcast threshold) decides the
+    # row once. A point's result must be the same in all of them.
+    n = 3000
+    d = random_designs(n, seed=14)
+    rng = np.random.default_rng(14)
+    choices = np.array([0.5, 0.3, 0.2, 0.1, 0.25])  # 0.25: no row (the cubic start)
+    d["mtf_threshold"] = choices[rng.integers(0, len(choices), n)]
+    d["jitter_um"] = np.where(rng.random(n) < 0.2, 0.4, 0.0)
+    mixed = epc_fast.evaluate(**d, threads=1)
+    for c in choices:
+        for jitter in (0.0, 0.4):
+            kind = (d["mtf_threshold"] == c) & (d["jitter_um"] == jitter)
+            rest = {k: v[kind] for k, v in d.items() if k not in ("mtf_threshold", "jitter_um")}
+            alone = epc_fast.evaluate(**rest, mtf_threshold=c, jitter_um=jitter, threads=1)
+            for field in ("f50_cyc_per_mm", "epc", "status"):
+                assert np.array_equal(getattr(mixed, field)[kind], getattr(alone, field),
+                                      equal_nan=True), (c, jitter, field)
+    ref = epc_fast.evaluate(**d, backend="reference")
+    ok = ref.status == Status.OK
+    assert np.array_equal(mixed.status, ref.status) and ok.sum() > 1500
+    # f50_rtol 1e-14 plus both engines' rounding (as below)
+    assert np.max(np.abs(mixed.f50_cyc_per_mm[ok] / ref.f50_cyc_per_mm[ok] - 1)) <= 1e-14 + 3e-14
 
 
 def test_a_broadcast_threshold_of_one_half_gives_the_bits_of_an_array_of_halves():

@@ -2,9 +2,10 @@
 
 Two fits, printed as C++ for f50_start.h with their largest and median errors:
 
-- `accurate`: the common scene (one wavelength, threshold 1/2, no jitter), where f50 depends on
-  two numbers only. Fitted to about 1e-7, so that one Halley step reaches float64's precision
-  and the solver stops after one evaluation of the MTF.
+- `accurate`: one wavelength and no jitter, where f50 depends on two numbers only; one table
+  row per threshold of ACCURATE_THRESHOLDS (MTF50, 30, 20, 10). Fitted to 1e-8..5e-5, so that
+  one Halley step reaches float64's precision and the solver stops after one evaluation of the
+  MTF (two at 0.1, whose fit is the coarsest).
 - `cubic`: every other scene (jitter, another threshold, a spectrum), a cheap guess to 0.4%.
 
 Each MTF factor alone reaches 1/2 at its own frequency: diffraction at nu = NU50 / (lambda F),
@@ -31,6 +32,8 @@ NU50 = 0.4039727532995172   # D(nu) = 1/2, the circular-pupil diffraction MTF
 X50 = 0.6033545644016142    # sinc(x) = 1/2
 DEGREE = 3
 ACCURATE_DEGREE = 10
+#: the thresholds with an accurate start, in f50_start.h's row order
+ACCURATE_THRESHOLDS = (0.5, 0.3, 0.2, 0.1)
 
 
 def diffraction(nu):
@@ -38,8 +41,9 @@ def diffraction(nu):
     return (2 / np.pi) * (np.arccos(nu) - nu * np.sqrt((1 - nu) * (1 + nu)))
 
 
-def f50(x_d, x_p, x_m):
-    """f50 (in units of 1/x) by bisection, for inverse factor frequencies x_i = 1/f_i."""
+def f50(x_d, x_p, x_m, threshold=0.5):
+    """The frequency where the MTF falls to `threshold` (in units of 1/x) by bisection, for
+    inverse factor frequencies x_i = 1/f_i (each factor's own f50)."""
     def mtf(f):
         return (diffraction(f * x_d * NU50) * np.abs(np.sinc(f * x_p * X50))
                 * np.abs(np.sinc(f * x_m * X50)))
@@ -47,7 +51,7 @@ def f50(x_d, x_p, x_m):
     hi = 1 / np.maximum.reduce([x_d * NU50, x_p * X50, x_m * X50])
     for _ in range(100):
         mid = 0.5 * (lo + hi)
-        above = mtf(mid) > 0.5
+        above = mtf(mid) > threshold
         lo, hi = np.where(above, mid, lo), np.where(above, hi, mid)
     return 0.5 * (lo + hi)
 
@@ -79,10 +83,11 @@ def fit_cubic(n=400_000, seed=0):
         print(f"    {{{i}, {j}, {k}, {float(c)!r}}},")
 
 
-def accurate_target(v_d, s):
-    """f50 sqrt(S) at v_d and s = v_p^2 / (v_p^2 + v_m^2), by bisection (relative 1e-15)."""
+def accurate_target(v_d, s, threshold):
+    """f sqrt(S) at v_d and s = v_p^2 / (v_p^2 + v_m^2), f where the MTF falls to `threshold`,
+    by bisection (relative 1e-15)."""
     rest = 1 - v_d ** 2
-    return f50(v_d, np.sqrt(s * rest), np.sqrt((1 - s) * rest))
+    return f50(v_d, np.sqrt(s * rest), np.sqrt((1 - s) * rest), threshold)
 
 
 def accurate_columns(a, w, degree=ACCURATE_DEGREE):
@@ -123,10 +128,12 @@ def horner(power, a, w, degree=ACCURATE_DEGREE):
     return total
 
 
-def fit_accurate(nodes=140, check=400_000, seed=1, rounds=30):
+def fit_accurate(threshold=0.5, nodes=140, check=400_000, seed=1, rounds=30):
+    """The accurate start's power-basis coefficients for one threshold, with its largest
+    relative error over `check` random points and the domain's edges."""
     t = 0.5 - 0.5 * np.cos(np.pi * np.arange(nodes) / (nodes - 1))
     v_d, s = (g.ravel() for g in np.meshgrid(t, t, indexing="ij"))
-    h = accurate_target(v_d, s)
+    h = accurate_target(v_d, s, threshold)
     columns = accurate_columns(2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2)) / h[:, None]
     weight = np.ones_like(h)
     for _ in range(rounds):  # Lawson: weights grow where the relative error is largest
@@ -139,19 +146,31 @@ def fit_accurate(nodes=140, check=400_000, seed=1, rounds=30):
     edge = np.linspace(0, 1, 2001)
     v_d = np.concatenate([rng.random(check), edge, edge, edge, np.zeros_like(edge), np.ones_like(edge)])
     s = np.concatenate([rng.random(check), np.zeros_like(edge), np.ones_like(edge), edge, edge, edge])
-    h = accurate_target(v_d, s)
+    h = accurate_target(v_d, s, threshold)
     error = np.abs(horner(power, 2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2)) / h - 1)
-    print(f"accurate start (degree {ACCURATE_DEGREE}, power basis in float64): "
-          f"relative error max {error.max():.2e}, median {np.median(error):.2e}")
-    print("constexpr double accurate_start_coefficients[] = {")
-    for i in range(ACCURATE_DEGREE + 1):
-        print(f"    // a^{i}: z^0 .. z^{(ACCURATE_DEGREE - i) // 2}")
-        for j in range((ACCURATE_DEGREE - i) // 2 + 1):
-            print(f"    {float(power[i, j])!r},")
+    return power, error.max(), np.median(error)
+
+
+def print_accurate(thresholds=ACCURATE_THRESHOLDS):
+    """Fits every threshold's row and prints the table for f50_start.h."""
+    rows = []
+    for c in thresholds:
+        power, largest, median = fit_accurate(c)
+        print(f"// threshold {c}: relative error max {largest:.2e}, median {median:.2e} "
+              f"(degree {ACCURATE_DEGREE}, power basis in float64)")
+        rows.append(power)
+    print(f"constexpr double accurate_start_thresholds[] = {{{', '.join(map(repr, thresholds))}}};")
+    print("constexpr double accurate_start_coefficients[][accurate_start_terms] = {")
+    for c, power in zip(thresholds, rows):
+        print(f"    {{  // threshold {c}")
+        for i in range(ACCURATE_DEGREE + 1):
+            print(f"        // a^{i}: z^0 .. z^{(ACCURATE_DEGREE - i) // 2}")
+            for j in range((ACCURATE_DEGREE - i) // 2 + 1):
+                print(f"        {float(power[i, j])!r},")
+        print("    },")
     print("};")
-    return power
 
 
 if __name__ == "__main__":
-    fit_accurate()
+    print_accurate()
     fit_cubic()

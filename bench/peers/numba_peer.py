@@ -50,7 +50,10 @@ SMALL_PI_X = 1e-2
 NU50 = 0.4039727532995172
 X50 = 0.6033545644016142
 START_DEGREE = int(_core.accurate_start_degree)
-START_COEFFICIENTS = np.asarray(_core.accurate_start_coefficients, dtype=np.float64)
+#: threshold 1/2's row (the benchmarks' threshold)
+START_COEFFICIENTS = np.asarray(
+    _core.accurate_start_coefficients[list(_core.accurate_start_thresholds).index(0.5)],
+    dtype=np.float64)
 
 
 @numba.njit(inline="always")

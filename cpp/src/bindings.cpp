@@ -289,10 +289,14 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     m.def("f50_start", py::vectorize(&detail::f50_start), py::arg("lambda_f_mm"),
           py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("jitter_mm"),
           py::arg("mtf_threshold"));
-    // The accurate start's polynomial (f50_start.h), row by row, for the benchmarks' Numba peer
-    // that runs the core's algorithm.
+    // The accurate starts' polynomials (f50_start.h): one row of coefficients per threshold of
+    // accurate_start_thresholds, for the tests and the benchmarks' Numba peer that runs the
+    // core's algorithm.
     m.attr("accurate_start_degree") = detail::accurate_start_degree;
+    m.attr("accurate_start_thresholds") = py::array_t<double>(
+        static_cast<py::ssize_t>(detail::n_accurate_starts), detail::accurate_start_thresholds);
     m.attr("accurate_start_coefficients") = py::array_t<double>(
-        static_cast<py::ssize_t>(std::size(detail::accurate_start_coefficients)),
-        detail::accurate_start_coefficients);
+        {static_cast<py::ssize_t>(detail::n_accurate_starts),
+         static_cast<py::ssize_t>(detail::accurate_start_terms)},
+        &detail::accurate_start_coefficients[0][0]);
 }

@@ -3,8 +3,12 @@
 // Lane-loop helpers must be inlined: a call left in a lane loop stops its vectorisation.
 #if defined(__GNUC__)
 #define EPC_FAST_INLINE inline __attribute__((always_inline))
+// The same for a lambda (after its parameter list): one outlined keeps its lane loops' arrays
+// behind captured references, which the vectoriser must assume may alias.
+#define EPC_FAST_LAMBDA_INLINE __attribute__((always_inline))
 #else
 #define EPC_FAST_INLINE inline
+#define EPC_FAST_LAMBDA_INLINE
 #endif
 
 // Set where the target has a hardware fused multiply-add: the x86-64-v3 and -v4 modules, which

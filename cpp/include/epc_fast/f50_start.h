@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <iterator>
 #include <type_traits>
 
 #include "block.h"
@@ -60,58 +61,217 @@ EPC_FAST_INLINE T start_polynomial(T v_d, T s, T t) {
 // a = 2 v_d - 1 and w, i.e. in a and z = w^2, coefficients of a^i z^j (i + 2j <= 10) row by
 // row; largest relative error 4.2e-8 over the whole (v_d, w) domain, median 2.2e-8.
 constexpr int accurate_start_degree = 10;
-constexpr double accurate_start_coefficients[] = {
-    // a^0: z^0 .. z^5
-    0.9435411025977187,
-    -0.028888374496825315,
-    0.003137808182115746,
-    -0.0005046480329371173,
-    0.00013359214556250815,
-    -2.683562844431367e-05,
-    // a^1: z^0 .. z^4
-    -0.01852681711788389,
-    0.0013595944864183062,
-    -0.00029332074707891253,
-    -3.2127366902170185e-05,
-    0.00012111938488791553,
-    // a^2: z^0 .. z^4
-    0.0700609190541451,
-    -0.01015155996908029,
-    0.0019168536871724735,
-    -0.00046072281581195743,
-    0.0002343822876773113,
-    // a^3: z^0 .. z^3
-    0.0007284908652694242,
-    0.0006233653204402176,
-    -0.00027350981579209323,
-    5.1365085163319024e-05,
-    // a^4: z^0 .. z^3
-    0.005858279341075161,
-    -0.0019552981870604876,
-    0.0005699106280573547,
-    -0.00032559020881622,
-    // a^5: z^0 .. z^2
-    -0.0007133493830427468,
-    0.00041511547197716403,
-    -0.00023609321535554505,
-    // a^6: z^0 .. z^2
-    -8.152810290792064e-05,
-    -1.8746258227072046e-05,
-    0.00018225852638772714,
-    // a^7: z^0 .. z^1
-    -0.00041993958377712135,
-    0.000410953466010434,
-    // a^8: z^0 .. z^1
-    -0.00020280869628187866,
-    7.335615787303173e-05,
-    // a^9: z^0 .. z^0
-    -0.00018346368614058698,
-    // a^10: z^0 .. z^0
-    -6.092579524054442e-05,
+constexpr int accurate_start_terms = 36;  // i + 2j <= 10
+// One row per threshold (tools/fit_f50_start.py prints them; largest and median relative errors):
+// threshold 0.5: relative error max 4.20e-08, median 2.18e-08 (degree 10, power basis in float64)
+// threshold 0.3: relative error max 1.32e-06, median 7.76e-07 (degree 10, power basis in float64)
+// threshold 0.2: relative error max 5.20e-06, median 2.94e-06 (degree 10, power basis in float64)
+// threshold 0.1: relative error max 5.19e-05, median 2.90e-05 (degree 10, power basis in float64)
+constexpr double accurate_start_thresholds[] = {0.5, 0.3, 0.2, 0.1};
+constexpr double accurate_start_coefficients[][accurate_start_terms] = {
+    {  // threshold 0.5
+        // a^0: z^0 .. z^5
+        0.9435411025977187,
+        -0.028888374496825315,
+        0.003137808182115746,
+        -0.0005046480329371173,
+        0.00013359214556250815,
+        -2.683562844431367e-05,
+        // a^1: z^0 .. z^4
+        -0.01852681711788389,
+        0.0013595944864183062,
+        -0.00029332074707891253,
+        -3.2127366902170185e-05,
+        0.00012111938488791553,
+        // a^2: z^0 .. z^4
+        0.0700609190541451,
+        -0.01015155996908029,
+        0.0019168536871724735,
+        -0.00046072281581195743,
+        0.0002343822876773113,
+        // a^3: z^0 .. z^3
+        0.0007284908652694242,
+        0.0006233653204402176,
+        -0.00027350981579209323,
+        5.1365085163319024e-05,
+        // a^4: z^0 .. z^3
+        0.005858279341075161,
+        -0.0019552981870604876,
+        0.0005699106280573547,
+        -0.00032559020881622,
+        // a^5: z^0 .. z^2
+        -0.0007133493830427468,
+        0.00041511547197716403,
+        -0.00023609321535554505,
+        // a^6: z^0 .. z^2
+        -8.152810290792064e-05,
+        -1.8746258227072046e-05,
+        0.00018225852638772714,
+        // a^7: z^0 .. z^1
+        -0.00041993958377712135,
+        0.000410953466010434,
+        // a^8: z^0 .. z^1
+        -0.00020280869628187866,
+        7.335615787303173e-05,
+        // a^9: z^0 .. z^0
+        -0.00018346368614058698,
+        // a^10: z^0 .. z^0
+        -6.092579524054442e-05,
+    },
+    {  // threshold 0.3
+        // a^0: z^0 .. z^5
+        1.2864009589364604,
+        -0.09158445379935612,
+        0.02292509769392128,
+        -0.00778886179768553,
+        0.0029365859204737686,
+        -0.0007872865336500802,
+        // a^1: z^0 .. z^4
+        0.06570559979805118,
+        -0.014980539674346417,
+        0.0042538607508127105,
+        -0.00132012794735203,
+        0.0003597638652695358,
+        // a^2: z^0 .. z^4
+        0.11139005408986619,
+        -0.031945828502981964,
+        0.012440618327403964,
+        -0.005528167378421281,
+        0.0019462532322491875,
+        // a^3: z^0 .. z^3
+        0.00678620609818302,
+        0.0017688215037976428,
+        -0.002789312992920452,
+        0.00047793669421977687,
+        // a^4: z^0 .. z^3
+        0.0008928792529800506,
+        0.002596925575881918,
+        -0.0033013484834725454,
+        -0.0013154753122055205,
+        // a^5: z^0 .. z^2
+        -0.007062182997527927,
+        0.008595733524492144,
+        -0.006752507588361987,
+        // a^6: z^0 .. z^2
+        -0.005864194880151783,
+        0.0062042499713969804,
+        -0.0018618351679876536,
+        // a^7: z^0 .. z^1
+        -0.009049166840963819,
+        0.005372535963248704,
+        // a^8: z^0 .. z^1
+        -0.005164348541023097,
+        0.0019873713293894657,
+        // a^9: z^0 .. z^0
+        0.0022253349529506223,
+        // a^10: z^0 .. z^0
+        0.002194647871204043,
+    },
+    {  // threshold 0.2
+        // a^0: z^0 .. z^5
+        1.4969584372531337,
+        -0.17004922358747987,
+        0.06788476653560128,
+        -0.0351250758736032,
+        0.01745830249721868,
+        -0.005212967392285511,
+        // a^1: z^0 .. z^4
+        0.12767624640968592,
+        -0.04005541386010732,
+        0.015544034062603875,
+        -0.004084751301860741,
+        -6.122882788757623e-05,
+        // a^2: z^0 .. z^4
+        0.140338512345886,
+        -0.057382920230995185,
+        0.035237230609976175,
+        -0.01985691485547245,
+        0.006296199657091732,
+        // a^3: z^0 .. z^3
+        0.005173019603331755,
+        0.014457039068342982,
+        -0.01106140052481873,
+        -0.0025747130732739847,
+        // a^4: z^0 .. z^3
+        -0.013326539683975678,
+        0.044437077556815315,
+        -0.04613090652839712,
+        -0.005494454848659549,
+        // a^5: z^0 .. z^2
+        -0.019691036326287742,
+        0.053263421350360156,
+        -0.06800293971609067,
+        // a^6: z^0 .. z^2
+        -0.01754195630052848,
+        0.010310370745002306,
+        -0.026363804185807797,
+        // a^7: z^0 .. z^1
+        -0.028541913364397195,
+        -0.007650196952482835,
+        // a^8: z^0 .. z^1
+        -0.01343764088302219,
+        -0.0017290106125802142,
+        // a^9: z^0 .. z^0
+        0.0132960359467308,
+        // a^10: z^0 .. z^0
+        0.009835878183119635,
+    },
+    {  // threshold 0.1
+        // a^0: z^0 .. z^5
+        1.780460918367796,
+        -0.3776561642215676,
+        0.28033975426921215,
+        -0.2338301048816569,
+        0.14603934744749308,
+        -0.044081354704393866,
+        // a^1: z^0 .. z^4
+        0.22616650955688217,
+        -0.10813798161188862,
+        0.056713330593310546,
+        -0.014952535658180603,
+        0.00022143961039179966,
+        // a^2: z^0 .. z^4
+        0.18777798570550064,
+        -0.12268518666487543,
+        0.11131250471017332,
+        -0.07357905173831228,
+        0.02641993977901224,
+        // a^3: z^0 .. z^3
+        0.006486823850434004,
+        0.060662354004375224,
+        -0.06709660291933617,
+        -0.02129533296952367,
+        // a^4: z^0 .. z^3
+        -0.06058308393478422,
+        0.34624723124147583,
+        -0.3909935033265913,
+        -0.02872404784869205,
+        // a^5: z^0 .. z^2
+        -0.11733730476363359,
+        0.46112076117333545,
+        -0.576516163828336,
+        // a^6: z^0 .. z^2
+        -0.0775058140471796,
+        -0.010088538400296332,
+        -0.244342094454984,
+        // a^7: z^0 .. z^1
+        -0.013547613846541927,
+        -0.3131869556635109,
+        // a^8: z^0 .. z^1
+        0.012529468602724001,
+        -0.13191853257874858,
+        // a^9: z^0 .. z^0
+        0.030213108450257938,
+        // a^10: z^0 .. z^0
+        0.019098027352009113,
+    },
 };
+constexpr int n_accurate_starts = static_cast<int>(std::size(accurate_start_thresholds));
+static_assert(std::size(accurate_start_coefficients) == std::size(accurate_start_thresholds));
 
-// One row of P: sum over j of c_ij z^j, by Horner (the compiler unrolls the constant loop).
-template <int I, class T>
+// One row of threshold Row's P: sum over j of c_ij z^j, by Horner (the compiler unrolls the
+// constant loop).
+template <int Row, int I, class T>
 EPC_FAST_INLINE T accurate_start_row(T z) {
     constexpr int offset = [] {
         int k = 0;
@@ -119,30 +279,46 @@ EPC_FAST_INLINE T accurate_start_row(T z) {
         return k;
     }();
     constexpr int length = (accurate_start_degree - I) / 2 + 1;
-    T acc = T(accurate_start_coefficients[offset + length - 1]);
-    for (int j = length - 2; j >= 0; --j) acc = acc * z + T(accurate_start_coefficients[offset + j]);
+    constexpr const double* c = accurate_start_coefficients[Row];
+    T acc = T(c[offset + length - 1]);
+    for (int j = length - 2; j >= 0; --j) acc = acc * z + T(c[offset + j]);
     return acc;
 }
 
-// P(a, z): Horner in a over the rows I..degree.
-template <int I = 0, class T>
+// Threshold Row's P(a, z): Horner in a over the rows I..degree.
+template <int Row, int I = 0, class T>
 EPC_FAST_INLINE T accurate_start_polynomial(T a, T z) {
     if constexpr (I == accurate_start_degree) {
-        return accurate_start_row<I>(z);
+        return accurate_start_row<Row, I>(z);
     } else {
-        return accurate_start_row<I>(z) + a * accurate_start_polynomial<I + 1>(a, z);
+        return accurate_start_row<Row, I>(z) + a * accurate_start_polynomial<Row, I + 1>(a, z);
     }
+}
+
+// The row of the accurate start a lane takes: its threshold's index in
+// accurate_start_thresholds, or -1 (no row for that threshold, or jitter, which the fits
+// leave out). A float64, monochromatic lane's start depends on its own inputs only.
+EPC_FAST_INLINE int accurate_start_row_of(double jitter_mm, double mtf_threshold) {
+    static_assert(n_accurate_starts == 4, "one select per row");
+    const double c = mtf_threshold;
+    const int row = c == accurate_start_thresholds[0]   ? 0
+                    : c == accurate_start_thresholds[1] ? 1
+                    : c == accurate_start_thresholds[2] ? 2
+                    : c == accurate_start_thresholds[3] ? 3
+                                                        : -1;
+    return jitter_mm == 0.0 ? row : -1;
 }
 
 // cycles/mm: one lane's starting guess from the lengths (mm) its frequency multiplies: lambda F
 // (with a spectrum, the mean wavelength's), the pixel aperture, the blur and the jitter, and
-// scale = sqrt(ln(1/c) / ln 2). `use_accurate` picks the accurate start (only for a lane with one
-// wavelength, c = 1/2 and no jitter, where it holds) when the block computes both (Cubic and
-// Accurate); a block whose lanes all take one computes only that one. Overflow or underflow
-// in the lengths' squares gives 0, inf or NaN, which the caller replaces by f_hi / 2.
-template <bool Cubic, bool Accurate, class T>
+// scale = sqrt(ln(1/c) / ln 2). Row >= 0 computes that row's accurate start, Cubic the cubic
+// one; with both, a lane takes the accurate start if `row` (its accurate_start_row_of) is Row.
+// Overflow or underflow in the lengths' squares gives 0, inf or NaN, which the caller replaces
+// by f_hi / 2.
+template <bool Cubic, int Row, class T>
 EPC_FAST_INLINE T start_guess(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm, T scale,
-                              bool use_accurate) {
+                              int row) {
+    static_assert(Cubic || Row >= 0, "a start to compute");
     // each length in units of its factor's own f50's inverse: x_i = 1 / f_i
     const T d = lambda_f_mm * T(1.0 / start_nu50);
     const T p = aperture_mm * T(1.0 / start_x50);
@@ -152,12 +328,31 @@ EPC_FAST_INLINE T start_guess(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_
     const T pr = p * r, mr = m * r;
     T f0 = T(0);
     if (Cubic) f0 = r * start_polynomial(d * r, pr + mr, pr * mr) * scale;
-    if (Accurate) {
+    if constexpr (Row >= 0) {
+        // w = v_p^2 - v_m^2, its products spelled out: left to the compiler, whether p r fuses
+        // into the sum and difference depends on whether the cubic start also uses it, and a
+        // lane's start would change in the last bit with the other lanes of its block
+#if EPC_FAST_FMA
+        const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
+#else
         const T w = (pr - mr) * (pr + mr);
-        const T f_accurate = r * accurate_start_polynomial(T(2) * (d * r) - T(1), w * w);
-        f0 = Cubic ? (use_accurate ? f_accurate : f0) : f_accurate;
+#endif
+        const T f_accurate = r * accurate_start_polynomial<Row>(T(2) * (d * r) - T(1), w * w);
+        f0 = Cubic ? (row == Row ? f_accurate : f0) : f_accurate;
     }
     return f0;
+}
+
+// start_guess with the row chosen at run time (one instantiation per row).
+template <bool Cubic, class T>
+T start_guess_row(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm, T scale, int row) {
+    switch (row) {
+        case 0: return start_guess<Cubic, 0>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        case 1: return start_guess<Cubic, 1>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        case 2: return start_guess<Cubic, 2>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        case 3: return start_guess<Cubic, 3>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        default: return start_guess<true, -1>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+    }
 }
 
 constexpr double ln2 = 0.6931471805599453;
@@ -174,18 +369,14 @@ EPC_FAST_INLINE T start_scale_of(T ln_inverse_c) {
     return std::sqrt(ln_inverse_c * T(1.0 / ln2));
 }
 
-// Whether a float64, monochromatic lane takes the accurate start: no jitter, threshold 1/2.
-EPC_FAST_INLINE bool accurate_start_applies(double jitter_mm, double mtf_threshold) {
-    return (jitter_mm == 0.0) & (mtf_threshold == 0.5);
-}
-
 // cycles/mm: the start start_f50 gives a monochromatic float64 lane (the formula alone, for
-// tests: the accurate start where c = 1/2 and there is no jitter, else the cubic one).
+// tests: the accurate start of the lane's threshold where it has one and there is no jitter,
+// else the cubic one).
 inline double f50_start(double lambda_f_mm, double aperture_mm, double blur_mm, double jitter_mm,
                         double mtf_threshold) {
     const double scale = start_scale_of(ln_inverse_threshold<double>(mtf_threshold));
-    return start_guess<true, true>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale,
-                                   accurate_start_applies(jitter_mm, mtf_threshold));
+    return start_guess_row<false>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale,
+                                  accurate_start_row_of(jitter_mm, mtf_threshold));
 }
 
 // Whether a length (mm) is 0 or inside the range float32 lanes solve f50 for.
@@ -291,26 +482,57 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     } else {
         for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
     }
-    // The lanes that take the accurate start (float64, one wavelength, threshold 1/2, no
-    // jitter): a lane's start depends on its own inputs only. A block computes the start its
-    // lanes to solve need, both only when they differ.
-    unsigned char* __restrict accurate = b.flag_scratch[0];  // free after the exposure stage
-    int n_accurate = 0, n_cubic = 0;
-    if (!narrow && !poly) {
-        EPC_FAST_SIMD_REDUCTION(+ : n_accurate, n_cubic)
+    // The accurate start's row each lane takes (float64, one wavelength, no jitter, a threshold
+    // with a row), 0 for the cubic start: a lane's start depends on its own inputs only. A block
+    // computes the starts its lanes to solve need: the cubic one if any lane takes it, and each
+    // row present (usually one, the call's threshold); a lane that is not solved may take any.
+    unsigned char* __restrict row_code = b.flag_scratch[0];  // free after the exposure stage
+    int n_cubic = 0;
+    unsigned rows = 0;  // bit k: a lane to solve takes row k
+    if (!narrow && !poly && b.is_broadcast(mtf_threshold) && b.is_broadcast(jitter_um)) {
+        // one row for every lane (the lanes' own choice, made once)
+        const int row = accurate_start_row_of(b.broadcast[jitter_um] * um_to_mm,
+                                              b.broadcast[mtf_threshold]);
+        const auto code = static_cast<unsigned char>(row + 1);
+        int n_solve = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : n_solve)
+        for (std::size_t i = 0; i < n; ++i) n_solve += solve[i] != 0;
+        for (std::size_t i = 0; i < n; ++i) row_code[i] = code;
+        n_cubic = row < 0 ? n_solve : 0;
+        rows = row >= 0 && n_solve > 0 ? 1u << row : 0u;
+    } else if (!narrow && !poly) {
+        static_assert(n_accurate_starts == 4, "a count per row");
+        int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : n_cubic, n_row0, n_row1, n_row2, n_row3)
         for (std::size_t i = 0; i < n; ++i) {
-            const bool a = accurate_start_applies(jit[i], threshold_in[i]);
-            accurate[i] = a;
-            n_accurate += (solve[i] != 0) & a;
-            n_cubic += (solve[i] != 0) & !a;
+            // accurate_start_row_of, as byte arithmetic (the thresholds differ: one match at most)
+            const double c = threshold_in[i];
+            const bool none = jit[i] != 0.0, s_i = solve[i] != 0;
+            const bool e0 = !none & (c == accurate_start_thresholds[0]);
+            const bool e1 = !none & (c == accurate_start_thresholds[1]);
+            const bool e2 = !none & (c == accurate_start_thresholds[2]);
+            const bool e3 = !none & (c == accurate_start_thresholds[3]);
+            row_code[i] = static_cast<unsigned char>(e0 + 2 * e1 + 3 * e2 + 4 * e3);
+            n_row0 += s_i & e0;
+            n_row1 += s_i & e1;
+            n_row2 += s_i & e2;
+            n_row3 += s_i & e3;
+            n_cubic += s_i & !(e0 | e1 | e2 | e3);
         }
+        rows = (n_row0 > 0 ? 1u : 0u) | (n_row1 > 0 ? 2u : 0u) | (n_row2 > 0 ? 4u : 0u) |
+               (n_row3 > 0 ? 8u : 0u);
     } else {
-        for (std::size_t i = 0; i < n; ++i) accurate[i] = 0;
+        for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
         n_cubic = 1;
     }
-    auto finish = [&](auto with_jitter, auto with_cubic, auto with_accurate) {
-        constexpr bool J = decltype(with_jitter)::value;
-        constexpr bool Cubic = decltype(with_cubic)::value, Accurate = decltype(with_accurate)::value;
+    // the first row present goes into the main loop (with the cubic start if needed), any
+    // further rows into a pass of their own each
+    int first_row = -1;
+    for (int k = 0; k < n_accurate_starts && first_row < 0; ++k)
+        if (rows & (1u << k)) first_row = k;
+    auto finish = [&](auto with_jitter, auto with_cubic, auto row_constant) EPC_FAST_LAMBDA_INLINE {
+        constexpr bool J = decltype(with_jitter)::value, Cubic = decltype(with_cubic)::value;
+        constexpr int Row = decltype(row_constant)::value;
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
             // float32: a lane not solved computes on rounded stand-ins, harmlessly
@@ -324,21 +546,44 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
             const T f_hi = f50_bracket<J>(static_cast<T>(lf_short[i]), aperture[i], blur[i],
                                           jitter_mm[i], ln_inv_c[i]);
             hi[i] = f_hi;
-            const T f0 = start_guess<Cubic, Accurate>(static_cast<T>(d_length[i]), aperture[i],
-                                                      blur[i], jitter_mm[i], start_scale[i],
-                                                      accurate[i] != 0);
+            const T f0 = start_guess<Cubic, Row>(static_cast<T>(d_length[i]), aperture[i],
+                                                 blur[i], jitter_mm[i], start_scale[i],
+                                                 int{row_code[i]} - 1);
             at[i] = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
+        }
+    };
+    auto extra_row = [&](auto row_constant) EPC_FAST_LAMBDA_INLINE {
+        constexpr int Row = decltype(row_constant)::value;
+        if (Row <= first_row || !(rows & (1u << Row))) return;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const T f0 = start_guess<false, Row>(static_cast<T>(d_length[i]), aperture[i],
+                                                 blur[i], jitter_mm[i], start_scale[i], Row);
+            const T f_hi = hi[i];
+            const T start = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
+            at[i] = row_code[i] == Row + 1 ? start : at[i];
         }
     };
     using yes = std::true_type;
     using no = std::false_type;
-    auto starts = [&](auto with_jitter) {
-        if (n_accurate == 0) finish(with_jitter, yes{}, no{});
-        else if (n_cubic == 0) finish(with_jitter, no{}, yes{});
-        else finish(with_jitter, yes{}, yes{});
+    auto starts = [&](auto with_jitter) EPC_FAST_LAMBDA_INLINE {
+        auto with_row = [&](auto with_cubic) EPC_FAST_LAMBDA_INLINE {
+            switch (first_row) {
+                case 0: finish(with_jitter, with_cubic, std::integral_constant<int, 0>{}); break;
+                case 1: finish(with_jitter, with_cubic, std::integral_constant<int, 1>{}); break;
+                case 2: finish(with_jitter, with_cubic, std::integral_constant<int, 2>{}); break;
+                case 3: finish(with_jitter, with_cubic, std::integral_constant<int, 3>{}); break;
+            }
+        };
+        if (first_row < 0) finish(with_jitter, yes{}, std::integral_constant<int, -1>{});
+        else if (n_cubic == 0) with_row(no{});
+        else with_row(yes{});
     };
     if (any_jitter) starts(yes{});
     else starts(no{});
+    extra_row(std::integral_constant<int, 1>{});
+    extra_row(std::integral_constant<int, 2>{});
+    extra_row(std::integral_constant<int, 3>{});
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));
