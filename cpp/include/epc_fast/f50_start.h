@@ -3,12 +3,14 @@
 //
 // Two starting guesses, both fitted by tools/fit_f50_start.py to the exact f50. The guess only
 // decides how many steps the solver takes, never where it converges:
-// - the accurate start, float64, for a lane with one wavelength, threshold 1/2 and no jitter
-//   (the common scene): within 4.2e-8 of f50, so that Halley's first step lands at float64's
-//   precision and the solver stops after one evaluation of the MTF (Newton's stop test asks
-//   for a first step below 3e-8 at the default tolerance: it takes two on part of the lanes);
+// - the accurate start, float64, for a lane with one wavelength, no jitter and one of the
+//   thresholds MTF50, 30, 20 or 10 (the common scenes): at 1/2 within 4.2e-8 of f50, at 0.3
+//   and 0.2 within 1.3e-6 and 5.2e-6, so that Halley's first step lands at float64's precision
+//   and the solver stops after one evaluation of the MTF (Newton's stop test asks for a first
+//   step below 3e-8 at the default tolerance: it takes two on part of the lanes); at 0.1
+//   within 5.2e-5, one or two evaluations;
 // - the cubic start for every other lane, and in float32 (whose tolerance one step from it
-//   already meets): within 0.37%.
+//   already meets): within 0.37% at 1/2.
 #pragma once
 
 #include <cmath>
@@ -59,7 +61,8 @@ EPC_FAST_INLINE T start_polynomial(T v_d, T s, T t) {
 // w = v_p^2 - v_m^2, and f50 sqrt(S) = P(v_d, w) is smooth and even in w (pixel and motion are
 // both sincs: swapping them changes w's sign). P: a polynomial of total degree 10 in
 // a = 2 v_d - 1 and w, i.e. in a and z = w^2, coefficients of a^i z^j (i + 2j <= 10) row by
-// row; largest relative error 4.2e-8 over the whole (v_d, w) domain, median 2.2e-8.
+// row, one set per threshold: the same form holds for any threshold (the x_i stay each factor's
+// own 1/f50 at 1/2), the function grows less smooth as c falls (0.1: 5.2e-5).
 constexpr int accurate_start_degree = 10;
 constexpr int accurate_start_terms = 36;  // i + 2j <= 10
 // One row per threshold (tools/fit_f50_start.py prints them; largest and median relative errors):
