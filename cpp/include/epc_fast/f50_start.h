@@ -298,24 +298,24 @@ EPC_FAST_INLINE T accurate_start_polynomial(T a, T z) {
     }
 }
 
-// The row of the accurate start a lane takes: its threshold's index in
-// accurate_start_thresholds, or -1 (no row for that threshold, or jitter, which the fits
-// leave out). A float64, monochromatic lane's start depends on its own inputs only.
-EPC_FAST_INLINE int accurate_start_row_of(double jitter_mm, double mtf_threshold) {
-    static_assert(n_accurate_starts == 4, "one select per row");
+// The accurate start a float64, monochromatic lane takes, as a code: k + 1 for row k (its
+// threshold's index in accurate_start_thresholds), 0 for none (no row for that threshold, or
+// jitter, which the fits leave out). A lane's start depends on its own inputs only. Byte
+// arithmetic rather than a chain of selects, which vectorises poorly: the thresholds differ, so
+// one term at most is not 0.
+EPC_FAST_INLINE unsigned char accurate_start_code(double jitter_mm, double mtf_threshold) {
+    static_assert(n_accurate_starts == 4, "a term per row");
     const double c = mtf_threshold;
-    const int row = c == accurate_start_thresholds[0]   ? 0
-                    : c == accurate_start_thresholds[1] ? 1
-                    : c == accurate_start_thresholds[2] ? 2
-                    : c == accurate_start_thresholds[3] ? 3
-                                                        : -1;
-    return jitter_mm == 0.0 ? row : -1;
+    const bool any = jitter_mm == 0.0;
+    return static_cast<unsigned char>(
+        (any & (c == accurate_start_thresholds[0])) + 2 * (any & (c == accurate_start_thresholds[1])) +
+        3 * (any & (c == accurate_start_thresholds[2])) + 4 * (any & (c == accurate_start_thresholds[3])));
 }
 
 // cycles/mm: one lane's starting guess from the lengths (mm) its frequency multiplies: lambda F
 // (with a spectrum, the mean wavelength's), the pixel aperture, the blur and the jitter, and
 // scale = sqrt(ln(1/c) / ln 2). Row >= 0 computes that row's accurate start, Cubic the cubic
-// one; with both, a lane takes the accurate start if `row` (its accurate_start_row_of) is Row.
+// one; with both, a lane takes the accurate start if `row` (its accurate_start_code - 1) is Row.
 // Overflow or underflow in the lengths' squares gives 0, inf or NaN, which the caller replaces
 // by f_hi / 2.
 template <bool Cubic, int Row, class T>
@@ -346,14 +346,15 @@ EPC_FAST_INLINE T start_guess(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_
     return f0;
 }
 
-// start_guess with the row chosen at run time (one instantiation per row).
-template <bool Cubic, class T>
-T start_guess_row(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm, T scale, int row) {
+// One lane's start with its row chosen at run time: that row's accurate start, or the cubic one
+// for row -1.
+template <class T>
+T start_guess_of_row(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm, T scale, int row) {
     switch (row) {
-        case 0: return start_guess<Cubic, 0>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
-        case 1: return start_guess<Cubic, 1>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
-        case 2: return start_guess<Cubic, 2>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
-        case 3: return start_guess<Cubic, 3>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        case 0: return start_guess<false, 0>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        case 1: return start_guess<false, 1>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        case 2: return start_guess<false, 2>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        case 3: return start_guess<false, 3>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
         default: return start_guess<true, -1>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
     }
 }
@@ -378,8 +379,8 @@ EPC_FAST_INLINE T start_scale_of(T ln_inverse_c) {
 inline double f50_start(double lambda_f_mm, double aperture_mm, double blur_mm, double jitter_mm,
                         double mtf_threshold) {
     const double scale = start_scale_of(ln_inverse_threshold<double>(mtf_threshold));
-    return start_guess_row<false>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale,
-                                  accurate_start_row_of(jitter_mm, mtf_threshold));
+    return start_guess_of_row(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale,
+                              int{accurate_start_code(jitter_mm, mtf_threshold)} - 1);
 }
 
 // Whether a length (mm) is 0 or inside the range float32 lanes solve f50 for.
@@ -494,9 +495,9 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     unsigned rows = 0;  // bit k: a lane to solve takes row k
     if (!narrow && !poly && b.is_broadcast(mtf_threshold) && b.is_broadcast(jitter_um)) {
         // one row for every lane (the lanes' own choice, made once)
-        const int row = accurate_start_row_of(b.broadcast[jitter_um] * um_to_mm,
-                                              b.broadcast[mtf_threshold]);
-        const auto code = static_cast<unsigned char>(row + 1);
+        const unsigned char code = accurate_start_code(b.broadcast[jitter_um] * um_to_mm,
+                                                       b.broadcast[mtf_threshold]);
+        const int row = int{code} - 1;
         int n_solve = 0;
         EPC_FAST_SIMD_REDUCTION(+ : n_solve)
         for (std::size_t i = 0; i < n; ++i) n_solve += solve[i] != 0;
@@ -508,19 +509,14 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0;
         EPC_FAST_SIMD_REDUCTION(+ : n_cubic, n_row0, n_row1, n_row2, n_row3)
         for (std::size_t i = 0; i < n; ++i) {
-            // accurate_start_row_of, as byte arithmetic (the thresholds differ: one match at most)
-            const double c = threshold_in[i];
-            const bool none = jit[i] != 0.0, s_i = solve[i] != 0;
-            const bool e0 = !none & (c == accurate_start_thresholds[0]);
-            const bool e1 = !none & (c == accurate_start_thresholds[1]);
-            const bool e2 = !none & (c == accurate_start_thresholds[2]);
-            const bool e3 = !none & (c == accurate_start_thresholds[3]);
-            row_code[i] = static_cast<unsigned char>(e0 + 2 * e1 + 3 * e2 + 4 * e3);
-            n_row0 += s_i & e0;
-            n_row1 += s_i & e1;
-            n_row2 += s_i & e2;
-            n_row3 += s_i & e3;
-            n_cubic += s_i & !(e0 | e1 | e2 | e3);
+            const unsigned char code = accurate_start_code(jit[i], threshold_in[i]);
+            const bool s_i = solve[i] != 0;
+            row_code[i] = code;
+            n_row0 += s_i & (code == 1);
+            n_row1 += s_i & (code == 2);
+            n_row2 += s_i & (code == 3);
+            n_row3 += s_i & (code == 4);
+            n_cubic += s_i & (code == 0);
         }
         rows = (n_row0 > 0 ? 1u : 0u) | (n_row1 > 0 ? 2u : 0u) | (n_row2 > 0 ? 4u : 0u) |
                (n_row3 > 0 ? 8u : 0u);
