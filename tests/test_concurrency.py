@@ -92,9 +92,12 @@ def test_threads_sharing_one_input_array_and_writing_their_own_outputs_agree(poi
 
 #: The child: times one chunk, then starts a call twelve chunks long and reports how it ended.
 #: A 16-line spectrum and f50_rtol=0 make each chunk long enough (about a second here) for the
-#: signal to land inside one. conftest.load_core_override keeps a sanitizer run sanitized.
+#: signal to land inside one. conftest.load_core_override keeps a sanitizer run sanitized. The
+#: child installs Python's SIGINT handler itself: a child inherits SIGINT ignored from a test run
+#: started as a background job, and Python then leaves it ignored.
 CHILD = """
-import sys, time
+import signal, sys, time
+signal.signal(signal.SIGINT, signal.default_int_handler)
 sys.path.insert(0, {tests!r})
 import conftest
 conftest.load_core_override()

@@ -114,7 +114,10 @@ def test_an_interrupt_inside_the_core_keeps_the_chunks_already_merged(monkeypatc
 
 
 CTRL_C_SCRIPT = textwrap.dedent("""
-    import sys
+    import signal, sys
+    # Python's SIGINT handler even if this test run was started as a background job, whose
+    # children inherit SIGINT ignored
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     from epc_fast.presets import HIGH_TIER
     from epc_fast.scan import LogUniform, Space, run
 
