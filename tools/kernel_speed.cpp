@@ -9,7 +9,7 @@
 //       -fno-math-errno -fno-trapping-math -fopenmp -I cpp/include tools/kernel_speed.cpp
 //       -o /tmp/kernel_speed      (one command, from the repository's root)
 //   /tmp/kernel_speed [points=1000000] [rounds=5] [halley|newton|brent|bisection] [float32|float64]
-//                     [threads=1]
+//                     [threads=1] [jitter_um=0]
 //
 // 8192 points stay in the caches (the kernel alone); 10^6 and more stream from memory.
 #include <algorithm>
@@ -31,8 +31,9 @@ int main(int argc, char** argv) {
     const std::string solver = argc > 3 ? argv[3] : "halley";
     const bool float32 = argc > 4 && std::string(argv[4]) == "float32";
     const int threads = argc > 5 ? std::atoi(argv[5]) : 1;
-    if (n == 0 || rounds <= 0 || threads <= 0) {
-        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32|float64] [threads]\n");
+    double jitter = argc > 6 ? std::atof(argv[6]) : 0.0;  // um, every point
+    if (n == 0 || rounds <= 0 || threads <= 0 || !(jitter >= 0.0)) {
+        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32|float64] [threads] [jitter_um]\n");
         return 2;
     }
     std::mt19937_64 rng(1);
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
         in.domains[j] = Domain{-1e300, INFINITY, true, true};
     }
     in.columns[illuminance_lux] = {lux.data(), 1};
+    in.columns[jitter_um] = {&jitter, 0};
     in.columns[pixel_pitch_um] = {pitch.data(), 1};
     in.columns[f_number] = {f_num.data(), 1};
     in.columns[focal_length_mm] = {focal.data(), 1};
@@ -73,15 +75,17 @@ int main(int argc, char** argv) {
     std::vector<unsigned char> status(n), cause(n);
     const Outputs out{values[0].data(), values[1].data(), values[2].data(), values[3].data(),
                       values[4].data(), values[5].data(), status.data(),    cause.data()};
-    double best = 0.0;
+    double best = 0.0, total_s = 0.0;
     for (int r = 0; r < rounds; ++r) {
         const auto start = std::chrono::steady_clock::now();
         evaluate(in, opt, out, 0, n, threads);
         const double s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         best = std::max(best, static_cast<double>(n) / s);
+        total_s += s;
     }
-    std::printf("%zu points, %s, %s, %d thread(s): best %.2f M points/s (f50[0] = %.17g)\n", n,
-                solver.c_str(), float32 ? "float32" : "float64", threads, best / 1e6, values[4][0]);
+    std::printf("%zu points, %s, %s, %d thread(s): best %.2f M points/s, mean %.2f (f50[0] = %.17g)\n",
+                n, solver.c_str(), float32 ? "float32" : "float64", threads, best / 1e6,
+                static_cast<double>(n) * rounds / total_s / 1e6, values[4][0]);
     return 0;
 }
