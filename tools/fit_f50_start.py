@@ -32,6 +32,8 @@ NU50 = 0.4039727532995172   # D(nu) = 1/2, the circular-pupil diffraction MTF
 X50 = 0.6033545644016142    # sinc(x) = 1/2
 DEGREE = 3
 ACCURATE_DEGREE = 10
+#: the jitter start's total degree in (a, u, w)
+JITTER_DEGREE = 8
 #: the thresholds with an accurate start, in f50_start.h's row order
 ACCURATE_THRESHOLDS = (0.5, 0.3, 0.2, 0.1)
 
@@ -41,14 +43,17 @@ def diffraction(nu):
     return (2 / np.pi) * (np.arccos(nu) - nu * np.sqrt((1 - nu) * (1 + nu)))
 
 
-def f50(x_d, x_p, x_m, threshold=0.5):
+def f50(x_d, x_p, x_m, threshold=0.5, x_j=0.0):
     """The frequency where the MTF falls to `threshold` (in units of 1/x) by bisection, for
-    inverse factor frequencies x_i = 1/f_i (each factor's own f50)."""
+    inverse factor frequencies x_i = 1/f_i (each factor's own f50; jitter's Gaussian is
+    2^-(f x_j)^2)."""
     def mtf(f):
         return (diffraction(f * x_d * NU50) * np.abs(np.sinc(f * x_p * X50))
-                * np.abs(np.sinc(f * x_m * X50)))
+                * np.abs(np.sinc(f * x_m * X50)) * np.exp2(-(f * x_j) ** 2))
     lo = np.zeros_like(x_d)
-    hi = 1 / np.maximum.reduce([x_d * NU50, x_p * X50, x_m * X50])
+    # the first zero of each factor, and where jitter alone falls to the threshold
+    hi = 1 / np.maximum.reduce([x_d * NU50, x_p * X50, x_m * X50,
+                                x_j * np.sqrt(np.log2(1 / threshold)) + 0 * x_d])
     for _ in range(100):
         mid = 0.5 * (lo + hi)
         above = mtf(mid) > threshold
@@ -171,6 +176,97 @@ def print_accurate(thresholds=ACCURATE_THRESHOLDS):
     print("};")
 
 
+def jitter_target(v_d, t, s):
+    """f sqrt(S) at threshold 1/2 with jitter, at v_d, t = v_j / sqrt(1 - v_d^2) (jitter's share
+    of the rest) and s = v_p^2 / (v_p^2 + v_m^2), by bisection."""
+    rest = 1 - v_d ** 2
+    v_j = t * np.sqrt(rest)
+    rest = np.maximum(rest - v_j ** 2, 0.0)
+    return f50(v_d, np.sqrt(s * rest), np.sqrt((1 - s) * rest), 0.5, v_j)
+
+
+def jitter_variables(v_d, t, s):
+    """The jitter start's variables a = 2 v_d - 1, u = 2 v_j - 1 and w = v_p^2 - v_m^2."""
+    rest = 1 - v_d ** 2
+    v_j = t * np.sqrt(rest)
+    return 2 * v_d - 1, 2 * v_j - 1, (2 * s - 1) * np.maximum(rest - v_j ** 2, 0.0)
+
+
+def jitter_exponents(degree=JITTER_DEGREE):
+    """(i, k, j) of the terms a^i u^k z^j, i + k + 2j <= degree, in f50_start.h's order."""
+    return [(i, k, j) for i in range(degree + 1) for k in range(degree + 1 - i)
+            for j in range((degree - i - k) // 2 + 1)]
+
+
+def fit_jitter(nodes=56, check=400_000, seed=2, rounds=30, degree=JITTER_DEGREE):
+    """The jitter start's power-basis coefficients (threshold 1/2, one wavelength), in the order
+    of jitter_exponents, with the largest and median relative errors over `check` random points
+    and the domain's faces."""
+    exponents = jitter_exponents(degree)
+    nd = np.polynomial.chebyshev.chebvander
+    node = 0.5 - 0.5 * np.cos(np.pi * np.arange(nodes) / (nodes - 1))
+    v_d, t, s = (g.ravel() for g in np.meshgrid(node, node, node, indexing="ij"))
+    h = jitter_target(v_d, t, s)
+    a, u, w = jitter_variables(v_d, t, s)
+    ta, tu, tw = nd(a, degree), nd(u, degree), nd(w, degree)
+    columns = np.stack([ta[:, i] * tu[:, k] * tw[:, 2 * j] for i, k, j in exponents], 1)
+    columns /= h[:, None]
+    weight = np.ones_like(h)
+    for _ in range(rounds):  # Lawson, as in fit_accurate
+        root = np.sqrt(weight)
+        chebyshev, *_ = np.linalg.lstsq(columns * root[:, None], root, rcond=None)
+        error = np.abs(columns @ chebyshev - 1)
+        weight = weight * error / np.sum(weight * error) * len(h)
+    # to the power basis: along each axis in turn
+    grid = np.zeros((degree + 1,) * 3)
+    for (i, k, j), c in zip(exponents, chebyshev):
+        grid[i, k, 2 * j] = c
+    for axis in range(3):
+        grid = np.apply_along_axis(
+            lambda c: np.pad(np.polynomial.chebyshev.cheb2poly(c), (0, degree + 1))[:degree + 1],
+            axis, grid)
+    power = np.array([grid[i, k, 2 * j] for i, k, j in exponents])
+    rng = np.random.default_rng(seed)
+    edge = np.linspace(0, 1, 2001)
+    zero, one = np.zeros_like(edge), np.ones_like(edge)
+    v_d = np.concatenate([rng.random(check), edge, edge, edge, edge, zero, one, rng.random(2001)])
+    t = np.concatenate([rng.random(check), zero, one, edge, edge, edge, edge, one])
+    s = np.concatenate([rng.random(check), edge, edge, zero, one, edge, edge, rng.random(2001)])
+    error = np.abs(horner_jitter(power, *jitter_variables(v_d, t, s), degree) / jitter_target(v_d, t, s) - 1)
+    return power, error.max(), np.median(error)
+
+
+def horner_jitter(power, a, u, w, degree=JITTER_DEGREE):
+    """The jitter start as f50_start.h evaluates it: Horner in z = w^2, then u, then a."""
+    z = w * w
+    terms = dict(zip(jitter_exponents(degree), power))
+    total = np.zeros_like(a)
+    for i in range(degree, -1, -1):
+        middle = np.zeros_like(a)
+        for k in range(degree - i, -1, -1):
+            inner = np.zeros_like(a)
+            for j in range((degree - i - k) // 2, -1, -1):
+                inner = inner * z + terms[(i, k, j)]
+            middle = middle * u + inner
+        total = total * a + middle
+    return total
+
+
+def print_jitter():
+    power, largest, median = fit_jitter()
+    print(f"// jitter, threshold 0.5: relative error max {largest:.2e}, median {median:.2e} "
+          f"(degree {JITTER_DEGREE}, power basis in float64)")
+    print(f"constexpr double jitter_start_coefficients[{len(power)}] = {{")
+    last = None
+    for (i, k, j), c in zip(jitter_exponents(), power):
+        if (i, k) != last:
+            print(f"    // a^{i} u^{k}: z^0 .. z^{(JITTER_DEGREE - i - k) // 2}")
+            last = (i, k)
+        print(f"    {float(c)!r},")
+    print("};")
+
+
 if __name__ == "__main__":
     print_accurate()
+    print_jitter()
     fit_cubic()

@@ -289,6 +289,9 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     m.def("f50_start", py::vectorize(&detail::f50_start), py::arg("lambda_f_mm"),
           py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("jitter_mm"),
           py::arg("mtf_threshold"));
+    m.def("f50_cubic_start", py::vectorize(&detail::f50_cubic_start), py::arg("lambda_f_mm"),
+          py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("jitter_mm"),
+          py::arg("mtf_threshold"));
     // The accurate starts' polynomials (f50_start.h): one row of coefficients per threshold of
     // accurate_start_thresholds, for the tests and the benchmarks' Numba peer that runs the
     // core's algorithm.

@@ -75,5 +75,9 @@ def f50_start(
     lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
     jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
 ) -> np.ndarray: ...
+def f50_cubic_start(
+    lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
+    jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
+) -> np.ndarray: ...
 accurate_start_degree: int
 accurate_start_coefficients: np.ndarray

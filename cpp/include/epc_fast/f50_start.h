@@ -1,7 +1,7 @@
 // f50's bracket and starting abscissa for every lane of a block (f50.h solves from them), and
 // the float32 mode's check of which lanes it can solve.
 //
-// Two starting guesses, both fitted by tools/fit_f50_start.py to the exact f50. The guess only
+// Three starting guesses, all fitted by tools/fit_f50_start.py to the exact f50. The guess only
 // decides how many steps the solver takes, never where it converges:
 // - the accurate start, float64, for a lane with one wavelength, no jitter and one of the
 //   thresholds MTF50, 30, 20 or 10 (the common scenes): at 1/2 within 4.2e-8 of f50, at 0.3
@@ -9,6 +9,8 @@
 //   and the solver stops after one evaluation of the MTF (Newton's stop test asks for a first
 //   step below 3e-8 at the default tolerance: it takes two on part of the lanes); at 0.1
 //   within 5.2e-5, one or two evaluations;
+// - the jitter start, float64, for a lane with one wavelength, jitter and MTF50: within
+//   1.3e-6, one evaluation;
 // - the cubic start for every other lane, and in float32 (whose tolerance one step from it
 //   already meets): within 0.37% at 1/2.
 #pragma once
@@ -43,7 +45,7 @@ namespace detail {
 // decides how many steps the solver takes, never where it converges.
 constexpr double start_nu50 = 0.4039727532995172;   // D(nu) = 1/2
 constexpr double start_x50 = 0.6033545644016142;    // sinc(x) = 1/2
-constexpr double start_j50 = 0.18739640236613234;   // exp(-2 pi^2 y^2) = 1/2: sqrt(ln 2 / 2) / pi
+constexpr double start_j50 = 0.1873906251292776;    // exp(-2 pi^2 y^2) = 1/2: sqrt(ln 2 / 2) / pi
 
 template <class T>
 EPC_FAST_INLINE T start_polynomial(T v_d, T s, T t) {
@@ -298,18 +300,217 @@ EPC_FAST_INLINE T accurate_start_polynomial(T a, T z) {
     }
 }
 
-// The accurate start a float64, monochromatic lane takes, as a code: k + 1 for row k (its
-// threshold's index in accurate_start_thresholds), 0 for none (no row for that threshold, or
-// jitter, which the fits leave out). A lane's start depends on its own inputs only. Byte
-// arithmetic rather than a chain of selects, which vectorises poorly: the thresholds differ, so
-// one term at most is not 0.
+// The jitter start: the accurate start's idea with jitter as a third coordinate, for MTF50
+// only. The unit vector then has v_d, v_j and w = v_p^2 - v_m^2 (|w| <= 1 - v_d^2 - v_j^2), P is
+// still even in w, and smooth in all three (jitter's Gaussian enters through (f x_j)^2, as the
+// sincs do to leading order). P: a polynomial of total degree 8 in a = 2 v_d - 1, u = 2 v_j - 1
+// and w, i.e. coefficients of a^i u^k z^j (i + k + 2j <= 8), fitted by
+// tools/fit_f50_start.py (fit_jitter) over the whole (v_d, v_j, w) domain: within 1.3e-6, so
+// that Halley stops after one evaluation as at MTF30.
+constexpr int jitter_start_degree = 8;
+constexpr int jitter_start_terms = 95;  // i + k + 2j <= 8
+// jitter, threshold 0.5: relative error max 1.27e-06, median 5.58e-07 (degree 8, power basis in float64)
+constexpr double jitter_start_coefficients[jitter_start_terms] = {
+    // a^0 u^0: z^0 .. z^4
+    0.9346295674261517,
+    -0.025648607558631235,
+    0.002373717407173589,
+    -0.00030998212891178434,
+    0.00010259131865253401,
+    // a^0 u^1: z^0 .. z^3
+    -0.021177239684237105,
+    0.006640261475937433,
+    -0.0014061705756730214,
+    0.0004051386066665774,
+    // a^0 u^2: z^0 .. z^3
+    -0.016828122802221523,
+    0.0034615588315373095,
+    -0.0003612611532564543,
+    0.00024230211725551065,
+    // a^0 u^3: z^0 .. z^2
+    -0.005255938555597978,
+    -4.431209168053937e-05,
+    0.00040825130227631345,
+    // a^0 u^4: z^0 .. z^2
+    -1.6471429682236513e-06,
+    -0.00013898653851140974,
+    0.00010737414289796465,
+    // a^0 u^5: z^0 .. z^1
+    0.0008943974106067273,
+    -0.00010829070936133056,
+    // a^0 u^6: z^0 .. z^1
+    0.00017468830731210555,
+    -7.261522200954773e-05,
+    // a^0 u^7: z^0 .. z^0
+    -8.529303850188241e-05,
+    // a^0 u^8: z^0 .. z^0
+    -5.714253853617013e-05,
+    // a^1 u^0: z^0 .. z^3
+    -0.02710479034434539,
+    0.002580146083304255,
+    -0.0004883690624515116,
+    -5.755522304386196e-05,
+    // a^1 u^1: z^0 .. z^3
+    -0.01631458602399023,
+    0.001855344134471471,
+    -0.00024907380389644056,
+    -7.958513291488403e-05,
+    // a^1 u^2: z^0 .. z^2
+    -0.006092848616530951,
+    -0.00015344768365623917,
+    0.0002340196705053338,
+    // a^1 u^3: z^0 .. z^2
+    0.002714457742087714,
+    -0.0005903660239332366,
+    0.00029319989919217304,
+    // a^1 u^4: z^0 .. z^1
+    0.0013149604226892798,
+    0.0005919798446742536,
+    // a^1 u^5: z^0 .. z^1
+    8.01513892989738e-05,
+    0.0003961180026757355,
+    // a^1 u^6: z^0 .. z^0
+    -0.00021263341480261266,
+    // a^1 u^7: z^0 .. z^0
+    -5.2791724039491505e-05,
+    // a^2 u^0: z^0 .. z^3
+    0.06566601901226692,
+    -0.00828101240431163,
+    0.0012830279786558221,
+    -0.0005856723505641148,
+    // a^2 u^1: z^0 .. z^2
+    -0.009205957197036055,
+    0.0035672682774676393,
+    -0.0014204338956493173,
+    // a^2 u^2: z^0 .. z^2
+    -0.00512137559848632,
+    0.0012585378976480432,
+    -0.0007054908237628665,
+    // a^2 u^3: z^0 .. z^1
+    -9.705890045870122e-05,
+    -0.0003528842174377392,
+    // a^2 u^4: z^0 .. z^1
+    0.00040385599728668536,
+    5.020633783817119e-05,
+    // a^2 u^5: z^0 .. z^0
+    0.00023459643267442765,
+    // a^2 u^6: z^0 .. z^0
+    4.662987514190975e-05,
+    // a^3 u^0: z^0 .. z^2
+    -0.0022139918721264177,
+    0.0012420456385572268,
+    -0.00028759624765523073,
+    // a^3 u^1: z^0 .. z^2
+    -0.004985345268252882,
+    0.0008543371518139877,
+    -2.793762481018494e-05,
+    // a^3 u^2: z^0 .. z^1
+    -0.0008782655557102092,
+    -0.00047396535098036263,
+    // a^3 u^3: z^0 .. z^1
+    0.0017311001730151276,
+    -0.0006669763139129266,
+    // a^3 u^4: z^0 .. z^0
+    0.0003426234290249963,
+    // a^3 u^5: z^0 .. z^0
+    -0.00014418394111317956,
+    // a^4 u^0: z^0 .. z^2
+    0.0046760896692655445,
+    -0.0011398178230001364,
+    0.0007949229366677191,
+    // a^4 u^1: z^0 .. z^1
+    -0.0019111572033136638,
+    0.001215605836023377,
+    // a^4 u^2: z^0 .. z^1
+    -0.0004235038188082768,
+    0.0005380481474566157,
+    // a^4 u^3: z^0 .. z^0
+    0.00041406270608015244,
+    // a^4 u^4: z^0 .. z^0
+    6.873040102542416e-05,
+    // a^5 u^0: z^0 .. z^1
+    -0.0008152215044328996,
+    0.0008772372885493471,
+    // a^5 u^1: z^0 .. z^1
+    -0.00045883325769478355,
+    0.0001482199968847464,
+    // a^5 u^2: z^0 .. z^0
+    0.00030613710987065224,
+    // a^5 u^3: z^0 .. z^0
+    0.0003591016842775935,
+    // a^6 u^0: z^0 .. z^1
+    0.0001250836184681619,
+    -0.00016233536050169403,
+    // a^6 u^1: z^0 .. z^0
+    6.630823441625827e-05,
+    // a^6 u^2: z^0 .. z^0
+    -7.270976152995434e-06,
+    // a^7 u^0: z^0 .. z^0
+    -0.000768616475229883,
+    // a^7 u^1: z^0 .. z^0
+    6.269356480204102e-05,
+    // a^8 u^0: z^0 .. z^0
+    -0.0003604231218723303,
+};
+
+// The row index start_guess takes for the jitter start (after the thresholds' rows).
+constexpr int jitter_start_row = n_accurate_starts;
+// Rows of starts in all: the thresholds' and the jitter start.
+constexpr int n_start_rows = n_accurate_starts + 1;
+
+// The coefficients' offset of the terms a^I u^K z^j (in jitter_start_coefficients' order).
+constexpr int jitter_start_offset(int I, int K) {
+    int offset = 0;
+    for (int i = 0; i <= I; ++i)
+        for (int k = 0; k + i <= jitter_start_degree; ++k) {
+            if (i == I && k == K) return offset;
+            offset += (jitter_start_degree - i - k) / 2 + 1;
+        }
+    return offset;
+}
+static_assert(jitter_start_offset(jitter_start_degree + 1, 0) == jitter_start_terms);
+
+// The jitter start's P(a, u, z): Horner in z (innermost), u, then a.
+template <int I, int K, class T>
+EPC_FAST_INLINE T jitter_start_z(T z) {
+    constexpr int offset = jitter_start_offset(I, K);
+    constexpr int length = (jitter_start_degree - I - K) / 2 + 1;
+    T acc = T(jitter_start_coefficients[offset + length - 1]);
+    for (int j = length - 2; j >= 0; --j) acc = acc * z + T(jitter_start_coefficients[offset + j]);
+    return acc;
+}
+template <int I, int K = 0, class T>
+EPC_FAST_INLINE T jitter_start_u(T u, T z) {
+    if constexpr (I + K == jitter_start_degree) {
+        return jitter_start_z<I, K>(z);
+    } else {
+        return jitter_start_z<I, K>(z) + u * jitter_start_u<I, K + 1>(u, z);
+    }
+}
+template <int I = 0, class T>
+EPC_FAST_INLINE T jitter_start_polynomial(T a, T u, T z) {
+    if constexpr (I == jitter_start_degree) {
+        return jitter_start_u<I>(u, z);
+    } else {
+        return jitter_start_u<I>(u, z) + a * jitter_start_polynomial<I + 1>(a, u, z);
+    }
+}
+
+// The accurate start a float64, monochromatic lane takes, as a code: k + 1 for row k (without
+// jitter, its threshold's index in accurate_start_thresholds; with jitter at threshold 1/2,
+// jitter_start_row), 0 for none (the cubic start: no row for that threshold, or jitter at
+// another threshold). A lane's start depends on its own inputs only. Byte arithmetic rather
+// than a chain of selects, which vectorises poorly: the conditions exclude each other, so one
+// term at most is not 0.
 EPC_FAST_INLINE unsigned char accurate_start_code(double jitter_mm, double mtf_threshold) {
-    static_assert(n_accurate_starts == 4, "a term per row");
+    static_assert(n_accurate_starts == 4 && jitter_start_row == 4, "a term per row");
+    static_assert(accurate_start_thresholds[0] == 0.5, "the jitter start is MTF50's");
     const double c = mtf_threshold;
-    const bool any = jitter_mm == 0.0;
+    const bool none = jitter_mm == 0.0, some = jitter_mm > 0.0;
     return static_cast<unsigned char>(
-        (any & (c == accurate_start_thresholds[0])) + 2 * (any & (c == accurate_start_thresholds[1])) +
-        3 * (any & (c == accurate_start_thresholds[2])) + 4 * (any & (c == accurate_start_thresholds[3])));
+        (none & (c == accurate_start_thresholds[0])) + 2 * (none & (c == accurate_start_thresholds[1])) +
+        3 * (none & (c == accurate_start_thresholds[2])) + 4 * (none & (c == accurate_start_thresholds[3])) +
+        5 * (some & (c == accurate_start_thresholds[0])));
 }
 
 // cycles/mm: one lane's starting guess from the lengths (mm) its frequency multiplies: lambda F
@@ -331,7 +532,16 @@ EPC_FAST_INLINE T start_guess(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_
     const T pr = p * r, mr = m * r;
     T f0 = T(0);
     if (Cubic) f0 = r * start_polynomial(d * r, pr + mr, pr * mr) * scale;
-    if constexpr (Row >= 0) {
+    if constexpr (Row == jitter_start_row) {
+#if EPC_FAST_FMA
+        const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
+#else
+        const T w = (pr - mr) * (pr + mr);
+#endif
+        const T f_accurate =
+            r * jitter_start_polynomial(T(2) * (d * r) - T(1), T(2) * (j * r) - T(1), w * w);
+        f0 = Cubic ? (row == Row ? f_accurate : f0) : f_accurate;
+    } else if constexpr (Row >= 0) {
         // w = v_p^2 - v_m^2, its products spelled out: left to the compiler, whether p r fuses
         // into the sum and difference depends on whether the cubic start also uses it, and a
         // lane's start would change in the last bit with the other lanes of its block
@@ -355,6 +565,8 @@ T start_guess_of_row(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm, T sca
         case 1: return start_guess<false, 1>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
         case 2: return start_guess<false, 2>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
         case 3: return start_guess<false, 3>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
+        case jitter_start_row:
+            return start_guess<false, jitter_start_row>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
         default: return start_guess<true, -1>(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, row);
     }
 }
@@ -375,12 +587,19 @@ EPC_FAST_INLINE T start_scale_of(T ln_inverse_c) {
 
 // cycles/mm: the start start_f50 gives a monochromatic float64 lane (the formula alone, for
 // tests: the accurate start of the lane's threshold where it has one and there is no jitter,
-// else the cubic one).
+// the jitter start for jitter at MTF50, else the cubic one).
 inline double f50_start(double lambda_f_mm, double aperture_mm, double blur_mm, double jitter_mm,
                         double mtf_threshold) {
     const double scale = start_scale_of(ln_inverse_threshold<double>(mtf_threshold));
     return start_guess_of_row(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale,
                               int{accurate_start_code(jitter_mm, mtf_threshold)} - 1);
+}
+
+// cycles/mm: the cubic start for any lane (the formula alone, for tests).
+inline double f50_cubic_start(double lambda_f_mm, double aperture_mm, double blur_mm,
+                              double jitter_mm, double mtf_threshold) {
+    const double scale = start_scale_of(ln_inverse_threshold<double>(mtf_threshold));
+    return start_guess_of_row(lambda_f_mm, aperture_mm, blur_mm, jitter_mm, scale, -1);
 }
 
 // Whether a length (mm) is 0 or inside the range float32 lanes solve f50 for.
@@ -486,8 +705,9 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     } else {
         for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
     }
-    // The accurate start's row each lane takes (float64, one wavelength, no jitter, a threshold
-    // with a row), 0 for the cubic start: a lane's start depends on its own inputs only. A block
+    // The accurate start's row each lane takes, as accurate_start_code (float64, one
+    // wavelength; no jitter and a threshold with a row, or jitter at MTF50), 0 for the cubic
+    // start: a lane's start depends on its own inputs only. A block
     // computes the starts its lanes to solve need: the cubic one if any lane takes it, and each
     // row present (usually one, the call's threshold); a lane that is not solved may take any.
     unsigned char* __restrict row_code = b.flag_scratch[0];  // free after the exposure stage
@@ -505,9 +725,9 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         n_cubic = row < 0 ? n_solve : 0;
         rows = row >= 0 && n_solve > 0 ? 1u << row : 0u;
     } else if (!narrow && !poly) {
-        static_assert(n_accurate_starts == 4, "a count per row");
-        int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0;
-        EPC_FAST_SIMD_REDUCTION(+ : n_cubic, n_row0, n_row1, n_row2, n_row3)
+        static_assert(n_start_rows == 5, "a count per row");
+        int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0, n_row4 = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : n_cubic, n_row0, n_row1, n_row2, n_row3, n_row4)
         for (std::size_t i = 0; i < n; ++i) {
             const unsigned char code = accurate_start_code(jit[i], threshold_in[i]);
             const bool s_i = solve[i] != 0;
@@ -516,10 +736,11 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
             n_row1 += s_i & (code == 2);
             n_row2 += s_i & (code == 3);
             n_row3 += s_i & (code == 4);
+            n_row4 += s_i & (code == 5);
             n_cubic += s_i & (code == 0);
         }
         rows = (n_row0 > 0 ? 1u : 0u) | (n_row1 > 0 ? 2u : 0u) | (n_row2 > 0 ? 4u : 0u) |
-               (n_row3 > 0 ? 8u : 0u);
+               (n_row3 > 0 ? 8u : 0u) | (n_row4 > 0 ? 16u : 0u);
     } else {
         for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
         n_cubic = 1;
@@ -527,7 +748,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     // the first row present goes into the main loop (with the cubic start if needed), any
     // further rows into a pass of their own each
     int first_row = -1;
-    for (int k = 0; k < n_accurate_starts && first_row < 0; ++k)
+    for (int k = 0; k < n_start_rows && first_row < 0; ++k)
         if (rows & (1u << k)) first_row = k;
     auto finish = [&](auto with_jitter, auto with_cubic, auto row_constant) EPC_FAST_LAMBDA_INLINE {
         constexpr bool J = decltype(with_jitter)::value, Cubic = decltype(with_cubic)::value;
@@ -572,6 +793,9 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
                 case 1: finish(with_jitter, with_cubic, std::integral_constant<int, 1>{}); break;
                 case 2: finish(with_jitter, with_cubic, std::integral_constant<int, 2>{}); break;
                 case 3: finish(with_jitter, with_cubic, std::integral_constant<int, 3>{}); break;
+                case jitter_start_row:
+                    finish(with_jitter, with_cubic, std::integral_constant<int, jitter_start_row>{});
+                    break;
             }
         };
         if (first_row < 0) finish(with_jitter, yes{}, std::integral_constant<int, -1>{});
@@ -583,6 +807,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     extra_row(std::integral_constant<int, 1>{});
     extra_row(std::integral_constant<int, 2>{});
     extra_row(std::integral_constant<int, 3>{});
+    extra_row(std::integral_constant<int, jitter_start_row>{});
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));
