@@ -532,16 +532,7 @@ EPC_FAST_INLINE T start_guess(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_
     const T pr = p * r, mr = m * r;
     T f0 = T(0);
     if (Cubic) f0 = r * start_polynomial(d * r, pr + mr, pr * mr) * scale;
-    if constexpr (Row == jitter_start_row) {
-#if EPC_FAST_FMA
-        const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
-#else
-        const T w = (pr - mr) * (pr + mr);
-#endif
-        const T f_accurate =
-            r * jitter_start_polynomial(T(2) * (d * r) - T(1), T(2) * (j * r) - T(1), w * w);
-        f0 = Cubic ? (row == Row ? f_accurate : f0) : f_accurate;
-    } else if constexpr (Row >= 0) {
+    if constexpr (Row >= 0) {
         // w = v_p^2 - v_m^2, its products spelled out: left to the compiler, whether p r fuses
         // into the sum and difference depends on whether the cubic start also uses it, and a
         // lane's start would change in the last bit with the other lanes of its block
@@ -550,7 +541,13 @@ EPC_FAST_INLINE T start_guess(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_
 #else
         const T w = (pr - mr) * (pr + mr);
 #endif
-        const T f_accurate = r * accurate_start_polynomial<Row>(T(2) * (d * r) - T(1), w * w);
+        const T a = T(2) * (d * r) - T(1);
+        T f_accurate;
+        if constexpr (Row == jitter_start_row) {
+            f_accurate = r * jitter_start_polynomial(a, T(2) * (j * r) - T(1), w * w);
+        } else {
+            f_accurate = r * accurate_start_polynomial<Row>(a, w * w);
+        }
         f0 = Cubic ? (row == Row ? f_accurate : f0) : f_accurate;
     }
     return f0;
