@@ -1,12 +1,15 @@
 """Fits the f50 solvers' starting guesses (cpp/include/epc_fast/f50_start.h).
 
-Two fits, printed as C++ for f50_start.h with their largest and median errors:
+Three fits, printed as C++ for f50_start.h with their largest and median errors:
 
 - `accurate`: one wavelength and no jitter, where f50 depends on two numbers only; one table
   row per threshold of ACCURATE_THRESHOLDS (MTF50, 30, 20, 10). Fitted to 1e-8..5e-5, so that
   one Halley step reaches float64's precision and the solver stops after one evaluation of the
   MTF (two at 0.1, whose fit is the coarsest).
-- `cubic`: every other scene (jitter, another threshold, a spectrum), a cheap guess to 0.4%.
+- `jitter`: one wavelength with jitter at MTF50, where f50 depends on three numbers (v_d, v_j
+  and w below), a polynomial of total degree JITTER_DEGREE, fitted to 1.3e-6 (one evaluation).
+- `cubic`: every other scene (jitter at another threshold, another threshold, a spectrum), a
+  cheap guess to 0.4%.
 
 Each MTF factor alone reaches 1/2 at its own frequency: diffraction at nu = NU50 / (lambda F),
 a sinc of length l at X50 / l. With x_i = 1 / f_i (diffraction, pixel, motion), S = sum x_i^2 and
@@ -133,20 +136,32 @@ def horner(power, a, w, degree=ACCURATE_DEGREE):
     return total
 
 
+def chebyshev_nodes(n):
+    """n Chebyshev (extrema) nodes on [0, 1], ends included."""
+    return 0.5 - 0.5 * np.cos(np.pi * np.arange(n) / (n - 1))
+
+
+def lawson(columns, rounds):
+    """The coefficients c minimising max |columns c - 1| (columns: basis / target, so the
+    relative error): least squares, reweighted by Lawson's rule, the weights growing where the
+    error is largest."""
+    weight = np.ones(columns.shape[0])
+    for _ in range(rounds):
+        root = np.sqrt(weight)
+        coefficients, *_ = np.linalg.lstsq(columns * root[:, None], root, rcond=None)
+        error = np.abs(columns @ coefficients - 1)
+        weight = weight * error / np.sum(weight * error) * len(weight)
+    return coefficients
+
+
 def fit_accurate(threshold=0.5, nodes=140, check=400_000, seed=1, rounds=30):
     """The accurate start's power-basis coefficients for one threshold, with its largest
     relative error over `check` random points and the domain's edges."""
-    t = 0.5 - 0.5 * np.cos(np.pi * np.arange(nodes) / (nodes - 1))
+    t = chebyshev_nodes(nodes)
     v_d, s = (g.ravel() for g in np.meshgrid(t, t, indexing="ij"))
     h = accurate_target(v_d, s, threshold)
     columns = accurate_columns(2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2)) / h[:, None]
-    weight = np.ones_like(h)
-    for _ in range(rounds):  # Lawson: weights grow where the relative error is largest
-        root = np.sqrt(weight)
-        chebyshev, *_ = np.linalg.lstsq(columns * root[:, None], root, rcond=None)
-        error = np.abs(columns @ chebyshev - 1)
-        weight = weight * error / np.sum(weight * error) * len(h)
-    power = accurate_power_basis(chebyshev)
+    power = accurate_power_basis(lawson(columns, rounds))
     rng = np.random.default_rng(seed)
     edge = np.linspace(0, 1, 2001)
     v_d = np.concatenate([rng.random(check), edge, edge, edge, np.zeros_like(edge), np.ones_like(edge)])
@@ -204,19 +219,13 @@ def fit_jitter(nodes=56, check=400_000, seed=2, rounds=30, degree=JITTER_DEGREE)
     and the domain's faces."""
     exponents = jitter_exponents(degree)
     nd = np.polynomial.chebyshev.chebvander
-    node = 0.5 - 0.5 * np.cos(np.pi * np.arange(nodes) / (nodes - 1))
+    node = chebyshev_nodes(nodes)
     v_d, t, s = (g.ravel() for g in np.meshgrid(node, node, node, indexing="ij"))
     h = jitter_target(v_d, t, s)
     a, u, w = jitter_variables(v_d, t, s)
     ta, tu, tw = nd(a, degree), nd(u, degree), nd(w, degree)
     columns = np.stack([ta[:, i] * tu[:, k] * tw[:, 2 * j] for i, k, j in exponents], 1)
-    columns /= h[:, None]
-    weight = np.ones_like(h)
-    for _ in range(rounds):  # Lawson, as in fit_accurate
-        root = np.sqrt(weight)
-        chebyshev, *_ = np.linalg.lstsq(columns * root[:, None], root, rcond=None)
-        error = np.abs(columns @ chebyshev - 1)
-        weight = weight * error / np.sum(weight * error) * len(h)
+    chebyshev = lawson(columns / h[:, None], rounds)
     # to the power basis: along each axis in turn
     grid = np.zeros((degree + 1,) * 3)
     for (i, k, j), c in zip(exponents, chebyshev):

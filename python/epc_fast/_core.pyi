@@ -80,4 +80,5 @@ def f50_cubic_start(
     jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
 ) -> np.ndarray: ...
 accurate_start_degree: int
+accurate_start_thresholds: np.ndarray
 accurate_start_coefficients: np.ndarray

@@ -274,8 +274,7 @@ constexpr double accurate_start_coefficients[][accurate_start_terms] = {
 constexpr int n_accurate_starts = static_cast<int>(std::size(accurate_start_thresholds));
 static_assert(std::size(accurate_start_coefficients) == std::size(accurate_start_thresholds));
 
-// One row of threshold Row's P: sum over j of c_ij z^j, by Horner (the compiler unrolls the
-// constant loop).
+// One row of threshold Row's P: sum over j of c_ij z^j, by Horner.
 template <int Row, int I, class T>
 EPC_FAST_INLINE T accurate_start_row(T z) {
     constexpr int offset = [] {
@@ -284,10 +283,7 @@ EPC_FAST_INLINE T accurate_start_row(T z) {
         return k;
     }();
     constexpr int length = (accurate_start_degree - I) / 2 + 1;
-    constexpr const double* c = accurate_start_coefficients[Row];
-    T acc = T(c[offset + length - 1]);
-    for (int j = length - 2; j >= 0; --j) acc = acc * z + T(c[offset + j]);
-    return acc;
+    return poly::horner_part<offset, length>(accurate_start_coefficients[Row], z);
 }
 
 // Threshold Row's P(a, z): Horner in a over the rows I..degree.
@@ -475,9 +471,7 @@ template <int I, int K, class T>
 EPC_FAST_INLINE T jitter_start_z(T z) {
     constexpr int offset = jitter_start_offset(I, K);
     constexpr int length = (jitter_start_degree - I - K) / 2 + 1;
-    T acc = T(jitter_start_coefficients[offset + length - 1]);
-    for (int j = length - 2; j >= 0; --j) acc = acc * z + T(jitter_start_coefficients[offset + j]);
-    return acc;
+    return poly::horner_part<offset, length>(jitter_start_coefficients, z);
 }
 template <int I, int K = 0, class T>
 EPC_FAST_INLINE T jitter_start_u(T u, T z) {

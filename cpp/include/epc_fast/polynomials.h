@@ -72,13 +72,20 @@ constexpr double exp_coefficients[] = {
     2.755731922398589e-07, 2.505210838544172e-08, 2.08767569878681e-09, 1.6059043836821613e-10,
 };
 
-// Horner's scheme in the lanes' type T (float64 or float32); the coefficients are rounded to T
-// at compile time.
+// Horner's scheme in the lanes' type T (float64 or float32) over c[Offset .. Offset + Length),
+// the coefficients of t^0 .. t^(Length - 1); they are rounded to T at compile time.
+template <int Offset, int Length, class T, int N>
+EPC_FAST_INLINE T horner_part(const double (&c)[N], T t) {
+    static_assert(Offset >= 0 && Length >= 1 && Offset + Length <= N, "a slice of c");
+    T acc = static_cast<T>(c[Offset + Length - 1]);
+    for (int k = Length - 2; k >= 0; --k) acc = acc * t + static_cast<T>(c[Offset + k]);
+    return acc;
+}
+
+// Horner's scheme over all of c.
 template <class T, int N>
 EPC_FAST_INLINE T horner(const double (&c)[N], T t) {
-    T acc = static_cast<T>(c[N - 1]);
-    for (int k = N - 2; k >= 0; --k) acc = acc * t + static_cast<T>(c[k]);
-    return acc;
+    return horner_part<0, N>(c, t);
 }
 
 }  // namespace poly
