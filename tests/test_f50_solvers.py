@@ -24,6 +24,11 @@ def _scenes():
         "sensor noise": {"dark_current_e_per_s": rng.uniform(0, 500, N),
                          "prnu": rng.uniform(0, 0.02, N)},
         "polychromatic": {"spectrum": diffraction_spectrum(8)},
+        # 400 and 1000 nm: the bracket is the short wavelength's, so f50 often lies past the
+        # long one's cut-off, where its D'' is 0 (the formula's 1/0 there once stopped Halley
+        # at a wrong f50, up to 70% off, mtf.h diffraction_slopes)
+        "wide spectrum": {"spectrum": epc_fast.Spectrum([400.0, 1000.0], [0.5, 0.5]),
+                          "mtf_threshold": rng.uniform(0.05, 0.95, N)},
     }, base
 
 

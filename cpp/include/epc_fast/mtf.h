@@ -134,7 +134,10 @@ EPC_FAST_INLINE SlopesPair<T> sinc_slopes_pair(T y1, T y2) {
 }
 
 // The diffraction MTF at nu with its first and second derivatives in nu (not divided by it:
-// a spectrum adds them up first): D' = -(4/pi) sqrt(1 - nu^2), D'' = (4/pi) nu / sqrt(1 - nu^2).
+// a spectrum adds them up first): D' = -(4/pi) sqrt(1 - nu^2), D'' = (4/pi) nu / sqrt(1 - nu^2)
+// below the cut-off, and D = D' = D'' = 0 past it (nu >= 1). A spectrum's longer wavelengths
+// pass their cut-off inside f50's bracket (set by the shortest): there D'' is 0, not the
+// 1/0 = inf of the formula at nu = 1, which made Halley's step vanish (f50.h).
 template <class T>
 struct DiffractionSlopes {
     T value, d1, d2;
@@ -142,9 +145,11 @@ struct DiffractionSlopes {
 
 template <class T>
 EPC_FAST_INLINE DiffractionSlopes<T> diffraction_slopes(T nu) {
-    const T v = nu < T(1) ? nu : T(1);
+    const bool below = nu < T(1);
+    const T v = below ? nu : T(1);
     const T root = std::sqrt((T(1) - v) * (T(1) + v));
-    return {mtf_diffraction(v), T(-(4.0 / pi)) * root, T(4.0 / pi) * v / root};
+    const T d2 = T(4.0 / pi) * v / root;
+    return {mtf_diffraction(v), T(-(4.0 / pi)) * root, below ? d2 : T(0)};
 }
 
 // The diffraction MTF at nu with its log-slopes in nu (one division): r = D'/D and
