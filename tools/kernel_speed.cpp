@@ -9,7 +9,11 @@
 //       -fno-math-errno -fno-trapping-math -fopenmp -I cpp/include tools/kernel_speed.cpp
 //       -o /tmp/kernel_speed      (one command, from the repository's root)
 //   /tmp/kernel_speed [points=1000000] [rounds=5] [halley|newton|brent|bisection] [float32|float64]
-//                     [threads=1] [jitter_um=0]
+//                     [threads=1] [jitter_um=0] [wavelengths=0]
+//
+// wavelengths > 0: a spectrum of that many equally weighted wavelengths over 480..580 nm (the
+// default QE's band), with its fitted f50 start (spectrum_start.h); < 0: the same spectrum
+// without it (the cubic start), for comparison.
 //
 // 8192 points stay in the caches (the kernel alone); 10^6 and more stream from memory.
 #include <algorithm>
@@ -22,6 +26,7 @@
 #include <vector>
 
 #include "epc_fast/kernel.h"
+#include "epc_fast/spectrum_start.h"
 
 using namespace epc_fast;
 
@@ -32,8 +37,9 @@ int main(int argc, char** argv) {
     const bool float32 = argc > 4 && std::string(argv[4]) == "float32";
     const int threads = argc > 5 ? std::atoi(argv[5]) : 1;
     double jitter = argc > 6 ? std::atof(argv[6]) : 0.0;  // um, every point
+    const int wavelengths = argc > 7 ? std::atoi(argv[7]) : 0;
     if (n == 0 || rounds <= 0 || threads <= 0 || !(jitter >= 0.0)) {
-        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32|float64] [threads] [jitter_um]\n");
+        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32|float64] [threads] [jitter_um] [wavelengths]\n");
         return 2;
     }
     std::mt19937_64 rng(1);
@@ -64,6 +70,11 @@ int main(int argc, char** argv) {
     in.columns[size] = {area.data(), 1};
     in.columns[read_noise_e] = {read.data(), 1};
     in.columns[shake_deg_per_s] = {shake.data(), 1};
+    for (int k = 0, count = std::abs(wavelengths); k < count; ++k) {
+        in.spectrum.wavelengths_nm.push_back(count == 1 ? 530.0 : 480.0 + 100.0 * k / (count - 1));
+        in.spectrum.weights.push_back(1.0 / count);
+    }
+    if (wavelengths > 0) in.spectrum.start = spectrum_start_of(in.spectrum);
     Options opt;
     opt.precision = float32 ? Precision::float32 : Precision::float64;
     opt.f50_solver = solver == "bisection" ? F50Solver::bisection
@@ -84,6 +95,8 @@ int main(int argc, char** argv) {
         best = std::max(best, static_cast<double>(n) / s);
         total_s += s;
     }
+    if (wavelengths != 0)
+        std::printf("%d wavelengths, %s start; ", std::abs(wavelengths), wavelengths > 0 ? "fitted" : "cubic");
     std::printf("%zu points, %s, %s, %d thread(s): best %.2f M points/s, mean %.2f (f50[0] = %.17g)\n",
                 n, solver.c_str(), float32 ? "float32" : "float64", threads, best / 1e6,
                 static_cast<double>(n) * rounds / total_s / 1e6, values[4][0]);

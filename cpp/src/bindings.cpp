@@ -6,12 +6,14 @@
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
 
 #include "epc_fast/inverse.h"
 #include "epc_fast/kernel.h"
+#include "epc_fast/spectrum_start.h"
 
 namespace py = pybind11;
 using namespace epc_fast;
@@ -84,6 +86,22 @@ Precision precision_of(const std::string& name) {
     throw std::invalid_argument("precision must be 'float64' or 'float32', got '" + name + "'");
 }
 
+// A polychromatic spectrum from its wavelengths (nm, > 0) and weights (>= 0, summing to 1).
+Spectrum spectrum_of(const double_array& wavelengths_nm, const double_array& weights) {
+    if (wavelengths_nm.size() != weights.size() || wavelengths_nm.size() == 0)
+        throw std::invalid_argument("wavelengths_nm and weights must be non-empty and of one length");
+    Spectrum spectrum;
+    spectrum.wavelengths_nm.assign(wavelengths_nm.data(), wavelengths_nm.data() + wavelengths_nm.size());
+    spectrum.weights.assign(weights.data(), weights.data() + weights.size());
+    for (std::size_t k = 0; k < spectrum.weights.size(); ++k)
+        if (!(spectrum.wavelengths_nm[k] > 0.0 && std::isfinite(spectrum.wavelengths_nm[k]) &&
+              spectrum.weights[k] >= 0.0 && std::isfinite(spectrum.weights[k])))
+            throw std::invalid_argument("wavelengths_nm must be positive and weights non-negative, finite");
+    if (!(spectrum.extent().mean_nm > 0.0))
+        throw std::invalid_argument("the weights must not all be 0");
+    return spectrum;
+}
+
 // The columns and domains of one design set, as the kernel reads them.
 Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                  const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n) {
@@ -103,6 +121,7 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
     }
     in.spectrum.wavelengths_nm.assign(wavelengths_nm.data(), wavelengths_nm.data() + wavelengths_nm.size());
     in.spectrum.weights.assign(weights.data(), weights.data() + weights.size());
+    if (in.spectrum.polychromatic()) in.spectrum.start = spectrum_start_of(in.spectrum);
     return in;
 }
 
@@ -291,6 +310,39 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     m.def("f50_cubic_start", py::vectorize(&detail::f50_cubic_start), py::arg("lambda_f_mm"),
           py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("jitter_mm"),
           py::arg("mtf_threshold"));
+    // A spectrum's fitted start (spectrum_start.h): its coefficients and fit errors, and the
+    // start a polychromatic float64 lane without jitter takes (lambda_f_mm with the spectrum's
+    // mean wavelength; the cubic start for a threshold without a row).
+    m.def(
+        "spectrum_start",
+        [](const double_array& wavelengths_nm, const double_array& weights) {
+            const auto start = spectrum_start_of(spectrum_of(wavelengths_nm, weights));
+            py::dict d;
+            d["coefficients"] = py::array_t<double>(
+                {static_cast<py::ssize_t>(detail::n_accurate_starts),
+                 static_cast<py::ssize_t>(detail::accurate_start_terms)},
+                &start->coefficients[0][0]);
+            d["fit_error"] = py::array_t<double>(static_cast<py::ssize_t>(detail::n_accurate_starts),
+                                                 start->fit_error);
+            return d;
+        },
+        py::arg("wavelengths_nm"), py::arg("weights"));
+    m.def(
+        "f50_spectrum_start",
+        [](const double_array& wavelengths_nm, const double_array& weights,
+           const double_array& lambda_f_mm, const double_array& aperture_mm,
+           const double_array& blur_mm, const double_array& mtf_threshold) {
+            const auto start = spectrum_start_of(spectrum_of(wavelengths_nm, weights));
+            auto one = [&start](double lambda_f, double aperture, double blur, double threshold) {
+                const int row = int{detail::accurate_start_code(0.0, threshold)} - 1;
+                return row < 0 ? detail::f50_cubic_start(lambda_f, aperture, blur, 0.0, threshold)
+                               : detail::spectrum_start_guess(start->coefficients[row], lambda_f,
+                                                              aperture, blur);
+            };
+            return py::vectorize(one)(lambda_f_mm, aperture_mm, blur_mm, mtf_threshold);
+        },
+        py::arg("wavelengths_nm"), py::arg("weights"), py::arg("lambda_f_mm"),
+        py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("mtf_threshold"));
     // The accurate starts' polynomials (f50_start.h): one row of coefficients per threshold of
     // accurate_start_thresholds, for the tests and the benchmarks' Numba peer that runs the
     // core's algorithm.

@@ -79,6 +79,14 @@ def f50_cubic_start(
     lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
     jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
 ) -> np.ndarray: ...
+def spectrum_start(
+    wavelengths_nm: npt.NDArray[np.float64], weights: npt.NDArray[np.float64],
+) -> dict[str, np.ndarray]: ...
+def f50_spectrum_start(
+    wavelengths_nm: npt.NDArray[np.float64], weights: npt.NDArray[np.float64],
+    lambda_f_mm: npt.NDArray[np.float64], aperture_mm: npt.NDArray[np.float64],
+    blur_mm: npt.NDArray[np.float64], mtf_threshold: npt.NDArray[np.float64],
+) -> np.ndarray: ...
 accurate_start_degree: int
 accurate_start_thresholds: np.ndarray
 accurate_start_coefficients: np.ndarray

@@ -274,26 +274,33 @@ constexpr double accurate_start_coefficients[][accurate_start_terms] = {
 constexpr int n_accurate_starts = static_cast<int>(std::size(accurate_start_thresholds));
 static_assert(std::size(accurate_start_coefficients) == std::size(accurate_start_thresholds));
 
-// One row of threshold Row's P: sum over j of c_ij z^j, by Horner.
-template <int Row, int I, class T>
-EPC_FAST_INLINE T accurate_start_row(T z) {
+// Row I of the accurate start's P with coefficients c (a threshold's row of
+// accurate_start_coefficients, or a spectrum's): sum over j of c_ij z^j, by Horner.
+template <int I, class T>
+EPC_FAST_INLINE T accurate_start_row(const double (&c)[accurate_start_terms], T z) {
     constexpr int offset = [] {
         int k = 0;
         for (int i = 0; i < I; ++i) k += (accurate_start_degree - i) / 2 + 1;
         return k;
     }();
     constexpr int length = (accurate_start_degree - I) / 2 + 1;
-    return poly::horner_part<offset, length>(accurate_start_coefficients[Row], z);
+    return poly::horner_part<offset, length>(c, z);
+}
+
+// P(a, z) with coefficients c: Horner in a over the rows I..degree.
+template <int I = 0, class T>
+EPC_FAST_INLINE T accurate_start_polynomial_of(const double (&c)[accurate_start_terms], T a, T z) {
+    if constexpr (I == accurate_start_degree) {
+        return accurate_start_row<I>(c, z);
+    } else {
+        return accurate_start_row<I>(c, z) + a * accurate_start_polynomial_of<I + 1>(c, a, z);
+    }
 }
 
 // Threshold Row's P(a, z): Horner in a over the rows I..degree.
-template <int Row, int I = 0, class T>
+template <int Row, class T>
 EPC_FAST_INLINE T accurate_start_polynomial(T a, T z) {
-    if constexpr (I == accurate_start_degree) {
-        return accurate_start_row<Row, I>(z);
-    } else {
-        return accurate_start_row<Row, I>(z) + a * accurate_start_polynomial<Row, I + 1>(a, z);
-    }
+    return accurate_start_polynomial_of(accurate_start_coefficients[Row], a, z);
 }
 
 // The jitter start: the accurate start's idea with jitter as a third coordinate, for MTF50
@@ -562,6 +569,53 @@ T start_guess_of_row(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm, T sca
     }
 }
 
+}  // namespace detail
+
+// The accurate start fitted to one spectrum (spectrum_start.h fits it when a call's spectrum is
+// first seen): with a spectrum, D is one fixed function of f lambda_mean F for every point of
+// the call, so f50 sqrt(S) is again P(a, z) of the accurate start, with lambda F the mean
+// wavelength's, and only P's coefficients depend on the spectrum. One row per threshold of
+// accurate_start_thresholds, in the accurate start's form.
+struct SpectrumStart {
+    double coefficients[detail::n_accurate_starts][detail::accurate_start_terms];
+    // each row's largest relative error on the fit's own nodes (spectrum_start.h)
+    double fit_error[detail::n_accurate_starts];
+};
+
+namespace detail {
+
+// Where a lane without jitter sits in the accurate start's coordinates, from the lengths (mm)
+// its frequency multiplies (lambda F, the pixel aperture, the blur): r = 1 / sqrt(S),
+// a = 2 v_d - 1 and z = w^2, formed as start_guess forms them; the start is r P(a, z).
+template <class T>
+struct StartPoint {
+    T r, a, z;
+};
+template <class T>
+EPC_FAST_INLINE StartPoint<T> start_point(T lambda_f_mm, T aperture_mm, T blur_mm) {
+    const T d = lambda_f_mm * T(1.0 / start_nu50);
+    const T p = aperture_mm * T(1.0 / start_x50);
+    const T m = blur_mm * T(1.0 / start_x50);
+    const T r = T(1) / std::sqrt(d * d + p * p + m * m);
+    const T mr = m * r;
+#if EPC_FAST_FMA
+    const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
+#else
+    const T pr = p * r;
+    const T w = (pr - mr) * (pr + mr);
+#endif
+    return {r, T(2) * (d * r) - T(1), w * w};
+}
+
+// cycles/mm: a polychromatic lane's start from its spectrum's row c (a SpectrumStart row) and
+// its lengths (start_point's, lambda F with the spectrum's mean wavelength).
+template <class T>
+EPC_FAST_INLINE T spectrum_start_guess(const double (&c)[accurate_start_terms], T lambda_f_mm,
+                                       T aperture_mm, T blur_mm) {
+    const StartPoint<T> q = start_point(lambda_f_mm, aperture_mm, blur_mm);
+    return q.r * accurate_start_polynomial_of(c, q.a, q.z);
+}
+
 constexpr double ln2 = 0.6931471805599453;
 
 // ln(1/c) for threshold c, in T: the C library's log only for c other than 1/2.
@@ -614,12 +668,8 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     constexpr bool narrow = sizeof(T) != sizeof(double);
     const auto& x = b.x;
     const bool poly = spectrum.polychromatic();
-    double shortest_nm = inf, longest_nm = 0.0, mean_nm = 0.0;
-    for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
-        if (spectrum.weights[k] > 0.0) shortest_nm = std::fmin(shortest_nm, spectrum.wavelengths_nm[k]);
-        longest_nm = std::fmax(longest_nm, spectrum.wavelengths_nm[k]);
-        mean_nm += spectrum.weights[k] * spectrum.wavelengths_nm[k];
-    }
+    const Spectrum::Extent extent = spectrum.extent();
+    const double shortest_nm = extent.shortest_nm, longest_nm = extent.longest_nm;
     // ln(1/c) for the jitter bracket and sqrt(ln(1/c) / ln 2) for the start's scaling; the C
     // library's log only for a threshold other than 1/2, once for a broadcast threshold.
     T* __restrict ln_inv_c = b.mtf;  // scratch until the solver runs
@@ -653,7 +703,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     T* __restrict lo = b.lo;
     T* __restrict hi = b.hi;
     T* __restrict at = b.at;
-    const double mean_mm = mean_nm * nm_to_mm;
+    const double mean_mm = extent.mean_nm * nm_to_mm;
     // every length in float64 first, then rounded once to T (float32: after checking it fits);
     // two loops, each of one type, as GCC vectorises them
     double* __restrict lf = b.scratch[0];
@@ -736,6 +786,27 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
         n_cubic = 1;
     }
+    // With a spectrum fitted (spectrum_start.h), float64: every lane takes the cubic start
+    // first, then a lane without jitter whose threshold has a row takes the spectrum's start
+    // of that row (its accurate_start_code), in a pass per row present.
+    const SpectrumStart* fitted = !narrow && poly ? spectrum.start.get() : nullptr;
+    unsigned spectrum_rows = 0;  // bit k: a lane to solve takes the spectrum's row k
+    if (fitted != nullptr) {
+        static_assert(n_accurate_starts == 4, "a count per row");
+        int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : n_row0, n_row1, n_row2, n_row3)
+        for (std::size_t i = 0; i < n; ++i) {
+            const unsigned char code = accurate_start_code(jit[i], threshold_in[i]);
+            const bool s_i = solve[i] != 0;
+            row_code[i] = code;
+            n_row0 += s_i & (code == 1);
+            n_row1 += s_i & (code == 2);
+            n_row2 += s_i & (code == 3);
+            n_row3 += s_i & (code == 4);
+        }
+        spectrum_rows = (n_row0 > 0 ? 1u : 0u) | (n_row1 > 0 ? 2u : 0u) | (n_row2 > 0 ? 4u : 0u) |
+                        (n_row3 > 0 ? 8u : 0u);
+    }
     // the first row present goes into the main loop (with the cubic start if needed), any
     // further rows into a pass of their own each
     int first_row = -1;
@@ -799,6 +870,20 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     extra_row(std::integral_constant<int, 2>{});
     extra_row(std::integral_constant<int, 3>{});
     extra_row(std::integral_constant<int, jitter_start_row>{});
+    if constexpr (!narrow) {
+        for (int k = 0; k < n_accurate_starts; ++k) {
+            if (!(spectrum_rows & (1u << k))) continue;
+            const double(&c)[accurate_start_terms] = fitted->coefficients[k];
+            const unsigned char code = static_cast<unsigned char>(k + 1);
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                const T f0 = spectrum_start_guess(c, d_length[i], aperture[i], blur[i]);
+                const T f_hi = hi[i];
+                const T start = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
+                at[i] = row_code[i] == code ? start : at[i];
+            }
+        }
+    }
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));

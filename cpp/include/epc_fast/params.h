@@ -4,7 +4,10 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <limits>
+#include <memory>
 #include <vector>
 
 namespace epc_fast {
@@ -53,13 +56,33 @@ struct Column {
     double operator[](std::size_t i) const { return data[static_cast<std::ptrdiff_t>(i) * stride]; }
 };
 
+// The f50 start fitted to one spectrum (f50_start.h; spectrum_start.h fits it).
+struct SpectrumStart;
+
 // A spectrum shared by every point: weights sum to 1. Empty means monochromatic at each
 // point's wavelength_nm.
 struct Spectrum {
     std::vector<double> wavelengths_nm;
     std::vector<double> weights;
+    // f50's start fitted to this spectrum (spectrum_start.h), or null: its lanes then take the
+    // cubic start (the same f50 to f50_rtol, in more steps)
+    std::shared_ptr<const SpectrumStart> start;
 
     bool polychromatic() const { return !wavelengths_nm.empty(); }
+
+    // nm: the shortest wavelength of positive weight, the longest, and the weighted mean
+    struct Extent {
+        double shortest_nm, longest_nm, mean_nm;
+    };
+    Extent extent() const {
+        Extent e{std::numeric_limits<double>::infinity(), 0.0, 0.0};
+        for (std::size_t k = 0; k < wavelengths_nm.size(); ++k) {
+            if (weights[k] > 0.0) e.shortest_nm = std::fmin(e.shortest_nm, wavelengths_nm[k]);
+            e.longest_nm = std::fmax(e.longest_nm, wavelengths_nm[k]);
+            e.mean_nm += weights[k] * wavelengths_nm[k];
+        }
+        return e;
+    }
 };
 
 struct Inputs {

@@ -1,0 +1,59 @@
+// Linear least squares by Householder QR: the coefficients x minimising |A x - b|_2 for a tall
+// matrix A (rows >= columns, full column rank). Plain loops in a fixed order: the same inputs
+// give the same bits on every run. For the run-time fits (spectrum_start.h), small problems
+// (hundreds of rows, tens of columns), solved once per distinct input.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <vector>
+
+namespace epc_fast {
+
+// a: rows x columns, row-major; b: rows. Both are overwritten (QR's factors, Q^T b). Throws
+// std::invalid_argument if A is not tall or is numerically rank-deficient (a zero pivot).
+inline std::vector<double> least_squares(std::vector<double>& a, std::vector<double>& b,
+                                         std::size_t rows, std::size_t columns) {
+    if (rows < columns || a.size() != rows * columns || b.size() != rows)
+        throw std::invalid_argument("least_squares: A must be rows x columns with rows >= columns");
+    auto at = [&](std::size_t i, std::size_t j) -> double& { return a[i * columns + j]; };
+    std::vector<double> diagonal(columns);
+    for (std::size_t k = 0; k < columns; ++k) {
+        // the reflection H = I - v v^T / (v_k |x|) taking column k's rows k.. to (alpha, 0, ...)
+        double scale = 0.0;
+        for (std::size_t i = k; i < rows; ++i) scale = std::fmax(scale, std::fabs(at(i, k)));
+        if (!(scale > 0.0)) throw std::invalid_argument("least_squares: rank-deficient matrix");
+        double norm2 = 0.0;
+        for (std::size_t i = k; i < rows; ++i) {
+            const double y = at(i, k) / scale;
+            norm2 += y * y;
+        }
+        const double norm = scale * std::sqrt(norm2);
+        const double alpha = at(k, k) > 0.0 ? -norm : norm;  // no cancellation in v_k
+        at(k, k) -= alpha;                                   // v = x - alpha e_k
+        const double beta = -alpha * at(k, k);               // v^T v / 2
+        if (!(beta > 0.0)) throw std::invalid_argument("least_squares: rank-deficient matrix");
+        for (std::size_t j = k + 1; j < columns; ++j) {
+            double dot = 0.0;
+            for (std::size_t i = k; i < rows; ++i) dot += at(i, k) * at(i, j);
+            const double f = dot / beta;
+            for (std::size_t i = k; i < rows; ++i) at(i, j) -= f * at(i, k);
+        }
+        double dot = 0.0;
+        for (std::size_t i = k; i < rows; ++i) dot += at(i, k) * b[i];
+        const double f = dot / beta;
+        for (std::size_t i = k; i < rows; ++i) b[i] -= f * at(i, k);
+        diagonal[k] = alpha;
+    }
+    // R x = (Q^T b)[0, columns): back substitution
+    std::vector<double> x(columns);
+    for (std::size_t k = columns; k-- > 0;) {
+        double s = b[k];
+        for (std::size_t j = k + 1; j < columns; ++j) s -= at(k, j) * x[j];
+        x[k] = s / diagonal[k];
+    }
+    return x;
+}
+
+}  // namespace epc_fast

@@ -1,0 +1,152 @@
+// The accurate f50 start fitted to a call's spectrum (SpectrumStart, f50_start.h), so that a
+// polychromatic lane, like a monochromatic one, converges after one evaluation of its MTF (a
+// sum over every wavelength) instead of two.
+//
+// A spectrum is shared by every point of a call, so its diffraction MTF is one function of
+// f lambda_mean F, and f50 sqrt(S) = P(a, z) in the accurate start's coordinates as for one
+// wavelength; only P differs. For each threshold of accurate_start_thresholds, P's 36
+// coefficients are fitted by least squares on the relative error (least_squares.h) to f50
+// solved to 1e-15 by the kernel's own Halley iteration (f50.h, from the cubic start) on a grid
+// of spectrum_start_nodes^2 Chebyshev nodes over the whole (v_d, w) domain: a few milliseconds,
+// once per distinct spectrum (spectrum_start_of keeps the last few). The fit is a fixed sequence
+// of operations on the spectrum's values: the same spectrum gets the same coefficients, bit for
+// bit, in every call, so a point's result never depends on the call it is in.
+//
+// The start only decides how many steps the solver takes, never where it converges: a spectrum
+// the polynomial fits poorly (one whose MTF has a kink where it crosses the threshold) costs
+// steps, not accuracy.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <memory>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+#include "block.h"
+#include "f50.h"
+#include "f50_start.h"
+#include "least_squares.h"
+#include "params.h"
+
+namespace epc_fast {
+
+// Chebyshev nodes per coordinate (v_d and s = v_p^2 / (v_p^2 + v_m^2)) of the fit's grid.
+constexpr int spectrum_start_nodes = 24;
+// The tolerance the fit's targets are solved to.
+constexpr double spectrum_start_target_rtol = 1e-15;
+
+namespace detail {
+
+// The monomials a^i z^j of the accurate start, in its coefficients' order (i outer).
+inline void accurate_start_monomials(double a, double z, double* out) {
+    int k = 0;
+    double a_power = 1.0;
+    for (int i = 0; i <= accurate_start_degree; ++i) {
+        double term = a_power;
+        for (int j = 0; j <= (accurate_start_degree - i) / 2; ++j) {
+            out[k++] = term;
+            term *= z;
+        }
+        a_power *= a;
+    }
+}
+
+// The fit's grid: Chebyshev nodes of the first kind on (0, 1), interior (no length is 0).
+inline double spectrum_start_node(int k) {
+    return 0.5 - 0.5 * std::cos(pi * (k + 0.5) / spectrum_start_nodes);
+}
+
+}  // namespace detail
+
+// Fits the spectrum's start (every row). The spectrum must be polychromatic with a positive mean
+// wavelength and at least one positive weight.
+inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
+    using namespace detail;
+    Spectrum plain = spectrum;  // the targets are solved from the cubic start
+    plain.start = nullptr;
+    const Spectrum::Extent extent = plain.extent();
+    const double mean_mm = extent.mean_nm * nm_to_mm, shortest_mm = extent.shortest_nm * nm_to_mm;
+    constexpr int points = spectrum_start_nodes * spectrum_start_nodes;
+    constexpr int terms = accurate_start_terms;
+    auto b = std::make_unique<Block<double>>();
+    SpectrumStart fitted{};
+    for (int row = 0; row < n_accurate_starts; ++row) {
+        const double c = accurate_start_thresholds[row];
+        const double ln_inv_c = ln_inverse_threshold<double>(c);
+        const double scale = start_scale_of(ln_inv_c);
+        std::vector<double> design(static_cast<std::size_t>(points) * terms), rhs(points, 1.0);
+        for (int first = 0; first < points; first += static_cast<int>(block_size)) {
+            for (std::size_t i = 0; i < block_size; ++i) {
+                // a point of the grid (padding lanes repeat the last one)
+                const int k = std::min(first + static_cast<int>(i), points - 1);
+                const double v_d = spectrum_start_node(k / spectrum_start_nodes);
+                const double s = spectrum_start_node(k % spectrum_start_nodes);
+                const double rest = (1.0 - v_d) * (1.0 + v_d);
+                // lengths whose x_i = length / (factor's f50 constant) are v_d, v_p, v_m
+                const double f_number = v_d * start_nu50 / mean_mm;
+                const double aperture = std::sqrt(s * rest) * start_x50;
+                const double blur = std::sqrt((1.0 - s) * rest) * start_x50;
+                b->f_number[i] = f_number;
+                b->aperture_mm[i] = aperture;
+                b->blur_mm[i] = blur;
+                b->jitter_mm[i] = 0.0;
+                b->lambda_f_mm[i] = mean_mm * f_number;
+                b->threshold[i] = c;
+                b->solve[i] = 1;
+                b->lo[i] = 0.0;
+                b->hi[i] = f50_bracket<false>(shortest_mm * f_number, aperture, blur, 0.0, ln_inv_c);
+                const double f0 = start_guess<true, -1>(mean_mm * f_number, aperture, blur, 0.0, scale, -1);
+                b->at[i] = (f0 > 0.0) & (f0 < b->hi[i]) ? f0 : 0.5 * b->hi[i];
+            }
+            polish<true, false, true, true>(plain, spectrum_start_target_rtol, *b);
+            for (std::size_t i = 0; i < block_size && first + static_cast<int>(i) < points; ++i) {
+                const int k = first + static_cast<int>(i);
+                const StartPoint<double> q = start_point(b->lambda_f_mm[i], b->aperture_mm[i], b->blur_mm[i]);
+                // relative error: the row's monomials over the target f50 sqrt(S) = f50 / r
+                const double target = b->f50[i] / q.r;
+                double* out = &design[static_cast<std::size_t>(k) * terms];
+                accurate_start_monomials(q.a, q.z, out);
+                for (int t = 0; t < terms; ++t) out[t] /= target;
+            }
+        }
+        // the design matrix is overwritten by the solve: keep what the error check needs
+        const std::vector<double> scaled = design;
+        const std::vector<double> x = least_squares(design, rhs, points, terms);
+        double worst = 0.0;
+        for (int k = 0; k < points; ++k) {
+            double fit = 0.0;
+            for (int t = 0; t < terms; ++t) fit += scaled[static_cast<std::size_t>(k) * terms + t] * x[t];
+            worst = std::fmax(worst, std::fabs(fit - 1.0));
+        }
+        for (int t = 0; t < terms; ++t) fitted.coefficients[row][t] = x[t];
+        fitted.fit_error[row] = worst;
+    }
+    return fitted;
+}
+
+// The spectrum's fitted start, from the last few spectra fitted (by their exact values) or
+// fitted now. Thread-safe; the fit itself runs under the lock (a few milliseconds).
+inline std::shared_ptr<const SpectrumStart> spectrum_start_of(const Spectrum& spectrum) {
+    constexpr std::size_t kept = 8;
+    using Key = std::pair<std::vector<double>, std::vector<double>>;
+    static std::mutex mutex;
+    static std::vector<std::pair<Key, std::shared_ptr<const SpectrumStart>>> recent;
+    std::lock_guard<std::mutex> lock(mutex);
+    for (std::size_t k = 0; k < recent.size(); ++k) {
+        if (recent[k].first.first == spectrum.wavelengths_nm && recent[k].first.second == spectrum.weights) {
+            auto found = recent[k];
+            recent.erase(recent.begin() + static_cast<std::ptrdiff_t>(k));
+            recent.insert(recent.begin(), found);  // most recent first
+            return found.second;
+        }
+    }
+    auto start = std::make_shared<const SpectrumStart>(fit_spectrum_start(spectrum));
+    recent.insert(recent.begin(), {Key{spectrum.wavelengths_nm, spectrum.weights}, start});
+    if (recent.size() > kept) recent.pop_back();
+    return start;
+}
+
+}  // namespace epc_fast
