@@ -1,7 +1,10 @@
 // Linear least squares by Householder QR: the coefficients x minimising |A x - b|_2 for a tall
-// matrix A (rows >= columns, full column rank). Plain loops in a fixed order: the same inputs
-// give the same bits on every run. For the run-time fits (spectrum_start.h), small problems
-// (hundreds of rows, tens of columns), solved once per distinct input.
+// matrix A (rows >= columns, full column rank). Plain loops in a fixed order, every
+// multiply-add spelled out (multiply_add): the same inputs give the same bits on every run and
+// in the x86-64-v3 and -v4 modules alike (left to the compiler, a sum of products is fused in
+// the scalar loop and not where the vectoriser splits it, and the two modules split different
+// loops). For the run-time fits (spectrum_start.h), small problems (hundreds of rows, tens of
+// columns), solved once per distinct input.
 #pragma once
 
 #include <cmath>
@@ -9,7 +12,19 @@
 #include <stdexcept>
 #include <vector>
 
+#include "constants.h"
+
 namespace epc_fast {
+
+// a b + c, rounded once where the module has a fused multiply-add (EPC_FAST_FMA), else twice
+// (those modules fuse nothing): the same in every loop, vectorised or not.
+inline double multiply_add(double a, double b, double c) {
+#if EPC_FAST_FMA
+    return std::fma(a, b, c);
+#else
+    return a * b + c;
+#endif
+}
 
 // a: rows x columns, row-major; b: rows. Both are overwritten (QR's factors, Q^T b). Throws
 // std::invalid_argument if A is not tall or is numerically rank-deficient (a zero pivot).
@@ -27,30 +42,30 @@ inline std::vector<double> least_squares(std::vector<double>& a, std::vector<dou
         double norm2 = 0.0;
         for (std::size_t i = k; i < rows; ++i) {
             const double y = at(i, k) / scale;
-            norm2 += y * y;
+            norm2 = multiply_add(y, y, norm2);
         }
         const double norm = scale * std::sqrt(norm2);
         const double alpha = at(k, k) > 0.0 ? -norm : norm;  // no cancellation in v_k
         at(k, k) -= alpha;                                   // v = x - alpha e_k
-        const double beta = -alpha * at(k, k);               // v^T v / 2
+        const double beta = -alpha * at(k, k);               // v^T v / 2 (one product)
         if (!(beta > 0.0)) throw std::invalid_argument("least_squares: rank-deficient matrix");
         for (std::size_t j = k + 1; j < columns; ++j) {
             double dot = 0.0;
-            for (std::size_t i = k; i < rows; ++i) dot += at(i, k) * at(i, j);
+            for (std::size_t i = k; i < rows; ++i) dot = multiply_add(at(i, k), at(i, j), dot);
             const double f = dot / beta;
-            for (std::size_t i = k; i < rows; ++i) at(i, j) -= f * at(i, k);
+            for (std::size_t i = k; i < rows; ++i) at(i, j) = multiply_add(-f, at(i, k), at(i, j));
         }
         double dot = 0.0;
-        for (std::size_t i = k; i < rows; ++i) dot += at(i, k) * b[i];
+        for (std::size_t i = k; i < rows; ++i) dot = multiply_add(at(i, k), b[i], dot);
         const double f = dot / beta;
-        for (std::size_t i = k; i < rows; ++i) b[i] -= f * at(i, k);
+        for (std::size_t i = k; i < rows; ++i) b[i] = multiply_add(-f, at(i, k), b[i]);
         diagonal[k] = alpha;
     }
     // R x = (Q^T b)[0, columns): back substitution
     std::vector<double> x(columns);
     for (std::size_t k = columns; k-- > 0;) {
         double s = b[k];
-        for (std::size_t j = k + 1; j < columns; ++j) s -= at(k, j) * x[j];
+        for (std::size_t j = k + 1; j < columns; ++j) s = multiply_add(-at(k, j), x[j], s);
         x[k] = s / diagonal[k];
     }
     return x;

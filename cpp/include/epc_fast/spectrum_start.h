@@ -118,7 +118,7 @@ inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
         double worst = 0.0;
         for (int k = 0; k < points; ++k) {
             double fit = 0.0;
-            for (int t = 0; t < terms; ++t) fit += scaled[static_cast<std::size_t>(k) * terms + t] * x[t];
+            for (int t = 0; t < terms; ++t) fit = multiply_add(scaled[static_cast<std::size_t>(k) * terms + t], x[t], fit);
             worst = std::fmax(worst, std::fabs(fit - 1.0));
         }
         for (int t = 0; t < terms; ++t) fitted.coefficients[row][t] = x[t];
