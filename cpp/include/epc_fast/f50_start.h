@@ -658,6 +658,32 @@ EPC_FAST_INLINE bool float32_factor(double x) {
     return (x >= 8.673617379884035e-19) & (x <= 1152921504606846976.0);  // 2^-60, 2^60
 }
 
+// Each lane's accurate_start_code into row_code, from its jitter (mm) and threshold; returns
+// which rows the lanes to solve take (bit k: row k) and counts into n_cubic those that take the
+// cubic start.
+EPC_FAST_INLINE unsigned start_rows(const double* __restrict jitter_mm,
+                                    const double* __restrict threshold,
+                                    const unsigned char* __restrict solve,
+                                    unsigned char* __restrict row_code, int& n_cubic) {
+    static_assert(n_start_rows == 5, "a count per row");
+    int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0, n_row4 = 0, cubic = 0;
+    EPC_FAST_SIMD_REDUCTION(+ : cubic, n_row0, n_row1, n_row2, n_row3, n_row4)
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const unsigned char code = accurate_start_code(jitter_mm[i], threshold[i]);
+        const bool s_i = solve[i] != 0;
+        row_code[i] = code;
+        n_row0 += s_i & (code == 1);
+        n_row1 += s_i & (code == 2);
+        n_row2 += s_i & (code == 3);
+        n_row3 += s_i & (code == 4);
+        n_row4 += s_i & (code == 5);
+        cubic += s_i & (code == 0);
+    }
+    n_cubic += cubic;
+    return (n_row0 > 0 ? 1u : 0u) | (n_row1 > 0 ? 2u : 0u) | (n_row2 > 0 ? 4u : 0u) |
+           (n_row3 > 0 ? 8u : 0u) | (n_row4 > 0 ? 16u : 0u);
+}
+
 // Sets lo = 0, hi = f_hi, the starting abscissa and the solve's inputs in T for every lane;
 // returns which terms the block's lanes to solve use, as bits (1 motion, 2 jitter). With T =
 // float32, a lane to solve whose lengths float32 cannot hold is marked `wide` and taken out of
@@ -766,22 +792,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         n_cubic = row < 0 ? n_solve : 0;
         rows = row >= 0 && n_solve > 0 ? 1u << row : 0u;
     } else if (!narrow && !poly) {
-        static_assert(n_start_rows == 5, "a count per row");
-        int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0, n_row4 = 0;
-        EPC_FAST_SIMD_REDUCTION(+ : n_cubic, n_row0, n_row1, n_row2, n_row3, n_row4)
-        for (std::size_t i = 0; i < n; ++i) {
-            const unsigned char code = accurate_start_code(jit[i], threshold_in[i]);
-            const bool s_i = solve[i] != 0;
-            row_code[i] = code;
-            n_row0 += s_i & (code == 1);
-            n_row1 += s_i & (code == 2);
-            n_row2 += s_i & (code == 3);
-            n_row3 += s_i & (code == 4);
-            n_row4 += s_i & (code == 5);
-            n_cubic += s_i & (code == 0);
-        }
-        rows = (n_row0 > 0 ? 1u : 0u) | (n_row1 > 0 ? 2u : 0u) | (n_row2 > 0 ? 4u : 0u) |
-               (n_row3 > 0 ? 8u : 0u) | (n_row4 > 0 ? 16u : 0u);
+        rows = start_rows(jit, threshold_in, solve, row_code, n_cubic);
     } else {
         for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
         n_cubic = 1;
@@ -792,20 +803,10 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     const SpectrumStart* fitted = !narrow && poly ? spectrum.start.get() : nullptr;
     unsigned spectrum_rows = 0;  // bit k: a lane to solve takes the spectrum's row k
     if (fitted != nullptr) {
-        static_assert(n_accurate_starts == 4, "a count per row");
-        int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0;
-        EPC_FAST_SIMD_REDUCTION(+ : n_row0, n_row1, n_row2, n_row3)
-        for (std::size_t i = 0; i < n; ++i) {
-            const unsigned char code = accurate_start_code(jit[i], threshold_in[i]);
-            const bool s_i = solve[i] != 0;
-            row_code[i] = code;
-            n_row0 += s_i & (code == 1);
-            n_row1 += s_i & (code == 2);
-            n_row2 += s_i & (code == 3);
-            n_row3 += s_i & (code == 4);
-        }
-        spectrum_rows = (n_row0 > 0 ? 1u : 0u) | (n_row1 > 0 ? 2u : 0u) | (n_row2 > 0 ? 4u : 0u) |
-                        (n_row3 > 0 ? 8u : 0u);
+        int cubic_too = 0;  // every lane has the cubic start already
+        // the thresholds' rows only: a spectrum has no jitter start
+        spectrum_rows = start_rows(jit, threshold_in, solve, row_code, cubic_too) &
+                        ((1u << n_accurate_starts) - 1u);
     }
     // the first row present goes into the main loop (with the cubic start if needed), any
     // further rows into a pass of their own each
