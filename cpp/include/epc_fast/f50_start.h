@@ -514,6 +514,34 @@ EPC_FAST_INLINE unsigned char accurate_start_code(double jitter_mm, double mtf_t
         5 * (some & (c == accurate_start_thresholds[0])));
 }
 
+// Where a lane sits on the unit sphere of the starts, from the lengths (mm) its frequency
+// multiplies: lambda F (with a spectrum, the mean wavelength's), the pixel aperture, the blur
+// and the jitter, each in units of its factor's own f50's inverse, x_i = 1 / f_i. r = 1 /
+// sqrt(S), the unit vector's coordinates v_i = x_i r, and the accurate starts' a = 2 v_d - 1 and
+// z = w^2, w = v_p^2 - v_m^2 (the compiler drops what a caller does not use).
+template <class T>
+struct StartPoint {
+    T r, v_d, v_p, v_m, v_j, a, z;
+};
+template <class T>
+EPC_FAST_INLINE StartPoint<T> start_point(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm) {
+    const T d = lambda_f_mm * T(1.0 / start_nu50);
+    const T p = aperture_mm * T(1.0 / start_x50);
+    const T m = blur_mm * T(1.0 / start_x50);
+    const T j = jitter_mm * T(1.0 / start_j50);
+    const T r = T(1) / std::sqrt(d * d + p * p + m * m + j * j);
+    const T pr = p * r, mr = m * r, dr = d * r;
+    // w's products spelled out: left to the compiler, whether p r fuses into the sum and
+    // difference depends on whether the cubic start also uses it, and a lane's start would
+    // change in the last bit with the other lanes of its block
+#if EPC_FAST_FMA
+    const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
+#else
+    const T w = (pr - mr) * (pr + mr);
+#endif
+    return {r, dr, pr, mr, j * r, T(2) * dr - T(1), w * w};
+}
+
 // cycles/mm: one lane's starting guess from the lengths (mm) its frequency multiplies: lambda F
 // (with a spectrum, the mean wavelength's), the pixel aperture, the blur and the jitter, and
 // scale = sqrt(ln(1/c) / ln 2). Row >= 0 computes that row's accurate start, Cubic the cubic
@@ -524,30 +552,15 @@ template <bool Cubic, int Row, class T>
 EPC_FAST_INLINE T start_guess(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm, T scale,
                               int row) {
     static_assert(Cubic || Row >= 0, "a start to compute");
-    // each length in units of its factor's own f50's inverse: x_i = 1 / f_i
-    const T d = lambda_f_mm * T(1.0 / start_nu50);
-    const T p = aperture_mm * T(1.0 / start_x50);
-    const T m = blur_mm * T(1.0 / start_x50);
-    const T j = jitter_mm * T(1.0 / start_j50);
-    const T r = T(1) / std::sqrt(d * d + p * p + m * m + j * j);  // 1 / sqrt(S)
-    const T pr = p * r, mr = m * r;
+    const StartPoint<T> q = start_point(lambda_f_mm, aperture_mm, blur_mm, jitter_mm);
     T f0 = T(0);
-    if (Cubic) f0 = r * start_polynomial(d * r, pr + mr, pr * mr) * scale;
+    if (Cubic) f0 = q.r * start_polynomial(q.v_d, q.v_p + q.v_m, q.v_p * q.v_m) * scale;
     if constexpr (Row >= 0) {
-        // w = v_p^2 - v_m^2, its products spelled out: left to the compiler, whether p r fuses
-        // into the sum and difference depends on whether the cubic start also uses it, and a
-        // lane's start would change in the last bit with the other lanes of its block
-#if EPC_FAST_FMA
-        const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
-#else
-        const T w = (pr - mr) * (pr + mr);
-#endif
-        const T a = T(2) * (d * r) - T(1);
         T f_accurate;
         if constexpr (Row == jitter_start_row) {
-            f_accurate = r * jitter_start_polynomial(a, T(2) * (j * r) - T(1), w * w);
+            f_accurate = q.r * jitter_start_polynomial(q.a, T(2) * q.v_j - T(1), q.z);
         } else {
-            f_accurate = r * accurate_start_polynomial<Row>(a, w * w);
+            f_accurate = q.r * accurate_start_polynomial<Row>(q.a, q.z);
         }
         f0 = Cubic ? (row == Row ? f_accurate : f0) : f_accurate;
     }
@@ -584,35 +597,12 @@ struct SpectrumStart {
 
 namespace detail {
 
-// Where a lane without jitter sits in the accurate start's coordinates, from the lengths (mm)
-// its frequency multiplies (lambda F, the pixel aperture, the blur): r = 1 / sqrt(S),
-// a = 2 v_d - 1 and z = w^2, formed as start_guess forms them; the start is r P(a, z).
-template <class T>
-struct StartPoint {
-    T r, a, z;
-};
-template <class T>
-EPC_FAST_INLINE StartPoint<T> start_point(T lambda_f_mm, T aperture_mm, T blur_mm) {
-    const T d = lambda_f_mm * T(1.0 / start_nu50);
-    const T p = aperture_mm * T(1.0 / start_x50);
-    const T m = blur_mm * T(1.0 / start_x50);
-    const T r = T(1) / std::sqrt(d * d + p * p + m * m);
-    const T mr = m * r;
-#if EPC_FAST_FMA
-    const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
-#else
-    const T pr = p * r;
-    const T w = (pr - mr) * (pr + mr);
-#endif
-    return {r, T(2) * (d * r) - T(1), w * w};
-}
-
 // cycles/mm: a polychromatic lane's start from its spectrum's row c (a SpectrumStart row) and
-// its lengths (start_point's, lambda F with the spectrum's mean wavelength).
+// its lengths (start_point's, lambda F with the spectrum's mean wavelength; no jitter).
 template <class T>
 EPC_FAST_INLINE T spectrum_start_guess(const double (&c)[accurate_start_terms], T lambda_f_mm,
                                        T aperture_mm, T blur_mm) {
-    const StartPoint<T> q = start_point(lambda_f_mm, aperture_mm, blur_mm);
+    const StartPoint<T> q = start_point(lambda_f_mm, aperture_mm, blur_mm, T(0));
     return q.r * accurate_start_polynomial_of(c, q.a, q.z);
 }
 

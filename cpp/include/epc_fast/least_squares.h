@@ -47,7 +47,8 @@ inline std::vector<double> least_squares(std::vector<double>& a, std::vector<dou
         const double norm = scale * std::sqrt(norm2);
         const double alpha = at(k, k) > 0.0 ? -norm : norm;  // no cancellation in v_k
         at(k, k) -= alpha;                                   // v = x - alpha e_k
-        const double beta = -alpha * at(k, k);               // v^T v / 2 (one product)
+        const double beta = -alpha * at(k, k);  // v^T v / 2 = |x| (|x_k| + |x|)
+        // > 0 for finite columns; false where a NaN (which fmax skips above) reached the norm
         if (!(beta > 0.0)) throw std::invalid_argument("least_squares: rank-deficient matrix");
         for (std::size_t j = k + 1; j < columns; ++j) {
             double dot = 0.0;

@@ -104,7 +104,7 @@ inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
             polish<true, false, true, true>(plain, spectrum_start_target_rtol, *b);
             for (std::size_t i = 0; i < block_size && first + static_cast<int>(i) < points; ++i) {
                 const int k = first + static_cast<int>(i);
-                const StartPoint<double> q = start_point(b->lambda_f_mm[i], b->aperture_mm[i], b->blur_mm[i]);
+                const StartPoint<double> q = start_point(b->lambda_f_mm[i], b->aperture_mm[i], b->blur_mm[i], 0.0);
                 // relative error: the row's monomials over the target f50 sqrt(S) = f50 / r
                 const double target = b->f50[i] / q.r;
                 double* out = &design[static_cast<std::size_t>(k) * terms];
