@@ -33,11 +33,15 @@ inline std::vector<double> least_squares(std::vector<double>& a, std::vector<dou
     if (rows < columns || a.size() != rows * columns || b.size() != rows)
         throw std::invalid_argument("least_squares: A must be rows x columns with rows >= columns");
     auto at = [&](std::size_t i, std::size_t j) -> double& { return a[i * columns + j]; };
-    std::vector<double> diagonal(columns);
+    std::vector<double> diagonal(columns), dots(columns);
     for (std::size_t k = 0; k < columns; ++k) {
         // the reflection H = I - v v^T / (v_k |x|) taking column k's rows k.. to (alpha, 0, ...)
         double scale = 0.0;
-        for (std::size_t i = k; i < rows; ++i) scale = std::fmax(scale, std::fabs(at(i, k)));
+        // the largest |a_ik|, skipping NaN as fmax does (a select, not a call to fmax)
+        for (std::size_t i = k; i < rows; ++i) {
+            const double m = std::fabs(at(i, k));
+            scale = m > scale ? m : scale;
+        }
         if (!(scale > 0.0)) throw std::invalid_argument("least_squares: rank-deficient matrix");
         double norm2 = 0.0;
         for (std::size_t i = k; i < rows; ++i) {
@@ -48,13 +52,24 @@ inline std::vector<double> least_squares(std::vector<double>& a, std::vector<dou
         const double alpha = at(k, k) > 0.0 ? -norm : norm;  // no cancellation in v_k
         at(k, k) -= alpha;                                   // v = x - alpha e_k
         const double beta = -alpha * at(k, k);  // v^T v / 2 = |x| (|x_k| + |x|)
-        // > 0 for finite columns; false where a NaN (which fmax skips above) reached the norm
+        // > 0 for finite columns; false where a NaN (which the scale skips above) reached the norm
         if (!(beta > 0.0)) throw std::invalid_argument("least_squares: rank-deficient matrix");
-        for (std::size_t j = k + 1; j < columns; ++j) {
-            double dot = 0.0;
-            for (std::size_t i = k; i < rows; ++i) dot = multiply_add(at(i, k), at(i, j), dot);
-            const double f = dot / beta;
-            for (std::size_t i = k; i < rows; ++i) at(i, j) = multiply_add(-f, at(i, k), at(i, j));
+        // H applied to columns k+1..: each column's dot product with v, summed over the rows in
+        // order, then its update. Row by row across the columns (A is row-major), so that the
+        // inner loops run over contiguous, independent columns and vectorise without changing
+        // any column's sequence of operations.
+        double* __restrict neg_f = dots.data();
+        for (std::size_t j = k + 1; j < columns; ++j) neg_f[j] = 0.0;
+        for (std::size_t i = k; i < rows; ++i) {
+            const double v_i = at(i, k);
+            const double* __restrict row = &at(i, 0);
+            for (std::size_t j = k + 1; j < columns; ++j) neg_f[j] = multiply_add(v_i, row[j], neg_f[j]);
+        }
+        for (std::size_t j = k + 1; j < columns; ++j) neg_f[j] = -(neg_f[j] / beta);  // the dot product, then -f_j
+        for (std::size_t i = k; i < rows; ++i) {
+            const double v_i = at(i, k);
+            double* __restrict row = &at(i, 0);
+            for (std::size_t j = k + 1; j < columns; ++j) row[j] = multiply_add(neg_f[j], v_i, row[j]);
         }
         double dot = 0.0;
         for (std::size_t i = k; i < rows; ++i) dot = multiply_add(at(i, k), b[i], dot);

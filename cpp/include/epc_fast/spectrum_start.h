@@ -73,11 +73,13 @@ inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
     constexpr int terms = accurate_start_terms;
     auto b = std::make_unique<Block<double>>();
     SpectrumStart fitted{};
+    // allocated once for every row (each row overwrites all of them)
+    std::vector<double> design(static_cast<std::size_t>(points) * terms), scaled(design.size()), rhs(points);
     for (int row = 0; row < n_accurate_starts; ++row) {
         const double c = accurate_start_thresholds[row];
         const double ln_inv_c = ln_inverse_threshold<double>(c);
         const double scale = start_scale_of(ln_inv_c);
-        std::vector<double> design(static_cast<std::size_t>(points) * terms), rhs(points, 1.0);
+        std::fill(rhs.begin(), rhs.end(), 1.0);
         for (int first = 0; first < points; first += static_cast<int>(block_size)) {
             for (std::size_t i = 0; i < block_size; ++i) {
                 // a point of the grid (padding lanes repeat the last one)
@@ -113,7 +115,7 @@ inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
             }
         }
         // the design matrix is overwritten by the solve: keep what the error check needs
-        const std::vector<double> scaled = design;
+        std::copy(design.begin(), design.end(), scaled.begin());
         const std::vector<double> x = least_squares(design, rhs, points, terms);
         double worst = 0.0;
         for (int k = 0; k < points; ++k) {
