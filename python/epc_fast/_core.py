@@ -2,9 +2,11 @@
 
 The baseline module (x86-64, SSE2) is imported first and asked which levels the CPU supports;
 the widest built module the CPU runs is then imported and its functions are this module's.
-Every level computes bit-identical results (no fused multiply-add, no fast-math); wider levels
-only run more lanes per instruction. Set ``EPC_FAST_ISA`` to ``x86-64``, ``x86-64-v3`` or
-``x86-64-v4`` to choose one (an error if the CPU or the build lacks it).
+No level uses fast-math. The x86-64-v3 and -v4 modules use fused multiply-add and give
+bit-identical results (wider vectors only run more lanes per instruction); the baseline has no
+fused multiply-add and agrees with them to a few ulp (docs/numerics.md). Set ``EPC_FAST_ISA``
+to ``x86-64``, ``x86-64-v3`` or ``x86-64-v4`` to choose one (an error if the CPU or the build
+lacks it).
 """
 
 from __future__ import annotations
