@@ -119,9 +119,10 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
         in.columns[j] = column_of(columns[j], j, n);
         in.domains[j] = Domain{d(j, 0), d(j, 1), d(j, 2) != 0.0, d(j, 3) != 0.0};
     }
-    in.spectrum.wavelengths_nm.assign(wavelengths_nm.data(), wavelengths_nm.data() + wavelengths_nm.size());
-    in.spectrum.weights.assign(weights.data(), weights.data() + weights.size());
-    if (in.spectrum.polychromatic()) in.spectrum.start = spectrum_start_of(in.spectrum);
+    if (wavelengths_nm.size() != 0) {  // none: monochromatic at each point's wavelength
+        in.spectrum = spectrum_of(wavelengths_nm, weights);
+        in.spectrum.start = spectrum_start_of(in.spectrum);
+    }
     return in;
 }
 

@@ -297,7 +297,7 @@ EPC_FAST_INLINE T accurate_start_polynomial_of(const double (&c)[accurate_start_
     }
 }
 
-// Threshold Row's P(a, z): Horner in a over the rows I..degree.
+// Threshold Row's P(a, z), from its row of accurate_start_coefficients.
 template <int Row, class T>
 EPC_FAST_INLINE T accurate_start_polynomial(T a, T z) {
     return accurate_start_polynomial_of(accurate_start_coefficients[Row], a, z);
@@ -787,16 +787,18 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
         n_cubic = 1;
     }
-    // With a spectrum fitted (spectrum_start.h), float64: every lane takes the cubic start
-    // first, then a lane without jitter whose threshold has a row takes the spectrum's start
-    // of that row (its accurate_start_code), in a pass per row present.
+    // With a spectrum fitted (spectrum_start.h), float64: a lane without jitter whose threshold
+    // has a row takes the spectrum's start of that row (its accurate_start_code), in a pass per
+    // row present after the main loop; the main loop computes the cubic start only if a lane to
+    // solve takes it (jitter, or a threshold without a row).
     const SpectrumStart* fitted = !narrow && poly ? spectrum.start.get() : nullptr;
     unsigned spectrum_rows = 0;  // bit k: a lane to solve takes the spectrum's row k
     if (fitted != nullptr) {
-        int cubic_too = 0;  // every lane has the cubic start already
+        int no_row = 0;  // lanes to solve whose threshold has no row
+        const unsigned present = start_rows(jit, threshold_in, solve, row_code, no_row);
         // the thresholds' rows only: a spectrum has no jitter start
-        spectrum_rows = start_rows(jit, threshold_in, solve, row_code, cubic_too) &
-                        ((1u << n_accurate_starts) - 1u);
+        spectrum_rows = present & ((1u << n_accurate_starts) - 1u);
+        n_cubic = no_row > 0 || (present & (1u << jitter_start_row)) != 0 ? 1 : 0;
     }
     // the first row present goes into the main loop (with the cubic start if needed), any
     // further rows into a pass of their own each
@@ -819,9 +821,11 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
             const T f_hi = f50_bracket<J>(static_cast<T>(lf_short[i]), aperture[i], blur[i],
                                           jitter_mm[i], ln_inv_c[i]);
             hi[i] = f_hi;
-            const T f0 = start_guess<Cubic, Row>(static_cast<T>(d_length[i]), aperture[i],
-                                                 blur[i], jitter_mm[i], start_scale[i],
-                                                 int{row_code[i]} - 1);
+            // neither start: every lane to solve takes a spectrum's start, from its pass below
+            T f0 = T(0);
+            if constexpr (Cubic || Row >= 0)
+                f0 = start_guess<Cubic, Row>(static_cast<T>(d_length[i]), aperture[i], blur[i],
+                                             jitter_mm[i], start_scale[i], int{row_code[i]} - 1);
             at[i] = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
         }
     };
@@ -851,7 +855,8 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
                     break;
             }
         };
-        if (first_row < 0) finish(with_jitter, yes{}, std::integral_constant<int, -1>{});
+        if (first_row < 0 && n_cubic == 0) finish(with_jitter, no{}, std::integral_constant<int, -1>{});
+        else if (first_row < 0) finish(with_jitter, yes{}, std::integral_constant<int, -1>{});
         else if (n_cubic == 0) with_row(no{});
         else with_row(yes{});
     };

@@ -77,8 +77,11 @@ struct Spectrum {
     Extent extent() const {
         Extent e{std::numeric_limits<double>::infinity(), 0.0, 0.0};
         for (std::size_t k = 0; k < wavelengths_nm.size(); ++k) {
-            if (weights[k] > 0.0) e.shortest_nm = std::fmin(e.shortest_nm, wavelengths_nm[k]);
-            e.longest_nm = std::fmax(e.longest_nm, wavelengths_nm[k]);
+            // selects, not calls to fmin and fmax (the same for the positive, finite wavelengths
+            // a spectrum holds): start_f50 runs this once per block
+            const double nm = wavelengths_nm[k];
+            if (weights[k] > 0.0) e.shortest_nm = nm < e.shortest_nm ? nm : e.shortest_nm;
+            e.longest_nm = nm > e.longest_nm ? nm : e.longest_nm;
             e.mean_nm += weights[k] * wavelengths_nm[k];
         }
         return e;
