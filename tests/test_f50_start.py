@@ -5,38 +5,16 @@ import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast import Status, _core, reference
+from epc_fast import Status, _core
 from epc_fast.selfcheck import random_designs
+from f50_cases import exact_f50, lengths
 
 WAVELENGTH_NM = 550.0
 
 
 def _exact_f50(f_number, aperture_mm, blur_mm, jitter_mm, threshold):
-    """The reference's f50 (bisection to adjacent doubles) for one wavelength, from lengths."""
-    f_number, aperture_mm, blur_mm, jitter_mm, threshold = np.broadcast_arrays(
-        *(np.asarray(a, dtype=np.float64) for a in (f_number, aperture_mm, blur_mm, jitter_mm,
-                                                    threshold)))
-    pitch_um = aperture_mm * 1e3  # fill factor 1: the aperture is the pitch
-    jitter_um = jitter_mm * 1e3
-    f_hi = reference.f50_bracket(f_number, WAVELENGTH_NM, pitch_um, 1.0, blur_mm, jitter_um,
-                                 threshold)
-
-    def mtf(f):
-        return reference.mtf_system(f, f_number, pitch_um, 1.0, blur_mm, jitter_um,
-                                    [WAVELENGTH_NM], [1.0])
-
-    return reference.f50_bisection(mtf, f_hi, threshold)
-
-
-def _lengths(n, seed, blur_share=0.8):
-    """Lengths whose ratios span e^-7..e^7 (the fits' range) and past it: pure diffraction,
-    pure pixel, pure motion and every mix, with a fifth of the points without motion."""
-    rng = np.random.default_rng(seed)
-    f_number = rng.uniform(1.0, 16.0, n)
-    lambda_f = WAVELENGTH_NM * 1e-6 * f_number
-    aperture = lambda_f * np.exp(rng.uniform(-9.0, 9.0, n))
-    blur = lambda_f * np.exp(rng.uniform(-9.0, 9.0, n)) * (rng.random(n) < blur_share)
-    return f_number, lambda_f, aperture, blur
+    """The reference's f50 for one wavelength, from lengths."""
+    return exact_f50(f_number, aperture_mm, blur_mm, jitter_mm, threshold, [WAVELENGTH_NM], [1.0])
 
 
 #: Each accurate start's largest relative error, as tools/fit_f50_start.py measures it over the
@@ -53,7 +31,7 @@ def test_the_thresholds_with_an_accurate_start_are_mtf50_30_20_10():
 
 @pytest.mark.parametrize("threshold", list(ACCURATE_BOUND))
 def test_each_accurate_start_is_within_its_fit_everywhere(threshold):
-    f_number, lambda_f, aperture, blur = _lengths(20_000, seed=3)
+    f_number, lambda_f, aperture, blur = lengths(20_000, seed=3, wavelength_nm=WAVELENGTH_NM)
     # and the edges of the domain: one factor alone, two equal, the three equal
     lf = WAVELENGTH_NM * 1e-6 * 4.0
     edges = np.array([[lf, lf * 1e-9, 0.0], [lf, lf * 1e9, 0.0], [lf, lf * 1e-9, lf * 1e9],
@@ -74,7 +52,7 @@ def test_each_accurate_start_is_within_its_fit_everywhere(threshold):
 
 def test_the_cubic_start_is_within_its_fit_at_one_half():
     # tools/fit_f50_start.py: 0.37% over ratios e^-7..e^7; measured 0.369% over these e^-9..e^9.
-    f_number, lambda_f, aperture, blur = _lengths(20_000, seed=4)
+    f_number, lambda_f, aperture, blur = lengths(20_000, seed=4, wavelength_nm=WAVELENGTH_NM)
     exact = _exact_f50(f_number, aperture, blur, 0.0, 0.5)
     start = _core.f50_cubic_start(lambda_f, aperture, blur, 0.0, 0.5)
     assert np.max(np.abs(start / exact - 1)) <= 3.8e-3
@@ -87,7 +65,7 @@ def test_the_start_for_other_thresholds_and_jitter_is_a_finite_positive_guess(th
     # coarse otherwise (measured: median 25% at c = 0.05, up to 180% at c = 0.95). It only sets
     # the solvers' first abscissa; one outside the bracket is replaced by f_hi / 2 (f50_start.h),
     # so what it must be is finite and positive.
-    f_number, lambda_f, aperture, blur = _lengths(5_000, seed=4)
+    f_number, lambda_f, aperture, blur = lengths(5_000, seed=4, wavelength_nm=WAVELENGTH_NM)
     rng = np.random.default_rng(5)
     jitter = lambda_f * np.exp(rng.uniform(-3.0, 3.0, len(lambda_f))) * (rng.random(len(lambda_f)) < 0.5)
     start = _core.f50_start(lambda_f, aperture, blur, jitter, threshold)
@@ -126,7 +104,7 @@ JITTER_BOUND = 1.5e-6
 
 
 def test_the_jitter_start_is_within_its_fit_everywhere():
-    f_number, lambda_f, aperture, blur = _lengths(20_000, seed=6)
+    f_number, lambda_f, aperture, blur = lengths(20_000, seed=6, wavelength_nm=WAVELENGTH_NM)
     rng = np.random.default_rng(6)
     jitter = lambda_f * np.exp(rng.uniform(-9.0, 9.0, len(lambda_f)))
     # and the edges: jitter alone, jitter with diffraction only, jitter negligible, all equal

@@ -5,9 +5,10 @@ import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast import Status, _core, reference
+from epc_fast import Status, _core
 from epc_fast.selfcheck import random_designs
 from epc_fast.spectra import diffraction_spectrum
+from f50_cases import exact_f50, lengths
 
 THRESHOLDS = (0.5, 0.3, 0.2, 0.1)
 
@@ -19,25 +20,10 @@ THRESHOLDS = (0.5, 0.3, 0.2, 0.1)
 SPECTRUM_BOUND = {0.5: 2e-7, 0.3: 2.5e-6, 0.2: 1e-5, 0.1: 1.2e-4}
 
 
-def _lengths(n, seed, mean_nm):
-    """f-numbers and lengths whose ratios to lambda F span e^-9..e^9, a fifth without motion."""
-    rng = np.random.default_rng(seed)
-    f_number = rng.uniform(1.0, 16.0, n)
-    lambda_f = mean_nm * 1e-6 * f_number
-    aperture = lambda_f * np.exp(rng.uniform(-9.0, 9.0, n))
-    blur = lambda_f * np.exp(rng.uniform(-9.0, 9.0, n)) * (rng.random(n) < 0.8)
-    return f_number, lambda_f, aperture, blur
-
-
 def _exact_f50(spectrum, f_number, aperture_mm, blur_mm, threshold):
-    """The reference's f50 (bisection to adjacent doubles) with the spectrum, from lengths."""
-    wl, w = spectrum.wavelengths_nm, spectrum.weights
-    pitch_um = aperture_mm * 1e3  # fill factor 1: the aperture is the pitch
-    f_hi = reference.f50_bracket(f_number, wl[w > 0].min(), pitch_um, 1.0, blur_mm, 0.0,
-                                 threshold)
-    return reference.f50_bisection(
-        lambda f: reference.mtf_system(f, f_number, pitch_um, 1.0, blur_mm, 0.0, wl, w), f_hi,
-        threshold)
+    """The reference's f50 with the spectrum, from lengths."""
+    return exact_f50(f_number, aperture_mm, blur_mm, 0.0, threshold, spectrum.wavelengths_nm,
+                     spectrum.weights)
 
 
 def _start(spectrum, lambda_f, aperture, blur, threshold):
@@ -50,7 +36,7 @@ def _start(spectrum, lambda_f, aperture, blur, threshold):
 def test_the_spectrum_start_is_within_its_bound_everywhere(samples, threshold):
     spectrum = diffraction_spectrum(samples)
     mean_nm = float(np.sum(spectrum.weights * spectrum.wavelengths_nm))
-    f_number, lambda_f, aperture, blur = _lengths(5_000, seed=samples, mean_nm=mean_nm)
+    f_number, lambda_f, aperture, blur = lengths(5_000, seed=samples, wavelength_nm=mean_nm)
     exact = _exact_f50(spectrum, f_number, aperture, blur, threshold)
     error = np.max(np.abs(_start(spectrum, lambda_f, aperture, blur, threshold) / exact - 1))
     assert error <= SPECTRUM_BOUND[threshold]
@@ -67,7 +53,7 @@ def test_one_wavelength_fits_the_monochromatic_accurate_start():
     # within 4.2e-8 .. 5.2e-5), and here by least squares on 24^2; the two polynomials agree
     # within the sum of their errors.
     spectrum = epc_fast.Spectrum([550.0], [1.0])
-    f_number, lambda_f, aperture, blur = _lengths(5_000, seed=7, mean_nm=550.0)
+    f_number, lambda_f, aperture, blur = lengths(5_000, seed=7, wavelength_nm=550.0)
     for threshold, bound in zip(THRESHOLDS, (2e-7, 4e-6, 2e-5, 2e-4)):
         fitted = _start(spectrum, lambda_f, aperture, blur, threshold)
         offline = _core.f50_start(lambda_f, aperture, blur, 0.0, threshold)

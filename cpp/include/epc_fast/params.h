@@ -82,7 +82,7 @@ struct Spectrum {
             const double nm = wavelengths_nm[k];
             if (weights[k] > 0.0) e.shortest_nm = nm < e.shortest_nm ? nm : e.shortest_nm;
             e.longest_nm = nm > e.longest_nm ? nm : e.longest_nm;
-            e.mean_nm += weights[k] * wavelengths_nm[k];
+            e.mean_nm += weights[k] * nm;
         }
         return e;
     }
