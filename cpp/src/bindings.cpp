@@ -37,6 +37,10 @@ Column column_of(const py::handle& obj, int index, py::ssize_t n) {
     return Column{static_cast<const double*>(arr.data()), arr.size() == 1 ? 0 : 1};
 }
 
+// Calls (chunks) of fewer points than this write their fresh outputs without first_touch: a
+// float64 column of them spans at most a quarter of a 2 MiB huge page.
+constexpr std::size_t first_touch_points = std::size_t{1} << 16;
+
 constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t_mpe_s",
                                         "blur_mm", "f50_cyc_per_mm", "epc"};
 
@@ -162,7 +166,7 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
                      const std::string& f50_solver, double f50_rtol,
                      const std::string& t_mpe_solver, double t_mpe_rtol,
                      const std::string& precision, int threads, py::ssize_t chunk_points,
-                     const py::object& out) {
+                     const py::object& out, bool fresh_out) {
     const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
     const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
     py::dict result = out.is_none() ? new_outputs(n) : py::reinterpret_borrow<py::dict>(out);
@@ -175,7 +179,12 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
         output_column<double>(result, "epc", n),
         output_column<std::uint8_t>(result, "status", n),
         output_column<std::uint8_t>(result, "cause", n)};
+    // Arrays allocated for this call (here, or by the caller who says so) have never been
+    // touched: their pages are faulted in on all threads first (first_touch), except at sizes
+    // where they are too few to matter.
+    const bool touch = (out.is_none() || fresh_out) && threads > 1;
     run_chunked(n, chunk_points, threads, [&](std::size_t start, std::size_t stop) {
+        if (touch && stop - start >= first_touch_points) first_touch(outputs, start, stop, threads);
         evaluate(in, opt, outputs, start, stop, threads);
     });
     return result;
@@ -279,9 +288,10 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
           py::arg("precision"), py::arg("threads"),
-          py::arg("chunk_points"), py::arg("out") = py::none(),
+          py::arg("chunk_points"), py::arg("out") = py::none(), py::arg("fresh_out") = false,
           "Evaluates the model; writes into `out` (a dict of the output arrays) when given: "
-          "only the outputs it has are computed.");
+          "only the outputs it has are computed. fresh_out: out's arrays were just allocated "
+          "(never written), so the core may fault their pages in on all threads first.");
     m.def("lux_for_epc", &lux_for_epc_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("target_epc"), py::arg("lux_lo"), py::arg("lux_hi"), py::arg("rtol"),

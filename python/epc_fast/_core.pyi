@@ -29,8 +29,10 @@ def evaluate(
     threads: int,
     chunk_points: int,
     out: dict[str, np.ndarray] | None = None,
+    fresh_out: bool = False,
 ) -> dict[str, np.ndarray]:
-    """Every output, or only those ``out`` has (the others are not computed)."""
+    """Every output, or only those ``out`` has (the others are not computed); ``fresh_out``:
+    ``out``'s arrays were just allocated, so their pages may be faulted in on all threads first."""
 def lux_for_epc(
     columns: Sequence[npt.NDArray[np.float64]],
     size_is_pixel_count: bool,

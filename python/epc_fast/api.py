@@ -322,7 +322,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
                                              for k, v in given.items()}
             flat.update({k: np.empty(n, OUTPUT_DTYPES[k]) for k in computed if k not in flat})
         result = _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol,
-                           t_mpe_solver, t_mpe_rtol, threads, out=flat, precision=precision)
+                           t_mpe_solver, t_mpe_rtol, threads, out=flat, precision=precision,
+                           fresh_out=given is None)
     else:
         if threads is not None:
             _threads_of(threads)
@@ -449,7 +450,7 @@ def _column(arr: np.ndarray, shape) -> np.ndarray:
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
-              t_mpe_rtol, threads, out=None, precision="float64"):
+              t_mpe_rtol, threads, out=None, precision="float64", fresh_out=False):
     from . import _core
 
     n = math.prod(shape)
@@ -465,7 +466,7 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_
                           np.ascontiguousarray(wavelengths, dtype=np.float64),
                           np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
                           f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, CHUNK_POINTS,
-                          out)
+                          out, fresh_out)
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec):

@@ -600,6 +600,20 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     take(out.cause, codes[1]);
 }
 
+// first_touch (parallel.h) over the pages of the outputs' points [begin, end): for output arrays
+// just allocated, before evaluate writes them.
+inline void first_touch(const Outputs& out, std::size_t begin, std::size_t end,
+                        int threads) noexcept {
+    const std::size_t n = end > begin ? end - begin : 0;
+    auto of = [&](auto* p) {
+        return Region{reinterpret_cast<unsigned char*>(p != nullptr ? p + begin : nullptr), n * sizeof *p};
+    };
+    const Region regions[] = {of(out.electron_rate_e_per_s), of(out.electrons), of(out.t_mpe_s),
+                              of(out.blur_mm), of(out.f50_cyc_per_mm), of(out.epc),
+                              of(out.status), of(out.cause)};
+    first_touch(regions, threads);
+}
+
 // Evaluates points [begin, end) on `threads` threads (blocks shared out dynamically), writing
 // point i to index i of `out`. Each thread keeps one Workspace for all its blocks.
 inline void evaluate(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,

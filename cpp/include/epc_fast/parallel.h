@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -65,6 +66,48 @@ void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, 
     State state;
     for (std::ptrdiff_t k = 0; k < n_blocks; ++k) run(k, state);
 #endif
+}
+
+// A range of bytes of a caller's array (first_touch).
+struct Region {
+    unsigned char* data;
+    std::size_t bytes;
+};
+
+// Writes a 0 into every 4 KiB page of `regions` (null ones skipped), on `threads` threads, each
+// a contiguous share of all the pages: for arrays just allocated (never touched), which the
+// caller is about to overwrite. Their first write faults each page in and the kernel zeroes
+// it, which on a transparent huge page is 2 MiB at once while the other thread waits for it if
+// it writes there too. The kernel's blocks (for_each_block) run both threads through the
+// same pages; their shares of the pages here are apart, so the two threads zero different
+// pages at the same time. For 10^7 points' outputs (500 MB), the default call ran 4-9%
+// faster this way on this project's 2-core VM (README).
+template <std::size_t N>
+void first_touch(const Region (&regions)[N], int threads) {
+    constexpr std::size_t page = 4096;  // the smallest x86-64 page; finer strides touch twice
+    std::size_t offsets[N + 1] = {};    // page k of the whole list is page k - offsets[r] of r
+    for (std::size_t r = 0; r < N; ++r) {
+        const std::size_t bytes = regions[r].data != nullptr ? regions[r].bytes : 0;
+        offsets[r + 1] = offsets[r] + (bytes + page - 1) / page;
+    }
+    const auto total = static_cast<std::ptrdiff_t>(offsets[N]);
+    auto touch = [&](std::ptrdiff_t k) {
+        std::size_t r = 0;
+        while (static_cast<std::size_t>(k) >= offsets[r + 1]) ++r;
+        const std::size_t at = (static_cast<std::size_t>(k) - offsets[r]) * page;
+        // the page of byte `at`, and the last byte's page when the region ends within the next
+        regions[r].data[at] = 0;
+        if (static_cast<std::size_t>(k) + 1 == offsets[r + 1]) regions[r].data[regions[r].bytes - 1] = 0;
+    };
+#ifdef _OPENMP
+    if (threads > 1 && total > 1) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+        for (std::ptrdiff_t k = 0; k < total; ++k) touch(k);
+        return;
+    }
+#endif
+    (void)threads;
+    for (std::ptrdiff_t k = 0; k < total; ++k) touch(k);
 }
 
 }  // namespace epc_fast
