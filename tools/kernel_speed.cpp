@@ -1,8 +1,6 @@
-// The kernel's speed without Python: evaluate() on random phone designs (those of
-// epc_fast.selfcheck.random_designs: 1-100k lux, 0.8-3 um, F/1.4-8, focal 2-20 mm, 1-40 mm^2,
-// half with read noise 0-5 e-, shake 0-10 deg/s), outputs preallocated (one thread unless
-// asked for more); prints the
-// best points/s of `rounds` calls. For profiling the kernel (perf record) and comparing two
+// The kernel's speed without Python: evaluate() on random phone designs (phone_designs.h, those
+// of epc_fast.selfcheck.random_designs), outputs preallocated (one thread unless asked for
+// more); prints the best points/s of `rounds` calls. For profiling the kernel (perf record) and comparing two
 // versions of a header on the same machine in one sitting; bench/ measures the package.
 //
 //   g++ -std=c++17 -O3 -march=x86-64-v4 -mprefer-vector-width=512 -ffp-contract=fast
@@ -21,12 +19,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "epc_fast/kernel.h"
 #include "epc_fast/spectrum_start.h"
+#include "phone_designs.h"
 
 using namespace epc_fast;
 
@@ -42,34 +40,8 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32|float64] [threads] [jitter_um] [wavelengths]\n");
         return 2;
     }
-    std::mt19937_64 rng(1);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    std::vector<double> lux(n), pitch(n), f_num(n), focal(n), area(n), read(n), shake(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        lux[i] = std::pow(10.0, 5.0 * u(rng));
-        pitch[i] = 0.8 + 2.2 * u(rng);
-        f_num[i] = 1.4 + 6.6 * u(rng);
-        focal[i] = 2.0 + 18.0 * u(rng);
-        area[i] = 1.0 + 39.0 * u(rng);
-        read[i] = u(rng) < 0.5 ? 0.0 : 5.0 * u(rng);
-        shake[i] = 10.0 * u(rng);
-    }
-    // the API's defaults, in params.h's order (K: D50 with a rectangular QE)
-    double defaults[n_params] = {0, 0, 0, 0, 0, 0.4, 1.0, 0.0, 1.0, 2557705539053827.5, 0, 0, 0,
-                                 INFINITY, 30, 4.39, 1, 0, 550, 0.5};
-    Inputs in;
-    for (int j = 0; j < n_params; ++j) {
-        in.columns[j] = Column{&defaults[j], 0};
-        in.domains[j] = Domain{-1e300, INFINITY, true, true};
-    }
-    in.columns[illuminance_lux] = {lux.data(), 1};
-    in.columns[jitter_um] = {&jitter, 0};
-    in.columns[pixel_pitch_um] = {pitch.data(), 1};
-    in.columns[f_number] = {f_num.data(), 1};
-    in.columns[focal_length_mm] = {focal.data(), 1};
-    in.columns[size] = {area.data(), 1};
-    in.columns[read_noise_e] = {read.data(), 1};
-    in.columns[shake_deg_per_s] = {shake.data(), 1};
+    const tools::PhoneDesigns designs(n, jitter);
+    Inputs in = designs.inputs();
     for (int k = 0, count = std::abs(wavelengths); k < count; ++k) {
         in.spectrum.wavelengths_nm.push_back(count == 1 ? 530.0 : 480.0 + 100.0 * k / (count - 1));
         in.spectrum.weights.push_back(1.0 / count);
