@@ -278,7 +278,7 @@ def bench_core_into_outputs(benchmark, data: Data, size: Size, outputs: dict) ->
     check(benchmark, as_fields(result), data.reference(size), CORE_RTOL)
 
 
-def bench_core_lean(benchmark, data: Data, size: Size, outputs: tuple = LEAN_OUTPUTS) -> None:
+def bench_core_outputs(benchmark, data: Data, size: Size, outputs: tuple = LEAN_OUTPUTS) -> None:
     """Only ``outputs`` computed (``outputs=``): f50, EPC and status unless told."""
     if not HAS_OUTPUTS:
         pytest.skip("epc_fast.evaluate has no outputs= parameter")

@@ -20,7 +20,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
-#include <vector>
 
 #include "epc_fast/kernel.h"
 #include "epc_fast/spectrum_start.h"
@@ -53,11 +52,8 @@ int main(int argc, char** argv) {
                      : solver == "newton"  ? F50Solver::newton
                      : solver == "brent"   ? F50Solver::brent
                                            : F50Solver::halley;
-    std::vector<double> values[6];
-    for (auto& v : values) v.assign(n, 0.0);
-    std::vector<unsigned char> status(n), cause(n);
-    const Outputs out{values[0].data(), values[1].data(), values[2].data(), values[3].data(),
-                      values[4].data(), values[5].data(), status.data(),    cause.data()};
+    tools::OutputArrays arrays(n);
+    const Outputs out = arrays.outputs();
     double best = 0.0, total_s = 0.0;
     for (int r = 0; r < rounds; ++r) {
         const auto start = std::chrono::steady_clock::now();
@@ -71,6 +67,6 @@ int main(int argc, char** argv) {
         std::printf("%d wavelengths, %s start; ", std::abs(wavelengths), wavelengths > 0 ? "fitted" : "cubic");
     std::printf("%zu points, %s, %s, %d thread(s): best %.2f M points/s, mean %.2f (f50[0] = %.17g)\n",
                 n, solver.c_str(), float32 ? "float32" : "float64", threads, best / 1e6,
-                static_cast<double>(n) * rounds / total_s / 1e6, values[4][0]);
+                static_cast<double>(n) * rounds / total_s / 1e6, arrays.values[4][0]);
     return 0;
 }

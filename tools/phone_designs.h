@@ -1,4 +1,4 @@
-// The drivers' design points (kernel_speed.cpp, stage_costs.cpp): those of
+// The drivers' design points and output arrays (kernel_speed.cpp, stage_costs.cpp): the points of
 // epc_fast.selfcheck.random_designs (1-100k lux, 0.8-3 um, F/1.4-8, focal 2-20 mm, 1-40 mm^2,
 // half with read noise 0-5 e-, shake 0-10 deg/s), every other parameter at the API's default,
 // as the kernel's Inputs. Not part of the package.
@@ -54,6 +54,20 @@ struct PhoneDesigns {
         in.columns[read_noise_e] = {read.data(), 1};
         in.columns[shake_deg_per_s] = {shake.data(), 1};
         return in;
+    }
+};
+
+// Preallocated arrays for every output of n points, and the kernel's Outputs over them.
+struct OutputArrays {
+    std::vector<double> values[6];
+    std::vector<unsigned char> status, cause;
+
+    explicit OutputArrays(std::size_t n) : status(n), cause(n) {
+        for (auto& v : values) v.assign(n, 0.0);
+    }
+    epc_fast::Outputs outputs() {
+        return {values[0].data(), values[1].data(), values[2].data(), values[3].data(),
+                values[4].data(), values[5].data(), status.data(),    cause.data()};
     }
 };
 

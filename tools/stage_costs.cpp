@@ -15,7 +15,6 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "epc_fast/kernel.h"
 #include "phone_designs.h"
@@ -66,11 +65,8 @@ int main(int argc, char** argv) {
     const Inputs in = designs.inputs();
     Options opt;
     opt.precision = float32 ? Precision::float32 : Precision::float64;
-    std::vector<double> values[6];
-    for (auto& v : values) v.assign(n, 0.0);
-    std::vector<unsigned char> status(n), cause(n);
-    const Outputs out{values[0].data(), values[1].data(), values[2].data(), values[3].data(),
-                      values[4].data(), values[5].data(), status.data(),    cause.data()};
+    tools::OutputArrays arrays(n);
+    const Outputs out = arrays.outputs();
     const char* names[] = {"gather", "exposure", "f50 start", "f50 solve", "scatter"};
     double cumulative[6] = {0.0};
     if (float32) best_ns_per_point<float>(in, opt, out, n, rounds, cumulative);

@@ -770,6 +770,12 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     unsigned char* __restrict row_code = b.flag_scratch[0];  // free after the exposure stage
     int n_cubic = 0;
     unsigned rows = 0;  // bit k: a lane to solve takes row k
+    // With a spectrum fitted (spectrum_start.h), float64: a lane without jitter whose threshold
+    // has a row takes the spectrum's start of that row (its accurate_start_code), in a pass per
+    // row present after the main loop; the main loop computes the cubic start only if a lane to
+    // solve takes it (jitter, or a threshold without a row).
+    const SpectrumStart* fitted = !narrow && poly ? spectrum.start.get() : nullptr;
+    unsigned spectrum_rows = 0;  // bit k: a lane to solve takes the spectrum's row k
     if (!narrow && !poly && b.is_broadcast(mtf_threshold) && b.is_broadcast(jitter_um)) {
         // one row for every lane (the lanes' own choice, made once)
         const unsigned char code = accurate_start_code(b.broadcast[jitter_um] * um_to_mm,
@@ -783,22 +789,15 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         rows = row >= 0 && n_solve > 0 ? 1u << row : 0u;
     } else if (!narrow && !poly) {
         rows = start_rows(jit, threshold_in, solve, row_code, n_cubic);
-    } else {
-        for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
-        n_cubic = 1;
-    }
-    // With a spectrum fitted (spectrum_start.h), float64: a lane without jitter whose threshold
-    // has a row takes the spectrum's start of that row (its accurate_start_code), in a pass per
-    // row present after the main loop; the main loop computes the cubic start only if a lane to
-    // solve takes it (jitter, or a threshold without a row).
-    const SpectrumStart* fitted = !narrow && poly ? spectrum.start.get() : nullptr;
-    unsigned spectrum_rows = 0;  // bit k: a lane to solve takes the spectrum's row k
-    if (fitted != nullptr) {
+    } else if (fitted != nullptr) {
         int no_row = 0;  // lanes to solve whose threshold has no row
         const unsigned present = start_rows(jit, threshold_in, solve, row_code, no_row);
         // the thresholds' rows only: a spectrum has no jitter start
         spectrum_rows = present & ((1u << n_accurate_starts) - 1u);
         n_cubic = no_row > 0 || (present & (1u << jitter_start_row)) != 0 ? 1 : 0;
+    } else {
+        for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
+        n_cubic = 1;
     }
     // the first row present goes into the main loop (with the cubic start if needed), any
     // further rows into a pass of their own each

@@ -80,7 +80,7 @@ struct Region {
 // it, which on a transparent huge page is 2 MiB at once while the other thread waits for it if
 // it writes there too. The kernel's blocks (for_each_block) run both threads through the
 // same pages; their shares of the pages here are apart, so the two threads zero different
-// pages at the same time. For 10^7 points' outputs (500 MB), the default call ran 4-9%
+// pages at the same time. For 10^7 points' outputs (500 MB), the default call ran 5-12%
 // faster this way on this project's 2-core VM (README).
 template <std::size_t N>
 void first_touch(const Region (&regions)[N], int threads) {
