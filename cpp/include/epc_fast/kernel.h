@@ -171,7 +171,9 @@ EPC_FAST_INLINE double product_error(double a, double b) {
 // tan(angle) for 0 <= angle < pi/2, as sinpi(t) / cospi(t) with t = angle / pi carried in two
 // doubles (t_hi + t_lo, Dekker's product): cospi's argument 1/2 - t_hi is exact, and t_lo keeps
 // the digits that tan's condition number near pi/2 would otherwise amplify. Within a few ulp
-// of the C library's tan of the same angle.
+// of the C library's tan of the same angle. Both arguments lie in [0, 1/2], where sinpi
+// reduces nothing (round gives 0, 1/2 included: ties to even), so sinpi_reduced gives sinpi's
+// bits; for a larger angle the result is meaningless and the caller selects inf instead.
 EPC_FAST_INLINE double tan_of_angle(double angle) {
     constexpr double inv_pi_hi = 0.3183098861837907;     // 1/pi rounded
     constexpr double inv_pi_lo = -1.9678676675182486e-17;  // 1/pi - inv_pi_hi
@@ -179,21 +181,28 @@ EPC_FAST_INLINE double tan_of_angle(double angle) {
     // 1/2 - angle inv_pi_hi exactly, rounded once: no rounding error to carry (and none that a
     // fused t_hi could count twice)
     const double fused_cos_arg = std::fma(-angle, inv_pi_hi, 0.5) - angle * inv_pi_lo;
-    return sinpi(angle * inv_pi_hi + angle * inv_pi_lo) / sinpi(fused_cos_arg);
+    return sinpi_reduced(angle * inv_pi_hi + angle * inv_pi_lo) / sinpi_reduced(fused_cos_arg);
 #else
     const double t_hi = angle * inv_pi_hi;
     const double t_lo = product_error(angle, inv_pi_hi) + angle * inv_pi_lo;
     const double cos_arg = (0.5 - t_hi) - t_lo;
-    return sinpi(t_hi + t_lo) / sinpi(cos_arg);
+    return sinpi_reduced(t_hi + t_lo) / sinpi_reduced(cos_arg);
 #endif
 }
 
-// hypot(x, y) for x > 0, y >= 0 without overflow: x exactly when y = 0, else within 2 ulp.
-EPC_FAST_INLINE double hypot_positive(double x, double y) {
-    const double big = x > y ? x : y, small = x > y ? y : x;
-    const double ratio = small / big;
-    const double h = big * std::sqrt(1.0 + ratio * ratio);
-    return y == 0.0 ? x : h;
+// Above this y, hypot_moderate's y^2 could overflow: the caller redoes the lane.
+constexpr double hypot_moderate_max = 0x1p500;
+
+// hypot(x, y) = sqrt(x^2 + y^2) as it reads, with no division, for x in [1e-150, 1e150] (10^(snr/20)
+// inside the SNR domain) and 0 <= y <= hypot_moderate_max: x^2 is a normal double, x^2 + y^2
+// cannot overflow, and a y^2 that underflows is below 1e-16 of x^2's ulp. x exactly when
+// y = 0 (sqrt(fl(x^2)) = x in binary arithmetic), else within 1 ulp.
+EPC_FAST_INLINE double hypot_moderate(double x, double y) {
+#if EPC_FAST_FMA
+    return std::sqrt(std::fma(x, x, y * y));
+#else
+    return std::sqrt(x * x + y * y);
+#endif
 }
 
 // T_MPE, blur and the unreachable causes of one lane by the general formulas of exposure.h
@@ -275,7 +284,8 @@ void electrons_and_blur(Block<T>& b, const double* __restrict root_s,
             const double dark_per_rate = Dark ? divide_by(dark[i], rv, inverse_rv) : 0.0;
             const double q = 1.0 + dark_per_rate;
             const double read_term = Read ? 2.0 * read[i] * (Prnu ? std::sqrt(w) : 1.0) / q : 0.0;
-            a = (Prnu ? rs / (2.0 * w) : 0.5 * rs) * (rs + (Read ? hypot_positive(rs, read_term) : rs));
+            a = (Prnu ? rs / (2.0 * w) : 0.5 * rs) * (rs + (Read ? hypot_moderate(rs, read_term) : rs));
+            if (Read) electrons_normal &= read_term <= hypot_moderate_max;
             if (Dark) {
                 const double ad = a * dark[i];
                 const double extra = divide_by(ad, rv, inverse_rv);
@@ -368,36 +378,45 @@ void exposure(const Options& opt, Block<T>& b) {
     unsigned char* __restrict rate_normal = b.flag_scratch[1];
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        // electron_rate's product, in its order
-        double rv = lux[i];
-        bool ok = normal(rv);
+        // electron_rate's product, in its order. The lane is redone (exposure_lane) unless
+        // every partial product is moderate: then each is a normal double, so the plain
+        // product is scaled_product's bit for bit, and divide_by is the division. Their least
+        // and greatest are tracked (two instructions a product, not two comparisons and two
+        // mask operations); a NaN product (0 times an overflow) comes after an infinite or
+        // zero one, which the bounds have kept.
+        double rv = lux[i], least = rv, most = rv;
+        auto track = [&](double v) {
+            least = v < least ? v : least;
+            most = v > most ? v : most;
+        };
         rv *= refl[i];
-        ok &= normal(rv);
+        track(rv);
         rv *= tau[i];
-        ok &= normal(rv);
+        track(rv);
         rv *= cos2[i];
-        ok &= normal(rv);
+        track(rv);
         rv *= cos2[i];
-        ok &= normal(rv);
+        track(rv);
         rv *= k_e[i];
-        ok &= normal(rv);
+        track(rv);
         rv *= fill[i];
-        ok &= normal(rv);
+        track(rv);
         rv *= pitch[i];
-        ok &= normal(rv);
+        track(rv);
         rv *= pitch[i];
-        ok &= normal(rv);
+        track(rv);
         rv *= um_to_m * um_to_m;
-        ok &= normal(rv);
+        track(rv);
         rv /= 4.0;
-        ok &= moderate(rv);
+        track(rv);
         // the two divisions by F with one reciprocal (divide_by: the same roundings)
         const double f = f_num[i], inverse_f = 1.0 / f;
-        ok &= moderate(f);
+        track(f);
         rv = divide_by(rv, f, inverse_f);
-        ok &= moderate(rv);
+        track(rv);
         rv = divide_by(rv, f, inverse_f);
-        ok &= moderate(rv);
+        track(rv);
+        const bool ok = moderate(least) & moderate(most);
         rate[i] = rv;
         rate_normal[i] = ok;
     }

@@ -119,12 +119,17 @@ EPC_FAST_INLINE T round_to_integer(T x) {
     return std::fabs(x) < FloatFormat<T>::integral ? k : x;
 }
 
+// sin(pi r) for |r| <= 1/2, where it needs no argument reduction: the polynomial itself.
+template <class T>
+EPC_FAST_INLINE T sinpi_reduced(T r) {
+    return r * poly::horner(poly::sinpi_coefficients, r * r);
+}
+
 // sin(pi x) for any finite x: r = x - round(x) is exact, sin(pi x) = (-1)^round(x) sin(pi r).
 template <class T>
 EPC_FAST_INLINE T sinpi(T x) {
     const T k = round_to_integer(x);
-    const T r = x - k;
-    const T s = r * poly::horner(poly::sinpi_coefficients, r * r);
+    const T s = sinpi_reduced(x - k);
     const bool odd = k != T(2) * round_to_integer(T(0.5) * k);
     return odd ? -s : s;
 }
@@ -134,8 +139,7 @@ EPC_FAST_INLINE T sinpi(T x) {
 template <class T>
 EPC_FAST_INLINE T sinpi_unit(T x) {
     const bool past_half = x > T(0.5);  // round(x) = 1 (0.5 itself rounds to even, 0)
-    const T r = past_half ? x - T(1) : x;  // exact (Sterbenz)
-    const T s = r * poly::horner(poly::sinpi_coefficients, r * r);
+    const T s = sinpi_reduced(past_half ? x - T(1) : x);  // x - 1 exact (Sterbenz)
     return past_half ? -s : s;
 }
 
@@ -145,8 +149,7 @@ EPC_FAST_INLINE T sinpi_unit(T x) {
 // needs no reduction (round gives 0, ties to even included).
 template <class T>
 EPC_FAST_INLINE T cospi_small(T x) {
-    const T r = T(0.5) - std::fabs(x);
-    return r * poly::horner(poly::sinpi_coefficients, r * r);
+    return sinpi_reduced(T(0.5) - std::fabs(x));
 }
 
 // 2^k for an integer-valued k in T's normal exponent range ([-1022, 1023] for float64,
