@@ -67,6 +67,7 @@ struct alignas(64) Block {
     // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
     // over the factors, so that M''/M = R^2 + S
     T mtf[block_size], slope[block_size], curvature[block_size];
+    T denominator[block_size];  // monochromatic diffraction's slopes' (f50.h)
     T previous_step[block_size];  // Newton/Halley: each lane's previous step
     // Newton/Halley: the step tolerance last derived from f50_rtol (a cube or square root)
     T memo_rtol = T(-1), memo_step_rtol = T(0);

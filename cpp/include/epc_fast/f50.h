@@ -77,7 +77,9 @@ void system_mtf(const Spectrum& spectrum, Block<T>& b) {
     }
 }
 
-// Monochromatic diffraction at b.at into b.mtf, b.slope, b.curvature (see below).
+// Monochromatic diffraction at b.at: its value into b.mtf, its log-slopes' numerators, in f,
+// into b.slope and b.curvature and their denominator into b.denominator
+// (diffraction_log_slope_parts; system_mtf_slopes divides).
 template <bool High, bool Curvature, class T>
 void diffraction_factor(Block<T>& b) {
     const T* __restrict at = b.at;
@@ -85,13 +87,29 @@ void diffraction_factor(Block<T>& b) {
     T* __restrict mtf = b.mtf;
     T* __restrict slope = b.slope;
     T* __restrict curvature = b.curvature;
+    T* __restrict denominator = b.denominator;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
         const T lf = lambda_f[i];
-        const Slopes<T> d = diffraction_log_slopes<High>(at[i] * lf);
+        const DiffractionParts<T> d = diffraction_log_slope_parts<High>(at[i] * lf);
         mtf[i] = d.value;
-        slope[i] = lf * d.r;
-        if (Curvature) curvature[i] = (lf * lf) * d.dr;
+        slope[i] = lf * d.slope_numerator;
+        if (Curvature) curvature[i] = (lf * lf) * d.curvature_numerator;
+        denominator[i] = d.denominator;
+    }
+}
+
+// The pixel sinc at y1 and, with Motion, the motion sinc at y2, with their log-slopes. A
+// polychromatic diffraction has divided its own slopes (inverse_other 1, unused); a
+// monochromatic one shares its division with them (sinc_slopes_sharing).
+template <bool Motion, bool Poly, class T>
+EPC_FAST_INLINE SlopesShared<T> sinc_factors(T y1, T y2, T diffraction_denominator) {
+    if constexpr (!Poly) {
+        return sinc_slopes_sharing<Motion>(y1, y2, diffraction_denominator);
+    } else {
+        const SlopesPair<T> pq = Motion ? sinc_slopes_pair(y1, y2)
+                                        : SlopesPair<T>{sinc_slopes(y1), Slopes<T>{}};
+        return {pq, T(1)};
     }
 }
 
@@ -139,15 +157,20 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
     const T* __restrict aperture = b.aperture_mm;
     const T* __restrict blur = b.blur_mm;
     const T* __restrict jitter = b.jitter_mm;
+    const T* __restrict denominator = b.denominator;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         const T f = at[i];
         T m = mtf[i], r = slope[i], s = Curvature ? curvature[i] : T(0);
-        // pixel aperture and motion: one division between them
+        // pixel aperture and motion: one division between them, and monochromatic
+        // diffraction's too (its slopes are still to be divided: diffraction_factor)
         const T a = aperture[i], l = Motion ? blur[i] : T(0);
-        const SlopesPair<T> pq = Motion ? sinc_slopes_pair(a * f, l * f)
-                                        : SlopesPair<T>{sinc_slopes(a * f), Slopes<T>{}};
-        const Slopes<T> p = pq.first, q = pq.second;
+        const SlopesShared<T> shared = sinc_factors<Motion, Poly>(a * f, l * f, denominator[i]);
+        if (!Poly) {
+            r *= shared.inverse_other;
+            if (Curvature) s = s * shared.inverse_other - r * r;
+        }
+        const Slopes<T> p = shared.sincs.first, q = shared.sincs.second;
         m *= p.value;
         r += a * p.r;
         if (Curvature) s += (a * a) * p.dr;
@@ -235,9 +258,12 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
         active[i] = b.solve[i];
         previous[i] = hi[i] - lo[i];
     }
-    for (int step = 0; step < max_bisection_steps; ++step) {
-        const bool derivative = step < max_derivative_steps;
-        system_mtf_slopes<Motion, Jitter, Poly, Halley>(spectrum, b);
+    // One round: a step for every active lane. The first round, First, needs no division for
+    // its stop test: d <= step_rtol x there implies d^3 / p^2 <= step_rtol^3 x (Halley's
+    // rtol / 10; Newton's is smaller still), as the first step is measured against the whole
+    // bracket [0, f_hi], wider than x (f50_start.h). Returns the lanes still active.
+    auto take_steps = [&](auto first, bool derivative) EPC_FAST_LAMBDA_INLINE {
+        constexpr bool First = decltype(first)::value;
         int n_active = 0;
         EPC_FAST_SIMD_REDUCTION(+ : n_active)
         for (std::size_t i = 0; i < n; ++i) {
@@ -260,9 +286,9 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
             // A converged step ends it wherever it lands: the root is within it of x, and
             // clamped to the bracket it can only come closer.
             const T ad = std::fabs(d), ap = previous[i];
-            const T ratio = ad / ap;
+            const T ratio = First ? T(0) : ad / ap;
             const T left = ad * (ratio * ratio);
-            const bool small = derivative & (ad <= step_rtol * x) & (left <= T(0.1) * rtol * x);  // false for NaN
+            const bool small = derivative & (ad <= step_rtol * x) & (First | (left <= T(0.1) * rtol * x));  // false for NaN
             previous[i] = act ? std::fabs(to - x) : ap;
             const bool converged = small | (h == T(0)) | (u - l <= rtol * l) | !(mid > l) | !(mid < u);
             const T clamped = next < l ? l : (next > u ? u : next);
@@ -273,6 +299,12 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
             active[i] = still;
             n_active += still;
         }
+        return n_active;
+    };
+    for (int step = 0; step < max_bisection_steps; ++step) {
+        system_mtf_slopes<Motion, Jitter, Poly, Halley>(spectrum, b);
+        const int n_active = step == 0 ? take_steps(std::true_type{}, true)
+                                       : take_steps(std::false_type{}, step < max_derivative_steps);
         if (n_active == 0) break;
     }
 }

@@ -133,6 +133,34 @@ EPC_FAST_INLINE SlopesPair<T> sinc_slopes_pair(T y1, T y2) {
     return {sinc_slopes_given(y1, sin1, d2 * inv), sinc_slopes_given(y2, sin2, d1 * inv)};
 }
 
+// The pixel sinc at y1 (and, with Motion, the motion sinc at y2) with its log-slopes, sharing
+// one division with a third factor's denominator `other` (diffraction's, from
+// diffraction_log_slope_parts), whose inverse comes back in `inverse_other`: 1/D1 = D2 other /
+// (D1 D2 other) and so on. other lies in [3e-15, 1] in float32 (float64: [1e-40, 1]) below
+// the cut-off, so the product stays normal; at nu = 1 it is 0 and the slopes come out NaN, as
+// diffraction's alone did (the solvers take a bisection step).
+template <class T>
+struct SlopesShared {
+    SlopesPair<T> sincs;
+    T inverse_other;
+};
+
+template <bool Motion, class T>
+EPC_FAST_INLINE SlopesShared<T> sinc_slopes_sharing(T y1, T y2, T other) {
+    const T sin1 = sinpi_unit(y1);
+    const T d1 = sinc_denominator(y1, sin1);
+    if (!Motion) {
+        const T inv = T(1) / (d1 * other);
+        return {{sinc_slopes_given(y1, sin1, other * inv), Slopes<T>{}}, d1 * inv};
+    }
+    const T sin2 = sinpi_unit(y2);
+    const T d2 = sinc_denominator(y2, sin2);
+    const T d12 = d1 * d2;
+    const T inv = T(1) / (d12 * other);
+    const T inv_d1 = (d2 * other) * inv, inv_d2 = (d1 * other) * inv;
+    return {{sinc_slopes_given(y1, sin1, inv_d1), sinc_slopes_given(y2, sin2, inv_d2)}, d12 * inv};
+}
+
 // The diffraction MTF at nu with its first and second derivatives in nu (not divided by it:
 // a spectrum adds them up first): D' = -(4/pi) sqrt(1 - nu^2), D'' = (4/pi) nu / sqrt(1 - nu^2)
 // below the cut-off, and D = D' = D'' = 0 past it (nu >= 1). A spectrum's longer wavelengths
@@ -152,11 +180,17 @@ EPC_FAST_INLINE DiffractionSlopes<T> diffraction_slopes(T nu) {
     return {mtf_diffraction(v), T(-(4.0 / pi)) * root, below ? d2 : T(0)};
 }
 
-// The diffraction MTF at nu with its log-slopes in nu (one division): r = D'/D and
-// r' = D''/D - r^2. `High` = false when the caller knows nu <= 1/2, which skips the
-// near-cut-off form (mtf_diffraction).
+// The diffraction MTF at nu with its log-slopes in nu, but for one division the caller
+// shares (sinc_slopes_sharing): r = D'/D = slope_numerator / denominator and r' = D''/D - r^2 =
+// curvature_numerator / denominator - r^2, denominator = sqrt(1 - nu^2) D. `High` = false when
+// the caller knows nu <= 1/2, which skips the near-cut-off form (mtf_diffraction).
+template <class T>
+struct DiffractionParts {
+    T value, slope_numerator, curvature_numerator, denominator;
+};
+
 template <bool High, class T>
-EPC_FAST_INLINE Slopes<T> diffraction_log_slopes(T nu) {
+EPC_FAST_INLINE DiffractionParts<T> diffraction_log_slope_parts(T nu) {
     const T v = nu < T(1) ? nu : T(1);
     const T root_squared = (T(1) - v) * (T(1) + v);
     const T root = std::sqrt(root_squared);
@@ -166,9 +200,7 @@ EPC_FAST_INLINE Slopes<T> diffraction_log_slopes(T nu) {
         const T high = diffraction_from_half_angle_sine(std::sqrt(T(0.5) * (T(1) - v)));
         value = v <= T(0.5) ? value : high;
     }
-    const T inv = T(1) / (root * value);
-    const T r = T(-(4.0 / pi)) * root_squared * inv;
-    return {value, r, T(4.0 / pi) * v * inv - r * r};
+    return {value, T(-(4.0 / pi)) * root_squared, T(4.0 / pi) * v, root * value};
 }
 
 // cycles/mm: f_hi, the smallest first zero of the factors (diffraction 1/(lambda_min F),
