@@ -99,20 +99,6 @@ void diffraction_factor(Block<T>& b) {
     }
 }
 
-// The pixel sinc at y1 and, with Motion, the motion sinc at y2, with their log-slopes. A
-// polychromatic diffraction has divided its own slopes (inverse_other 1, unused); a
-// monochromatic one shares its division with them (sinc_slopes_sharing).
-template <bool Motion, bool Poly, class T>
-EPC_FAST_INLINE SlopesShared<T> sinc_factors(T y1, T y2, T diffraction_denominator) {
-    if constexpr (!Poly) {
-        return sinc_slopes_sharing<Motion>(y1, y2, diffraction_denominator);
-    } else {
-        const SlopesPair<T> pq = Motion ? sinc_slopes_pair(y1, y2)
-                                        : SlopesPair<T>{sinc_slopes(y1), Slopes<T>{}};
-        return {pq, T(1)};
-    }
-}
-
 // b.mtf, b.slope = M'/M and b.curvature = sum_i (M_i''/M_i - (M_i'/M_i)^2) at b.at, so that
 // M''/M = slope^2 + curvature (M the product of the factors M_i). Newton skips the curvature.
 template <bool Motion, bool Jitter, bool Poly, bool Curvature, class T>
@@ -163,9 +149,10 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
         const T f = at[i];
         T m = mtf[i], r = slope[i], s = Curvature ? curvature[i] : T(0);
         // pixel aperture and motion: one division between them, and monochromatic
-        // diffraction's too (its slopes are still to be divided: diffraction_factor)
+        // diffraction's too (its slopes are still to be divided: diffraction_factor; a
+        // spectrum's were divided above)
         const T a = aperture[i], l = Motion ? blur[i] : T(0);
-        const SlopesShared<T> shared = sinc_factors<Motion, Poly>(a * f, l * f, denominator[i]);
+        const SlopesShared<T> shared = sinc_slopes<Motion>(a * f, l * f, Poly ? T(1) : denominator[i]);
         if (!Poly) {
             r *= shared.inverse_other;
             if (Curvature) s = s * shared.inverse_other - r * r;

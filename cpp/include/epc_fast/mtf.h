@@ -73,7 +73,7 @@ struct Slopes {
     T value, r, dr;
 };
 
-// Below this y, sinc_slopes uses the series of ln sinc: float64 1e-3, float32 3e-2. There the
+// Below this y, sinc_slopes_given uses the series of ln sinc: float64 1e-3, float32 3e-2. There the
 // truncated series is within 1e-12 (float32: 1e-9) of the function, and above it the direct
 // r = pi cot(pi y) - 1/y loses at most 1/(pi^2 y^2 / 3) ~ 3e5 (float32: 3e2) of its ulps to
 // cancellation, which only slows the solver down a little where this factor is nearly flat.
@@ -82,7 +82,7 @@ constexpr T sinc_series_below = sizeof(T) == sizeof(double) ? T(1e-3) : T(3e-2);
 
 // sinc(y), r = pi cot(pi y) - 1/y and r' = 1/y^2 - pi^2 / sin^2(pi y), for 0 <= y < 1 (inside
 // f50's bracket), given sin(pi y) and 1/(y sin(pi y)): 1/y and 1/sin(pi y) are sin(pi y) and y
-// times it, so a factor costs one division, and two factors one between them (sinc_slopes_pair).
+// times it, so a factor costs one division, and several factors one between them (sinc_slopes).
 // Below sinc_series_below, where those cancel, the series of ln sinc(y) =
 // -(pi y)^2/6 - (pi y)^4/180 - ...: r = -pi^2 y/3 - pi^4 y^3/45, r' = -pi^2/3 - pi^4 y^2/15
 // and sinc = 1 - (pi y)^2/6 + (pi y)^4/120 (the caller passes any finite inv_y_sin there).
@@ -108,37 +108,20 @@ EPC_FAST_INLINE T sinc_denominator(T y, T sin_py) {
     return y < sinc_series_below<T> ? T(1) : y * sin_py;
 }
 
-// One factor's sinc and log-slopes (one division).
-template <class T>
-EPC_FAST_INLINE Slopes<T> sinc_slopes(T y) {
-    const T sin_py = sinpi_unit(y);
-    return sinc_slopes_given(y, sin_py, T(1) / sinc_denominator(y, sin_py));
-}
-
-// Two factors' (pixel and motion) sincs and log-slopes with one division:
-// 1/D1 = D2 / (D1 D2), D = y sin(pi y) in [sinc_series_below sin(pi sinc_series_below), 1) or
-// 1, so the product neither overflows nor underflows while both y < 1 - 1e-15 or so. At a
-// factor's zero (y = 1, which only an end of the bracket reaches) both come out NaN instead of
-// 0, which the solvers treat the same: not above the threshold.
+// The pixel sinc at y1 and, with Motion, the motion sinc at y2, with their log-slopes, for one
+// division shared with a third factor's denominator `other` (monochromatic diffraction's, from
+// diffraction_log_slope_parts; 1 where there is none: a product by 1 is exact), whose inverse
+// comes back in `inverse_other`: 1/D1 = D2 other / (D1 D2 other) and so on. D = y sin(pi y) lies
+// in [sinc_series_below sin(pi sinc_series_below), 1) or is 1, and other in [3e-15, 1] in
+// float32 (float64: [1e-40, 1]) below diffraction's cut-off, so the product neither overflows
+// nor underflows while both y < 1 - 1e-15 or so. At a factor's zero (y = 1, or nu = 1 for
+// other, which only an end of the bracket reaches) the slopes come out NaN instead of 0, which
+// the solvers treat the same: not above the threshold (they take a bisection step).
 template <class T>
 struct SlopesPair {
     Slopes<T> first, second;
 };
 
-template <class T>
-EPC_FAST_INLINE SlopesPair<T> sinc_slopes_pair(T y1, T y2) {
-    const T sin1 = sinpi_unit(y1), sin2 = sinpi_unit(y2);
-    const T d1 = sinc_denominator(y1, sin1), d2 = sinc_denominator(y2, sin2);
-    const T inv = T(1) / (d1 * d2);
-    return {sinc_slopes_given(y1, sin1, d2 * inv), sinc_slopes_given(y2, sin2, d1 * inv)};
-}
-
-// The pixel sinc at y1 (and, with Motion, the motion sinc at y2) with its log-slopes, sharing
-// one division with a third factor's denominator `other` (diffraction's, from
-// diffraction_log_slope_parts), whose inverse comes back in `inverse_other`: 1/D1 = D2 other /
-// (D1 D2 other) and so on. other lies in [3e-15, 1] in float32 (float64: [1e-40, 1]) below
-// the cut-off, so the product stays normal; at nu = 1 it is 0 and the slopes come out NaN, as
-// diffraction's alone did (the solvers take a bisection step).
 template <class T>
 struct SlopesShared {
     SlopesPair<T> sincs;
@@ -146,12 +129,15 @@ struct SlopesShared {
 };
 
 template <bool Motion, class T>
-EPC_FAST_INLINE SlopesShared<T> sinc_slopes_sharing(T y1, T y2, T other) {
+EPC_FAST_INLINE SlopesShared<T> sinc_slopes(T y1, T y2, T other) {
     const T sin1 = sinpi_unit(y1);
     const T d1 = sinc_denominator(y1, sin1);
     if (!Motion) {
+        // the second factor's slopes as the first's, unused: GCC vectorises no lane loop that
+        // copies a zeroed Slopes in
         const T inv = T(1) / (d1 * other);
-        return {{sinc_slopes_given(y1, sin1, other * inv), Slopes<T>{}}, d1 * inv};
+        const Slopes<T> first = sinc_slopes_given(y1, sin1, other * inv);
+        return {{first, first}, d1 * inv};
     }
     const T sin2 = sinpi_unit(y2);
     const T d2 = sinc_denominator(y2, sin2);
@@ -181,7 +167,7 @@ EPC_FAST_INLINE DiffractionSlopes<T> diffraction_slopes(T nu) {
 }
 
 // The diffraction MTF at nu with its log-slopes in nu, but for one division the caller
-// shares (sinc_slopes_sharing): r = D'/D = slope_numerator / denominator and r' = D''/D - r^2 =
+// shares (sinc_slopes): r = D'/D = slope_numerator / denominator and r' = D''/D - r^2 =
 // curvature_numerator / denominator - r^2, denominator = sqrt(1 - nu^2) D. `High` = false when
 // the caller knows nu <= 1/2, which skips the near-cut-off form (mtf_diffraction).
 template <class T>
