@@ -7,10 +7,11 @@ tests/conftest.py). Each input is decoded (atheris.FuzzedDataProvider) into one 
 
 - the public API: every model parameter omitted, a scalar or an array (empty, broadcasting, or
   not), its values arbitrary doubles (NaN, infinities, subnormals, huge) or the values next to
-  a domain's ends, sometimes not numbers at all; any backend, T_MPE solver, tolerance, thread
-  count, invalid= policy, size keyword, spectrum and out= arrays;
-- _core.evaluate directly, with columns, domains, spectrum, n, options and out= of any size
-  and type.
+  a domain's ends, sometimes not numbers at all; any backend, T_MPE and f50 solver, precision,
+  tolerance, thread count, invalid= policy, size keyword, spectrum, outputs= selection and
+  out= arrays;
+- _core.evaluate directly, with columns, domains, spectrum, n, options (solvers, precision,
+  threads, chunk size), out= arrays of any size and new outputs (allocate=) by any names.
 
 What must hold: nothing crashes or trips a sanitizer; the only exceptions are TypeError,
 ValueError (invalid="raise", bad arguments) and MemoryError; every status and cause is a known
@@ -107,15 +108,21 @@ def _public_call(fdp):
         t_mpe_solver=["closed_form", "brent", "newton"][fdp.ConsumeIntInRange(0, 2)],
         f50_rtol=[1e-14, 0.0, fdp.ConsumeFloat()][fdp.ConsumeIntInRange(0, 2)],
         threads=[None, 1, 2, 3, 0, -1, 10**4, 1.5][fdp.ConsumeIntInRange(0, 7)],
-        invalid="raise" if fdp.ConsumeIntInRange(0, 4) == 0 else "status")
+        invalid="raise" if fdp.ConsumeIntInRange(0, 4) == 0 else "status",
+        f50_solver=["halley", "newton", "brent", "bisection"][fdp.ConsumeIntInRange(0, 3)],
+        precision=["float64", "float32"][fdp.ConsumeIntInRange(0, 1)])
+    selected = tuple(api.OUTPUT_DTYPES)
+    if fdp.ConsumeIntInRange(0, 3) == 0:
+        selected = tuple(name for name in api.OUTPUT_DTYPES if fdp.ConsumeBool()) or ("epc",)
+        options["outputs"] = selected
     if fdp.ConsumeIntInRange(0, 5) == 0:
         n = fdp.ConsumeIntInRange(0, 6)
         kwargs["spectrum"] = (np.array([fdp.ConsumeFloat() for _ in range(n)]),
                               np.array([fdp.ConsumeFloat() for _ in range(n)]))
     if fdp.ConsumeIntInRange(0, 5) == 0:
         out_shape = shape if fdp.ConsumeIntInRange(0, 3) else (fdp.ConsumeIntInRange(0, 5),)
-        options["out"] = {name: np.zeros(out_shape, dtype=dtype)
-                          for name, dtype in api.OUTPUT_DTYPES.items()}
+        options["out"] = {name: np.zeros(out_shape, dtype=api.OUTPUT_DTYPES[name])
+                          for name in selected}
     try:
         result = epc_fast.evaluate(**kwargs, backend=backend, **options)
     except EXPECTED_ERRORS:
@@ -128,31 +135,42 @@ def _public_call(fdp):
             twin = epc_fast.evaluate(**kwargs, backend=other, **options)
         except EXPECTED_ERRORS:
             return  # e.g. a thread count only the core reads
-        assert np.array_equal(np.asarray(result.status), np.asarray(twin.status)), (kwargs,
-                                                                                   options)
-        assert np.array_equal(np.asarray(result.cause), np.asarray(twin.cause)), (kwargs,
-                                                                                 options)
+        for name in ("status", "cause"):
+            if getattr(result, name) is not None:
+                assert np.array_equal(np.asarray(getattr(result, name)),
+                                      np.asarray(getattr(twin, name))), (name, kwargs, options)
 
 
 def _check(result):
-    status = np.asarray(result.status).reshape(-1)
-    cause = np.asarray(result.cause).reshape(-1)
-    values = {name: np.asarray(getattr(result, name), dtype=np.float64).reshape(-1)
-              for name in FLOAT_FIELDS}
-    assert np.all(status <= 3) and np.all(cause <= 3), (status, cause)
+    """The invariants of the module's docstring, over the fields ``result`` has."""
+    fields = {name: np.asarray(getattr(result, name)).reshape(-1)
+              for name in api.OUTPUT_DTYPES if getattr(result, name) is not None}
+    status, cause = fields.get("status"), fields.get("cause")
+    if status is not None:
+        assert np.all(status <= 3), status
+    if cause is not None:
+        assert np.all(cause <= 3), cause
+    if status is None:
+        return
     ok, invalid = status == Status.OK, status == Status.INVALID
     unreachable, unbounded = status == Status.UNREACHABLE, status == Status.BLUR_UNBOUNDED
+    values = {name: fields[name].astype(np.float64) for name in FLOAT_FIELDS if name in fields}
     for name, v in values.items():
         assert np.all(np.isfinite(v[ok])), name
         assert np.all(np.isnan(v[invalid])), name
-    assert np.all(cause[ok | invalid | unbounded] == 0)
-    assert np.all(cause[unreachable] != 0)
-    assert np.all(values["t_mpe_s"][unreachable] == math.inf)
+    if cause is not None:
+        assert np.all(cause[ok | invalid | unbounded] == 0)
+        assert np.all(cause[unreachable] != 0)
+    if "t_mpe_s" in values:
+        assert np.all(values["t_mpe_s"][unreachable] == math.inf)
     for name in ("blur_mm", "f50_cyc_per_mm", "epc"):
-        assert np.all(np.isnan(values[name][unreachable])), name
-    assert np.all(values["blur_mm"][unbounded] == math.inf)
-    assert np.all(values["f50_cyc_per_mm"][unbounded] == 0.0)
-    assert np.all(values["epc"][unbounded] == 0.0)
+        if name in values:
+            assert np.all(np.isnan(values[name][unreachable])), name
+    if "blur_mm" in values:
+        assert np.all(values["blur_mm"][unbounded] == math.inf)
+    for name in ("f50_cyc_per_mm", "epc"):
+        if name in values:
+            assert np.all(values[name][unbounded] == 0.0), name
 
 
 def _array(fdp, n):
@@ -170,26 +188,50 @@ def _array(fdp, n):
 
 
 def _core_call(fdp):
+    """Mostly a well-formed call, so that the kernel runs; now and then one flaw."""
     n = fdp.ConsumeIntInRange(-2, 70)
-    columns = [_array(fdp, max(n, 0)) for _ in range(fdp.ConsumeIntInRange(19, 21))]
-    domains = params.domain_table() if fdp.ConsumeIntInRange(0, 3) else np.array(
+    flaw = fdp.ConsumeIntInRange(0, 17)  # 0-6: one flaw, else none
+
+    def good_column():
+        size = max(n, 0) if fdp.ConsumeIntInRange(0, 2) else 1
+        return np.array([fdp.ConsumeFloat() if fdp.ConsumeBool() else
+                         EDGES[fdp.ConsumeIntInRange(0, len(EDGES) - 1)]
+                         for _ in range(min(size, 80))] + [1.0] * max(size - 80, 0))
+
+    count = len(params.PARAMETERS) + (fdp.ConsumeIntInRange(-1, 1) if flaw == 0 else 0)
+    columns = [good_column() for _ in range(count)]
+    if flaw == 1 and columns:
+        columns[fdp.ConsumeIntInRange(0, len(columns) - 1)] = _array(fdp, max(n, 0))
+    domains = params.domain_table() if flaw != 2 else np.array(
         [[fdp.ConsumeFloat() for _ in range(4)] for _ in range(fdp.ConsumeIntInRange(0, 21))])
     k = fdp.ConsumeIntInRange(0, 4)
     wavelengths = np.array([fdp.ConsumeFloat() for _ in range(k)])
-    weights = np.array([fdp.ConsumeFloat() for _ in range(k + fdp.ConsumeIntInRange(0, 1))])
+    weights = np.array([fdp.ConsumeFloat() for _ in range(k + (flaw == 3))])
     out = None
     if fdp.ConsumeBool():
-        out = {name: np.zeros(max(n, 0) + fdp.ConsumeIntInRange(0, 1), dtype=dtype)
-               for name, dtype in api.OUTPUT_DTYPES.items()}
+        out = {name: np.zeros(max(n, 0) + (flaw == 5), dtype=dtype)
+               for name, dtype in api.OUTPUT_DTYPES.items() if fdp.ConsumeBool()}
+    allocate = None
+    if fdp.ConsumeBool():
+        allocate = [name for name in api.OUTPUT_DTYPES
+                    if name not in (out or {}) and fdp.ConsumeBool()]
+        if flaw == 6:
+            allocate.append(["f50", 3, *(out or {})][fdp.ConsumeIntInRange(0, len(out or {}) + 1)])
     try:
         result = _core.evaluate(
             columns, fdp.ConsumeBool(), domains, wavelengths, weights, n,
-            fdp.ConsumeFloat(), ["closed_form", "brent", ""][fdp.ConsumeIntInRange(0, 2)],
-            fdp.ConsumeFloat(), fdp.ConsumeIntInRange(-1, 3), fdp.ConsumeIntInRange(-1, 100),
-            out)
+            ["halley", "newton", "brent", "bisection", ""][fdp.ConsumeIntInRange(0, 3 + (flaw == 4))],
+            [1e-14, 0.0, fdp.ConsumeFloat()][fdp.ConsumeIntInRange(0, 2)],
+            ["closed_form", "brent", ""][fdp.ConsumeIntInRange(0, 1 + (flaw == 4))],
+            [1e-15, 0.0, fdp.ConsumeFloat()][fdp.ConsumeIntInRange(0, 2)],
+            ["float64", "float32", "half"][fdp.ConsumeIntInRange(0, 1 + (flaw == 4))],
+            fdp.ConsumeIntInRange(1 - (flaw == 4), 3), fdp.ConsumeIntInRange(1 - (flaw == 4), 100),
+            out, allocate)
     except EXPECTED_ERRORS:
         return
-    assert np.all(result["status"] <= 3) and np.all(result["cause"] <= 3)
+    for name in ("status", "cause"):
+        if name in result:
+            assert np.all(result[name] <= 3), name
 
 
 def test_one_input(data):

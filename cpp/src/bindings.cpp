@@ -8,11 +8,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstddef>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "epc_fast/inverse.h"
 #include "epc_fast/kernel.h"
+#include "epc_fast/output_cache.h"
 #include "epc_fast/spectrum_start.h"
 
 namespace py = pybind11;
@@ -42,14 +46,45 @@ Column column_of(const py::handle& obj, int index, py::ssize_t n) {
 constexpr std::size_t first_touch_points = std::size_t{1} << 16;
 
 constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t_mpe_s",
-                                        "blur_mm", "f50_cyc_per_mm", "epc"};
+                                        "blur_mm", "f50_cyc_per_mm", "epc", "status", "cause"};
 
-py::dict new_outputs(py::ssize_t n) {
-    py::dict result;
-    for (const char* name : output_names) result[name] = py::array_t<double>(n);
-    result["status"] = py::array_t<std::uint8_t>(n);
-    result["cause"] = py::array_t<std::uint8_t>(n);
-    return result;
+// The cache of output memory (output_cache.h) that evaluate's new arrays come from. Never
+// destroyed: an array may outlive the module's static objects at interpreter exit.
+OutputCache& output_cache() {
+    static auto* cache = new OutputCache();
+    return *cache;
+}
+
+void release_block(void* block) {
+    auto* b = static_cast<OutputCache::Block*>(block);
+    output_cache().release(b->data, b->capacity);
+    delete b;
+}
+
+// A new 1-D array of n values of T for an output; `fresh` says whether its pages are new (never
+// touched). Arrays of at least OutputCache::min_bytes take their memory from the cache while
+// it keeps any (limit > 0): the array's base is a capsule that gives the memory back.
+template <class T>
+py::array new_column(py::ssize_t n, bool& fresh) {
+    OutputCache& cache = output_cache();
+    const auto count = static_cast<std::size_t>(n);
+    if (count > static_cast<std::size_t>(PTRDIFF_MAX) / sizeof(T) ||
+        count * sizeof(T) < OutputCache::min_bytes || cache.limit() == 0) {
+        fresh = true;
+        return py::array_t<T>(n);  // NumPy's own memory, or its error for an impossible n
+    }
+    auto block = std::make_unique<OutputCache::Block>(cache.acquire(count * sizeof(T)));
+    py::capsule owner;
+    try {
+        owner = py::capsule(block.get(), &release_block);
+    } catch (...) {
+        cache.release(block->data, block->capacity);
+        throw;
+    }
+    const OutputCache::Block* kept = block.release();  // owner's now
+    fresh = kept->fresh;
+    return py::array_t<T>({n}, {static_cast<py::ssize_t>(sizeof(T))}, static_cast<T*>(kept->data),
+                          owner);
 }
 
 // A caller's output array: 1-D, C-contiguous, writeable, of dtype T and length n; null when
@@ -161,33 +196,89 @@ void run_chunked(py::ssize_t n, py::ssize_t chunk_points, int threads, Work&& wo
     }
 }
 
+// The output dict of one call: `out`'s arrays (a dict, or None for none) and new arrays for
+// the outputs named in `allocate` (None: every output when `out` is None, else none). `fresh`
+// gets, for each new array, whether its pages are new.
+py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize_t n,
+                    std::vector<std::string>& fresh) {
+    py::dict result;
+    if (!out.is_none()) {
+        if (!py::isinstance<py::dict>(out)) throw std::invalid_argument("out must be a dict or None");
+        for (auto item : py::reinterpret_borrow<py::dict>(out)) result[item.first] = item.second;
+    }
+    std::vector<std::string> names;
+    if (!allocate.is_none()) {
+        for (auto name : allocate) {
+            if (!py::isinstance<py::str>(name)) throw py::type_error("allocate must hold output names");
+            names.push_back(py::cast<std::string>(name));
+        }
+    } else if (out.is_none()) {
+        names.assign(std::begin(output_names), std::end(output_names));
+    }
+    for (const std::string& name : names) {
+        const bool known = std::find(std::begin(output_names), std::end(output_names), name) !=
+                           std::end(output_names);
+        if (!known || result.contains(name))
+            throw std::invalid_argument("allocate: '" + name + "' is " +
+                                        (known ? "in out already" : "not an output"));
+        bool is_fresh = false;
+        result[name.c_str()] = name == "status" || name == "cause"
+                                   ? new_column<std::uint8_t>(n, is_fresh)
+                                   : new_column<double>(n, is_fresh);
+        if (is_fresh) fresh.push_back(name);
+    }
+    return result;
+}
+
 py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                      const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
                      const std::string& f50_solver, double f50_rtol,
                      const std::string& t_mpe_solver, double t_mpe_rtol,
                      const std::string& precision, int threads, py::ssize_t chunk_points,
-                     const py::object& out, bool fresh_out) {
+                     const py::object& out, const py::object& allocate) {
     const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
     const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
-    py::dict result = out.is_none() ? new_outputs(n) : py::reinterpret_borrow<py::dict>(out);
-    const Outputs outputs{
-        output_column<double>(result, "electron_rate_e_per_s", n),
-        output_column<double>(result, "electrons", n),
-        output_column<double>(result, "t_mpe_s", n),
-        output_column<double>(result, "blur_mm", n),
-        output_column<double>(result, "f50_cyc_per_mm", n),
-        output_column<double>(result, "epc", n),
-        output_column<std::uint8_t>(result, "status", n),
-        output_column<std::uint8_t>(result, "cause", n)};
-    // Arrays allocated for this call (here, or by the caller who says so) have never been
-    // touched: their pages are faulted in on all threads first (first_touch), except at sizes
-    // where they are too few to matter.
-    const bool touch = (out.is_none() || fresh_out) && threads > 1;
+    std::vector<std::string> fresh;
+    py::dict result = outputs_of(out, allocate, n, fresh);
+    auto column = [&](auto type, const char* name, bool only_fresh) {
+        using T = decltype(type);
+        const bool skip = only_fresh && std::find(fresh.begin(), fresh.end(), name) == fresh.end();
+        return skip ? nullptr : output_column<T>(result, name, n);
+    };
+    auto outputs_among = [&](bool only_fresh) {
+        return Outputs{column(double{}, "electron_rate_e_per_s", only_fresh),
+                       column(double{}, "electrons", only_fresh),
+                       column(double{}, "t_mpe_s", only_fresh),
+                       column(double{}, "blur_mm", only_fresh),
+                       column(double{}, "f50_cyc_per_mm", only_fresh),
+                       column(double{}, "epc", only_fresh),
+                       column(std::uint8_t{}, "status", only_fresh),
+                       column(std::uint8_t{}, "cause", only_fresh)};
+    };
+    const Outputs outputs = outputs_among(false);
+    // New pages (fresh arrays) are faulted in on all threads first (first_touch), except at
+    // sizes where they are too few to matter; the cache's kept blocks and the caller's arrays
+    // are mapped already.
+    const Outputs untouched = outputs_among(true);
+    const bool touch = !fresh.empty() && threads > 1;
     run_chunked(n, chunk_points, threads, [&](std::size_t start, std::size_t stop) {
-        if (touch && stop - start >= first_touch_points) first_touch(outputs, start, stop, threads);
+        if (touch && stop - start >= first_touch_points) first_touch(untouched, start, stop, threads);
         evaluate(in, opt, outputs, start, stop, threads);
     });
     return result;
+}
+
+// The output cache's limit (bytes) set, when `limit_bytes` is not None, and its state.
+py::dict output_cache_py(const py::object& limit_bytes) {
+    if (!limit_bytes.is_none()) {
+        const auto limit = py::cast<long long>(limit_bytes);
+        if (limit < 0) throw std::invalid_argument("limit_bytes must be >= 0, got " + std::to_string(limit));
+        output_cache().set_limit(static_cast<std::size_t>(limit));
+    }
+    py::dict state;
+    state["limit_bytes"] = output_cache().limit();
+    state["retained_bytes"] = output_cache().retained();
+    return state;
 }
 
 InverseOptions inverse_options_of(double lux_lo, double lux_hi, double rtol, int grid_points) {
@@ -288,10 +379,13 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
           py::arg("precision"), py::arg("threads"),
-          py::arg("chunk_points"), py::arg("out") = py::none(), py::arg("fresh_out") = false,
-          "Evaluates the model; writes into `out` (a dict of the output arrays) when given: "
-          "only the outputs it has are computed. fresh_out: out's arrays were just allocated "
-          "(never written), so the core may fault their pages in on all threads first.");
+          py::arg("chunk_points"), py::arg("out") = py::none(), py::arg("allocate") = py::none(),
+          "Evaluates the model into the arrays of `out` (a dict of output arrays, or None) and "
+          "new arrays for the outputs named in `allocate` (None: all of them when out is None, "
+          "else none); only these outputs are computed. Returns the dict of them all.");
+    m.def("output_cache", &output_cache_py, py::arg("limit_bytes") = py::none(),
+          "Sets the most bytes of output memory kept for later calls (when limit_bytes is not "
+          "None); returns {'limit_bytes', 'retained_bytes'}.");
     m.def("lux_for_epc", &lux_for_epc_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("target_epc"), py::arg("lux_lo"), py::arg("lux_hi"), py::arg("rtol"),

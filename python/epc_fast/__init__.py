@@ -16,6 +16,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .api import Result, evaluate
 from .inverse import InverseStatus, crossover_lux, lux_for_epc
+from .memory import output_cache
 from .params import PARAMETERS
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Cause, Status
@@ -30,6 +31,7 @@ __all__ = [
     "Result",
     "lux_for_epc",
     "crossover_lux",
+    "output_cache",
     "InverseStatus",
     "Status",
     "Cause",

@@ -57,3 +57,7 @@ def _load():
 isa, _module = _load()
 globals().update({name: getattr(_module, name) for name in dir(_module)
                   if not name.startswith("__")})
+
+from .memory import default_cache_bytes as _default_cache_bytes  # noqa: E402
+
+output_cache(_default_cache_bytes())  # the module's output cache starts at the default limit

@@ -29,10 +29,12 @@ def evaluate(
     threads: int,
     chunk_points: int,
     out: dict[str, np.ndarray] | None = None,
-    fresh_out: bool = False,
+    allocate: Sequence[str] | None = None,
 ) -> dict[str, np.ndarray]:
-    """Every output, or only those ``out`` has (the others are not computed); ``fresh_out``:
-    ``out``'s arrays were just allocated, so their pages may be faulted in on all threads first."""
+    """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: all of them
+    when ``out`` is None, else none), written; the outputs in neither are not computed."""
+def output_cache(limit_bytes: int | None = None) -> dict[str, int]:
+    """Sets the output cache's limit (bytes) when given; {"limit_bytes", "retained_bytes"}."""
 def lux_for_epc(
     columns: Sequence[npt.NDArray[np.float64]],
     size_is_pixel_count: bool,

@@ -2,16 +2,15 @@
 
 from __future__ import annotations
 
-import functools
 import math
 import operator
-import os
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
 
 import numpy as np
 
 from . import params, reference
+from .memory import memory_limit_bytes as _memory_limit_bytes
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Cause, Status
 
@@ -266,6 +265,11 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     Returns
     -------
     Result
+        The outputs in new arrays (except those of ``out``). The core takes the memory of
+        arrays of 1 MiB and more from memory kept from earlier calls' dropped results where it
+        can (:func:`epc_fast.output_cache`: no zeroing of new pages by the OS), so such an
+        array's ``base`` chain ends in a capsule instead of owning its data; it behaves as any
+        array otherwise.
 
     Raises
     ------
@@ -315,15 +319,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     n = math.prod(shape)
     if backend == "core":
         threads = _threads_of(threads)
-        if given is None and computed == tuple(OUTPUT_DTYPES):
-            flat = None  # the core allocates them all
-        else:  # the core writes exactly the arrays it is given
-            flat = {} if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
-                                             for k, v in given.items()}
-            flat.update({k: np.empty(n, OUTPUT_DTYPES[k]) for k in computed if k not in flat})
+        # the core writes the caller's arrays and allocates the others it computes
+        flat = {} if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
+                                         for k, v in given.items()}
         result = _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol,
                            t_mpe_solver, t_mpe_rtol, threads, out=flat, precision=precision,
-                           fresh_out=given is None)
+                           allocate=[k for k in computed if k not in flat])
     else:
         if threads is not None:
             _threads_of(threads)
@@ -401,25 +402,6 @@ def _out_arrays(out, shape, selected) -> dict:
 BYTES_PER_POINT = {"core": 6 * 8 + 2, "reference": 640}
 
 
-@functools.lru_cache(maxsize=None)
-def _memory_limit_bytes() -> int | None:
-    """Physical memory, or the container's (cgroup) limit where lower; None when unknown."""
-    limits = []
-    try:
-        limits.append(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):
-        pass
-    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
-        try:
-            with open(path) as f:
-                text = f.read().strip()
-        except OSError:
-            continue
-        if text.isdigit():
-            limits.append(int(text))
-    return min(limits) if limits else None
-
-
 def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES)):
     """A MemoryError, before any allocation, for a call that cannot fit in memory.
 
@@ -450,7 +432,7 @@ def _column(arr: np.ndarray, shape) -> np.ndarray:
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
-              t_mpe_rtol, threads, out=None, precision="float64", fresh_out=False):
+              t_mpe_rtol, threads, out=None, precision="float64", allocate=None):
     from . import _core
 
     n = math.prod(shape)
@@ -466,7 +448,7 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_
                           np.ascontiguousarray(wavelengths, dtype=np.float64),
                           np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
                           f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, CHUNK_POINTS,
-                          out, fresh_out)
+                          out, allocate)
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec):

@@ -1,0 +1,88 @@
+"""Memory: how much there is, and the output memory the core keeps between calls.
+
+``evaluate`` writes its outputs into new arrays. A new array's pages are mapped on first write
+and zeroed by the operating system first; for 10^7 points' default outputs (500 MB) that cost a
+fifth of the call's time on this project's 2-core VM. So the core keeps the memory of output
+arrays (of 1 MiB and more) once they are freed, up to a limit, and hands it to a later call of
+about the same size: a scan's next chunk, a benchmark's next round. ``output_cache`` reads and
+sets the limit; ``output_cache(0)`` frees what is kept and keeps nothing from then on.
+
+The default limit is the smaller of 1 GiB and a sixteenth of the machine's (or container's)
+memory; ``EPC_FAST_OUTPUT_CACHE_MB`` (MiB, >= 0) sets it instead, read when the core is first
+loaded.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import numbers
+import os
+from typing import NamedTuple
+
+#: The environment variable that sets the output cache's limit, in MiB.
+CACHE_ENV = "EPC_FAST_OUTPUT_CACHE_MB"
+
+#: The default limit's ceiling (bytes): one 10^7-point default call's outputs (500 MB) fit.
+MAX_DEFAULT_CACHE_BYTES = 2**30
+
+
+class OutputCacheState(NamedTuple):
+    """The output cache's limit and the bytes it keeps now, waiting for a call."""
+
+    limit_bytes: int
+    retained_bytes: int
+
+
+@functools.lru_cache(maxsize=None)
+def memory_limit_bytes() -> int | None:
+    """Physical memory, or the container's (cgroup) limit where lower; None when unknown."""
+    limits = []
+    try:
+        limits.append(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (AttributeError, ValueError, OSError):
+        pass
+    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
+        try:
+            with open(path) as f:
+                text = f.read().strip()
+        except OSError:
+            continue
+        if text.isdigit():
+            limits.append(int(text))
+    return min(limits) if limits else None
+
+
+def default_cache_bytes() -> int:
+    """The output cache's limit when the core is loaded: ``EPC_FAST_OUTPUT_CACHE_MB`` MiB if
+    set, else min(1 GiB, memory / 16)."""
+    text = os.environ.get(CACHE_ENV, "").strip()
+    if text:
+        try:
+            mib = float(text)
+        except ValueError:
+            mib = math.nan
+        if not (math.isfinite(mib) and mib >= 0):
+            raise ValueError(f"{CACHE_ENV}={text!r}: expected a size in MiB, >= 0")
+        return int(mib * 2**20)
+    memory = memory_limit_bytes()
+    return MAX_DEFAULT_CACHE_BYTES if memory is None else min(MAX_DEFAULT_CACHE_BYTES,
+                                                              memory // 16)
+
+
+def output_cache(limit_bytes: int | None = None) -> OutputCacheState:
+    """The output cache's state; with ``limit_bytes`` (an int >= 0), its new limit first.
+
+    Lowering the limit frees the oldest kept memory beyond it; 0 frees all of it and keeps
+    none from then on (every call's outputs are new memory, as NumPy's own arrays are).
+    """
+    from . import _core
+
+    if limit_bytes is not None:
+        if isinstance(limit_bytes, bool) or not isinstance(limit_bytes, numbers.Integral):
+            raise TypeError(f"limit_bytes must be an int, got {limit_bytes!r}")
+        if limit_bytes < 0:
+            raise ValueError(f"limit_bytes must be >= 0, got {limit_bytes}")
+        limit_bytes = min(int(limit_bytes), 2**62)
+    state = _core.output_cache(limit_bytes)
+    return OutputCacheState(int(state["limit_bytes"]), int(state["retained_bytes"]))
