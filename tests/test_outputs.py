@@ -168,19 +168,30 @@ def test_out_may_reuse_input_arrays_each_point_is_read_before_it_is_written(desi
     assert result.electron_rate_e_per_s is few["pixel_pitch_um"]
 
 
+@pytest.fixture
+def no_kept_memory():
+    """Every new output array on new pages: the output cache (epc_fast.memory) keeps nothing."""
+    before = epc_fast.output_cache().limit_bytes
+    epc_fast.output_cache(0)
+    yield
+    epc_fast.output_cache(before)
+
+
 @pytest.mark.parametrize("selection", [None, ("f50_cyc_per_mm", "epc", "status")],
                          ids=["all", "lean"])
 def test_fresh_outputs_faulted_in_first_hold_the_bits_of_out_and_of_one_thread(monkeypatch,
-                                                                               selection):
-    # Arrays allocated for the call (by the core, or by the API for a selection) get a 0 written
-    # into every page on both threads before the kernel runs (parallel.h first_touch), for
-    # chunks of at least 2^16 points. Chunks of 2^16 + 3 points over 3 * 2^16 + 5 put some
-    # chunks above that size and the last one below it, at offsets that are not page-aligned:
-    # a touch at a wrong offset, or after the kernel, would leave a 0 byte in some result.
+                                                                               selection,
+                                                                               no_kept_memory):
+    # Arrays the core allocates on new pages get a 0 written into every page on both threads
+    # before the kernel runs (parallel.h first_touch), for chunks of at least 2^16 points.
+    # Chunks of 2^16 + 3 points over 3 * 2^16 + 5 put some chunks above that size and the last
+    # one below it, at offsets that are not page-aligned: a touch at a wrong offset, or after
+    # the kernel, would leave a 0 byte in some result.
     monkeypatch.setattr(api, "CHUNK_POINTS", (1 << 16) + 3)
     n = 3 * (1 << 16) + 5
     designs = random_design_points(n, seed=43)
     fresh = epc_fast.evaluate(**designs, outputs=selection, threads=2)
+    assert fresh.epc.base.base is None  # NumPy's own new memory, not kept memory
     names = ALL_FIELDS if selection is None else selection
     out = {name: np.full(n, 0x5A, dtype=api.OUTPUT_DTYPES[name]) for name in names}
     given = epc_fast.evaluate(**designs, outputs=selection, threads=2, out=out)
