@@ -73,7 +73,8 @@ py::array new_column(py::ssize_t n, bool& fresh) {
         fresh = true;
         return py::array_t<T>(n);  // NumPy's own memory, or its error for an impossible n
     }
-    auto block = std::make_unique<OutputCache::Block>(cache.acquire(count * sizeof(T)));
+    auto block = std::make_unique<OutputCache::Block>();  // before acquire: nothing to leak
+    *block = cache.acquire(count * sizeof(T));
     py::capsule owner;
     try {
         owner = py::capsule(block.get(), &release_block);
