@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -199,9 +199,9 @@ void run_chunked(py::ssize_t n, py::ssize_t chunk_points, int threads, Work&& wo
 
 // The output dict of one call: `out`'s arrays (a dict, or None for none) and new arrays for
 // the outputs named in `allocate` (None: every output when `out` is None, else none). `fresh`
-// gets, for each new array, whether its pages are new.
+// gets those of the new arrays whose pages are new.
 py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize_t n,
-                    std::vector<std::string>& fresh) {
+                    py::dict& fresh) {
     py::dict result;
     if (!out.is_none()) {
         if (!py::isinstance<py::dict>(out)) throw std::invalid_argument("out must be a dict or None");
@@ -223,12 +223,25 @@ py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize
             throw std::invalid_argument("allocate: '" + name + "' is " +
                                         (known ? "in out already" : "not an output"));
         bool is_fresh = false;
-        result[name.c_str()] = name == "status" || name == "cause"
-                                   ? new_column<std::uint8_t>(n, is_fresh)
-                                   : new_column<double>(n, is_fresh);
-        if (is_fresh) fresh.push_back(name);
+        py::array array = name == "status" || name == "cause"
+                              ? new_column<std::uint8_t>(n, is_fresh)
+                              : new_column<double>(n, is_fresh);
+        result[name.c_str()] = array;
+        if (is_fresh) fresh[name.c_str()] = array;
     }
     return result;
+}
+
+// The kernel's view of `arrays` (output name -> array): null for the outputs it lacks.
+Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
+    return Outputs{output_column<double>(arrays, "electron_rate_e_per_s", n),
+                   output_column<double>(arrays, "electrons", n),
+                   output_column<double>(arrays, "t_mpe_s", n),
+                   output_column<double>(arrays, "blur_mm", n),
+                   output_column<double>(arrays, "f50_cyc_per_mm", n),
+                   output_column<double>(arrays, "epc", n),
+                   output_column<std::uint8_t>(arrays, "status", n),
+                   output_column<std::uint8_t>(arrays, "cause", n)};
 }
 
 py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
@@ -239,28 +252,12 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
                      const py::object& out, const py::object& allocate) {
     const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
     const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
-    std::vector<std::string> fresh;
+    py::dict fresh;
     py::dict result = outputs_of(out, allocate, n, fresh);
-    auto column = [&](auto type, const char* name, bool only_fresh) {
-        using T = decltype(type);
-        const bool skip = only_fresh && std::find(fresh.begin(), fresh.end(), name) == fresh.end();
-        return skip ? nullptr : output_column<T>(result, name, n);
-    };
-    auto outputs_among = [&](bool only_fresh) {
-        return Outputs{column(double{}, "electron_rate_e_per_s", only_fresh),
-                       column(double{}, "electrons", only_fresh),
-                       column(double{}, "t_mpe_s", only_fresh),
-                       column(double{}, "blur_mm", only_fresh),
-                       column(double{}, "f50_cyc_per_mm", only_fresh),
-                       column(double{}, "epc", only_fresh),
-                       column(std::uint8_t{}, "status", only_fresh),
-                       column(std::uint8_t{}, "cause", only_fresh)};
-    };
-    const Outputs outputs = outputs_among(false);
-    // New pages (fresh arrays) are faulted in on all threads first (first_touch), except at
-    // sizes where they are too few to matter; the cache's kept blocks and the caller's arrays
-    // are mapped already.
-    const Outputs untouched = outputs_among(true);
+    const Outputs outputs = outputs_in(result, n);
+    // New pages are faulted in on all threads first (first_touch), except at sizes where they
+    // are too few to matter; the cache's kept blocks and the caller's arrays are mapped already.
+    const Outputs untouched = outputs_in(fresh, n);
     const bool touch = !fresh.empty() && threads > 1;
     run_chunked(n, chunk_points, threads, [&](std::size_t start, std::size_t stop) {
         if (touch && stop - start >= first_touch_points) first_touch(untouched, start, stop, threads);

@@ -60,4 +60,4 @@ globals().update({name: getattr(_module, name) for name in dir(_module)
 
 from .memory import default_cache_bytes as _default_cache_bytes  # noqa: E402
 
-output_cache(_default_cache_bytes())  # the module's output cache starts at the default limit
+_module.output_cache(_default_cache_bytes())  # the module's output cache starts at the default limit

@@ -316,7 +316,6 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     computed = selected + (("status",) if invalid == "raise" and "status" not in selected else ())
     _check_memory(shape, arrays, backend, given is not None, computed)
 
-    n = math.prod(shape)
     if backend == "core":
         threads = _threads_of(threads)
         # the core writes the caller's arrays and allocates the others it computes
