@@ -31,7 +31,10 @@ from __future__ import annotations
 
 import dataclasses
 import inspect
+import itertools
 import os
+import time
+from typing import Callable
 
 import numpy as np
 import pytest
@@ -129,9 +132,11 @@ SIZES = {
     "1e4": Size("1e4", 10**4, 10**4, {
         "core": (200, 5), "reference": (10, 1), "numba": (200, 5), "brentq": (20, 1)}),
     "1e6": Size("1e6", 10**5 if QUICK else 10**6, 10**5 if QUICK else 10**6, {
-        "core": (10, 1), "reference": (2, 0), "numba": (10, 1), "brentq": (20, 1)}),
+        "core": (10, 1), "reference": (2, 0), "numba": (10, 1), "brentq": (20, 1),
+        "paired": (15, 0)}),
     "1e7": Size("1e7", 2 * 10**5 if QUICK else 10**7, 2 * 10**4 if QUICK else 10**6, {
-        "core": (5, 0), "reference": (2, 0), "numba": (5, 1), "brentq": (20, 1)}),
+        "core": (5, 0), "reference": (2, 0), "numba": (5, 1), "brentq": (20, 1),
+        "paired": (9, 0)}),
 }
 
 
@@ -188,12 +193,12 @@ def blur_condition(designs: dict, reference) -> np.ndarray:
 # --- The check inside every benchmark ---------------------------------------------------------
 
 
-def check(benchmark, got: dict, reference, rtol: float) -> None:
+def check(benchmark, got: dict, reference, rtol: float, prefix: str = "") -> None:
     """Statuses equal to the reference's, f50 and EPC within ``rtol`` times the blur's condition
     number (at least 1) of it, non-OK values (0, NaN) identical, on the points both
     cover (a prefix of the designs: the core's output at 10^7 is sliced to the reference's
     10^6 points, the reference to brentq's 1000). Records the tolerance and the largest
-    relative error in extra_info."""
+    relative error in extra_info (their keys after ``prefix``)."""
     m = min(np.shape(got["status"])[0], np.shape(reference.status)[0])
     status = np.asarray(got["status"])[:m]
     np.testing.assert_array_equal(status, reference.status[:m], err_msg="statuses differ")
@@ -215,10 +220,10 @@ def check(benchmark, got: dict, reference, rtol: float) -> None:
         if ok.any():
             worst = max(worst, float(np.max(error[ok])))
             worst_scaled = max(worst_scaled, float(np.max(error[ok] / reference.condition[:m][ok])))
-    benchmark.extra_info["rtol"] = rtol
-    benchmark.extra_info["max_rel_error"] = worst
-    benchmark.extra_info["max_rel_error_per_condition"] = worst_scaled
-    benchmark.extra_info["checked_points"] = int(m)
+    benchmark.extra_info[prefix + "rtol"] = rtol
+    benchmark.extra_info[prefix + "max_rel_error"] = worst
+    benchmark.extra_info[prefix + "max_rel_error_per_condition"] = worst_scaled
+    benchmark.extra_info[prefix + "checked_points"] = int(m)
 
 
 def record(benchmark, peer: str, points: int, threads: int, **extra) -> None:
@@ -326,3 +331,72 @@ def bench_brentq(benchmark, data: Data, size: Size, brentq_evaluate) -> None:
                                 **size.rounds_of("brentq"))
     record_throughput(benchmark)
     check(benchmark, as_fields(result), data.reference(size), BRENTQ_RTOL)
+
+
+# --- Paired: two calls taken in turn, for the speed-up of one over the other ------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Contender:
+    """One side of a paired benchmark: its label, the call (given the designs as keyword
+    arguments, and ``kwargs`` besides) and the tolerance its answer is checked at."""
+
+    label: str
+    call: Callable
+    kwargs: dict
+    rtol: float
+
+
+def core_contender(label: str, **kwargs) -> Contender:
+    """``epc_fast.evaluate(**designs, **kwargs)`` (threads=THREADS unless given)."""
+    kwargs.setdefault("threads", THREADS)
+    float32 = kwargs.get("precision") == "float32"
+    return Contender(label, epc_fast.evaluate, kwargs, CORE_FLOAT32_RTOL if float32 else CORE_RTOL)
+
+
+def numba_contender(numba_evaluate) -> Contender:
+    return Contender("numba", numba_evaluate, {}, NUMBA_RTOL)
+
+
+def bench_paired(benchmark, data: Data, size: Size, first: Contender, second: Contender) -> None:
+    """``first`` and ``second`` on the same points, taken in turn in every round (``first``
+    leads in even rounds, ``second`` in odd ones), each call timed on its own: a drift in the
+    machine's speed, which between two benchmarks of a group run a minute apart moved the core's
+    ratio to the Numba peer over 6.5-10.0x in five runs on our 2-core VM, falls on both sides
+    of a round alike. The benchmark's own median is
+    a round's, both calls; extra_info records each side's median seconds and points/s, and the
+    speed-up of ``first`` over ``second`` (second's seconds over first's) per round: its median,
+    least and greatest. One untimed pair first, so that neither side's first call (new pages,
+    thread pools) counts. Both answers are checked, each at its own tolerance."""
+    designs = data.designs(size.points)
+    sides = (first, second)
+    seconds = ([], [])
+    results = [None, None]
+    rounds = itertools.count()
+
+    def one_round():
+        order = (0, 1) if next(rounds) % 2 == 0 else (1, 0)
+        for k in order:
+            side = sides[k]
+            start = time.perf_counter()
+            results[k] = side.call(**designs, **side.kwargs)
+            seconds[k].append(time.perf_counter() - start)
+
+    one_round()
+    for s in seconds:
+        s.clear()
+    benchmark.extra_info.update(paired=True, pair_points=int(size.points),
+                                first=first.label, second=second.label)
+    benchmark.pedantic(one_round, iterations=1, **size.rounds_of("paired"))
+    a, b = np.array(seconds[0]), np.array(seconds[1])
+    speedup = b / a
+    benchmark.extra_info.update(
+        paired_rounds=int(a.size),
+        first_median_s=float(np.median(a)), second_median_s=float(np.median(b)),
+        first_points_per_s=size.points / float(np.median(a)),
+        second_points_per_s=size.points / float(np.median(b)),
+        speedup_median=float(np.median(speedup)), speedup_min=float(speedup.min()),
+        speedup_max=float(speedup.max()))
+    reference = data.reference(size)
+    for prefix, side, result in (("first_", first, results[0]), ("second_", second, results[1])):
+        check(benchmark, as_fields(result), reference, side.rtol, prefix=prefix)

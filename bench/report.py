@@ -12,6 +12,10 @@ by the point's condition number kappa (engine_suite.blur_condition: the check's 
 rtol times kappa). Points and errors come
 from each benchmark's extra_info (engine_suite.py); a group without ``points`` (the scan and
 terms suites) gets its medians only, against the fastest of the group.
+
+A paired benchmark (engine_suite.bench_paired: two calls taken in turn, round by round) is
+not a row: below its group's table, a second table gives each pair's two medians and the
+speed-up of the first over the second per round (median, least and greatest).
 """
 
 from __future__ import annotations
@@ -82,6 +86,26 @@ def group_table(benchmarks: list) -> str:
     return "\n".join(rows)
 
 
+def _paired(bench: dict) -> bool:
+    return bool(bench.get("extra_info", {}).get("paired"))
+
+
+def paired_table(benchmarks: list) -> str:
+    """The paired benchmarks of a group: both sides' M points/s and the per-round speed-up."""
+    rows = ["| pair, taken in turn | rounds | first: M points/s | second: M points/s "
+            "| speed-up per round: median | least | greatest |",
+            "|---|---|---|---|---|---|---|"]
+    for bench in benchmarks:
+        info = bench["extra_info"]
+        if "speedup_median" not in info:  # benchmarks disabled: no timing
+            continue
+        rows.append("| {} vs {} | {} | {:.3g} | {:.3g} | {:.3g}× | {:.3g}× | {:.3g}× |".format(
+            info["first"], info["second"], info["paired_rounds"],
+            info["first_points_per_s"] / 1e6, info["second_points_per_s"] / 1e6,
+            info["speedup_median"], info["speedup_min"], info["speedup_max"]))
+    return "\n".join(rows)
+
+
 def plain_table(benchmarks: list) -> str:
     """A group without points (scan, terms): medians, against the fastest."""
     fastest = min(b["stats"]["median"] for b in benchmarks)
@@ -103,9 +127,14 @@ def report(data: dict) -> str:
              f"epc_fast core {machine.get('epc_fast_isa', '?')}, "
              f"commit {str(commit.get('id', '?'))[:10]}{' (dirty)' if commit.get('dirty') else ''}"]
     for name, benchmarks in groups.items():
-        has_points = any(_throughput(b) for b in benchmarks)
-        table = group_table(benchmarks) if has_points else plain_table(benchmarks)
-        lines += ["", f"### {name}", "", table]
+        paired = [b for b in benchmarks if _paired(b)]
+        single = [b for b in benchmarks if not _paired(b)]
+        lines += ["", f"### {name}"]
+        if single:
+            has_points = any(_throughput(b) for b in single)
+            lines += ["", group_table(single) if has_points else plain_table(single)]
+        if paired:
+            lines += ["", paired_table(paired)]
     return "\n".join(lines)
 
 

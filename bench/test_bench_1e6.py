@@ -37,3 +37,9 @@ def test_numba_same_algorithm(benchmark, data, numba_evaluate):
 
 def test_scipy_brentq_1000_points(benchmark, data, brentq_evaluate):
     suite.bench_brentq(benchmark, data, SIZE, brentq_evaluate)
+
+
+def test_paired_core_vs_numba(benchmark, data, numba_evaluate):
+    """The default call and the Numba peer taken in turn: the speed-up, round by round."""
+    suite.bench_paired(benchmark, data, SIZE, suite.core_contender("core, 2 threads"),
+                       suite.numba_contender(numba_evaluate))

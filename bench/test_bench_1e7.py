@@ -58,3 +58,22 @@ def test_numba_same_algorithm(benchmark, data, numba_evaluate):
 
 def test_scipy_brentq_1000_points(benchmark, data, brentq_evaluate):
     suite.bench_brentq(benchmark, data, SIZE, brentq_evaluate)
+
+
+def test_paired_core_vs_numba(benchmark, data, numba_evaluate):
+    """The default call and the Numba peer taken in turn: the speed-up, round by round."""
+    suite.bench_paired(benchmark, data, SIZE, suite.core_contender("core, 2 threads"),
+                       suite.numba_contender(numba_evaluate))
+
+
+def test_paired_2_threads_vs_1(benchmark, data):
+    """The default call on 2 threads and on 1, taken in turn."""
+    suite.bench_paired(benchmark, data, SIZE, suite.core_contender("core, 2 threads"),
+                       suite.core_contender("core, 1 thread", threads=1))
+
+
+def test_paired_float32_vs_float64(benchmark, data):
+    """precision="float32" and the default float64, on 2 threads, taken in turn."""
+    suite.bench_paired(benchmark, data, SIZE,
+                       suite.core_contender("core float32, 2 threads", precision="float32"),
+                       suite.core_contender("core, 2 threads"))
