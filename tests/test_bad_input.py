@@ -328,3 +328,14 @@ def test_the_core_refuses_an_impossible_point_count_without_crashing():
         with pytest.raises(error):
             _core.evaluate(columns, False, params.domain_table(), none, none, n, "halley", 1e-14,
                            "closed_form", 1e-15, "float64", 1, 1 << 18)
+
+
+@pytest.mark.parametrize("weights, shown", [([0.5, 0.6], "1.1"), ([1e-300, 1e-300], "2e-300")])
+def test_the_core_refuses_spectrum_weights_that_do_not_sum_to_one(weights, shown):
+    # Beneath the API (epc_fast.Spectrum divides the weights by their sum): the MTF is the
+    # weighted sum itself, so weights summing to 2e-300 would put it below any threshold.
+    columns = [np.ones(1)] * len(params.PARAMETERS)
+    with pytest.raises(ValueError, match=rf"weights must sum to 1 .*got sum {shown}\b"):
+        _core.evaluate(columns, False, params.domain_table(), np.array([500.0, 600.0]),
+                       np.array(weights), 1, "halley", 1e-14, "closed_form", 1e-15, "float64",
+                       1, 1 << 18)

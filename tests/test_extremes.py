@@ -637,3 +637,40 @@ def test_worst_case_relative_error_at_the_extremes_is_within_the_documented_boun
                         + " | ".join(f"{worst[(label, out)][0]:.1e} ({worst[(label, out)][1]:.1f})"
                                      for out in OUTPUTS) + " |")
     print("\n| region | engine | T_MPE | f50 | EPC |\n|---|---|---|---|---|\n" + "\n".join(rows))
+
+
+#: Two-wavelength spectra (equal weights) at the ends of double's range:
+#: - wavelengths from 1e160 nm on, whose f50 lies below 1e-154 cycles/mm: R^2 and the squared
+#:   lengths of the curvature overflow there, and Halley's step from an infinite denominator, 0,
+#:   was taken for convergence (f50 was the bracket's midpoint, 20-36% off);
+#: - subnormal wavelengths, for which no start can be fitted (the fit's matrix is rank-deficient:
+#:   the call raised "least_squares: rank-deficient matrix");
+#: - wavelengths 10^17.4 and 10^628 apart: past the long one's cut-off the short one's D rounds to
+#:   1, so the MTF is exactly c = 1/2 over a stretch, and f50 is the stretch's first point (the
+#:   first frequency where MTF <= c, as the reference bisects to). Brent, Halley and Newton took
+#:   any point of it where h = 0 for the root: 26x f50 for Brent at 400 nm and 1e20 nm, and 3e296x
+#:   for all three at 1e-320 nm and 1e308 nm, where the stretch is 12 decades long.
+#: (At 400 nm and 1e15 nm the MTF is not flat but nearly so, and f50's condition number with
+#: respect to the MTF's roundings is ~1e4: core and reference differ by 6e-13 there, within it.)
+EXTREME_SPECTRA = [(1e160, 1.2e160), (1e300, 3e300), (1e-310, 2e-310), (5e-324, 500.0),
+                   (400.0, 1e20), (1e-320, 1e308)]
+
+
+@pytest.mark.parametrize("solver", ["halley", "newton", "brent", "bisection"])
+@pytest.mark.parametrize("wavelengths_nm", EXTREME_SPECTRA, ids=str)
+def test_spectra_at_the_ends_of_the_double_range_give_the_references_f50(wavelengths_nm, solver):
+    spectrum = epc_fast.Spectrum(wavelengths_nm, [1.0, 1.0])
+    core = epc_fast.evaluate(**DESIGN, spectrum=spectrum, f50_solver=solver)
+    ref = epc_fast.evaluate(**DESIGN, spectrum=spectrum, backend="reference")
+    assert core.status == ref.status == Status.OK
+    # the reference bisects to adjacent doubles; the core's f50_rtol is 1e-14 and these points'
+    # f50 is at the long wavelength's cut-off or the short one's D = 1/2, condition O(1): 1e-13
+    # allows the MTF sum's roundings and still fails every error listed above
+    assert relative_error(float(core.f50_cyc_per_mm), float(ref.f50_cyc_per_mm)) <= 1e-13
+
+
+def test_a_spectrum_whose_start_cannot_be_fitted_has_none_and_is_solved_from_the_cubic_one():
+    subnormal = np.array([1e-310, 2e-310])
+    assert _core.spectrum_start(subnormal, np.array([0.5, 0.5])) is None
+    start = _core.f50_spectrum_start(subnormal, np.array([0.5, 0.5]), 1e-3, 1e-3, 0.0, 0.5)
+    assert start == _core.f50_cubic_start(1e-3, 1e-3, 0.0, 0.0, 0.5)

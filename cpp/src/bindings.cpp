@@ -139,6 +139,13 @@ Spectrum spectrum_of(const double_array& wavelengths_nm, const double_array& wei
             throw std::invalid_argument("wavelengths_nm must be positive and weights non-negative, finite");
     if (!(spectrum.extent().mean_nm > 0.0))
         throw std::invalid_argument("the weights must not all be 0");
+    // the kernel's MTF is the weighted sum itself: weights that do not sum to 1 would scale it
+    // (epc_fast.Spectrum divides them by their sum, which leaves an error of a few ulp)
+    double total = 0.0;
+    for (const double w : spectrum.weights) total += w;
+    if (!(std::fabs(total - 1.0) <= 1e-9))
+        throw std::invalid_argument("weights must sum to 1 (epc_fast.Spectrum normalises them), got sum " +
+                                    py::repr(py::float_(total)).cast<std::string>());
     return spectrum;
 }
 
@@ -413,13 +420,15 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     m.def("f50_cubic_start", py::vectorize(&detail::f50_cubic_start), py::arg("lambda_f_mm"),
           py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("jitter_mm"),
           py::arg("mtf_threshold"));
-    // A spectrum's fitted start (spectrum_start.h): its coefficients and fit errors, and the
-    // start a polychromatic float64 lane without jitter takes (lambda_f_mm with the spectrum's
-    // mean wavelength; the cubic start for a threshold without a row).
+    // A spectrum's fitted start (spectrum_start.h): its coefficients and fit errors (None where
+    // none can be fitted), and the start a polychromatic float64 lane without jitter takes
+    // (lambda_f_mm with the spectrum's mean wavelength; the cubic start for a threshold without
+    // a row or a spectrum without a fit).
     m.def(
         "spectrum_start",
-        [](const double_array& wavelengths_nm, const double_array& weights) {
+        [](const double_array& wavelengths_nm, const double_array& weights) -> py::object {
             const auto start = spectrum_start_of(spectrum_of(wavelengths_nm, weights));
+            if (start == nullptr) return py::none();
             py::dict d;
             d["coefficients"] = py::array_t<double>(
                 {static_cast<py::ssize_t>(detail::n_accurate_starts),
@@ -438,7 +447,7 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
             const auto start = spectrum_start_of(spectrum_of(wavelengths_nm, weights));
             auto one = [&start](double lambda_f, double aperture, double blur, double threshold) {
                 const int row = int{detail::accurate_start_code(0.0, threshold)} - 1;
-                return row < 0 ? detail::f50_cubic_start(lambda_f, aperture, blur, 0.0, threshold)
+                return row < 0 || start == nullptr ? detail::f50_cubic_start(lambda_f, aperture, blur, 0.0, threshold)
                                : detail::spectrum_start_guess(start->coefficients[row], lambda_f,
                                                               aperture, blur);
             };

@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include "block.h"
@@ -264,23 +265,33 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
             hi[i] = u;
             // Newton: -h / (M R). Halley: -2 h h' / (2 h'^2 - h h'') with h' = M R and
             // h'' = M (R^2 + S), i.e. -2 h R / (2 M R^2 - h (R^2 + S)).
-            const T d = Halley ? T(-2) * h * r / (T(2) * m * (r * r) - h * (r * r + curvature[i]))
-                               : -h / (m * r);
+            const T denominator = Halley ? T(2) * m * (r * r) - h * (r * r + curvature[i]) : m * r;
+            const T d = (Halley ? T(-2) * h * r : -h) / denominator;
+            // A step is usable only from a finite denominator. Below f ~ 1e-154 cycles/mm
+            // (lengths beyond ~1e154 mm, such as a wavelength of 1e160 nm) R^2 or a squared
+            // length in S overflows, and an infinite denominator gives d = 0, which would pass
+            // for convergence: the lane takes a bisection step instead.
+            const bool usable = derivative & (std::fabs(denominator) <= std::numeric_limits<T>::max());
             const T next = x + d;
             const T mid = l + T(0.5) * (u - l);
-            const bool inside = derivative & (next > l) & (next < u);  // false for NaN
+            const bool inside = usable & (next > l) & (next < u);  // false for NaN
             const T to = inside ? next : mid;
             // A converged step ends it wherever it lands: the root is within it of x, and
             // clamped to the bracket it can only come closer.
             const T ad = std::fabs(d), ap = previous[i];
             const T ratio = First ? T(0) : ad / ap;
             const T left = ad * (ratio * ratio);
-            const bool small = derivative & (ad <= step_rtol * x) & (First | (left <= T(0.1) * rtol * x));  // false for NaN
+            // An MTF exactly at the threshold (h = 0, a zero step) ends nothing: x is past the
+            // root or on it (hi = x above), and f50 is the first such frequency. Where the MTF
+            // rounds to c over a whole stretch (a spectrum whose longest wavelength reaches
+            // its cut-off while the others' D is still 1 to the last bit, the rest of the
+            // weight exactly c), x may lie far past that first frequency; the bracket finds it.
+            const bool small = usable & (h != T(0)) & (ad <= step_rtol * x) & (First | (left <= T(0.1) * rtol * x));  // false for NaN
             previous[i] = act ? std::fabs(to - x) : ap;
-            const bool converged = small | (h == T(0)) | (u - l <= rtol * l) | !(mid > l) | !(mid < u);
+            const bool converged = small | (u - l <= rtol * l) | !(mid > l) | !(mid < u);
             const T clamped = next < l ? l : (next > u ? u : next);
             const bool finish = act & converged;
-            f50[i] = finish ? (h == T(0) ? x : small ? clamped : to) : f50[i];
+            f50[i] = finish ? (small ? clamped : to) : f50[i];
             at[i] = act ? to : x;
             const bool still = act & !converged;
             active[i] = still;
@@ -296,6 +307,14 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     }
 }
 
+// h = MTF - c as Brent sees it: an MTF exactly at the threshold counts as past the root (the
+// least negative double), as it does for bisection and Halley, so that Brent brackets the first
+// frequency where the MTF is at or below c instead of stopping on any point where h = 0 (on a
+// stretch where the MTF rounds to c, that point may lie far past the first).
+inline double past_root_below(double h) {
+    return h == 0.0 ? -std::numeric_limits<double>::denorm_min() : h;
+}
+
 // Brent's method per lane, in lockstep: each round proposes an abscissa per active lane, the
 // MTF is evaluated for all lanes at once, and each lane takes its value.
 template <bool Motion, bool Jitter, bool Poly, class T>
@@ -306,9 +325,9 @@ void brent(const Spectrum& spectrum, T rtol, Block<T>& b) {
     system_mtf<Motion, Jitter, Poly>(spectrum, b);
     for (std::size_t i = 0; i < n; ++i) {
         const double c = b.threshold[i];
-        const double f_hi = double{b.mtf[i]} - c;
+        const double f_hi = past_root_below(double{b.mtf[i]} - c);
         b.active[i] = b.solve[i] && f_hi < 0.0;
-        b.f50[i] = b.hi[i];  // MTF(f_hi) == c: f_hi is the root
+        b.f50[i] = b.hi[i];  // MTF(f_hi) > c only by a rounding: f_hi is the root
         if (b.active[i]) state[i].start(b.lo[i], 1.0 - c, b.hi[i], f_hi, rtol, 0.0);
     }
     for (int step = 0; step < max_bisection_steps; ++step) {
@@ -327,7 +346,7 @@ void brent(const Spectrum& spectrum, T rtol, Block<T>& b) {
         if (n_active == 0) break;
         system_mtf<Motion, Jitter, Poly>(spectrum, b);
         for (std::size_t i = 0; i < n; ++i)
-            if (b.active[i]) state[i].accept(double{b.mtf[i]} - double{b.threshold[i]});
+            if (b.active[i]) state[i].accept(past_root_below(double{b.mtf[i]} - double{b.threshold[i]}));
     }
 }
 

@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -129,8 +130,26 @@ inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
     return fitted;
 }
 
-// The spectrum's fitted start, from the last few spectra fitted (by their exact values) or
-// fitted now. Thread-safe; the fit itself runs under the lock (a few milliseconds).
+// The fit of a spectrum it can be made for, else null: a spectrum whose lengths sit at the ends
+// of double's range (subnormal wavelengths, say) makes its least-squares matrix numerically
+// rank-deficient or its coefficients not finite. Its lanes then take the cubic start, which
+// costs steps, never accuracy.
+inline std::shared_ptr<const SpectrumStart> fit_spectrum_start_if_possible(const Spectrum& spectrum) {
+    SpectrumStart fitted;
+    try {
+        fitted = fit_spectrum_start(spectrum);
+    } catch (const std::invalid_argument&) {  // least_squares: rank-deficient
+        return nullptr;
+    }
+    for (const auto& row : fitted.coefficients)
+        for (const double c : row)
+            if (!std::isfinite(c)) return nullptr;
+    return std::make_shared<const SpectrumStart>(fitted);
+}
+
+// The spectrum's fitted start (null where none can be fitted), from the last few spectra fitted
+// (by their exact values) or fitted now. Thread-safe; the fit itself runs under the lock (a few
+// milliseconds).
 inline std::shared_ptr<const SpectrumStart> spectrum_start_of(const Spectrum& spectrum) {
     constexpr std::size_t kept = 8;
     using Key = std::pair<std::vector<double>, std::vector<double>>;
@@ -145,7 +164,7 @@ inline std::shared_ptr<const SpectrumStart> spectrum_start_of(const Spectrum& sp
             return found.second;
         }
     }
-    auto start = std::make_shared<const SpectrumStart>(fit_spectrum_start(spectrum));
+    auto start = fit_spectrum_start_if_possible(spectrum);
     recent.insert(recent.begin(), {Key{spectrum.wavelengths_nm, spectrum.weights}, start});
     if (recent.size() > kept) recent.pop_back();
     return start;
