@@ -232,6 +232,8 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
         b.memo_halley = Halley;
     }
     const T step_rtol = b.memo_step_rtol;
+    constexpr T epsilon = std::numeric_limits<T>::epsilon();
+    const T steep_bound = epsilon / (rtol > T(16) * epsilon ? rtol : T(16) * epsilon);
     T* __restrict lo = b.lo;
     T* __restrict hi = b.hi;
     T* __restrict at = b.at;
@@ -281,17 +283,23 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
             const T ad = std::fabs(d), ap = previous[i];
             const T ratio = First ? T(0) : ad / ap;
             const T left = ad * (ratio * ratio);
-            // An MTF exactly at the threshold (h = 0, a zero step) ends nothing: x is past the
-            // root or on it (hi = x above), and f50 is the first such frequency. Where the MTF
-            // rounds to c over a whole stretch (a spectrum whose longest wavelength reaches
-            // its cut-off while the others' D is still 1 to the last bit, the rest of the
-            // weight exactly c), x may lie far past that first frequency; the bracket finds it.
+            // An MTF exactly at the threshold (h = 0) puts x on the root or past it (hi = x
+            // above): f50 is the first frequency where MTF <= c. x is that frequency, to rtol
+            // (to 16 ulp for a tighter rtol, 0 included), where the MTF is steep enough that it
+            // rounds to c only that close to its root: where c's rounding unit (at most
+            // epsilon, c <= 1) is below rtol x |M'|, M' = M R, i.e. x |M R| >= steep_bound
+            // (a usable step's R: finite). Elsewhere
+            // the MTF may round to c over a whole stretch (a spectrum whose longest wavelength
+            // reaches its cut-off while the others' D is still 1 to the last bit, the rest of
+            // the weight exactly c), and x may lie far past its first point: the lane goes on
+            // bisecting towards it.
+            const bool at_root = (h == T(0)) & usable & (x * std::fabs(m * r) >= steep_bound);
             const bool small = usable & (h != T(0)) & (ad <= step_rtol * x) & (First | (left <= T(0.1) * rtol * x));  // false for NaN
             previous[i] = act ? std::fabs(to - x) : ap;
-            const bool converged = small | (u - l <= rtol * l) | !(mid > l) | !(mid < u);
+            const bool converged = small | at_root | (u - l <= rtol * l) | !(mid > l) | !(mid < u);
             const T clamped = next < l ? l : (next > u ? u : next);
             const bool finish = act & converged;
-            f50[i] = finish ? (small ? clamped : to) : f50[i];
+            f50[i] = finish ? (at_root ? x : small ? clamped : to) : f50[i];
             at[i] = act ? to : x;
             const bool still = act & !converged;
             active[i] = still;
