@@ -288,11 +288,10 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
             // (to 16 ulp for a tighter rtol, 0 included), where the MTF is steep enough that it
             // rounds to c only that close to its root: where c's rounding unit (at most
             // epsilon, c <= 1) is below rtol x |M'|, M' = M R, i.e. x |M R| >= steep_bound
-            // (a usable step's R: finite). Elsewhere
-            // the MTF may round to c over a whole stretch (a spectrum whose longest wavelength
-            // reaches its cut-off while the others' D is still 1 to the last bit, the rest of
-            // the weight exactly c), and x may lie far past its first point: the lane goes on
-            // bisecting towards it.
+            // (a usable step's R: finite). Elsewhere the MTF may round to c over a whole
+            // stretch (a spectrum whose longest wavelength reaches its cut-off while the
+            // others' D is still 1 to the last bit, the rest of the weight exactly c), and x
+            // may lie far past its first point: the lane goes on bisecting towards it.
             const bool at_root = (h == T(0)) & usable & (x * std::fabs(m * r) >= steep_bound);
             const bool small = usable & (h != T(0)) & (ad <= step_rtol * x) & (First | (left <= T(0.1) * rtol * x));  // false for NaN
             previous[i] = act ? std::fabs(to - x) : ap;
