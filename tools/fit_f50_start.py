@@ -11,6 +11,10 @@ Three fits, printed as C++ for f50_start.h with their largest and median errors:
 - `cubic`: every other scene (jitter at another threshold, another threshold, a spectrum), a
   cheap guess to 0.4%.
 
+`--check` instead measures the installed core's accurate and jitter starts densely against the
+bisected f50 (core_start_errors): the evidence for f50_start.h's certified_start_error, the bound
+within which Halley and Newton take a start as f50 without a step.
+
 Each MTF factor alone reaches 1/2 at its own frequency: diffraction at nu = NU50 / (lambda F),
 a sinc of length l at X50 / l. With x_i = 1 / f_i (diffraction, pixel, motion), S = sum x_i^2 and
 v_i = x_i / sqrt(S), the system's f50 is f50 = P(v) / sqrt(S), where P is a smooth function on
@@ -26,7 +30,8 @@ changes w's sign), fitted in the Chebyshev basis on Chebyshev
 nodes in v_d and s = v_p^2 / (v_p^2 + v_m^2), the largest relative error then reduced by
 Lawson's reweighting, and printed in the power basis of (a, w^2) for Horner's rule.
 
-    python tools/fit_f50_start.py
+    python tools/fit_f50_start.py            # the fits, as C++
+    python tools/fit_f50_start.py --check    # the core's starts' largest errors (~4 min)
 """
 
 import numpy as np
@@ -275,7 +280,59 @@ def print_jitter():
     print("};")
 
 
+def core_start_errors(n_random=4_000_000, n_grid=1001, n_grid_jitter=101, chunk=1_000_000):
+    """The largest relative error of the installed core's own accurate and jitter starts
+    (``epc_fast._core.f50_start``, float64) against the bisected f50, over ``n_random`` random
+    points of each domain and a regular grid (``n_grid``^2; jitter ``n_grid_jitter``^3): the
+    evidence behind f50_start.h's certified_start_error. Returns {row name: largest error}."""
+    from epc_fast import _core  # the built package: this check measures what it computes
+
+    def largest(columns, target, start):
+        worst = 0.0
+        for k in range(0, len(columns[0]), chunk):
+            part = [c[k:k + chunk] for c in columns]
+            worst = max(worst, float(np.max(np.abs(start(*part) / target(*part) - 1))))
+        return worst
+
+    rng = np.random.default_rng(11)
+    grid = np.linspace(0, 1, n_grid)
+    v_d, s = (np.concatenate([rng.random(n_random), g.ravel()])
+              for g in np.meshgrid(grid, grid, indexing="ij"))
+
+    def accurate_start(threshold):
+        def start(v_d, s):
+            rest = 1 - v_d ** 2
+            return _core.f50_start(v_d * NU50, np.sqrt(s * rest) * X50,
+                                   np.sqrt((1 - s) * rest) * X50, 0.0, threshold)
+        return start
+
+    errors = {}
+    for c in ACCURATE_THRESHOLDS:
+        errors[f"threshold {c}"] = largest((v_d, s), lambda v, s_, c=c: accurate_target(v, s_, c),
+                                           accurate_start(c))
+    grid = np.linspace(0, 1, n_grid_jitter)
+    v_d, t, s = (np.concatenate([rng.random(n_random), g.ravel()])
+                 for g in np.meshgrid(grid, grid, grid, indexing="ij"))
+    j50 = np.sqrt(np.log(2) / 2) / np.pi  # exp(-2 pi^2 y^2) = 1/2
+
+    def jitter_start(v_d, t, s):
+        rest = 1 - v_d ** 2
+        v_j = t * np.sqrt(rest)
+        rest = np.maximum(rest - v_j ** 2, 0.0)
+        return _core.f50_start(v_d * NU50, np.sqrt(s * rest) * X50, np.sqrt((1 - s) * rest) * X50,
+                               v_j * j50, 0.5)
+
+    errors["jitter"] = largest((v_d, t, s), jitter_target, jitter_start)
+    return errors
+
+
 if __name__ == "__main__":
-    print_accurate()
-    print_jitter()
-    fit_cubic()
+    import sys
+
+    if "--check" in sys.argv[1:]:
+        for name, error in core_start_errors().items():
+            print(f"{name}: largest relative error {error:.3e}")
+    else:
+        print_accurate()
+        print_jitter()
+        fit_cubic()

@@ -465,4 +465,8 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
         {static_cast<py::ssize_t>(detail::n_accurate_starts),
          static_cast<py::ssize_t>(detail::accurate_start_terms)},
         &detail::accurate_start_coefficients[0][0]);
+    // Each start row's certified error (the thresholds' rows, then the jitter start's), within
+    // which Halley and Newton take the start as f50: for the tests that check it.
+    m.attr("certified_start_error") = py::array_t<double>(
+        static_cast<py::ssize_t>(detail::n_start_rows), detail::certified_start_error);
 }

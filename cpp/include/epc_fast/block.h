@@ -74,6 +74,11 @@ struct alignas(64) Block {
     bool memo_halley = false;
     T f50[block_size];
     unsigned char active[block_size];
+    // Halley/Newton: a lane whose start is certified within f50_rtol (f50_start.h,
+    // certified_start_error) takes it as f50 without a step; n_settled counts them
+    unsigned char settled[block_size];
+    int n_settled = 0;
+    double certified_start[block_size] = {};  // float32: the settled lanes' starts, in float64
 };
 
 }  // namespace detail

@@ -11,6 +11,9 @@
 //   is of order (step)^3 (far below rtol); or when the bracket is narrower than rtol.
 // - newton: the same with Newton steps (quadratic: stops once the step is below rtol / 8 ...
 //   precisely: once step^2 <= rtol / 16 relative, or the bracket is narrower than rtol).
+//   Halley and Newton take no step at all where the start is certified within rtol
+//   (f50_start.h, certified_start_error: MTF50 without jitter from rtol 1e-7, and float32's
+//   floor of 2^-21): that start is f50 to the tolerance asked.
 // - brent: Brent's method (solvers.h) per lane, on the bracket, to rtol.
 // - bisection: halves the bracket until hi - lo <= rtol lo (or adjacent doubles).
 //
@@ -244,10 +247,21 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     const T* __restrict slope = b.slope;
     const T* __restrict curvature = b.curvature;
     const T* __restrict threshold = b.threshold;
-    for (std::size_t i = 0; i < n; ++i) {
-        active[i] = b.solve[i];
-        previous[i] = hi[i] - lo[i];
+    int n_to_solve = 0;
+    if (b.n_settled > 0) {  // settled lanes (f50_start.h): their start is f50, no step
+        const unsigned char* __restrict settled = b.settled;
+        EPC_FAST_SIMD_REDUCTION(+ : n_to_solve)
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool s_i = settled[i] != 0;
+            active[i] = (b.solve[i] != 0) & !s_i;
+            f50[i] = s_i ? at[i] : f50[i];
+            n_to_solve += active[i];
+        }
+        if (n_to_solve == 0) return;  // (float32 may then have left the bracket unset)
+    } else {
+        for (std::size_t i = 0; i < n; ++i) active[i] = b.solve[i];
     }
+    for (std::size_t i = 0; i < n; ++i) previous[i] = hi[i] - lo[i];
     // One round: a step for every active lane. The first round, First, needs no division for
     // its stop test: d <= step_rtol x there implies d^3 / p^2 <= step_rtol^3 x (Halley's
     // rtol / 10; Newton's is smaller still), as the first step is measured against the whole
@@ -377,9 +391,17 @@ void solve_f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
 }
 
 // f50 for every lane to solve, into b.f50.
+// The tolerance within which a certified start is taken as f50 (start_f50): Halley's and
+// Newton's effective f50_rtol; -1 (never) for Brent and bisection, which take no start.
+template <class T>
+double settle_rtol(const Options& opt) {
+    const bool steps = opt.f50_solver == F50Solver::halley || opt.f50_solver == F50Solver::newton;
+    return steps ? static_cast<double>(effective_rtol<T>(opt.f50_rtol)) : -1.0;
+}
+
 template <class T>
 void f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
-    const int terms = start_f50(spectrum, b);
+    const int terms = start_f50(spectrum, settle_rtol<T>(opt), b);
     const bool motion = terms & 1, jitter = terms & 2;
     // One instantiation per combination of the terms a block uses.
     if (spectrum.polychromatic()) {

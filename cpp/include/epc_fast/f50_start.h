@@ -461,6 +461,22 @@ constexpr int jitter_start_row = n_accurate_starts;
 // Rows of starts in all: the thresholds' and the jitter start.
 constexpr int n_start_rows = n_accurate_starts + 1;
 
+// Each row's certified error: a bound on the relative distance from its start (computed in
+// float64, lengths inside 2^-400..2^400 mm) to the exact f50. The starts are functions on a
+// compact domain (the unit vector v), so their error is a smooth function there, measured
+// densely: tools/fit_f50_start.py's largest errors (400,000 random points and the edges) are
+// 4.20e-8, 1.32e-6, 5.20e-6, 5.19e-5 and 1.27e-6 (jitter); a denser check (`python
+// tools/fit_f50_start.py --check`: 4e6 random points and a 1001^2 grid, jitter 4e6 and 101^3)
+// finds CHECKED. The bound is twice the largest found, rounded up. A lane whose start is
+// certified within f50_rtol is solved: Halley and Newton take the start as f50 without
+// evaluating the MTF (start_f50's settled lanes), so that a tolerance of 1e-7 and above, and
+// float32's floor of 2^-21, cost no MTF evaluation at MTF50 without jitter.
+constexpr double certified_start_error[n_start_rows] = {1e-7, 3e-6, 1.2e-5, 1.2e-4, 3e-6};
+// The lengths (mm) inside which a float64 start is certified: the squares in start_point stay
+// normal doubles (a tiny length beside a moderate one only drops out of S, as it should).
+constexpr double certified_length_lo_mm = 0x1p-400;
+constexpr double certified_length_hi_mm = 0x1p400;
+
 // The coefficients' offset of the terms a^I u^K z^j (in jitter_start_coefficients' order).
 constexpr int jitter_start_offset(int I, int K) {
     int offset = 0;
@@ -674,12 +690,28 @@ EPC_FAST_INLINE unsigned start_rows(const double* __restrict jitter_mm,
            (n_row3 > 0 ? 8u : 0u) | (n_row4 > 0 ? 16u : 0u);
 }
 
+// The rows whose certified error, plus the rounding of a float64 start to T, is within
+// settle_rtol (bit k: row k); none for a negative settle_rtol.
+template <class T>
+unsigned certified_rows(double settle_rtol) {
+    constexpr double rounding = sizeof(T) == sizeof(double) ? 0.0 : 0x1p-24;  // to nearest float
+    unsigned rows = 0;
+    for (int k = 0; k < n_start_rows; ++k)
+        if (certified_start_error[k] + rounding <= settle_rtol) rows |= 1u << k;
+    return rows;
+}
+
 // Sets lo = 0, hi = f_hi, the starting abscissa and the solve's inputs in T for every lane;
 // returns which terms the block's lanes to solve use, as bits (1 motion, 2 jitter). With T =
 // float32, a lane to solve whose lengths float32 cannot hold is marked `wide` and taken out of
 // the solve (kernel.h redoes it in float64).
+//
+// settle_rtol: the tolerance of a solver that takes a start as f50 when it is certified within
+// it (Halley and Newton, at their effective f50_rtol; -1 for the others). A monochromatic lane
+// whose accurate or jitter start is so certified (certified_start_error, from a float64 start:
+// in float32 too, then rounded once) is marked `settled`, with its start in `at`.
 template <class T>
-int start_f50(const Spectrum& spectrum, Block<T>& b) {
+int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     constexpr std::size_t n = block_size;
     constexpr bool narrow = sizeof(T) != sizeof(double);
     const auto& x = b.x;
@@ -743,25 +775,6 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         jit[i] = jitter_um_[i] * um_to_mm;
         d_length[i] = poly ? mean_mm * f_number_i : lf[i];
     }
-    if (narrow) {
-        // the spectrum's wavelengths and the f-number enter the polychromatic MTF as separate
-        // float32 factors, so they too must fit (2^-60..2^60)
-        bool lambdas_fit = true;
-        for (const double nm : spectrum.wavelengths_nm) lambdas_fit &= float32_factor(nm * nm_to_mm);
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
-            const bool fits = float32_length(lf_short[i]) & float32_length(lf_long) &
-                              float32_length(ap[i]) & float32_length(blur_in[i]) &
-                              float32_length(jit[i]) & lambdas_fit &
-                              (!poly | float32_factor(f_num_in[i]));
-            wide[i] = (solve[i] != 0) & !fits;
-            solve[i] = (solve[i] != 0) & fits;
-            b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
-        }
-    } else {
-        for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
-    }
     // The accurate start's row each lane takes, as accurate_start_code (float64, one
     // wavelength; no jitter and a threshold with a row, or jitter at MTF50), 0 for the cubic
     // start: a lane's start depends on its own inputs only. A block
@@ -776,7 +789,12 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     // solve takes it (jitter, or a threshold without a row).
     const SpectrumStart* fitted = !narrow && poly ? spectrum.start.get() : nullptr;
     unsigned spectrum_rows = 0;  // bit k: a lane to solve takes the spectrum's row k
-    if (!narrow && !poly && b.is_broadcast(mtf_threshold) && b.is_broadcast(jitter_um)) {
+    unsigned narrow_rows = 0;  // float32: bit k: a lane to solve takes row k, certified
+    // float32: only the rows certified at this tolerance (computed in float64 in a pass of
+    // their own, below); every other lane to solve takes the cubic start
+    const unsigned narrow_certified = narrow && !poly ? certified_rows<T>(settle_rtol) : 0u;
+    if (!poly && (!narrow || narrow_certified != 0) && b.is_broadcast(mtf_threshold) &&
+        b.is_broadcast(jitter_um)) {
         // one row for every lane (the lanes' own choice, made once)
         const unsigned char code = accurate_start_code(b.broadcast[jitter_um] * um_to_mm,
                                                        b.broadcast[mtf_threshold]);
@@ -787,7 +805,7 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         for (std::size_t i = 0; i < n; ++i) row_code[i] = code;
         n_cubic = row < 0 ? n_solve : 0;
         rows = row >= 0 && n_solve > 0 ? 1u << row : 0u;
-    } else if (!narrow && !poly) {
+    } else if (!poly && (!narrow || narrow_certified != 0)) {
         rows = start_rows(jit, threshold_in, solve, row_code, n_cubic);
     } else if (fitted != nullptr) {
         int no_row = 0;  // lanes to solve whose threshold has no row
@@ -798,6 +816,77 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
     } else {
         for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
         n_cubic = 1;
+    }
+    if (narrow) {  // the rows present become the certified pass's; the others take the cubic start
+        narrow_rows = rows & narrow_certified;
+        n_cubic = n_cubic > 0 || (rows & ~narrow_certified) != 0 ? 1 : 0;
+        rows = 0;
+    }
+    unsigned char* __restrict settled = b.settled;
+    int n_settled = 0;
+    // float32: the lanes to solve whose row is certified take their start in float64, from the
+    // float64 lengths (certified_start_error), rounded once to T: they need neither the bracket
+    // nor T's lengths. A block whose every lane to solve is settled so skips `finish` below.
+    bool all_settled = false;
+    double* __restrict narrow_start = b.certified_start;
+    if (narrow && narrow_rows != 0) {
+        for (std::size_t i = 0; i < n; ++i) settled[i] = 0;
+        // one pass per certified row present (usually one): the start, then whether the lane
+        // settles: a lane to solve of that row with certified lengths (as in float64, below)
+        // and a start that is a normal float, rounded to within 2^-24
+        auto narrow_row = [&](auto row_constant) EPC_FAST_LAMBDA_INLINE {
+            constexpr int Row = decltype(row_constant)::value;
+            if (!(narrow_rows & (1u << Row))) return;
+            int count = 0;
+            EPC_FAST_SIMD_REDUCTION(+ : count)
+            for (std::size_t i = 0; i < n; ++i) {
+                const double f0 = start_guess<false, Row>(d_length[i], ap[i], blur_in[i], jit[i], 1.0, Row);
+                const bool moderate = (d_length[i] >= certified_length_lo_mm) &
+                                      (d_length[i] <= certified_length_hi_mm) &
+                                      (ap[i] <= certified_length_hi_mm) &
+                                      (blur_in[i] <= certified_length_hi_mm) &
+                                      (jit[i] <= certified_length_hi_mm);
+                const bool s_i = (solve[i] != 0) & (row_code[i] == Row + 1) & moderate &
+                                 (f0 >= 0x1p-100) & (f0 <= 0x1p100);
+                settled[i] = s_i ? 1 : settled[i];
+                narrow_start[i] = s_i ? f0 : narrow_start[i];  // read back where settled
+                at[i] = s_i ? static_cast<T>(f0) : at[i];
+                count += s_i;
+            }
+            n_settled += count;
+        };
+        narrow_row(std::integral_constant<int, 0>{});
+        narrow_row(std::integral_constant<int, 1>{});
+        narrow_row(std::integral_constant<int, 2>{});
+        narrow_row(std::integral_constant<int, 3>{});
+        narrow_row(std::integral_constant<int, jitter_start_row>{});
+        int n_solve = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : n_solve)
+        for (std::size_t i = 0; i < n; ++i) n_solve += solve[i] != 0;
+        all_settled = n_settled == n_solve;
+    } else if (narrow) {
+        for (std::size_t i = 0; i < n; ++i) settled[i] = 0;
+    }
+    if (narrow && !all_settled) {
+        // the spectrum's wavelengths and the f-number enter the polychromatic MTF as separate
+        // float32 factors, so they too must fit (2^-60..2^60); settled lanes need no float32
+        // lengths
+        bool lambdas_fit = true;
+        for (const double nm : spectrum.wavelengths_nm) lambdas_fit &= float32_factor(nm * nm_to_mm);
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
+            const bool fits = float32_length(lf_short[i]) & float32_length(lf_long) &
+                              float32_length(ap[i]) & float32_length(blur_in[i]) &
+                              float32_length(jit[i]) & lambdas_fit &
+                              (!poly | float32_factor(f_num_in[i]));
+            const bool s_i = settled[i] != 0;
+            wide[i] = (solve[i] != 0) & !s_i & !fits;
+            solve[i] = (solve[i] != 0) & (s_i | fits);
+            b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
+        }
+    } else {
+        for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
     }
     // the first row present goes into the main loop (with the cubic start if needed), any
     // further rows into a pass of their own each
@@ -859,6 +948,10 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
         else if (n_cubic == 0) with_row(no{});
         else with_row(yes{});
     };
+    if (all_settled) {  // float32, every lane to solve settled: no bracket, no other start
+        b.n_settled = n_settled;
+        return 0;  // no lane left for the solver: no terms
+    }
     if (any_jitter) starts(yes{});
     else starts(no{});
     extra_row(std::integral_constant<int, 1>{});
@@ -879,6 +972,38 @@ int start_f50(const Spectrum& spectrum, Block<T>& b) {
             }
         }
     }
+    // Settled lanes. float64: a lane to solve whose row is certified, whose start lay inside the
+    // bracket (else at = f_hi / 2, not the start) and whose lengths are moderate. float32: the
+    // certified pass above; `finish` wrote every lane's `at`, the settled ones take theirs back.
+    const unsigned certified = !poly ? certified_rows<T>(settle_rtol) : 0u;
+    if constexpr (narrow) {
+        if (n_settled > 0) {
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) at[i] = settled[i] ? static_cast<T>(narrow_start[i]) : at[i];
+        }
+    } else {
+        if ((rows & certified) != 0) {
+            static_assert(n_start_rows == 5, "a term per row");
+            const bool c0 = certified & 1u, c1 = certified & 2u, c2 = certified & 4u,
+                       c3 = certified & 8u, c4 = certified & 16u;
+            EPC_FAST_SIMD_REDUCTION(+ : n_settled)
+            for (std::size_t i = 0; i < n; ++i) {
+                const unsigned char code = row_code[i];
+                const bool row_certified = ((code == 1) & c0) | ((code == 2) & c1) |
+                                           ((code == 3) & c2) | ((code == 4) & c3) |
+                                           ((code == 5) & c4);
+                const bool moderate = (d_length[i] >= certified_length_lo_mm) &
+                                      (d_length[i] <= certified_length_hi_mm) &
+                                      (ap[i] <= certified_length_hi_mm) &
+                                      (blur_in[i] <= certified_length_hi_mm) &
+                                      (jit[i] <= certified_length_hi_mm);
+                const bool s_i = (solve[i] != 0) & row_certified & moderate & (at[i] != T(0.5) * hi[i]);
+                settled[i] = s_i;
+                n_settled += s_i;
+            }
+        }
+    }
+    b.n_settled = n_settled;
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));
