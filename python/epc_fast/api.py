@@ -235,7 +235,9 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     f50_solver : {"halley", "newton", "brent", "bisection"}
         f50's root finder; every one keeps its iterates inside the bisection bracket of
         MODEL.md section 6. Halley (the default) and Newton use the MTF's analytic slopes from a
-        starting guess and stop once their last step predicts an error far below ``f50_rtol``;
+        starting guess and stop once their last step predicts an error far below ``f50_rtol``,
+        or take no step where the guess is certified within ``f50_rtol`` (at MTF50 without
+        jitter from 1e-7: f50 within 4.2e-8 for the guess's price alone);
         Brent and bisection narrow the bracket to ``f50_rtol``. docs/numerics.md has their
         measured errors and speeds.
     f50_rtol : 1, relative tolerance on f50.
@@ -243,10 +245,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         The closed-form quadratic root, or Brent's method on ln SNR(T) = ln SNR_target.
     t_mpe_rtol : 1, Brent's relative tolerance on T_MPE.
     precision : {"float64", "float32"}
-        The type f50 is solved in by the core. ``"float32"`` runs f50's solve on twice the
-        vector lanes, 1.3-1.4x the points/s in all, for f50 to about 5e-7 relative
-        (docs/numerics.md has the measured errors): ``f50_rtol`` is raised to at least
-        2^-21 = 4.8e-7 there. Statuses,
+        The type f50 is solved in by the core. ``"float32"`` raises ``f50_rtol`` to at least
+        2^-21 = 4.8e-7: with Halley or Newton an MTF50 point without jitter takes its
+        certified starting guess (float64, rounded once: within 1e-7), and every other point
+        is solved in float32 on twice the vector lanes, for f50 to about 5e-7 relative
+        (docs/numerics.md has the measured errors); 1.4-1.5x the points/s at 10^7 on 2 threads,
+        1.6x in the kernel alone. Statuses,
         T_MPE, blur and the electron counts are float64 in both, so they are the same in both;
         a point whose lengths float32 cannot hold (outside 2^-40..2^40 mm) is solved in float64.
         Outputs are float64 arrays either way. The reference backend ignores it.

@@ -11,8 +11,10 @@
 //   within 5.2e-5, one or two evaluations;
 // - the jitter start, float64, for a lane with one wavelength, jitter and MTF50: within
 //   1.3e-6, one evaluation;
-// - the cubic start for every other lane, and in float32 (whose tolerance one step from it
-//   already meets): within 0.37% at 1/2.
+// - the cubic start for every other lane, and for float32's lanes whose start is not certified
+//   at float32's tolerance (whose tolerance one step from it already meets): within 0.37% at 1/2.
+// A start certified within f50_rtol (certified_start_error) is f50: Halley and Newton take it
+// without a step (`settled` lanes; float32 computes those starts in float64, rounded once).
 #pragma once
 
 #include <cmath>
