@@ -336,3 +336,25 @@ def test_lengths_at_the_ends_of_the_domains_still_meet_the_tolerance():
         error = np.abs(core.f50_cyc_per_mm[ok] / ref.f50_cyc_per_mm[ok] - 1)
         # 1e-6 the tolerance; float32 adds its rounding of the lanes it solves (test_precision)
         assert error.max() <= 1e-6 + (1e-6 if precision == "float32" else 0.0), precision
+
+
+@pytest.mark.parametrize("threshold, jitter_um", [(0.5, 0.0), (0.3, 0.0), (0.1, 0.0), (0.5, 0.6)])
+def test_float32_settles_on_the_float64_start_rounded_once(threshold, jitter_um):
+    # float32 computes a certified start in float64 from the float64 lengths and rounds it once
+    # (f50_start.h): at a tolerance that settles the row in both precisions, float32's f50 is
+    # float64's rounded to float32 (within half a float32 ulp, 2^-24 relative)
+    d = random_designs(2000, seed=26)
+    row = {0.5: 0, 0.3: 1, 0.1: 3}[threshold] if jitter_um == 0 else 4
+    # (1% above the bound: float32 compares its tolerance rounded to float32)
+    rtol = _core.certified_start_error[row] * 1.01 + 2.0**-24
+    kwargs = dict(d, mtf_threshold=threshold, jitter_um=jitter_um, f50_rtol=rtol)
+    wide = epc_fast.evaluate(**kwargs)
+    narrow = epc_fast.evaluate(**kwargs, precision="float32")
+    ok = wide.status == Status.OK
+    assert np.array_equal(narrow.status, wide.status) and ok.sum() > 1000
+    f64, f32 = wide.f50_cyc_per_mm[ok], narrow.f50_cyc_per_mm[ok]
+    assert np.array_equal(f32, f32.astype(np.float32).astype(np.float64))  # a float32 value
+    assert np.max(np.abs(f32 / f64 - 1)) <= 2.0**-24
+    ref = epc_fast.evaluate(**{k: v for k, v in kwargs.items() if k != "f50_rtol"},
+                            backend="reference")
+    assert np.max(np.abs(f32 / ref.f50_cyc_per_mm[ok] - 1)) <= rtol
