@@ -390,7 +390,6 @@ void solve_f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
     }
 }
 
-// f50 for every lane to solve, into b.f50.
 // The tolerance within which a certified start is taken as f50 (start_f50): Halley's and
 // Newton's effective f50_rtol; -1 (never) for Brent and bisection, which take no start.
 template <class T>
@@ -399,6 +398,7 @@ double settle_rtol(const Options& opt) {
     return steps ? static_cast<double>(effective_rtol<T>(opt.f50_rtol)) : -1.0;
 }
 
+// f50 for every lane to solve, into b.f50.
 template <class T>
 void f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
     const int terms = start_f50(spectrum, settle_rtol<T>(opt), b);

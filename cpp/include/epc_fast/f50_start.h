@@ -469,15 +469,25 @@ constexpr int n_start_rows = n_accurate_starts + 1;
 // densely: tools/fit_f50_start.py's largest errors (400,000 random points and the edges) are
 // 4.20e-8, 1.32e-6, 5.20e-6, 5.19e-5 and 1.27e-6 (jitter); a denser check (`python
 // tools/fit_f50_start.py --check`: 4e6 random points and a 1001^2 grid, jitter 4e6 and 101^3)
-// finds CHECKED. The bound is twice the largest found, rounded up. A lane whose start is
-// certified within f50_rtol is solved: Halley and Newton take the start as f50 without
-// evaluating the MTF (start_f50's settled lanes), so that a tolerance of 1e-7 and above, and
-// float32's floor of 2^-21, cost no MTF evaluation at MTF50 without jitter.
+// finds 4.199e-8, 1.317e-6, 5.198e-6, 5.190e-5 and 1.274e-6. The bound is twice the largest
+// found, rounded up. A lane whose start is certified within f50_rtol is solved: Halley and
+// Newton take the start as f50 without evaluating the MTF (start_f50's settled lanes), so that
+// a tolerance of 1e-7 and above, and float32's floor of 2^-21, cost no MTF evaluation at MTF50
+// without jitter.
 constexpr double certified_start_error[n_start_rows] = {1e-7, 3e-6, 1.2e-5, 1.2e-4, 3e-6};
 // The lengths (mm) inside which a float64 start is certified: the squares in start_point stay
 // normal doubles (a tiny length beside a moderate one only drops out of S, as it should).
 constexpr double certified_length_lo_mm = 0x1p-400;
 constexpr double certified_length_hi_mm = 0x1p400;
+
+// Whether a lane's lengths (mm: lambda F, the pixel aperture, the blur, the jitter) are those a
+// certified start needs: lambda F inside the range above, the others below its top.
+EPC_FAST_INLINE bool certified_lengths(double lambda_f_mm, double aperture_mm, double blur_mm,
+                                       double jitter_mm) {
+    return (lambda_f_mm >= certified_length_lo_mm) & (lambda_f_mm <= certified_length_hi_mm) &
+           (aperture_mm <= certified_length_hi_mm) & (blur_mm <= certified_length_hi_mm) &
+           (jitter_mm <= certified_length_hi_mm);
+}
 
 // The coefficients' offset of the terms a^I u^K z^j (in jitter_start_coefficients' order).
 constexpr int jitter_start_offset(int I, int K) {
@@ -792,10 +802,11 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     const SpectrumStart* fitted = !narrow && poly ? spectrum.start.get() : nullptr;
     unsigned spectrum_rows = 0;  // bit k: a lane to solve takes the spectrum's row k
     unsigned narrow_rows = 0;  // float32: bit k: a lane to solve takes row k, certified
-    // float32: only the rows certified at this tolerance (computed in float64 in a pass of
-    // their own, below); every other lane to solve takes the cubic start
-    const unsigned narrow_certified = narrow && !poly ? certified_rows<T>(settle_rtol) : 0u;
-    if (!poly && (!narrow || narrow_certified != 0) && b.is_broadcast(mtf_threshold) &&
+    // The rows whose start is certified at this tolerance (a spectrum's never is). float32 takes
+    // only these (computed in float64 in a pass of their own, below); every other lane to
+    // solve takes the cubic start.
+    const unsigned certified = !poly ? certified_rows<T>(settle_rtol) : 0u;
+    if (!poly && (!narrow || certified != 0) && b.is_broadcast(mtf_threshold) &&
         b.is_broadcast(jitter_um)) {
         // one row for every lane (the lanes' own choice, made once)
         const unsigned char code = accurate_start_code(b.broadcast[jitter_um] * um_to_mm,
@@ -807,7 +818,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         for (std::size_t i = 0; i < n; ++i) row_code[i] = code;
         n_cubic = row < 0 ? n_solve : 0;
         rows = row >= 0 && n_solve > 0 ? 1u << row : 0u;
-    } else if (!poly && (!narrow || narrow_certified != 0)) {
+    } else if (!poly && (!narrow || certified != 0)) {
         rows = start_rows(jit, threshold_in, solve, row_code, n_cubic);
     } else if (fitted != nullptr) {
         int no_row = 0;  // lanes to solve whose threshold has no row
@@ -820,8 +831,8 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         n_cubic = 1;
     }
     if (narrow) {  // the rows present become the certified pass's; the others take the cubic start
-        narrow_rows = rows & narrow_certified;
-        n_cubic = n_cubic > 0 || (rows & ~narrow_certified) != 0 ? 1 : 0;
+        narrow_rows = rows & certified;
+        n_cubic = n_cubic > 0 || (rows & ~certified) != 0 ? 1 : 0;
         rows = 0;
     }
     unsigned char* __restrict settled = b.settled;
@@ -843,12 +854,8 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
             EPC_FAST_SIMD_REDUCTION(+ : count)
             for (std::size_t i = 0; i < n; ++i) {
                 const double f0 = start_guess<false, Row>(d_length[i], ap[i], blur_in[i], jit[i], 1.0, Row);
-                const bool moderate = (d_length[i] >= certified_length_lo_mm) &
-                                      (d_length[i] <= certified_length_hi_mm) &
-                                      (ap[i] <= certified_length_hi_mm) &
-                                      (blur_in[i] <= certified_length_hi_mm) &
-                                      (jit[i] <= certified_length_hi_mm);
-                const bool s_i = (solve[i] != 0) & (row_code[i] == Row + 1) & moderate &
+                const bool s_i = (solve[i] != 0) & (row_code[i] == Row + 1) &
+                                 certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
                                  (f0 >= 0x1p-100) & (f0 <= 0x1p100);
                 settled[i] = s_i ? 1 : settled[i];
                 narrow_start[i] = s_i ? f0 : narrow_start[i];  // read back where settled
@@ -977,7 +984,6 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     // Settled lanes. float64: a lane to solve whose row is certified, whose start lay inside the
     // bracket (else at = f_hi / 2, not the start) and whose lengths are moderate. float32: the
     // certified pass above; `finish` wrote every lane's `at`, the settled ones take theirs back.
-    const unsigned certified = !poly ? certified_rows<T>(settle_rtol) : 0u;
     if constexpr (narrow) {
         if (n_settled > 0) {
             EPC_FAST_SIMD
@@ -994,12 +1000,9 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                 const bool row_certified = ((code == 1) & c0) | ((code == 2) & c1) |
                                            ((code == 3) & c2) | ((code == 4) & c3) |
                                            ((code == 5) & c4);
-                const bool moderate = (d_length[i] >= certified_length_lo_mm) &
-                                      (d_length[i] <= certified_length_hi_mm) &
-                                      (ap[i] <= certified_length_hi_mm) &
-                                      (blur_in[i] <= certified_length_hi_mm) &
-                                      (jit[i] <= certified_length_hi_mm);
-                const bool s_i = (solve[i] != 0) & row_certified & moderate & (at[i] != T(0.5) * hi[i]);
+                const bool s_i = (solve[i] != 0) & row_certified &
+                                 certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
+                                 (at[i] != T(0.5) * hi[i]);
                 settled[i] = s_i;
                 n_settled += s_i;
             }
