@@ -31,4 +31,4 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
     tests/test_extremes.py tests/test_bad_input.py tests/test_concurrency.py \
     tests/test_spectrum_start.py tests/test_memory.py tests/test_f50_start.py \
-    tests/test_precision.py "$@"
+    tests/test_precision.py tests/test_stream.py "$@"

@@ -261,7 +261,8 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
     const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
     py::dict fresh;
     py::dict result = outputs_of(out, allocate, n, fresh);
-    const Outputs outputs = outputs_in(result, n);
+    // A large call's outputs are written with streaming stores (stream.h)
+    const Outputs outputs = streaming_for(outputs_in(result, n), static_cast<std::size_t>(n));
     // New pages are faulted in on all threads first (first_touch), except at sizes where they
     // are too few to matter; the cache's kept blocks and the caller's arrays are mapped already.
     const Outputs untouched = outputs_in(fresh, n);
@@ -377,6 +378,8 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     m.def("cpu_levels", &cpu_levels, "The x86-64 levels this CPU supports.");
     m.attr("n_params") = static_cast<int>(n_params);
     m.attr("block_size") = block_size;
+    m.attr("stream_min_bytes") = stream_min_bytes;
+    m.attr("streaming_stores") = streaming_stores;
     m.def("openmp_enabled", &openmp_enabled, "Whether the core was built with OpenMP.");
     m.def("default_threads", &default_threads,
           "Threads used when none are asked for (OMP_NUM_THREADS, else the cores).");

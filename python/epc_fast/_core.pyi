@@ -7,6 +7,8 @@ import numpy.typing as npt
 
 n_params: int
 block_size: int
+stream_min_bytes: int
+streaming_stores: bool
 isa: str
 module_name: str
 MODULES: dict[str, str]

@@ -22,6 +22,7 @@
 #include "parallel.h"
 #include "params.h"
 #include "status.h"
+#include "stream.h"
 
 namespace epc_fast {
 
@@ -514,12 +515,17 @@ void exposure(const Options& opt, Block<T>& b) {
 
 // Writes the block's n points; an output pointer that is null is not computed. The exposure
 // stage left the rate, electrons, T_MPE, blur, status and cause as they are written out.
+// A full block of a streaming call is written with streaming stores (stream.h) where the
+// output is aligned; their fence is the Workspace's.
 template <class T>
 void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     const std::size_t n = b.n;
     const auto& x = b.x;
-    auto copy = [n](auto* to, const auto* from) {
-        if (to != nullptr) std::memcpy(to, from, n * sizeof *from);
+    const bool stream = out.stream && n == block_size;
+    auto copy = [n, stream](auto* to, const auto* from) {
+        if (to == nullptr) return;
+        if (stream) stream_copy(to, from, n * sizeof *from);
+        else std::memcpy(to, from, n * sizeof *from);
     };
     copy(out.electron_rate_e_per_s, b.rate);
     copy(out.electrons, b.electrons);
@@ -531,7 +537,7 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     // f50 where solved, 0 where the blur is unbounded, NaN elsewhere; EPC from it
     const unsigned char* __restrict status = b.status;
     const T* __restrict f50 = b.f50;
-    double f_out[block_size];
+    alignas(64) double f_out[block_size];
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
         const unsigned char st = status[i];
@@ -541,7 +547,7 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     }
     copy(out.f50_cyc_per_mm, f_out);
     if (out.epc != nullptr) {
-        double* __restrict o = out.epc;
+        alignas(64) double epc[block_size];
         const double* __restrict sz = x[size];
         const double* __restrict pitch = x[pixel_pitch_um];
         const bool count = in.size_is_pixel_count;
@@ -550,8 +556,9 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
             const double pitch_mm = pitch[i] * um_to_mm;
             const double area_mm2 = count ? sz[i] * (pitch_mm * pitch_mm) : sz[i];
             const double f = f_out[i];
-            o[i] = 4.0 * area_mm2 * (f * f);
+            epc[i] = 4.0 * area_mm2 * (f * f);
         }
+        copy(out.epc, epc);
     }
 }
 
@@ -577,6 +584,12 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
 struct Workspace {
     detail::Block<double> block64;
     detail::Block<float> block32;
+    Workspace() = default;
+    Workspace(const Workspace&) = delete;
+    Workspace& operator=(const Workspace&) = delete;
+    // Each thread keeps its Workspace until its last block is written: its streaming stores
+    // (scatter) are fenced here, before the call returns and the results are read.
+    ~Workspace() { stream_fence(); }
 };
 
 // Evaluates points [begin, begin + n), n <= block_size, writing point begin + i to index i of
@@ -604,6 +617,7 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     const Outputs wide_out{values[0], values[1], values[2], values[3], values[4], values[5],
                            codes[0], codes[1]};
     detail::evaluate_block_as(in, opt, wide_out, begin, n, illuminance_lux, ws.block64);
+    stream_fence();  // the block's streamed lines land before these lanes overwrite them
     auto take = [&](auto* to, const auto* from) {
         if (to != nullptr)
             for (std::size_t i = 0; i < n; ++i)
@@ -631,6 +645,13 @@ inline void first_touch(const Outputs& out, std::size_t begin, std::size_t end,
                               of(out.blur_mm), of(out.f50_cyc_per_mm), of(out.epc),
                               of(out.status), of(out.cause)};
     first_touch(regions, threads);
+}
+
+// `out` for a call of n points: streaming (stream.h) when its outputs total stream_min_bytes
+// or more, too many to stay in the caches until the caller reads them.
+inline Outputs streaming_for(Outputs out, std::size_t n) noexcept {
+    out.stream = streaming_stores && out.bytes_per_point() * n >= stream_min_bytes;
+    return out;
 }
 
 // Evaluates points [begin, end) on `threads` threads (blocks shared out dynamically), writing

@@ -126,13 +126,25 @@ struct Outputs {
     double* epc;
     unsigned char* status;
     unsigned char* cause;
+    // Write whole blocks with streaming stores where aligned (stream.h): for calls whose
+    // outputs are too large to stay in the caches (streams_for).
+    bool stream = false;
 
     // The outputs from point `offset` on; a null output (not computed) stays null.
     Outputs at(std::size_t offset) const {
         auto shift = [offset](auto* p) { return p != nullptr ? p + offset : p; };
         return Outputs{shift(electron_rate_e_per_s), shift(electrons), shift(t_mpe_s),
                        shift(blur_mm), shift(f50_cyc_per_mm), shift(epc), shift(status),
-                       shift(cause)};
+                       shift(cause), stream};
+    }
+
+    // The bytes a point's computed outputs take.
+    std::size_t bytes_per_point() const {
+        const double* values[] = {electron_rate_e_per_s, electrons, t_mpe_s, blur_mm,
+                                  f50_cyc_per_mm, epc};
+        std::size_t bytes = (status != nullptr ? 1 : 0) + (cause != nullptr ? 1 : 0);
+        for (const double* v : values) bytes += v != nullptr ? sizeof(double) : 0;
+        return bytes;
     }
 };
 
