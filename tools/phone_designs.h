@@ -6,10 +6,11 @@
 
 #include <cmath>
 #include <cstddef>
+#include <new>
 #include <random>
 #include <vector>
 
-#include "epc_fast/params.h"
+#include "epc_fast/kernel.h"
 
 namespace tools {
 
@@ -57,17 +58,38 @@ struct PhoneDesigns {
     }
 };
 
-// Preallocated arrays for every output of n points, and the kernel's Outputs over them.
+// A std::allocator that aligns to 64 bytes, as the package's own output memory is
+// (output_cache.h), so that large calls stream their outputs here as they do there (stream.h).
+template <class T>
+struct Aligned64 {
+    using value_type = T;
+    Aligned64() = default;
+    template <class U>
+    Aligned64(const Aligned64<U>&) {}
+    T* allocate(std::size_t n) {
+        return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64}));
+    }
+    void deallocate(T* p, std::size_t) { ::operator delete(p, std::align_val_t{64}); }
+    template <class U>
+    bool operator==(const Aligned64<U>&) const { return true; }
+    template <class U>
+    bool operator!=(const Aligned64<U>&) const { return false; }
+};
+
+// Preallocated arrays for every output of n points, and the kernel's Outputs over them, which
+// stream as a call of n points does in the package (kernel.h streaming_for).
 struct OutputArrays {
-    std::vector<double> values[6];
-    std::vector<unsigned char> status, cause;
+    std::vector<double, Aligned64<double>> values[6];
+    std::vector<unsigned char, Aligned64<unsigned char>> status, cause;
 
     explicit OutputArrays(std::size_t n) : status(n), cause(n) {
         for (auto& v : values) v.assign(n, 0.0);
     }
     epc_fast::Outputs outputs() {
-        return {values[0].data(), values[1].data(), values[2].data(), values[3].data(),
-                values[4].data(), values[5].data(), status.data(),    cause.data()};
+        const epc_fast::Outputs out{values[0].data(), values[1].data(), values[2].data(),
+                                    values[3].data(), values[4].data(), values[5].data(),
+                                    status.data(),    cause.data()};
+        return epc_fast::streaming_for(out, status.size());
     }
 };
 
