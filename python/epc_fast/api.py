@@ -249,15 +249,16 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         2^-21 = 4.8e-7: with Halley or Newton an MTF50 point without jitter takes its
         certified starting guess (float64, rounded once: within 1e-7), and every other point
         is solved in float32 on twice the vector lanes, for f50 to about 5e-7 relative
-        (docs/numerics.md has the measured errors); 1.4-1.5x the points/s at 10^7 on 2 threads,
-        1.6x in the kernel alone. Statuses,
-        T_MPE, blur and the electron counts are float64 in both, so they are the same in both;
+        (docs/numerics.md has the measured errors); 1.6-1.7x the points/s at 10^7 on 2
+        threads and in the kernel alone (README). Statuses, T_MPE, blur and the electron
+        counts are float64 in both, so they are the same in both;
         a point whose lengths float32 cannot hold (outside 2^-40..2^40 mm) is solved in float64.
         Outputs are float64 arrays either way. The reference backend ignores it.
     out : Result or mapping of its field names to arrays, optional
         Arrays to write the outputs into, one per :class:`Result` field: each of the broadcast
         shape, C-contiguous, writeable, native float64 (``status`` and ``cause``: uint8), none
-        overlapping another. The returned Result holds these same arrays (0-d arrays, not
+        overlapping another. A large call streams its outputs past the caches (README); arrays
+        aligned to 64 bytes, as the core's own are, stream every line. The returned Result holds these same arrays (0-d arrays, not
         scalars, for scalar input). With ``invalid="raise"`` they are written before the error.
         With ``outputs=``, exactly the fields it names.
     outputs : str or iterable of str, optional
