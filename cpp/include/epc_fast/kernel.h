@@ -515,8 +515,8 @@ void exposure(const Options& opt, Block<T>& b) {
 
 // Writes the block's n points; an output pointer that is null is not computed. The exposure
 // stage left the rate, electrons, T_MPE, blur, status and cause as they are written out.
-// A full block of a streaming call is written with streaming stores (stream.h) where the
-// output is aligned; their fence is the Workspace's.
+// A full block of a streaming call writes its whole cache lines with streaming stores
+// (stream.h stream_copy); the thread's fence is in ~Workspace.
 template <class T>
 void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     const std::size_t n = b.n;

@@ -126,8 +126,8 @@ struct Outputs {
     double* epc;
     unsigned char* status;
     unsigned char* cause;
-    // Write whole blocks with streaming stores where aligned (stream.h): for calls whose
-    // outputs are too large to stay in the caches (streams_for).
+    // Write full blocks' whole cache lines with streaming stores (stream.h): for calls whose
+    // outputs are too large to stay in the caches (kernel.h streaming_for).
     bool stream = false;
 
     // The outputs from point `offset` on; a null output (not computed) stays null.
