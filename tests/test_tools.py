@@ -71,13 +71,14 @@ def test_stage_costs_reports_the_five_stages_that_add_up_to_the_whole(built, pre
     assert total > 0
 
 
-@pytest.mark.parametrize("mode, per_round", [("default", 7), ("lean", 6), ("out", 7)])
+@pytest.mark.parametrize("mode, per_round", [("default", 7), ("lean", 6), ("out", 7),
+                                             ("stream", 7)])
 def test_memory_floor_writes_the_outputs_it_times(built, mode, per_round):
     # Output 0 at point i is (1 + i % 7)(1 + (i + 1) % 7) and the first code column is
-    # (1 + (i + 6) % 7 > 3) with six float64 outputs (default, out) or (1 + (i + 2) % 7 > 3)
-    # with two (lean), input k holding 1 + (i + k) % 7; the driver sums output 0 at n/2 and
-    # code 0 at n/3 each round. n = 5000: 2500 % 7 = 1 gives 2 * 3 = 6; 1666 % 7 = 0 gives
-    # 7 > 3, a 1 (default, out), or 3 > 3, a 0 (lean).
+    # (1 + (i + 6) % 7 > 3) with six float64 outputs (default, out, stream) or
+    # (1 + (i + 2) % 7 > 3) with two (lean), input k holding 1 + (i + k) % 7; the driver sums
+    # output 0 at n/2 and code 0 at n/3 each round. n = 5000: 2500 % 7 = 1 gives 2 * 3 = 6;
+    # 1666 % 7 = 0 gives 7 > 3, a 1 (default, out, stream), or 3 > 3, a 0 (lean).
     rounds = 3
     text = _run(built["memory_floor"], 5000, mode, rounds, 2)
     assert float(re.search(r"check ([0-9.eE+-]+)", text).group(1)) == rounds * per_round
