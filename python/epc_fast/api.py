@@ -249,7 +249,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         2^-21 = 4.8e-7: with Halley or Newton an MTF50 point without jitter takes its
         certified starting guess (float64, rounded once: within 1e-7), and every other point
         is solved in float32 on twice the vector lanes, for f50 to about 5e-7 relative
-        (docs/numerics.md has the measured errors); 1.6-1.7x the points/s at 10^7 on 2
+        (docs/numerics.md has the measured errors); 1.5-1.7x the points/s at 10^7 on 2
         threads and in the kernel alone (README). Statuses, T_MPE, blur and the electron
         counts are float64 in both, so they are the same in both;
         a point whose lengths float32 cannot hold (outside 2^-40..2^40 mm) is solved in float64.
