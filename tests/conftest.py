@@ -37,6 +37,18 @@ def load_core_override():
 
 load_core_override()
 
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def load_script(relative_path):
+    """A script of the repository (e.g. "bench/report.py"), not a package module, loaded as a
+    module for the tests of its functions."""
+    path = ROOT / relative_path
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
 
 def pytest_report_header(config):
     directory = os.environ.get("EPC_FAST_CORE_DIR")

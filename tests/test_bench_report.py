@@ -1,19 +1,13 @@
 """bench/report.py: the Markdown tables it makes from a pytest-benchmark JSON run."""
 
-import importlib.util
-from pathlib import Path
-
 import pytest
 
-REPORT = Path(__file__).resolve().parents[1] / "bench" / "report.py"
+from conftest import load_script
 
 
 @pytest.fixture(scope="module")
 def report():
-    spec = importlib.util.spec_from_file_location("bench_report", REPORT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script("bench/report.py")
 
 
 def _bench(name, median_s, group="evaluate 1e6 points", **extra_info):

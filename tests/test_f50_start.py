@@ -1,16 +1,15 @@
 """The f50 solvers' starting guesses (cpp/include/epc_fast/f50_start.h) against the exact f50,
 and the per-lane choice between them."""
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import epc_fast
 from epc_fast import Status, _core
 from epc_fast.selfcheck import random_designs
+from conftest import load_script
 from f50_cases import exact_f50, lengths
+from test_extremes import DEFAULTS
 
 WAVELENGTH_NM = 550.0
 
@@ -206,10 +205,7 @@ def test_each_certified_error_is_twice_the_largest_error_measured_or_more():
     # tools/fit_f50_start.py --check measures the core's starts densely (4e6 random points and
     # grids: 4.2e-8, 1.32e-6, 5.2e-6, 5.19e-5, 1.27e-6); here a sparser run of the same check,
     # so that a refit that left the certified bounds behind fails.
-    path = Path(__file__).resolve().parents[1] / "tools" / "fit_f50_start.py"
-    spec = importlib.util.spec_from_file_location("fit_f50_start", path)
-    fit_f50_start = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(fit_f50_start)
+    fit_f50_start = load_script("tools/fit_f50_start.py")
     errors = fit_f50_start.core_start_errors(n_random=40_000, n_grid=101, n_grid_jitter=21)
     assert list(errors) == list(ROW_NAMES)
     certified = _core.certified_start_error
@@ -218,10 +214,6 @@ def test_each_certified_error_is_twice_the_largest_error_measured_or_more():
         assert 0 < errors[name] <= bound / 2, name
     # and each is the row's own: far below the next coarser row's
     assert certified[0] < certified[1] < certified[2] < certified[3]
-
-
-#: Each parameter's default (epc_fast.PARAMETERS), for the lengths of designs that leave it out.
-DEFAULTS = {p.name: p.default for p in epc_fast.PARAMETERS}
 
 
 def _lengths_of(d, result):

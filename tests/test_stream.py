@@ -23,12 +23,12 @@ STREAMING_POINTS = _core.stream_min_bytes // BYTES_PER_POINT + 3 * _core.block_s
 PIECE_POINTS = 20_000
 
 
-def _in_pieces(kwargs, n, **options):
-    """Every output of the points of ``kwargs`` (arrays of n values), from calls of
+def _in_pieces(kwargs, n, fields=ALL_FIELDS, **options):
+    """The outputs ``fields`` of the points of ``kwargs`` (arrays of n values), from calls of
     PIECE_POINTS points: none of them streams."""
     pieces = [evaluate(**{k: v[i:i + PIECE_POINTS] for k, v in kwargs.items()}, **options)
               for i in range(0, n, PIECE_POINTS)]
-    return {f: np.concatenate([getattr(p, f) for p in pieces]) for f in ALL_FIELDS}
+    return {f: np.concatenate([getattr(p, f) for p in pieces]) for f in fields}
 
 
 def _assert_same_bits(result, expected):
@@ -103,9 +103,7 @@ def test_a_selection_streams_by_its_own_bytes(selection):
     bytes_per_point = sum(api.OUTPUT_DTYPES[f].itemsize for f in selection)
     n = _core.stream_min_bytes // bytes_per_point + 101
     kwargs = random_designs(n, seed=3)
-    pieces = [evaluate(**{k: v[i:i + PIECE_POINTS] for k, v in kwargs.items()}, outputs=selection)
-              for i in range(0, n, PIECE_POINTS)]
+    expected = _in_pieces(kwargs, n, selection, outputs=selection)
     result = evaluate(**kwargs, outputs=selection)
     for field in selection:
-        expected = np.concatenate([getattr(p, field) for p in pieces])
-        assert getattr(result, field).tobytes() == expected.tobytes(), field
+        assert getattr(result, field).tobytes() == expected[field].tobytes(), field

@@ -106,8 +106,9 @@ int main(int argc, char** argv) {
         const auto start = std::chrono::steady_clock::now();
         Call c = kept_outputs ? kept : new_call();
         // each block's outputs computed into the block, then copied out, as kernel.h scatters
-        auto put = [stream](void* to, const void* from, std::size_t bytes) {
-            if (stream && bytes == epc_fast::block_size * (bytes / epc_fast::block_size))
+        // (streamed only for a full block of m = block_size points, as kernel.h scatter)
+        auto put = [stream](void* to, const void* from, std::size_t bytes, std::size_t m) {
+            if (stream && m == epc_fast::block_size)
                 epc_fast::stream_copy(to, from, bytes);
             else
                 std::memcpy(to, from, bytes);
@@ -124,14 +125,14 @@ int main(int argc, char** argv) {
                     alignas(64) double o[epc_fast::block_size];
                     EPC_FAST_SIMD
                     for (std::size_t i = 0; i < m; ++i) o[i] = x[i] * y[i];
-                    put(c.values[k] + first, o, m * sizeof(double));
+                    put(c.values[k] + first, o, m * sizeof(double), m);
                 }
                 for (int k = 0; k < n_codes; ++k) {
                     const double* __restrict x = in[(n_values + k) % n_inputs] + first;
                     alignas(64) unsigned char o[epc_fast::block_size];
                     EPC_FAST_SIMD
                     for (std::size_t i = 0; i < m; ++i) o[i] = x[i] > 3.0;
-                    put(c.codes[k] + first, o, m);
+                    put(c.codes[k] + first, o, m, m);
                 }
             });
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -842,8 +842,9 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     // nor T's lengths. A block whose every lane to solve is settled so skips `finish` below.
     bool all_settled = false;
     double* __restrict narrow_start = b.certified_start;
-    if (narrow && narrow_rows != 0) {
+    if (narrow)  // read by float32's passes below (float64 sets it after its bracket)
         for (std::size_t i = 0; i < n; ++i) settled[i] = 0;
+    if (narrow && narrow_rows != 0) {
         // one pass per certified row present (usually one): the start, then whether the lane
         // settles: a lane to solve of that row with certified lengths (as in float64, below)
         // and a start that is a normal float, rounded to within 2^-24
@@ -873,8 +874,6 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         EPC_FAST_SIMD_REDUCTION(+ : n_solve)
         for (std::size_t i = 0; i < n; ++i) n_solve += solve[i] != 0;
         all_settled = n_settled == n_solve;
-    } else if (narrow) {
-        for (std::size_t i = 0; i < n; ++i) settled[i] = 0;
     }
     if (narrow && !all_settled) {
         // the spectrum's wavelengths and the f-number enter the polychromatic MTF as separate
