@@ -1,5 +1,6 @@
 """The C++ drivers in tools/ (kernel_speed, stage_costs, memory_floor) build against the current
-headers and compute what they say: the README quotes them, so they must not rot.
+headers and compute what they say, and stage_ab.py compares two stage_costs builds: the README
+quotes them, so they must not rot.
 
 Built once with the system's C++ compiler, at -O1 without -march (fast to build; the unfused
 arithmetic of the package's baseline module), and run on a few points: their speeds are not
@@ -15,6 +16,7 @@ from pathlib import Path
 import pytest
 
 import epc_fast
+from conftest import load_script
 
 ROOT = Path(__file__).resolve().parents[1]
 TOOLS = ("kernel_speed", "stage_costs", "memory_floor")
@@ -83,3 +85,25 @@ def test_memory_floor_writes_the_outputs_it_times(built, mode, per_round):
     text = _run(built["memory_floor"], 5000, mode, rounds, 2)
     assert float(re.search(r"check ([0-9.eE+-]+)", text).group(1)) == rounds * per_round
     assert re.search(r"best [0-9.]+ M points/s", text)
+
+
+def test_stage_ab_alternates_two_builds_and_keeps_each_stages_least(built, tmp_path):
+    stage_ab = load_script("tools/stage_ab.py")
+    other = tmp_path / "stage_costs_copy"
+    shutil.copy(built["stage_costs"], other)
+    results = stage_ab.compare((built["stage_costs"], other), 2, (256, 2, "float64"))
+    assert list(results) == [built["stage_costs"], other]
+    for r in results.values():
+        assert len(r["totals"]) == 2 and min(r["totals"]) > 0
+        assert all(r[s] <= max(r["totals"]) for s in stage_ab.STAGES)
+    text = stage_ab.report(results)
+    assert text.count("least by stage: gather") == 2 and "f50 solve" in text
+
+
+def test_stage_ab_refuses_a_printout_without_every_stage_and_one_build_twice(built):
+    stage_ab = load_script("tools/stage_ab.py")
+    with pytest.raises(ValueError, match="no f50 solve, scatter"):
+        stage_ab.parse("1 points: 3.00 ns a point in all\n  gather 1.00 ns\n  exposure 1.00 ns\n"
+                       "  f50 start 1.00 ns\n")
+    with pytest.raises(ValueError, match="binaries: must be different"):
+        stage_ab.compare((built["stage_costs"], built["stage_costs"]), 1, (256, 1))
