@@ -32,6 +32,7 @@ Lawson's reweighting, and printed in the power basis of (a, w^2) for Horner's ru
 
     python tools/fit_f50_start.py            # the fits, as C++
     python tools/fit_f50_start.py --check    # the core's starts' largest errors (~4 min)
+    python tools/fit_f50_start.py --degrees 10 20 24   # MTF50's accurate start at other degrees
 """
 
 import numpy as np
@@ -159,21 +160,40 @@ def lawson(columns, rounds):
     return coefficients
 
 
-def fit_accurate(threshold=0.5, nodes=140, check=400_000, seed=1, rounds=30):
+def fit_accurate(threshold=0.5, nodes=140, check=400_000, seed=1, rounds=30,
+                 degree=ACCURATE_DEGREE):
     """The accurate start's power-basis coefficients for one threshold, with its largest
     relative error over `check` random points and the domain's edges."""
     t = chebyshev_nodes(nodes)
     v_d, s = (g.ravel() for g in np.meshgrid(t, t, indexing="ij"))
     h = accurate_target(v_d, s, threshold)
-    columns = accurate_columns(2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2)) / h[:, None]
-    power = accurate_power_basis(lawson(columns, rounds))
+    columns = accurate_columns(2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2), degree) / h[:, None]
+    power = accurate_power_basis(lawson(columns, rounds), degree)
     rng = np.random.default_rng(seed)
     edge = np.linspace(0, 1, 2001)
     v_d = np.concatenate([rng.random(check), edge, edge, edge, np.zeros_like(edge), np.ones_like(edge)])
     s = np.concatenate([rng.random(check), np.zeros_like(edge), np.ones_like(edge), edge, edge, edge])
     h = accurate_target(v_d, s, threshold)
-    error = np.abs(horner(power, 2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2)) / h - 1)
+    error = np.abs(horner(power, 2 * v_d - 1, (2 * s - 1) * (1 - v_d ** 2), degree) / h - 1)
     return power, error.max(), np.median(error)
+
+
+def accurate_terms(degree):
+    """The accurate start's number of coefficients at total degree `degree` (i + 2j <= degree)."""
+    return sum((degree - i) // 2 + 1 for i in range(degree + 1))
+
+
+def print_degrees(degrees, threshold=0.5, nodes=80, rounds=40):
+    """The accurate start's largest and median errors at other degrees, for the trade between
+    its cost (a fused multiply-add a coefficient) and the tolerance it could be certified at
+    (README, "Where the time goes"). The errors are against the bisected f50 (float64, about
+    1e-16 relative), which bounds what the highest degrees can show. 80 nodes a side: at
+    degree 24, 100 and 140 gave fits a thousand times worse (the least squares' conditioning;
+    not pursued, as no degree paid off)."""
+    for degree in degrees:
+        _, largest, median = fit_accurate(threshold, nodes=nodes, rounds=rounds, degree=degree)
+        print(f"threshold {threshold}, degree {degree} ({accurate_terms(degree)} coefficients): "
+              f"relative error max {largest:.2e}, median {median:.2e}")
 
 
 def print_accurate(thresholds=ACCURATE_THRESHOLDS):
@@ -329,7 +349,9 @@ def core_start_errors(n_random=4_000_000, n_grid=1001, n_grid_jitter=101, chunk=
 if __name__ == "__main__":
     import sys
 
-    if "--check" in sys.argv[1:]:
+    if "--degrees" in sys.argv[1:]:
+        print_degrees([int(d) for d in sys.argv[sys.argv.index("--degrees") + 1:]])
+    elif "--check" in sys.argv[1:]:
         for name, error in core_start_errors().items():
             print(f"{name}: largest relative error {error:.3e}")
     else:
