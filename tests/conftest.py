@@ -50,6 +50,14 @@ def load_script(relative_path):
     return module
 
 
+def parameter_defaults():
+    """{name: default} of every parameter of evaluate that has one (epc_fast.params), the one
+    spelling of the defaults the tests build points from."""
+    from epc_fast import params  # after load_core_override, as every import of the package
+
+    return {p.name: p.default for p in params.PARAMETERS if p.default is not None}
+
+
 def pytest_report_header(config):
     directory = os.environ.get("EPC_FAST_CORE_DIR")
     return f"epc_fast core from EPC_FAST_CORE_DIR={directory}" if directory else None

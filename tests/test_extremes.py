@@ -28,6 +28,7 @@ import pytest
 
 import epc_fast
 from epc_fast import Cause, Status, _core, params, reference
+from conftest import parameter_defaults
 from test_core_vs_reference import _box_corners
 
 U = 2.0**-53  # unit roundoff
@@ -47,7 +48,7 @@ OUTPUTS = ("t_mpe_s", "f50_cyc_per_mm", "epc")
 #: An OK design with every term on (the paper's 1.4 um design at 1000 lux, on axis).
 DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
               sensor_area_mm2=15.6751, electrons_per_lux_s_m2=2.5577e15)
-DEFAULTS = {p.name: p.default for p in params.PARAMETERS if p.default is not None}
+DEFAULTS = parameter_defaults()
 
 
 def evaluate_quietly(**kwargs):

@@ -13,12 +13,14 @@ import pytest
 
 import epc_fast
 from epc_fast import Status
-from epc_fast.params import PARAMETERS
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import BLOCK_POINTS, LogUniform, Space, Summary, run
 from epc_fast.scan.space import EVALUATE_OPTIONS
 from epc_fast.selfcheck import random_designs
 from epc_fast.spectra import Spectrum
+from conftest import parameter_defaults
+
+DEFAULTS = parameter_defaults()
 
 SOLVERS = ("halley", "newton", "brent", "bisection")
 N = 50_000
@@ -193,12 +195,10 @@ def _with_extremes(ordinary, extremes, at):
         mixed[name] = column
     for k, extreme in enumerate(extremes):
         for name, value in extreme.items():
-            mixed.setdefault(name, np.full(n, _default(name)))[at[k]] = value
+            if name not in mixed:  # a parameter the ordinary points leave at its default
+                mixed[name] = np.full(n, DEFAULTS[name])
+            mixed[name][at[k]] = value
     return mixed, is_extreme
-
-
-def _default(name):
-    return next(p.default for p in PARAMETERS if p.name == name)
 
 
 @pytest.mark.parametrize("spectrum", [None, Spectrum([450.0, 520.0, 580.0, 640.0], [1, 2, 2, 1])],
