@@ -10,6 +10,8 @@ from epc_fast.selfcheck import random_designs
 from conftest import load_script, parameter_defaults
 from f50_cases import exact_f50, lengths
 
+DEFAULTS = parameter_defaults()
+
 WAVELENGTH_NM = 550.0
 
 
@@ -217,9 +219,8 @@ def test_each_certified_error_is_twice_the_largest_error_measured_or_more():
 
 def _lengths_of(d, result):
     """lambda F, the pixel aperture and the blur (mm) of each design, as the core forms them."""
-    defaults = parameter_defaults()
-    wavelength_nm = d.get("wavelength_nm", defaults["wavelength_nm"])
-    fill_factor = d.get("fill_factor", defaults["fill_factor"])
+    wavelength_nm = d.get("wavelength_nm", DEFAULTS["wavelength_nm"])
+    fill_factor = d.get("fill_factor", DEFAULTS["fill_factor"])
     lambda_f = wavelength_nm * 1e-6 * d["f_number"]
     aperture = np.sqrt(fill_factor) * d["pixel_pitch_um"] * 1e-3
     return lambda_f, aperture, result.blur_mm

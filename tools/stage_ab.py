@@ -24,8 +24,7 @@ STAGES = ("gather", "exposure", "f50 start", "f50 solve", "scatter")
 def parse(text: str) -> dict:
     """ns a point in all (`total`) and per stage from one stage_costs printout."""
     found = {"total": float(re.search(r"([0-9.]+) ns a point in all", text).group(1))}
-    for name, value in re.findall(r"^\s+(gather|exposure|f50 start|f50 solve|scatter)\s+"
-                                  r"(-?[0-9.]+) ns", text, re.M):
+    for name, value in re.findall(rf"^\s+({'|'.join(STAGES)})\s+(-?[0-9.]+) ns", text, re.M):
         found[name] = float(value)
     missing = [s for s in STAGES if s not in found]
     if missing:

@@ -259,8 +259,9 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         shape, C-contiguous, writeable, native float64 (``status`` and ``cause``: uint8), none
         overlapping another. A large call streams its outputs past the caches (README); arrays
         aligned to 64 bytes, as the core's own are, stream every line. The returned Result
-        holds these same arrays (0-d arrays, not scalars, for scalar input). With ``invalid="raise"`` they are written before the error.
-        With ``outputs=``, exactly the fields it names.
+        holds these same arrays (0-d arrays, not scalars, for scalar input). With
+        ``invalid="raise"`` they are written before the error. With ``outputs=``, exactly the
+        fields it names.
     outputs : str or iterable of str, optional
         The :class:`Result` fields to compute (default: all); the others are None in the
         Result. The core writes only these, and skips f50's solve when neither
