@@ -48,11 +48,12 @@ def test_the_default_config_is_the_paper_designs_over_light_and_shake():
 @pytest.mark.parametrize("text, message", [
     ("[scan]\npoints = 10\n[scan2]\n", r"unknown key\(s\) scan2"),
     ("[design]\npresets = ['HIGH_TIER']\n", r"missing scan"),
-    ("[scan]\npoints = 1.5\n", "points must be an integer"),
+    ("[scan]\npoints = 1.5\n", r"\[scan\]: points = 1.5: expected an integer"),
     ("[scan]\npoints = 10\n[design]\npresets = ['NOPE']\n", "'NOPE' is not a preset"),
     ("[scan]\npoints = 10\n[parameters]\nshake_deg_per_s = {distribution = 'lognormal', "
      "median = 4, sigam = 1}\n", r"\[parameters.shake_deg_per_s\]: unknown key\(s\) sigam"),
-    ("[scan]\npoints = 10\n[parameters]\nx = {distribution = 'cauchy'}\n", "must be one of"),
+    ("[scan]\npoints = 10\n[parameters]\nx = {distribution = 'cauchy'}\n",
+     r"\[parameters.x\]: distribution = 'cauchy': expected one of"),
     ("[scan]\npoints = 10\n[reductions.a]\nkind = 'median'\n", r"\[reductions.a\]: kind"),
     ("[scan]\npoints = 10\n[reductions.a]\nkind = 'summary'\nby = [{parameter = 'x'}]\n",
      "log_bins"),

@@ -17,7 +17,11 @@ The format, section by section (every value in the unit of the parameter it sets
                                  #   by = "design" | [part, ...] where a part is a name or
                                  #   {parameter = "illuminance_lux", log_bins = [low, high, n]}
                                  #   or {parameter = ..., edges = [...]}
-    [output]                     # parquet = "directory" (relative to the output directory)
+    [output]                     # parquet = "directory" (a name inside the output directory)
+
+Every key is checked before any work (its type, its range, and every size it controls, against
+the bounds in :mod:`epc_fast.scan.schema`); a mistake raises
+:class:`~epc_fast.scan.errors.ConfigError` naming the table, the key and the value.
 
 :data:`DEFAULT_CONFIG` is the scan ``epc-fast scan`` runs without a file.
 """
@@ -27,17 +31,17 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
-
 from .. import presets
-from .best import TopK
+from ..api import F50_SOLVERS, MAX_THREADS, PRECISIONS, T_MPE_SOLVERS
+from .config_files import read_samples, read_text
+from .config_reductions import check_reductions, parse_reductions
 from .distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
                             Uniform)
-from .groups import Binned
-from .histograms import Histogram, Quantiles
+from .errors import ConfigError
 from .runner import DEFAULT_CHUNK_POINTS
-from .space import Space
-from .summaries import FractionBelow, Summary
+from .schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_LIST, MAX_POINTS, choice, file_name,
+                     integer, number, number_list, short, string, table_of, take, wrapped)
+from .space import BLOCK_POINTS, Space
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG"]
 
@@ -83,10 +87,17 @@ by = ["design", { parameter = "illuminance_lux", log_bins = [10, 100_000, 16] }]
 bins_per_decade = 200
 """
 
-REDUCTIONS = {"summary": Summary, "histogram": Histogram, "quantiles": Quantiles,
-              "fraction_below": FractionBelow, "top_k": TopK}
 DISTRIBUTIONS = {"uniform": Uniform, "log_uniform": LogUniform, "normal": Normal,
                  "lognormal": LogNormal}
+#: The checks of each distribution's keys: (key, low, low_open).
+DISTRIBUTION_KEYS = {"uniform": (("low", None, False), ("high", None, False)),
+                     "log_uniform": (("low", 0.0, True), ("high", 0.0, True)),
+                     "normal": (("mean", None, False), ("std", 0.0, True)),
+                     "lognormal": (("median", 0.0, True), ("sigma", 0.0, True))}
+#: The keys of [evaluate] and their checks.
+EVALUATE_CHOICES = {"f50_solver": F50_SOLVERS, "t_mpe_solver": T_MPE_SOLVERS,
+                    "precision": PRECISIONS}
+EVALUATE_TOLERANCES = ("f50_rtol", "t_mpe_rtol")
 
 
 @dataclass
@@ -101,8 +112,9 @@ class ScanConfig:
     reductions : {name: reduction}
     chunk_points : int
     threads : int or None
-    parquet : str or None, a directory relative to the output directory.
+    parquet : str or None, a directory name inside the output directory.
     source : str, the file it came from ("built-in default" for :data:`DEFAULT_CONFIG`).
+    text : str, the TOML it was read from (recorded in the output's manifest).
     """
 
     space: Space
@@ -113,6 +125,7 @@ class ScanConfig:
     threads: int | None
     parquet: str | None
     source: str
+    text: str = ""
 
     def run_kwargs(self) -> dict:
         """Keyword arguments for :func:`epc_fast.scan.run` (all but ``parquet``)."""
@@ -132,140 +145,166 @@ def _toml():
     return tomllib
 
 
-def _take(table: dict, where: str, required=(), optional=()) -> dict:
-    """The keys of ``table``, refusing unknown or missing ones with a message naming ``where``."""
-    unknown = sorted(set(table) - set(required) - set(optional))
-    if unknown:
-        raise ValueError(f"scan config [{where}]: unknown key(s) {', '.join(unknown)}; known: "
-                         f"{', '.join(tuple(required) + tuple(optional))}")
-    missing = [k for k in required if k not in table]
-    if missing:
-        raise ValueError(f"scan config [{where}]: missing {', '.join(missing)}")
-    return table
-
-
-def _integer(table: dict, name: str, default=None):
-    """``table[name]`` as an int (1e6 is accepted: TOML writes large counts so)."""
-    value = table.get(name, default)
-    if isinstance(value, float) and value.is_integer():
-        return int(value)
-    if value is not default and (isinstance(value, bool) or not isinstance(value, int)):
-        raise ValueError(f"scan config [scan]: {name} must be an integer, got {value!r}")
-    return value
-
-
 def _designs(table: dict):
-    _take(table, "design", optional=("presets", "custom", "sampling", "weights"))
+    take(table, "design", optional=("presets", "custom", "sampling", "weights"))
     designs = []
-    for name in table.get("presets", []):
-        found = getattr(presets, name, None)
+    names = table.get("presets", [])
+    if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+        raise ConfigError(f"scan config [design]: presets = {short(names)}: expected a list of "
+                          'preset names, e.g. ["HIGH_TIER"]')
+    for name in names:
+        found = getattr(presets, name, None) if name.isidentifier() else None
         if not (isinstance(found, presets.Design) or (isinstance(found, tuple) and found
                                                       and isinstance(found[0], presets.Design))):
-            raise ValueError(f"scan config [design]: {name!r} is not a preset of "
-                             "epc_fast.presets (e.g. HIGH_TIER, LOW_TIER, ZOOM_3X)")
+            raise ConfigError(f"scan config [design]: presets: {short(name)} is not a preset "
+                              "of epc_fast.presets (e.g. HIGH_TIER, LOW_TIER, ZOOM_3X)")
         designs.extend(found if isinstance(found, tuple) else (found,))
-    designs.extend(table.get("custom", []))
+    custom = table.get("custom", [])
+    if not isinstance(custom, list) or len(custom) > MAX_LIST:
+        raise ConfigError(f"scan config [design]: custom = {short(custom)}: expected "
+                          "[[design.custom]] tables")
+    designs.extend(_custom_design(entry, i) for i, entry in enumerate(custom))
     if not designs:
-        raise ValueError("scan config [design]: give presets or [[design.custom]] entries")
-    sampling = table.get("sampling", "grid")
+        raise ConfigError("scan config [design]: give presets or [[design.custom]] entries")
+    sampling = choice("design", "sampling", table.get("sampling", "grid"), ("grid", "choice"))
     if sampling == "grid":
         if "weights" in table:
-            raise ValueError("scan config [design]: weights need sampling = \"choice\"")
+            raise ConfigError("scan config [design]: weights need sampling = \"choice\"")
         return Grid(designs)
-    if sampling == "choice":
-        return Choice(designs, table.get("weights"))
-    raise ValueError(f"scan config [design]: sampling is \"grid\" or \"choice\", got {sampling!r}")
+    weights = table.get("weights")
+    if weights is not None:
+        weights = number_list("design", "weights", weights, low=0.0)
+    return Choice(designs, weights)
+
+
+def _custom_design(entry, index: int) -> dict:
+    where = f"design.custom[{index}]"
+    entry = table_of(where, entry)
+    design = {}
+    for key, value in entry.items():
+        design[key] = (string(where, key, value) if key == "name"
+                       else number(where, key, value))
+    return design
+
+
+def _grid_values(where: str, key: str, values) -> tuple:
+    return number_list(where, key, values)
 
 
 def _parameter(name: str, value, base: Path):
     where = f"parameters.{name}"
-    if isinstance(value, (int, float)):
-        return float(value)
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return number("parameters", name, value)
     if not isinstance(value, dict):
-        raise ValueError(f"scan config [{where}]: a number or a table, got {value!r}")
+        raise ConfigError(f"scan config [parameters]: {name} = {short(value)}: expected a "
+                          "finite number or a table ({grid = [...]}, {choice = [...]}, "
+                          "{distribution = ...})")
     if "grid" in value:
-        return Grid(_take(value, where, required=("grid",))["grid"])
+        return Grid(_grid_values(where, "grid", take(value, where, required=("grid",))["grid"]))
     if "choice" in value:
-        _take(value, where, required=("choice",), optional=("weights",))
-        return Choice(value["choice"], value.get("weights"))
-    kind = value.get("distribution")
+        take(value, where, required=("choice",), optional=("weights",))
+        weights = value.get("weights")
+        values = _grid_values(where, "choice", value["choice"])
+        if weights is not None:
+            weights = number_list(where, "weights", weights, low=0.0)
+        return Choice(values, weights)
+    if "distribution" not in value:
+        raise ConfigError(f"scan config [{where}]: give grid, choice or distribution")
+    kind = choice(where, "distribution", value["distribution"],
+                  tuple(DISTRIBUTIONS) + ("empirical",))
     rest = {k: v for k, v in value.items() if k not in ("distribution", "truncate")}
     if kind == "empirical":
-        _take(rest, where, optional=("samples", "file"))
+        take(rest, where, optional=("samples", "file"))
         if ("samples" in rest) == ("file" in rest):
-            raise ValueError(f"scan config [{where}]: give samples or file")
-        samples = rest["samples"] if "samples" in rest else np.loadtxt(base / rest["file"])
+            raise ConfigError(f"scan config [{where}]: give samples or file")
+        if "samples" in rest:
+            samples = number_list(where, "samples", rest["samples"])
+        else:
+            samples = read_samples(where, rest["file"], base)
         distribution = Empirical(samples)
-    elif kind in DISTRIBUTIONS:
-        cls = DISTRIBUTIONS[kind]
-        fields = tuple(cls.__dataclass_fields__)
-        distribution = cls(**_take(rest, where, required=fields))
     else:
-        raise ValueError(f"scan config [{where}]: distribution must be one of "
-                         f"{', '.join(tuple(DISTRIBUTIONS) + ('empirical',))}, or use grid or "
-                         f"choice; got {kind!r}")
+        checks = DISTRIBUTION_KEYS[kind]
+        take(rest, where, required=tuple(key for key, _, _ in checks))
+        arguments = {key: number(where, key, rest[key], low, low_open=low_open)
+                     for key, low, low_open in checks}
+        distribution = wrapped(where, lambda: DISTRIBUTIONS[kind](**arguments))
     if "truncate" in value:
-        low, high = value["truncate"]
-        return Truncated(distribution, low, high)
+        low, high = number_list(where, "truncate", value["truncate"], min_length=2)[:2]
+        if len(value["truncate"]) != 2:
+            raise ConfigError(f"scan config [{where}]: truncate = {short(value['truncate'])}: "
+                              "expected [low, high]")
+        return wrapped(where, lambda: Truncated(distribution, low, high))
     return distribution
 
 
-def _group_part(part, where: str):
-    if isinstance(part, str):
-        return part
-    if not isinstance(part, dict):
-        raise ValueError(f"scan config [{where}]: a group is a name or a table, got {part!r}")
-    _take(part, where, required=("parameter",), optional=("log_bins", "edges"))
-    if ("log_bins" in part) == ("edges" in part):
-        raise ValueError(f"scan config [{where}]: give log_bins = [low, high, n] or edges")
-    if "edges" in part:
-        return Binned(part["parameter"], part["edges"])
-    low, high, count = part["log_bins"]
-    return Binned(part["parameter"], np.geomspace(low, high, int(count) + 1))
+def _evaluate_options(table) -> dict:
+    table = take(table_of("evaluate", table), "evaluate",
+                 optional=tuple(EVALUATE_CHOICES) + EVALUATE_TOLERANCES + ("spectrum",))
+    options = {}
+    for key, value in table.items():
+        if key in EVALUATE_CHOICES:
+            options[key] = choice("evaluate", key, value, EVALUATE_CHOICES[key])
+        elif key in EVALUATE_TOLERANCES:
+            options[key] = number("evaluate", key, value, 0.0, 0.5)
+        else:
+            if not (isinstance(value, list) and len(value) == 2):
+                raise ConfigError(f"scan config [evaluate]: spectrum = {short(value)}: expected "
+                                  "[[wavelengths_nm, ...], [weights, ...]]")
+            options[key] = (number_list("evaluate", "spectrum", value[0], low=0.0),
+                            number_list("evaluate", "spectrum", value[1], low=0.0))
+    return options
 
 
-def _reduction(name: str, table: dict):
-    where = f"reductions.{name}"
-    table = dict(table)
-    kind = table.pop("kind", None)
-    if kind not in REDUCTIONS:
-        raise ValueError(f"scan config [{where}]: kind must be one of {', '.join(REDUCTIONS)}, "
-                         f"got {kind!r}")
-    cls = REDUCTIONS[kind]
-    _take(table, where, optional=tuple(cls.__dataclass_fields__))
-    if "by" in table:
-        by = table["by"]
-        table["by"] = (tuple(_group_part(p, where) for p in by) if isinstance(by, list)
-                       else _group_part(by, where))
-    if "q" in table:
-        table["q"] = tuple(table["q"])
-    return cls(**table)
+def _scan_table(scan) -> dict:
+    scan = take(table_of("scan", scan), "scan", required=("points",),
+                optional=("seed", "chunk_points", "threads"))
+    chunk_points = integer("scan", "chunk_points", scan.get("chunk_points", DEFAULT_CHUNK_POINTS),
+                           BLOCK_POINTS, MAX_CHUNK_POINTS)
+    if chunk_points % BLOCK_POINTS:
+        raise ConfigError(f"scan config [scan]: chunk_points = {chunk_points}: expected a "
+                          f"multiple of {BLOCK_POINTS} (the block)")
+    threads = scan.get("threads")
+    return {"points": integer("scan", "points", scan["points"], 1, MAX_POINTS),
+            "seed": integer("scan", "seed", scan.get("seed", 0), 0, 2**64 - 1),
+            "chunk_points": chunk_points,
+            "threads": None if threads is None else integer("scan", "threads", threads, 1,
+                                                            MAX_THREADS)}
 
 
 def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfig:
-    """A :class:`ScanConfig` from TOML text; files it names are relative to ``base_dir``."""
-    document = _toml().loads(text)
-    _take(document, "top level", required=("scan",),
-          optional=("design", "parameters", "evaluate", "reductions", "output"))
-    scan = _take(document["scan"], "scan", required=("points",),
-                 optional=("seed", "chunk_points", "threads"))
-    counts = {name: _integer(scan, name, default) for name, default in (
-        ("points", None), ("seed", 0), ("chunk_points", DEFAULT_CHUNK_POINTS), ("threads", None))}
-    reductions = {name: _reduction(name, table)
-                  for name, table in document.get("reductions", {}).items()}
-    output = _take(document.get("output", {}), "output", optional=("parquet",))
-    design = _designs(document["design"]) if "design" in document else None
-    parameters = {name: _parameter(name, value, Path(base_dir))
-                  for name, value in document.get("parameters", {}).items()}
-    space = Space(design=design, evaluate_options=document.get("evaluate"), **parameters)
+    """A :class:`ScanConfig` from TOML text; files it names are relative to ``base_dir``.
+
+    Every key is checked (type, range, size) before anything is evaluated; a mistake raises
+    :class:`~epc_fast.scan.errors.ConfigError` (a ValueError) naming table, key and value.
+    """
+    try:
+        document = _toml().loads(text)
+    except _toml().TOMLDecodeError as error:
+        raise ConfigError(f"scan config {source}: not valid TOML: {error}") from None
+    take(document, "top level", required=("scan",),
+         optional=("design", "parameters", "evaluate", "reductions", "output"))
+    counts = _scan_table(document["scan"])
+    output = take(table_of("output", document.get("output", {})), "output",
+                  optional=("parquet",))
+    parquet = output.get("parquet")
+    if parquet is not None:
+        parquet = file_name("output", "parquet", parquet)
+    design = _designs(table_of("design", document["design"])) if "design" in document else None
+    parameters = {name: _parameter(name, value, Path(base_dir)) for name, value
+                  in table_of("parameters", document.get("parameters", {})).items()}
+    options = _evaluate_options(document.get("evaluate", {}))
+    reductions = parse_reductions(table_of("reductions", document.get("reductions", {})))
+    space = wrapped("parameters", lambda: Space(design=design, evaluate_options=options,
+                                                **parameters))
+    check_reductions(reductions, space)
     return ScanConfig(space, counts["points"], counts["seed"], reductions or None,
-                      counts["chunk_points"], counts["threads"], output.get("parquet"), source)
+                      counts["chunk_points"], counts["threads"], parquet, source, text)
 
 
 def load_config(path) -> ScanConfig:
-    """A :class:`ScanConfig` from a TOML file."""
+    """A :class:`ScanConfig` from a TOML file (UTF-8, at most 16 MB)."""
     path = Path(path)
-    return parse_config(path.read_text(), path.parent, str(path))
+    return parse_config(read_text(path, MAX_CONFIG_BYTES), path.parent, str(path))
 
 
 def default_config() -> ScanConfig:

@@ -1,0 +1,182 @@
+"""Typed checks of scan config values, and the bounds on every size a config controls.
+
+Each check takes ``where`` (the TOML table, e.g. ``reductions.best``), the key and the value,
+and returns the value in its Python type or raises :class:`~epc_fast.scan.errors.ConfigError`
+with one line naming all three and what was expected. Types are strict: a string is never a
+boolean or a list, a float with a fraction is never an integer, NaN and infinities are never
+numbers. A float that is a whole number is an integer (TOML writes large counts as ``1e6``).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from .errors import ConfigError, TooLargeError
+
+__all__ = ["MAX_POINTS", "MAX_CHUNK_POINTS", "MAX_TOP_K", "MAX_GROUPS", "MAX_CELLS",
+           "MAX_LIST", "MAX_SAMPLE_FILE_BYTES", "MAX_EXACT_QUANTILE_POINTS", "MAX_CONFIG_BYTES",
+           "where_prefix", "short", "integer", "number", "boolean", "string", "choice",
+           "number_list", "table_of", "take", "wrapped", "file_name", "check_size"]
+
+#: Points of one scan: 10^12 is a week of one machine, minutes of a large cluster.
+MAX_POINTS = 10**12
+#: Points per chunk: memory is ~200 bytes a point, so 2^24 points is ~3.4 GB per chunk.
+MAX_CHUNK_POINTS = 1 << 24
+#: k of a top-k reduction: each kept point holds every varying parameter (8 bytes each).
+MAX_TOP_K = 1_000_000
+#: Groups of one reduction (the product of its ``by`` parts' sizes).
+MAX_GROUPS = 1_000_000
+#: Groups times bins of one histogram or streamed quantiles (8 bytes a cell, held twice).
+MAX_CELLS = 20_000_000
+#: Values in one list (grid, choice, weights, edges, samples, q).
+MAX_LIST = 1_000_000
+#: Bytes of an empirical sample file (one value a line).
+MAX_SAMPLE_FILE_BYTES = 64 * 2**20
+#: ``exact_up_to`` of quantiles: 16 bytes a kept value, so 2^26 is ~1 GB.
+MAX_EXACT_QUANTILE_POINTS = 1 << 26
+#: Bytes of a config file.
+MAX_CONFIG_BYTES = 16 * 2**20
+
+#: A name that becomes a file name: a letter or digit, then letters, digits, _ - and dots.
+_FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")
+
+
+def where_prefix(where: str) -> str:
+    return f"scan config [{where}]"
+
+
+def short(value) -> str:
+    """``repr(value)``, cut to 60 characters so an error stays one readable line."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _fail(where: str, key: str, value, expected: str, cls=ConfigError):
+    raise cls(f"{where_prefix(where)}: {key} = {short(value)}: expected {expected}")
+
+
+def integer(where: str, key: str, value, low: int, high: int | None = None) -> int:
+    """An int in [low, high]: a TOML integer, or a float that is a whole number."""
+    if isinstance(value, float) and math.isfinite(value) and value.is_integer():
+        value = int(value)
+    span = f">= {low:,}" if high is None else f"between {low:,} and {high:,}"
+    if isinstance(value, bool) or not isinstance(value, int):
+        _fail(where, key, value, f"an integer {span}")
+    if value < low or (high is not None and value > high):
+        _fail(where, key, value, f"an integer {span}")
+    return value
+
+
+def number(where: str, key: str, value, low: float | None = None, high: float | None = None,
+           low_open: bool = False) -> float:
+    """A finite float, optionally in [low, high] (``low_open``: above ``low``)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        _fail(where, key, value, "a finite number" + _range_text(low, high, low_open))
+    value = float(value)
+    if ((low is not None and (value <= low if low_open else value < low))
+            or (high is not None and value > high)):
+        _fail(where, key, value, "a finite number" + _range_text(low, high, low_open))
+    return value
+
+
+def _range_text(low, high, low_open) -> str:
+    if low is None and high is None:
+        return ""
+    if high is None:
+        return f" {'>' if low_open else '>='} {low:g}"
+    if low is None:
+        return f" <= {high:g}"
+    return f" in {'(' if low_open else '['}{low:g}, {high:g}]"
+
+
+def boolean(where: str, key: str, value) -> bool:
+    """A TOML boolean: ``true`` or ``false`` (never a string such as ``"false"``)."""
+    if not isinstance(value, bool):
+        _fail(where, key, value, "true or false (a TOML boolean, without quotes)")
+    return value
+
+
+def string(where: str, key: str, value) -> str:
+    if not isinstance(value, str):
+        _fail(where, key, value, "a string")
+    return value
+
+
+def choice(where: str, key: str, value, allowed) -> str:
+    if not isinstance(value, str) or value not in allowed:
+        _fail(where, key, value, "one of " + ", ".join(f'"{a}"' for a in allowed))
+    return value
+
+
+def number_list(where: str, key: str, value, low: float | None = None,
+                high: float | None = None, min_length: int = 1) -> tuple:
+    """A list of finite numbers (at least ``min_length``, at most :data:`MAX_LIST`)."""
+    if not isinstance(value, list):
+        _fail(where, key, value, f"a list of finite numbers, e.g. [1, 2]")
+    if not min_length <= len(value) <= MAX_LIST:
+        _fail(where, key, value, f"a list of {min_length:,} to {MAX_LIST:,} numbers",
+              TooLargeError if len(value) > MAX_LIST else ConfigError)
+    for item in value:
+        if (isinstance(item, bool) or not isinstance(item, (int, float))
+                or not math.isfinite(item) or (low is not None and item < low)
+                or (high is not None and item > high)):
+            _fail(where, key, value, "a list of finite numbers" + _range_text(low, high, False)
+                  + f" (holds {short(item)})")
+    return tuple(value)
+
+
+def table_of(where: str, value) -> dict:
+    """``value`` as the TOML table ``[where]`` (a string or a number there is refused)."""
+    if not isinstance(value, dict):
+        raise ConfigError(f"{where_prefix(where)}: {short(value)}: expected a table, e.g. "
+                          "{ key = value } or a [section]")
+    return value
+
+
+def take(table: dict, where: str, required=(), optional=()) -> dict:
+    """``table``, refusing unknown or missing keys with a message naming ``where``."""
+    unknown = sorted(set(table) - set(required) - set(optional))
+    if unknown:
+        raise ConfigError(f"{where_prefix(where)}: unknown key(s) {', '.join(unknown)}; known: "
+                          f"{', '.join(tuple(required) + tuple(optional))}")
+    missing = [k for k in required if k not in table]
+    if missing:
+        raise ConfigError(f"{where_prefix(where)}: missing {', '.join(missing)}")
+    return table
+
+
+def wrapped(where: str, build):
+    """``build()``, its ValueError or TypeError re-raised as a ConfigError naming ``where``
+    (for checks the scan's classes make themselves, e.g. a distribution's low < high)."""
+    try:
+        return build()
+    except ConfigError:
+        raise
+    except (ValueError, TypeError) as error:
+        raise ConfigError(f"{where_prefix(where)}: {error}") from None
+
+
+def file_name(where: str, key: str, value) -> str:
+    """A name that becomes a file or directory inside the output directory: a letter or digit,
+    then up to 99 letters, digits, ``_``, ``-`` or ``.`` (no path separator, never ``..``)."""
+    if not isinstance(value, str) or not _FILE_NAME.fullmatch(value) or ".." in value:
+        _fail(where, key, value, "a name of letters, digits, _ - and . (it names a file in "
+                                 "--out; no / or ..)")
+    return value
+
+
+def check_size(where: str, what: str, count: int, bound: int, bytes_each: int) -> None:
+    """Refuse ``count`` things of ``bytes_each`` bytes beyond ``bound``, before allocating."""
+    if count > bound:
+        raise TooLargeError(
+            f"{where_prefix(where)}: {what} of {count:,} would need ~{_bytes(count * bytes_each)}"
+            f" of memory; at most {bound:,} ({_bytes(bound * bytes_each)})")
+
+
+def _bytes(count: float) -> str:
+    for unit in ("bytes", "KB", "MB", "GB", "TB", "PB"):
+        if count < 1000:
+            return f"{count:.3g} {unit}"
+        count /= 1000
+    return f"{count:.3g} EB"
