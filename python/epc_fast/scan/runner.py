@@ -1,24 +1,24 @@
 """Run a scan: chunks of whole blocks, evaluated locally or on Dask, their partial reductions
 merged in block order as they arrive, so memory stays bounded whatever the point count.
 
-Ctrl-C (KeyboardInterrupt) stops the scan between chunks: the result holds the chunks merged
-so far, a prefix of the points, and is marked ``partial``.
+Ctrl-C (KeyboardInterrupt) or SIGTERM stops the scan between chunks: the result holds the
+chunks merged so far, a prefix of the points, and is marked ``partial``.
 """
 
 from __future__ import annotations
 
 import operator
-import signal
-import threading
 import time
-from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import ScanAborted
 from .groups import group_key
 from .histograms import Quantiles
 from .progress import progress_reporter
+from .signals import signals_deferred as _interrupts_deferred
+from .signals import terminate_as_interrupt
 from .space import BLOCK_POINTS, Space
 from .summaries import FractionBelow, Summary
 from .tasks import PlanItem, reduce_chunk
@@ -90,24 +90,6 @@ def default_reductions(space: Space) -> dict:
             "below": FractionBelow(DEFAULT_EPC_THRESHOLD, by=by)}
 
 
-@contextmanager
-def _interrupts_deferred():
-    """Hold Ctrl-C until the block ends, so a merge is never half done (main thread, with a
-    Python-level SIGINT handler; elsewhere the block runs as it is)."""
-    if (threading.current_thread() is not threading.main_thread()
-            or signal.getsignal(signal.SIGINT) is None):
-        yield
-        return
-    received = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: received.append(signum))
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    if received:
-        raise KeyboardInterrupt
-
-
 def _checked_points(space: Space, points) -> int:
     if points is None:
         if space.is_random:
@@ -134,7 +116,8 @@ def _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir):
 
 def run(space: Space, points: int | None = None, *, seed: int | None = None,
         reductions: dict | None = None, chunk_points: int = DEFAULT_CHUNK_POINTS,
-        threads: int | None = None, progress=None, parquet=None, client=None) -> ScanResult:
+        threads: int | None = None, progress=None, parquet=None, client=None,
+        on_chunk=None) -> ScanResult:
     """Evaluate ``points`` points of ``space`` in chunks and reduce them on the fly.
 
     Parameters
@@ -160,10 +143,19 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     client : dask.distributed.Client, optional
         Run the chunks as tasks on this client's cluster (the ``dask`` extra); the results are
         the same as a local run's.
+    on_chunk : callable, optional
+        Called as ``on_chunk(points_done)`` after each chunk is merged (and its Parquet part
+        renamed into place), with SIGINT and SIGTERM held: e.g. to record progress on disk.
 
     Returns
     -------
     ScanResult
+
+    Raises
+    ------
+    ScanAborted
+        When the scan cannot go on (e.g. its cluster lost every worker); its ``result`` holds
+        the prefix merged before, marked ``partial``.
     """
     points = _checked_points(space, points)
     chunk_points = _checked_chunk_points(chunk_points)
@@ -173,7 +165,7 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     states = {item.name: item.reduction.start(item.key, points) for item in plan}
     parquet_dir = None
     if parquet is not None:
-        from .parquet import prepare_directory
+        from .parquet import commit_parts, discard_uncommitted, prepare_directory
 
         parquet_dir = prepare_directory(parquet)
     ranges = ((start, min(start + chunk_points, points))
@@ -189,26 +181,40 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     timing = Timing()
     done = 0
     partial = False
+    aborted = None
     started = time.perf_counter()
-    try:
-        for outcome in outcomes:
-            merge_started = time.perf_counter()
-            with _interrupts_deferred():
-                for item in plan:
-                    states[item.name] = item.reduction.merge(states[item.name],
-                                                             outcome.partials[item.name])
-                done = outcome.stop
-            for field in ("sampling_s", "core_s", "output_s", "reduction_s"):
-                setattr(timing, field, getattr(timing, field) + getattr(outcome, field))
-            timing.reduction_s += time.perf_counter() - merge_started
-            reporter.update(done)
-    except KeyboardInterrupt:
-        partial = done < points
-    finally:
-        outcomes.close()
-        reporter.close()
+    with terminate_as_interrupt():
+        try:
+            for outcome in outcomes:
+                merge_started = time.perf_counter()
+                with _interrupts_deferred():
+                    for item in plan:
+                        states[item.name] = item.reduction.merge(states[item.name],
+                                                                 outcome.partials[item.name])
+                    done = outcome.stop
+                    if parquet_dir is not None:
+                        commit_parts(parquet_dir, done)
+                    if on_chunk is not None:
+                        on_chunk(done)
+                for field in ("sampling_s", "core_s", "output_s", "reduction_s"):
+                    setattr(timing, field, getattr(timing, field) + getattr(outcome, field))
+                timing.reduction_s += time.perf_counter() - merge_started
+                reporter.update(done)
+        except KeyboardInterrupt:
+            partial = done < points
+        except ScanAborted as error:
+            aborted, partial = error, True
+        finally:
+            outcomes.close()
+            reporter.close()
+            if parquet_dir is not None:
+                discard_uncommitted(parquet_dir, done)
     timing.wall_s = time.perf_counter() - started
     results = {item.name: item.reduction.finish(states[item.name], item.key, space)
                for item in plan}
-    return ScanResult(space, seed, done, points, partial, results, timing)
+    result = ScanResult(space, seed, done, points, partial, results, timing)
+    if aborted is not None:
+        aborted.result = result
+        raise aborted
+    return result
 

@@ -1,0 +1,46 @@
+"""Files written whole or not at all: to a temporary name in the same directory, flushed to
+disk, then renamed into place (a rename within a directory is atomic on POSIX and Windows).
+
+A crash, a kill or a full disk leaves the previous file (or none) under the final name, never
+a truncated one; the temporary name starts with a dot, so readers of a Parquet directory
+(``pyarrow``, ``pandas``) skip it. The rename replaces a symlink at the final name itself: it
+never writes through it.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+__all__ = ["atomic_write", "TEMPORARY_SUFFIX"]
+
+TEMPORARY_SUFFIX = ".tmp"
+
+
+def atomic_write(target, write) -> Path:
+    """Call ``write(temporary_path)`` then rename the temporary file to ``target``.
+
+    ``write`` creates the file's content at the path it is given (opening it for writing, or
+    passing it to a library's save function). On any error the temporary file is removed and
+    ``target`` is left as it was.
+    """
+    target = Path(target)
+    handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",
+                                         suffix=TEMPORARY_SUFFIX)
+    os.close(handle)
+    try:
+        write(Path(temporary))
+        descriptor = os.open(temporary, os.O_RDONLY)
+        try:
+            os.fsync(descriptor)
+        finally:
+            os.close(descriptor)
+        os.replace(temporary, target)
+    except BaseException:
+        try:
+            os.unlink(temporary)
+        except OSError:
+            pass
+        raise
+    return target

@@ -1,0 +1,60 @@
+"""SIGINT and SIGTERM during a scan: both stop it between chunks, never inside a merge.
+
+:func:`terminate_as_interrupt` turns SIGTERM into KeyboardInterrupt (as Python already does
+for SIGINT) while a scan runs, so a ``kill`` stops the scan like Ctrl-C and its prefix is kept.
+:func:`signals_deferred` holds both signals while a chunk is merged and delivers them after.
+Both act only in the main thread (the only one Python delivers signals to) and only where the
+handler is Python's own, leaving a handler the application installed alone.
+"""
+
+from __future__ import annotations
+
+import signal
+import threading
+from contextlib import contextmanager
+
+__all__ = ["terminate_as_interrupt", "signals_deferred", "STOP_SIGNALS"]
+
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def _main_thread() -> bool:
+    return threading.current_thread() is threading.main_thread()
+
+
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt(signal.Signals(signum).name)
+
+
+@contextmanager
+def terminate_as_interrupt():
+    """SIGTERM raises KeyboardInterrupt("SIGTERM") while the block runs, when its handler is
+    the default (terminate at once)."""
+    if not _main_thread() or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL:
+        yield
+        return
+    previous = signal.signal(signal.SIGTERM, _interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+@contextmanager
+def signals_deferred():
+    """Hold SIGINT and SIGTERM until the block ends, then call the handlers they had (so a
+    merge is never half done). A signal whose handler is not a Python callable (the default
+    action, ignored, or installed outside Python) is not held."""
+    held = [s for s in STOP_SIGNALS if callable(signal.getsignal(s))] if _main_thread() else []
+    if not held:
+        yield
+        return
+    received = []
+    previous = {s: signal.signal(s, lambda signum, frame: received.append(signum)) for s in held}
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    for signum in dict.fromkeys(received):
+        previous[signum](signum, None)
