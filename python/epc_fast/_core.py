@@ -7,6 +7,11 @@ bit-identical results (wider vectors only run more lanes per instruction); the b
 fused multiply-add and agrees with them to a few ulp (docs/numerics.md). Set ``EPC_FAST_ISA``
 to ``x86-64``, ``x86-64-v3`` or ``x86-64-v4`` to choose one (an error if the CPU or the build
 lacks it).
+
+``OMP_NUM_THREADS`` sets the default thread count of every call; it is checked as ``threads=``
+is (:func:`checked_default_threads`): the OpenMP runtime itself takes any count and crashes
+creating, e.g., 100000 threads. ``EPC_FAST_OUTPUT_CACHE_MB`` (:mod:`epc_fast.memory`) is checked
+when the module loads.
 """
 
 from __future__ import annotations
@@ -30,12 +35,43 @@ def _import(module_name):
         return None
 
 
+#: Bytes the output cache's limit may be: the core holds it in a signed 64-bit integer.
+MAX_CACHE_BYTES = 2**62
+
+
+def _omp_counts(text: str) -> list[int] | None:
+    """The counts of an ``OMP_NUM_THREADS`` value (``"4"`` or nested ``"4,2"``); None when a
+    part is not a whole number."""
+    parts = [p.strip() for p in text.split(",")]
+    if not all(p.isdigit() for p in parts):
+        return None
+    return [int(p) for p in parts]
+
+
+def checked_default_threads() -> int:
+    """The thread count a call without ``threads=`` uses, at most ``epc_fast.api.MAX_THREADS``;
+    a ValueError naming ``OMP_NUM_THREADS`` when it asks for more, or is not a count."""
+    from .api import MAX_THREADS
+
+    text = os.environ.get("OMP_NUM_THREADS", "").strip()
+    if text:
+        counts = _omp_counts(text)
+        if counts is None or not all(1 <= c <= MAX_THREADS for c in counts):
+            raise ValueError(f"OMP_NUM_THREADS={text!r}: expected a thread count between 1 and "
+                             f"{MAX_THREADS} (as threads=), or comma-separated counts")
+    count = default_threads()
+    if not 1 <= count <= MAX_THREADS:
+        raise ValueError(f"the OpenMP runtime's default of {count} threads is not between 1 and "
+                         f"{MAX_THREADS}: set OMP_NUM_THREADS or pass threads=")
+    return count
+
+
 def _load():
     baseline = _import(MODULES["x86-64"]) or _import(MODULES["generic"])
     if baseline is None:
         raise ImportError("epc_fast's compiled core is missing: reinstall the package")
     supported = dict(baseline.cpu_levels(), **{"x86-64": True, "generic": True})
-    forced = os.environ.get("EPC_FAST_ISA")
+    forced = os.environ.get("EPC_FAST_ISA", "").strip()
     if forced:
         if forced not in MODULES:
             raise ImportError(f"EPC_FAST_ISA={forced!r}: expected one of {', '.join(MODULES)}")
@@ -58,6 +94,11 @@ isa, _module = _load()
 globals().update({name: getattr(_module, name) for name in dir(_module)
                   if not name.startswith("__")})
 
+from .memory import CACHE_ENV as _CACHE_ENV  # noqa: E402
 from .memory import default_cache_bytes as _default_cache_bytes  # noqa: E402
 
-_module.output_cache(_default_cache_bytes())  # the module's output cache starts at the default limit
+_cache_bytes = _default_cache_bytes()
+if _cache_bytes > MAX_CACHE_BYTES:
+    raise ValueError(f"{_CACHE_ENV}={os.environ.get(_CACHE_ENV)!r}: expected a size in MiB "
+                     f"between 0 and {MAX_CACHE_BYTES >> 20}")
+_module.output_cache(_cache_bytes)  # the module's output cache starts at the default limit

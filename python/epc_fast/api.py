@@ -146,7 +146,7 @@ def _threads_of(threads) -> int:
     from . import _core
 
     if threads is None:
-        return _core.default_threads()
+        return _core.checked_default_threads()
     count = _integer("threads", threads)
     if not 1 <= count <= MAX_THREADS:
         raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")
