@@ -3,6 +3,10 @@
 With no sub-command it runs the main job on built-in defaults: it prints the build (version,
 OpenMP, threads), checks the core against the NumPy reference on random points, and evaluates
 the paper's 1/3.2" designs over illuminance. Sub-commands live in :mod:`epc_fast.commands`.
+
+An error ends the command with one line on stderr, ``epc-fast COMMAND: error: ...``, and exit
+code 2 for a usage error (a config, an option, an output directory) or 1 for any other;
+``--debug`` shows the traceback instead.
 """
 
 from __future__ import annotations
@@ -54,18 +58,44 @@ def build_parser(commands: dict) -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"epc_fast {__version__}")
     parser.add_argument("--check-points", type=int, default=20000,
                         help="random points for the core-vs-reference self-check (main job)")
+    parser.add_argument("--debug", action="store_true", help="show the traceback of an error")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, module in commands.items():
         module.add_arguments(sub.add_parser(name, help=module.HELP, description=module.HELP))
     return parser
 
 
+def _one_line(error: BaseException) -> str:
+    """The error's message on one line; its type's name when the message is empty or the
+    error is not one of the package's usage errors."""
+    from .scan.errors import UsageError
+
+    text = " ".join(str(error).split())
+    if isinstance(error, UsageError):
+        return text
+    return f"{type(error).__name__}: {text}" if text else type(error).__name__
+
+
 def main(argv=None) -> int:
     commands = discover()
     args = build_parser(commands).parse_args(argv)
-    if args.command is None:
-        return main_job(args)
-    return commands[args.command].run(args)
+    prog = "epc-fast" + (f" {args.command}" if args.command else "")
+    try:
+        if args.command is None:
+            return main_job(args)
+        return commands[args.command].run(args)
+    except KeyboardInterrupt:
+        if args.debug:
+            raise
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as error:
+        from .scan.errors import UsageError
+
+        if args.debug:
+            raise
+        print(f"{prog}: error: {_one_line(error)}", file=sys.stderr)
+        return 2 if isinstance(error, UsageError) else 1
 
 
 if __name__ == "__main__":

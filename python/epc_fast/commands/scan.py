@@ -1,9 +1,18 @@
-"""``epc-fast scan [CONFIG.toml]``: a design-space scan, its summary table and plots."""
+"""``epc-fast scan [CONFIG.toml]``: a design-space scan, its summary table and plots.
+
+Everything the scan writes goes into ``--out`` under the policy of
+:class:`epc_fast.scan.output.OutputDirectory` (checked before the first point, every file
+written atomically), with a ``manifest.json`` updated after every merged chunk. SIGINT and
+SIGTERM stop the scan between chunks; the prefix done is written everywhere, marked partial.
+"""
 
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
+import math
+import signal
+import sys
+import threading
 
 NAME = "scan"
 HELP = ("scan a design space from a TOML config (default: the built-in one) and write its "
@@ -18,32 +27,71 @@ MAIN_JOB_EPC_COLUMNS = ("mean", "q5", "q50", "q95")
 MAIN_JOB_FRACTION_COLUMN = "P(epc < 2e+06)"
 
 
+#: Exit codes of a scan stopped by SIGINT and SIGTERM (128 + the signal's number).
+EXIT_INTERRUPTED = {"SIGINT": 130, "SIGTERM": 143}
+#: Exit code of a scan that could not go on (e.g. its cluster lost every worker).
+EXIT_ABORTED = 1
+
+
+def _whole(name: str, low: int, high: int, multiple: int = 1):
+    """An argparse type: an integer in [low, high] (``1e9`` accepted, ``70000.9`` refused)."""
+    def parse(text: str) -> int:
+        try:
+            value = float(text) if any(c in text for c in ".eE") else int(text)
+        except ValueError:
+            value = math.nan
+        if isinstance(value, float):
+            value = int(value) if math.isfinite(value) and value.is_integer() else None
+        if value is None or not low <= value <= high or value % multiple:
+            extra = f", a multiple of {multiple}" if multiple > 1 else ""
+            raise argparse.ArgumentTypeError(
+                f"{name} {text!r}: expected an integer between {low:,} and {high:,}{extra}")
+        return value
+    return parse
+
+
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from ..api import MAX_THREADS
+    from ..scan.schema import MAX_CHUNK_POINTS, MAX_POINTS
+    from ..scan.space import BLOCK_POINTS
+
     parser.add_argument("config", nargs="?", help="TOML file (see examples/scan_designs.toml); "
                         "default: the built-in config (--show-config prints it)")
-    parser.add_argument("--out", default="epc-scan", help="output directory (default: %(default)s)")
-    parser.add_argument("--points", type=float, help="override [scan] points")
-    parser.add_argument("--seed", type=int, help="override [scan] seed")
-    parser.add_argument("--threads", type=int, help="core threads per chunk")
-    parser.add_argument("--chunk-points", type=int, help="points per chunk (a multiple of 65536)")
+    parser.add_argument("--out", default="epc-scan", help="output directory (default: "
+                        "%(default)s); refused when not empty, unless --overwrite")
+    parser.add_argument("--overwrite", action="store_true", help="write into a --out that is not "
+                        "empty, replacing only the files this scan writes")
+    parser.add_argument("--points", type=_whole("--points", 1, MAX_POINTS),
+                        help="override [scan] points (1e9 is accepted)")
+    parser.add_argument("--seed", type=_whole("--seed", 0, 2**64 - 1), help="override [scan] seed")
+    parser.add_argument("--threads", type=_whole("--threads", 1, MAX_THREADS),
+                        help="core threads per chunk")
+    parser.add_argument("--chunk-points", type=_whole("--chunk-points", BLOCK_POINTS,
+                                                      MAX_CHUNK_POINTS, BLOCK_POINTS),
+                        help="points per chunk (a multiple of 65536)")
     parser.add_argument("--scheduler", help="address of a Dask scheduler (tcp://host:8786): run "
                         "the chunks on that cluster (needs the dask extra)")
     parser.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--show-config", action="store_true",
                         help="print the built-in config and exit")
+    parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                        help="show the traceback of an error")
 
 
 def _config(args):
     from ..scan.config import default_config, load_config
 
     config = load_config(args.config) if args.config else default_config()
-    if args.points is not None:
-        config.points = int(args.points)
-    for name in ("seed", "threads", "chunk_points"):
+    for name in ("points", "seed", "threads", "chunk_points"):
         if getattr(args, name) is not None:
             setattr(config, name, getattr(args, name))
     return config
+
+
+def _overrides(args) -> dict:
+    return {name: getattr(args, name) for name in ("points", "seed", "threads", "chunk_points")
+            if getattr(args, name) is not None}
 
 
 def _client(address):
@@ -71,57 +119,132 @@ def _quantile_notes(result) -> list[str]:
             if hasattr(r, "error_statement")]
 
 
-def _write_outputs(result, out: Path, plots: bool) -> list[Path]:
+def _write_outputs(result, out, plots: bool) -> None:
+    """Every table, top-k list and plot of ``result``, each written atomically in ``out``."""
     from ..scan import tables
 
-    written = []
     for grouping, columns in tables.grouped_tables(result).items():
-        stem = out / tables.file_stem(grouping)
-        tables.write_csv(stem.with_suffix(".csv"), columns)
-        stem.with_suffix(".md").write_text(tables.markdown(columns) + "\n")
-        written += [stem.with_suffix(".csv"), stem.with_suffix(".md")]
+        stem = tables.file_stem(grouping)
+        out.write(stem + ".csv", lambda path: tables.write_csv(path, columns))
+        out.write(stem + ".md", lambda path: path.write_text(tables.markdown(columns) + "\n"))
     for name, columns in tables.top_k_columns(result).items():
-        tables.write_csv(out / f"{name}.csv", columns)
-        written.append(out / f"{name}.csv")
+        out.write(f"{name}.csv", lambda path: tables.write_csv(path, columns))
     if plots:
-        written += _write_plots(result, out)
-    return written
+        _write_plots(result, out)
 
 
-def _write_plots(result, out: Path) -> list[Path]:
+def _write_plots(result, out) -> None:
     from ..scan import plots
     from ..scan.histograms import HistogramResult, QuantilesResult
 
-    written = []
     for name, r in result.results.items():
-        path = out / f"{name}.png"
         if isinstance(r, HistogramResult):
-            plots.plot_distributions(r, path)
+            out.write(f"{name}.png", lambda path: plots.plot_distributions(r, path))
         elif isinstance(r, QuantilesResult) and plots.bands_parameter(r):
-            plots.plot_bands(r, path)
-        else:
-            continue
-        written.append(path)
-    return written
+            out.write(f"{name}.png", lambda path: plots.plot_bands(r, path))
+
+
+def _planned(config, plots: bool) -> dict:
+    from ..scan.errors import OutputError
+    from ..scan.manifest import MANIFEST_NAME
+    from ..scan.output_plan import plan_outputs
+
+    planned = plan_outputs(config.space, config.reductions, plots, config.parquet)
+    if set(planned) == {MANIFEST_NAME}:
+        raise OutputError("this scan writes no result: its reductions have no table, and "
+                          + ("--no-plots drops their plots" if not plots else "no plot")
+                          + "; add a summary, quantiles, fraction_below or top_k reduction"
+                          + (", or drop --no-plots" if not plots else ""))
+    return planned
+
+
+def _parquet_bytes(config) -> int:
+    from ..scan.chunk import OUTPUTS
+    from ..scan.output import PARQUET_BYTES_PER_VALUE
+
+    if config.parquet is None:
+        return 0
+    columns = 3 + len(config.space.varying_parameters) + len(OUTPUTS)
+    return config.points * columns * PARQUET_BYTES_PER_VALUE
+
+
+class _Stops:
+    """SIGTERM raises KeyboardInterrupt while the scan runs, and which signal stopped it is
+    remembered (the exit code and the manifest say it)."""
+
+    def __init__(self):
+        self.received = []
+        self.previous = None
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            self.previous = signal.signal(signal.SIGTERM, self._terminate)
+        return self
+
+    def _terminate(self, signum, frame):
+        self.received.append("SIGTERM")
+        raise KeyboardInterrupt("SIGTERM")
+
+    def __exit__(self, *exc):
+        if self.previous is not None:
+            signal.signal(signal.SIGTERM, self.previous)
+
+    @property
+    def name(self) -> str:
+        return self.received[0] if self.received else "SIGINT"
+
+
+def _parquet_files(out, config) -> list[str]:
+    from ..scan.parquet import committed_parts
+
+    if config.parquet is None:
+        return []
+    return [f"{config.parquet}/{name}" for name in committed_parts(out.path / config.parquet)]
 
 
 def run(args) -> int:
+    from .. import _core
     from ..scan import run as run_scan
     from ..scan import tables
     from ..scan.config import DEFAULT_CONFIG
+    from ..scan.errors import ScanAborted
+    from ..scan.manifest import new_manifest, write_manifest
+    from ..scan.output import OutputDirectory
 
     if args.show_config:
         print(DEFAULT_CONFIG, end="")
         return 0
     config = _config(args)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    if config.threads is None and args.scheduler is None:
+        _core.checked_default_threads()  # OMP_NUM_THREADS, before anything is written
+    plots = not args.no_plots
+    planned = _planned(config, plots)
+    out = OutputDirectory(args.out, overwrite=args.overwrite)
+    out.prepare(planned, config.parquet, _parquet_bytes(config))
+    manifest = new_manifest(config, _overrides(args), config.points)
+    write_manifest(out.path, manifest)
+
+    def on_chunk(done: int) -> None:
+        manifest["points_done"] = done
+        manifest["files"] = _parquet_files(out, config)
+        write_manifest(out.path, manifest)
+
     client = _client(args.scheduler)
+    failure = None
     try:
-        result = run_scan(config.space, **config.run_kwargs(),
-                          progress=False if args.no_progress else None,
-                          parquet=None if config.parquet is None else out / config.parquet,
-                          client=client)
+        with _Stops() as stops:
+            result = run_scan(config.space, **config.run_kwargs(),
+                              progress=False if args.no_progress else None,
+                              parquet=None if config.parquet is None else out.path / config.parquet,
+                              client=client, on_chunk=on_chunk)
+    except ScanAborted as error:
+        if error.result is None:
+            raise
+        failure, result = error, error.result
+    except BaseException as error:
+        manifest.update(state="failed", stopped_by=f"{type(error).__name__}: {error}")
+        write_manifest(out.path, manifest)
+        raise
     finally:
         if client is not None:
             client.close()
@@ -133,9 +256,21 @@ def run(args) -> int:
     print()
     for note in _quantile_notes(result):
         print(note)
-    for path in _write_outputs(result, out, plots=not args.no_plots):
-        print(f"wrote {path}")
-    return 130 if result.partial else 0
+    _write_outputs(result, out, plots=plots)
+    stopped_by = (str(failure) if failure is not None
+                  else stops.name if result.partial else None)
+    state = ("failed" if failure is not None else "interrupted" if result.partial
+             else "complete")
+    manifest.update(points_done=result.points, partial=result.partial, state=state,
+                    stopped_by=stopped_by, files=out.written + _parquet_files(out, config))
+    write_manifest(out.path, manifest)
+    for name in out.written + ["manifest.json"]:
+        print(f"wrote {out.path / name}")
+    if failure is not None:
+        print(f"epc-fast scan: error: {failure}; the {result.points:,} points merged before it "
+              "are written, marked partial", file=sys.stderr)
+        return EXIT_ABORTED
+    return EXIT_INTERRUPTED[stops.name] if result.partial else 0
 
 
 def print_default_scan(points: int = MAIN_JOB_POINTS) -> None:

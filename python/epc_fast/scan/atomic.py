@@ -10,7 +10,7 @@ never writes through it.
 from __future__ import annotations
 
 import os
-import tempfile
+import secrets
 from pathlib import Path
 
 __all__ = ["atomic_write", "TEMPORARY_SUFFIX"]
@@ -26,9 +26,10 @@ def atomic_write(target, write) -> Path:
     ``target`` is left as it was.
     """
     target = Path(target)
-    handle, temporary = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",
-                                         suffix=TEMPORARY_SUFFIX)
-    os.close(handle)
+    temporary = target.parent / f".{target.name}.{secrets.token_hex(6)}{TEMPORARY_SUFFIX}"
+    # O_EXCL: a new file of this process's own, never an existing file or a symlink's target;
+    # mode 0o666 less the umask, as an ordinary open() would give.
+    os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
     try:
         write(Path(temporary))
         descriptor = os.open(temporary, os.O_RDONLY)

@@ -1,4 +1,9 @@
-"""A scan's results as tables: one row per group, written as CSV or markdown."""
+"""A scan's results as tables: one row per group, written as CSV or markdown.
+
+Text cells come from users (design names): a CSV cell starting with ``=``, ``+``, ``-``, ``@``,
+a tab or a carriage return gets a leading ``'`` so that a spreadsheet shows it as text instead
+of running it as a formula; a markdown cell has its pipes escaped and line breaks as spaces.
+"""
 
 from __future__ import annotations
 
@@ -9,11 +14,29 @@ import numpy as np
 
 from .runner import ScanResult
 
-__all__ = ["grouped_tables", "file_stem", "top_k_columns", "write_csv", "markdown"]
+__all__ = ["grouped_tables", "table_groupings", "file_stem", "top_k_columns", "write_csv",
+           "markdown"]
+
+#: First characters that make a spreadsheet read a CSV cell as a formula.
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
 
 
 def _same_groups(a: dict, b: dict) -> bool:
     return a.keys() == b.keys() and all(list(a[k]) == list(b[k]) for k in a)
+
+
+def table_groupings(labels_by_reduction: dict) -> dict:
+    """{reduction name: grouping} for reductions given as {name: their group labels}, in order:
+    the grouping is the label columns joined (``"design"``, ``"all"`` for a single group), and
+    a grouping already taken by other groups gets `` (n)``, n the tables before it."""
+    groupings, labels_of = {}, {}
+    for reduction_name, labels in labels_by_reduction.items():
+        name = ", ".join(labels) or "all"
+        if name in labels_of and not _same_groups(labels_of[name], labels):
+            name = f"{name} ({len(labels_of)})"
+        labels_of.setdefault(name, labels)
+        groupings[reduction_name] = name
+    return groupings
 
 
 def grouped_tables(result: ScanResult) -> dict:
@@ -21,15 +44,12 @@ def grouped_tables(result: ScanResult) -> dict:
     columns of every per-group result on it (summary, quantiles, fractions below), in the
     order the reductions were given; a column name already taken is prefixed with its
     reduction's name. The grouping of a single group is ``"all"``."""
+    tabled = {name: r for name, r in result.results.items()
+              if hasattr(r, "labels") and hasattr(r, "columns")}
+    groupings = table_groupings({name: r.labels for name, r in tabled.items()})
     tables = {}
-    labels_of = {}
-    for reduction_name, reduction in result.results.items():
-        if not (hasattr(reduction, "labels") and hasattr(reduction, "columns")):
-            continue
-        name = ", ".join(reduction.labels) or "all"
-        if name in labels_of and not _same_groups(labels_of[name], reduction.labels):
-            name = f"{name} ({len(tables)})"
-        labels_of.setdefault(name, reduction.labels)
+    for reduction_name, reduction in tabled.items():
+        name = groupings[reduction_name]
         table = tables.setdefault(name, {k: list(v) for k, v in reduction.labels.items()})
         for column, values in reduction.columns().items():
             if column not in reduction.labels:
@@ -63,7 +83,8 @@ def _csv_value(value):
         return int(value)
     if isinstance(value, numbers.Real):
         return repr(float(value))
-    return value
+    text = str(value)
+    return "'" + text if text.startswith(FORMULA_STARTS) else text
 
 
 def _cell(value) -> str:
@@ -74,7 +95,7 @@ def _cell(value) -> str:
         if not np.isfinite(value):
             return str(value)
         return f"{value:,.0f}" if abs(value) >= 1000 else f"{value:.4g}"
-    return str(value).replace("|", "\\|")
+    return " ".join(str(value).replace("|", "\\|").splitlines())
 
 
 def markdown(columns: dict) -> str:
@@ -82,7 +103,7 @@ def markdown(columns: dict) -> str:
     significant digits."""
     if not columns:
         return ""
-    header = "| " + " | ".join(columns) + " |"
+    header = "| " + " | ".join(map(_cell, columns)) + " |"
     rule = "|" + "|".join("---" for _ in columns) + "|"
     rows = ["| " + " | ".join(_cell(v) for v in row) + " |" for row in zip(*columns.values())]
     return "\n".join([header, rule, *rows])

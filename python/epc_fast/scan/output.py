@@ -1,0 +1,158 @@
+"""The output directory of ``epc-fast scan``: one policy for everything a scan writes.
+
+- Everything stays inside the directory: file names are checked (no separator, no ``..``) and
+  a symlink in it is replaced, never written through.
+- A directory that is not empty is refused unless ``overwrite``; then only the files this
+  scan writes are replaced (and its Parquet directory's parts), nothing else is touched.
+- Before the first point: the directory is created, a probe file is written and removed
+  (writability), and its free space is compared with what the scan will write.
+- Every file is written to a temporary name in the same directory and renamed into place
+  (:func:`~epc_fast.scan.atomic.atomic_write`).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+from pathlib import Path
+
+from .atomic import TEMPORARY_SUFFIX, atomic_write
+from .errors import OutputError
+from .manifest import describe, read_manifest
+
+__all__ = ["OutputDirectory", "TABLE_BYTES", "PARQUET_BYTES_PER_VALUE"]
+
+#: Bytes kept free for tables, plots and the manifest.
+TABLE_BYTES = 16 * 2**20
+#: Bytes a Parquet point takes per column at most (8-byte values, before compression).
+PARQUET_BYTES_PER_VALUE = 8
+_SAFE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,199}")
+_PARTS = re.compile(r"(\.ready-)?part-\d{12,}\.parquet")
+
+
+def _short_list(names) -> str:
+    names = sorted(names)
+    return ", ".join(names[:5]) + (f" and {len(names) - 5} more" if len(names) > 5 else "")
+
+
+def _human(count: float) -> str:
+    for unit in ("bytes", "KB", "MB", "GB", "TB"):
+        if count < 1000:
+            return f"{count:.3g} {unit}"
+        count /= 1000
+    return f"{count:.3g} PB"
+
+
+class OutputDirectory:
+    """A scan's output directory, checked by :meth:`prepare` before the scan starts.
+
+    Parameters
+    ----------
+    path : the directory (``--out``); created if missing.
+    overwrite : replace this scan's files in a directory that is not empty.
+    """
+
+    def __init__(self, path, overwrite: bool = False):
+        self.path = Path(path)
+        self.overwrite = overwrite
+        self.written: list[str] = []
+
+    def _refuse(self, why: str):
+        raise OutputError(f"--out {str(self.path)!r}: {why}")
+
+    def prepare(self, planned: dict, parquet: str | None = None, parquet_bytes: int = 0) -> None:
+        """Check and make ready the directory for the files ``planned`` ({name: what}).
+
+        ``parquet`` names the Parquet directory among them, ``parquet_bytes`` the bytes its
+        parts will take at most.
+        """
+        for name in planned:
+            if not _SAFE_NAME.fullmatch(name) or ".." in name:
+                self._refuse(f"{name!r} is not a file name a scan writes (letters, digits, "
+                             "_ - and .)")
+        if self.path.exists() and not self.path.is_dir():
+            self._refuse("exists and is not a directory")
+        try:
+            self.path.mkdir(parents=True, exist_ok=True)
+            present = os.listdir(self.path)
+        except OSError as error:
+            self._refuse(f"cannot create or list it: {error.strerror}")
+        if present and not self.overwrite:
+            self._refuse(self._found(present, planned))
+        for name in planned:
+            target = self.path / name
+            is_dir = target.is_dir() and not target.is_symlink()
+            if name == parquet:
+                if target.is_symlink() or (target.exists() and not is_dir):
+                    self._refuse(f"{name} exists and is not a directory; the Parquet parts "
+                                 "go into a real directory only (a symlink is not followed)")
+            elif is_dir:
+                self._refuse(f"{name} is a directory; this scan writes a file of that name")
+        if self.overwrite:
+            self._clear_previous(present, parquet)
+        self._probe(self.path)
+        if parquet is not None:
+            try:
+                (self.path / parquet).mkdir(exist_ok=True)
+            except OSError as error:
+                self._refuse(f"cannot create {parquet}: {error.strerror}")
+            self._probe(self.path / parquet)
+        needed = TABLE_BYTES + parquet_bytes
+        free = shutil.disk_usage(self.path).free
+        if free < needed:
+            self._refuse(f"has {_human(free)} free; this scan writes up to ~{_human(needed)} "
+                         f"(tables and plots {_human(TABLE_BYTES)}"
+                         + (f", Parquet {_human(parquet_bytes)})" if parquet else ")")
+                         + ": free space, choose another --out, or scan fewer points")
+
+    def _found(self, present: list, planned: dict) -> str:
+        manifest = read_manifest(self.path)
+        clashing = sorted(set(present) & set(planned))
+        what = (f"holds {describe(manifest)}" if manifest is not None
+                else f"is not empty ({_short_list(present)})")
+        replaced = (f"; --overwrite replaces {_short_list(clashing)}" if clashing
+                    else "; --overwrite writes beside them")
+        return (f"{what}{replaced}, or choose another --out (a scan never writes into a "
+                "directory that is not empty without --overwrite)")
+
+    def _clear_previous(self, present: list, parquet: str | None) -> None:
+        """Remove the temporary files a killed scan left, and the previous Parquet parts."""
+        for name in present:
+            if name.startswith(".") and name.endswith(TEMPORARY_SUFFIX):
+                self._remove(self.path / name)
+        directory = None if parquet is None else self.path / parquet
+        if directory is not None and directory.is_dir() and not directory.is_symlink():
+            for entry in os.scandir(directory):
+                stale = _PARTS.fullmatch(entry.name) or (
+                    entry.name.startswith(".") and entry.name.endswith(TEMPORARY_SUFFIX))
+                if stale and entry.is_file(follow_symlinks=False):
+                    self._remove(Path(entry.path))
+
+    def _remove(self, path: Path) -> None:
+        try:
+            path.unlink()
+        except OSError as error:
+            self._refuse(f"cannot remove {path.name}: {error.strerror}")
+
+    def _probe(self, directory: Path) -> None:
+        probe = directory / f".write-probe-{os.getpid()}{TEMPORARY_SUFFIX}"
+        try:
+            descriptor = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            try:
+                os.write(descriptor, b"epc_fast")
+                os.fsync(descriptor)
+            finally:
+                os.close(descriptor)
+            os.unlink(probe)
+        except OSError as error:
+            self._refuse(f"{directory.name or directory} is not writable: {error.strerror}")
+
+    def write(self, name: str, write) -> Path:
+        """Write the file ``name`` atomically with ``write(temporary_path)``."""
+        if not _SAFE_NAME.fullmatch(name) or ".." in name:
+            self._refuse(f"{name!r} is not a file name a scan writes")
+        path = atomic_write(self.path / name, write)
+        if name not in self.written:
+            self.written.append(name)
+        return path

@@ -1,0 +1,316 @@
+"""A scan never loses or clobbers data: everything inside --out, nothing replaced without
+--overwrite, files written whole, a manifest that says how far the scan got, interruption
+(SIGINT, SIGTERM, SIGKILL) leaving a consistent prefix, output failures found before the work.
+"""
+
+import csv
+import errno
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+import types
+
+import pytest
+
+import epc_fast.scan.output
+import epc_fast.scan.tasks
+from epc_fast import evaluate
+from epc_fast.__main__ import main
+from epc_fast.scan.atomic import atomic_write
+
+CONFIG = """\
+[scan]
+points = 200_000
+seed = 7
+
+[design]
+presets = ["HIGH_TIER"]
+
+[parameters]
+illuminance_lux = { distribution = "log_uniform", low = 10, high = 100_000 }
+
+[reductions.summary]
+kind = "summary"
+by = "design"
+"""
+CHUNK = 65536
+
+
+def _config(tmp_path, extra="", name="scan.toml"):
+    path = tmp_path / name
+    path.write_text(CONFIG + extra)
+    return path
+
+
+def _cli(capsys, *args):
+    code = main(["scan", *map(str, args), "--no-progress"])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def _rows(path):
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def _manifest(directory):
+    return json.loads((directory / "manifest.json").read_text())
+
+
+class _Evaluations:
+    """evaluate() that counts its calls and interrupts the ``stop_at``-th (as Ctrl-C would)."""
+
+    def __init__(self, stop_at=None):
+        self.calls = 0
+        self.stop_at = stop_at
+
+    def __call__(self, *args, **kwargs):
+        self.calls += 1
+        if self.calls == self.stop_at:
+            raise KeyboardInterrupt
+        return evaluate(*args, **kwargs)
+
+
+@pytest.fixture
+def evaluations(monkeypatch):
+    counter = _Evaluations()
+    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", counter)
+    return counter
+
+
+# --- everything stays inside --out --------------------------------------------------------
+
+@pytest.mark.parametrize("extra, key", [
+    ('[reductions."/tmp/x"]\nkind = "top_k"\n', "reduction's name = '/tmp/x'"),
+    ('[reductions."../up"]\nkind = "top_k"\n', "reduction's name = '../up'"),
+    ('[output]\nparquet = "../../x"\n', "parquet = '../../x'"),
+    ('[output]\nparquet = "/tmp/points"\n', "parquet = '/tmp/points'"),
+])
+def test_a_name_that_leaves_out_is_refused_before_any_work(tmp_path, capsys, evaluations,
+                                                             extra, key):
+    out = tmp_path / "deep" / "er" / "out"
+    code, _, err = _cli(capsys, _config(tmp_path, extra), "--out", out)
+    assert code == 2 and key in err and "no / or .." in err
+    assert evaluations.calls == 0 and not (tmp_path / "deep").exists()
+    assert not os.path.exists("/tmp/x.csv") or os.path.getmtime("/tmp/x.csv") < time.time() - 60
+
+
+def test_a_reduction_named_like_a_table_is_refused_not_clobbering_it(tmp_path, capsys,
+                                                                     evaluations):
+    extra = '[reductions.summary_by_design]\nkind = "top_k"\n'
+    code, _, err = _cli(capsys, _config(tmp_path, extra), "--out", tmp_path / "out")
+    assert code == 2 and evaluations.calls == 0
+    assert "would both write summary_by_design.csv" in err
+
+
+def test_a_directory_that_is_not_empty_is_refused_without_overwrite(tmp_path, capsys,
+                                                                    evaluations):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary_by_design.csv").write_text("mine\n")
+    code, _, err = _cli(capsys, _config(tmp_path), "--out", out)
+    assert code == 2 and evaluations.calls == 0
+    assert "not empty" in err and "--overwrite replaces summary_by_design.csv" in err
+    assert (out / "summary_by_design.csv").read_text() == "mine\n"
+
+
+def test_overwrite_replaces_only_this_scans_files_and_never_follows_a_symlink(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me\n")
+    outside = tmp_path / "precious.csv"
+    outside.write_text("precious\n")
+    (out / "summary_by_design.csv").symlink_to(outside)
+    code, _, _ = _cli(capsys, _config(tmp_path), "--out", out, "--overwrite")
+    assert code == 0
+    assert outside.read_text() == "precious\n"
+    assert not (out / "summary_by_design.csv").is_symlink()
+    assert len(_rows(out / "summary_by_design.csv")) == 4
+    assert (out / "notes.txt").read_text() == "keep me\n"
+    assert set(_manifest(out)["files"]) == {"summary_by_design.csv", "summary_by_design.md"}
+
+
+def test_a_parquet_directory_that_is_a_symlink_is_refused(tmp_path, capsys, evaluations):
+    pytest.importorskip("pyarrow")
+    out, elsewhere = tmp_path / "out", tmp_path / "elsewhere"
+    out.mkdir()
+    elsewhere.mkdir()
+    (out / "points").symlink_to(elsewhere)
+    code, _, err = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'), "--out",
+                        out, "--overwrite")
+    assert code == 2 and "symlink is not followed" in err and evaluations.calls == 0
+    assert not list(elsewhere.iterdir())
+
+
+# --- failures found before the first point ------------------------------------------------
+
+def test_a_full_disk_is_found_before_the_first_point(tmp_path, capsys, monkeypatch, evaluations):
+    usage = types.SimpleNamespace(total=10**9, used=10**9 - 4096, free=4096)
+    fake_shutil = types.SimpleNamespace(disk_usage=lambda path: usage)
+    monkeypatch.setattr(epc_fast.scan.output, "shutil", fake_shutil)
+    code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
+    assert code == 2 and evaluations.calls == 0
+    assert "4.1 KB free" in err and "this scan writes up to" in err
+
+
+def test_a_read_only_directory_is_found_before_the_first_point(tmp_path, capsys, monkeypatch,
+                                                               evaluations):
+    # Tests run as root, which writes through permission bits: the probe's open fails as on a
+    # read-only file system.
+    def read_only_open(path, flags, mode=0o777):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(path))
+
+    fake_os = types.SimpleNamespace(**{**vars(os), "open": read_only_open})
+    monkeypatch.setattr(epc_fast.scan.output, "os", fake_os)
+    code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
+    assert code == 2 and evaluations.calls == 0
+    assert "is not writable: Read-only file system" in err
+
+
+def test_a_parquet_scan_asking_more_than_the_free_space_is_refused(tmp_path, capsys, monkeypatch,
+                                                                   evaluations):
+    pytest.importorskip("pyarrow")
+    usage = types.SimpleNamespace(total=10**12, used=0, free=10**9)
+    monkeypatch.setattr(epc_fast.scan.output, "shutil",
+                        types.SimpleNamespace(disk_usage=lambda path: usage))
+    code, _, err = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'), "--out",
+                        tmp_path / "out", "--points", "1e9")
+    assert code == 2 and "Parquet" in err and evaluations.calls == 0
+
+
+# --- files written whole -----------------------------------------------------------------
+
+def test_a_full_disk_while_writing_leaves_the_previous_file_and_no_temporary(tmp_path):
+    target = tmp_path / "table.md"
+    target.write_text("previous\n")
+
+    def write_then_fill(path):
+        with open(path, "w") as handle:
+            handle.write("| half a tab")
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    with pytest.raises(OSError, match="No space left"):
+        atomic_write(target, write_then_fill)
+    assert target.read_text() == "previous\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["table.md"]
+
+
+def test_a_parquet_part_that_fails_midway_is_never_under_a_part_name(tmp_path, monkeypatch):
+    pq = pytest.importorskip("pyarrow.parquet")
+    from epc_fast.scan import Space, run
+    from epc_fast.presets import HIGH_TIER
+
+    real_write = pq.write_table
+    calls = []
+
+    def write_half_then_die(table, path, **kwargs):
+        calls.append(path)
+        if len(calls) == 2:
+            with open(path, "wb") as handle:
+                handle.write(b"PAR1 truncated")
+            raise KeyboardInterrupt
+        return real_write(table, path, **kwargs)
+
+    monkeypatch.setattr(pq, "write_table", write_half_then_die)
+    space = Space(design=HIGH_TIER, illuminance_lux=1000.0)
+    result = run(space, 3 * CHUNK, seed=1, chunk_points=CHUNK, progress=False,
+                 parquet=tmp_path / "points")
+    assert result.partial and result.points == CHUNK
+    names = sorted(p.name for p in (tmp_path / "points").iterdir())
+    assert names == ["part-000000000000.parquet"]
+    assert pq.read_table(tmp_path / "points").num_rows == CHUNK
+
+
+# --- interruption: one consistent prefix everywhere, and a manifest that says so ---------
+
+def test_ctrl_c_leaves_parquet_tables_and_manifest_on_the_same_prefix(tmp_path, capsys,
+                                                                      monkeypatch):
+    pq = pytest.importorskip("pyarrow.parquet")
+    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", _Evaluations(stop_at=3))
+    out = tmp_path / "out"
+    code, stdout, _ = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'),
+                           "--out", out, "--chunk-points", CHUNK)
+    assert code == 130 and "INTERRUPTED" in stdout
+    table = pq.read_table(out / "points")
+    counted = sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv"))
+    manifest = _manifest(out)
+    assert table.num_rows == counted == manifest["points_done"] == 2 * CHUNK
+    assert table.column("point").to_pylist() == list(range(2 * CHUNK))
+    assert manifest["partial"] is True and manifest["state"] == "interrupted"
+    assert manifest["stopped_by"] == "SIGINT"
+    assert "points/part-000000000000.parquet" in manifest["files"]
+    assert not [p for p in (out / "points").iterdir() if p.name.startswith(".")]
+
+
+def test_a_complete_scan_has_a_manifest_of_what_it_wrote(tmp_path, capsys):
+    import epc_fast
+
+    out = tmp_path / "out"
+    assert _cli(capsys, _config(tmp_path), "--out", out, "--seed", "11")[0] == 0
+    manifest = _manifest(out)
+    assert manifest["state"] == "complete" and manifest["partial"] is False
+    assert manifest["points_done"] == manifest["points_requested"] == 200_000
+    assert manifest["seed"] == 11 and manifest["overrides"] == {"seed": 11}
+    assert manifest["epc_fast_version"] == epc_fast.__version__
+    assert manifest["config"] == (tmp_path / "scan.toml").read_text()
+    assert all((out / name).is_file() for name in manifest["files"])
+
+
+def _scan_process(config, out, *extra):
+    return subprocess.Popen([sys.executable, "-m", "epc_fast", "scan", str(config), "--out",
+                             str(out), "--no-progress", "--no-plots", "--chunk-points",
+                             str(CHUNK), *extra], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+
+def _wait_for_chunks(process, out, chunks, timeout=120):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            if _manifest(out)["points_done"] >= chunks * CHUNK:
+                return
+        except (OSError, ValueError):
+            pass
+        assert process.poll() is None, process.communicate()
+        time.sleep(0.05)
+    pytest.fail("the scan did not get going")
+
+
+def test_sigterm_stops_between_chunks_and_writes_the_prefix(tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet")
+    config = _config(tmp_path, '[output]\nparquet = "points"\n')
+    out = tmp_path / "out"
+    process = _scan_process(config, out, "--points", "2e7")
+    _wait_for_chunks(process, out, 2)
+    process.send_signal(signal.SIGTERM)
+    stdout, stderr = process.communicate(timeout=120)
+    assert process.returncode == 143, stderr
+    manifest = _manifest(out)
+    done = manifest["points_done"]
+    assert manifest["state"] == "interrupted" and manifest["stopped_by"] == "SIGTERM"
+    assert 2 * CHUNK <= done < 20_000_000 and f"scan of {done:,} of" in stdout
+    assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == done
+    assert pq.read_table(out / "points").num_rows == done
+
+
+def test_a_rerun_into_a_killed_scans_directory_says_what_it_found(tmp_path, capsys):
+    pq = pytest.importorskip("pyarrow.parquet")
+    config = _config(tmp_path, '[output]\nparquet = "points"\n')
+    out = tmp_path / "out"
+    process = _scan_process(config, out, "--points", "2e7")
+    _wait_for_chunks(process, out, 2)
+    process.kill()
+    process.communicate(timeout=60)
+    # What was renamed into place is whole and a prefix of the points.
+    table = pq.read_table(out / "points")
+    assert table.column("point").to_pylist() == list(range(table.num_rows))
+    assert table.num_rows >= _manifest(out)["points_done"] >= 2 * CHUNK
+    code, _, err = _cli(capsys, config, "--out", out)
+    assert code == 2 and "a scan that did not finish" in err and "killed" in err
+    assert "--overwrite" in err
+    code, _, _ = _cli(capsys, config, "--out", out, "--overwrite", "--no-plots")
+    assert code == 0 and pq.read_table(out / "points").num_rows == 200_000
+    assert not [p for p in out.rglob(".*")]
