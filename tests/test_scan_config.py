@@ -15,6 +15,7 @@ from epc_fast.scan import (Binned, Choice, FractionBelow, Grid, LogNormal, LogUn
                            Summary, TopK, Truncated, run)
 from epc_fast.scan import tables
 from epc_fast.scan.config import DEFAULT_CONFIG, default_config, load_config, parse_config
+from epc_fast.scan.errors import ConfigError, TooLargeError
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "scan_designs.toml"
 NAMES = [d.name for d in HIGH_TIER]
@@ -151,3 +152,114 @@ def test_tables_join_the_results_on_each_grouping_and_prefix_a_taken_column():
     assert stem == "summary_by_design_illuminance_lux_low"
     markdown = tables.markdown({"n": [1234567], "x": [0.000123456], "name": ["a|b"]})
     assert markdown.splitlines()[2] == "| 1,234,567 | 0.0001235 | a\\|b |"
+
+
+# --- the config as a schema: strict types, bounded sizes, errors naming table, key, value ----
+
+SCHEMA_BASE = ("[scan]\npoints = 1000\n[design]\npresets = ['HIGH_TIER']\n[parameters]\n"
+               "illuminance_lux = { distribution = 'log_uniform', low = 10, high = 1e5 }\n"
+               "shake_deg_per_s = { distribution = 'lognormal', median = 4.39, sigma = 0.5 }\n")
+
+
+@pytest.mark.parametrize("extra, message", [
+    # Each was accepted and changed the answer.
+    ("[reductions.b]\nkind = 'top_k'\nlargest = 'false'\n",
+     r"\[reductions.b\]: largest = 'false': expected true or false"),
+    ("[reductions.h]\nkind = 'histogram'\nlow = 1e3\nhigh = 1e7\nlog = 'no'\n",
+     r"\[reductions.h\]: log = 'no': expected true or false"),
+    ("[reductions.h]\nkind = 'histogram'\nlow = 1e3\nhigh = 1e7\nbins = 10.7\n",
+     r"\[reductions.h\]: bins = 10.7: expected an integer"),
+    ("[reductions.f]\nkind = 'fraction_below'\nthreshold = nan\n",
+     r"\[reductions.f\]: threshold = nan: expected a finite number"),
+    ("[reductions.q]\nkind = 'quantiles'\nq = [0.5, inf]\n", r"\[reductions.q\]: q = "),
+    # Each was a traceback naming neither key nor value.
+    ("[reductions.b]\nkind = 'top_k'\nk = 2.5\n", r"\[reductions.b\]: k = 2.5: expected an int"),
+    ("[reductions.h]\nkind = 'histogram'\nlow = 'a'\nhigh = 1e7\n",
+     r"\[reductions.h\]: low = 'a': expected a finite number"),
+    ("[reductions.s]\nkind = 'summary'\nby = 5\n", r"\[reductions.s\]: by: 5: expected a name"),
+    ("[reductions.s]\nkind = 'summary'\nby = [{parameter = 'illuminance_lux', log_bins = 5}]\n",
+     r"\[reductions.s\]: log_bins = 5: expected \[low, high, n\]"),
+    ("[reductions.s]\nkind = 'summary'\nby = 'illuminance_lux'\n",
+     r"\[reductions.s\]: cannot group by 'illuminance_lux'"),
+    ("[reductions.s]\nkind = 'summary'\nof = 5\n", r"\[reductions.s\]: of = 5: expected one of"),
+])
+def test_a_reduction_key_of_the_wrong_type_or_range_is_refused(extra, message):
+    with pytest.raises(ConfigError, match=message):
+        parse_config(SCHEMA_BASE + extra)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("[scan]\npoints = 10\n[design]\npresets = 'HIGH_TIER'\n",
+     r"\[design\]: presets = 'HIGH_TIER': expected a list of preset names"),
+    ("[scan]\npoints = 10\n[design]\npresets = 5\n", r"\[design\]: presets = 5: expected a list"),
+    ("[scan]\npoints = true\n", r"\[scan\]: points = True: expected an integer"),
+    ("[scan]\npoints = 10\nseed = -1\n", r"\[scan\]: seed = -1: expected an integer between 0"),
+    ("[scan]\npoints = 10\nchunk_points = 1000\n", r"chunk_points = 1000: expected an integer"),
+    ("[scan]\npoints = 10\nthreads = 100000\n", r"threads = 100000: expected an integer between"),
+    ("[scan]\npoints = 10\n[parameters]\nf_number = 'two'\n",
+     r"\[parameters\]: f_number = 'two': expected a finite number or a table"),
+    ("[scan]\npoints = 10\n[parameters]\nf_number = { grid = [1, 'x'] }\n",
+     r"\[parameters.f_number\]: grid = \[1, 'x'\]: expected a list of finite numbers"),
+    ("[scan]\npoints = 10\n[parameters]\nshake_deg_per_s = { distribution = 'lognormal', "
+     "median = 4, sigma = 1, truncate = 5 }\n",
+     r"\[parameters.shake_deg_per_s\]: truncate = 5: expected a list"),
+    ("[scan]\npoints = 10\n[parameters]\nshake_deg_per_s = { distribution = 'uniform', "
+     "low = 2, high = 1 }\n", r"\[parameters.shake_deg_per_s\]: Uniform needs low < high"),
+    ("[scan]\npoints = 10\n[evaluate]\nt_mpe_solver = 'newton'\n",
+     r"\[evaluate\]: t_mpe_solver = 'newton': expected one of"),
+    ("[scan]\npoints = 10\n[output]\nparquet = 5\n", r"\[output\]: parquet = 5: expected a name"),
+    ("[scan]\npoints = 10\n[design]\npresets = ['HIGH_TIER']\n[parameters]\nbogus = 1\n",
+     r"\[parameters\]: unknown parameter\(s\) bogus"),
+    ("[scan]\npoints = 10\nscan = 1\n[scan.x]\n", r"\[scan\]: unknown key\(s\) scan, x"),
+    ("[scan\npoints = 10\n", r"not valid TOML"),
+])
+def test_a_scan_or_space_key_of_the_wrong_type_or_range_is_refused(text, message):
+    with pytest.raises(ConfigError, match=message):
+        parse_config(text)
+
+
+@pytest.mark.parametrize("extra, message", [
+    ("", None),  # the base itself: points below
+    ("[reductions.b]\nkind = 'top_k'\nk = 1e9\n", r"\[reductions.b\]: k = 1000000000"),
+    ("[reductions.s]\nkind = 'summary'\nby = [{parameter = 'illuminance_lux', "
+     "log_bins = [10, 1e5, 1e8]}]\n", r"log_bins count of 100,000,000 would need"),
+    ("[reductions.s]\nkind = 'summary'\nby = ['design', {parameter = 'illuminance_lux', "
+     "log_bins = [10, 1e5, 10000]}, {parameter = 'shake_deg_per_s', edges = "
+     + str([float(x) for x in range(1, 2502)]) + "}]\n",
+     r"groups \(the cells of its by parts crossed\) of 100,000,000 would need"),
+    ("[reductions.h]\nkind = 'histogram'\nlow = 1\nhigh = 10\nbins = 1e7\nby = 'design'\n",
+     r"groups x bins of 40,000,008 would need"),
+    ("[reductions.q]\nkind = 'quantiles'\nbins_per_decade = 1e7\n",
+     r"groups x streamed histogram bins of"),
+])
+def test_every_size_a_config_controls_is_bounded_before_allocating(extra, message):
+    if message is None:
+        with pytest.raises(TooLargeError, match=r"\[scan\]: points = 1000000000000000019884624"
+                                                r"838656: expected an integer between 1 and"):
+            parse_config(SCHEMA_BASE.replace("points = 1000", "points = 1e30"))
+        return
+    with pytest.raises(TooLargeError, match=message) as error:
+        parse_config(SCHEMA_BASE + extra)
+    assert isinstance(error.value, MemoryError) and "\n" not in str(error.value)
+
+
+def test_an_empirical_sample_file_must_be_a_bounded_regular_text_file(tmp_path):
+    def config(file):
+        return (SCHEMA_BASE.replace("shake_deg_per_s = { distribution = 'lognormal', median = "
+                                    "4.39, sigma = 0.5 }", f"shake_deg_per_s = {{ distribution "
+                                    f"= 'empirical', file = '{file}' }}"))
+
+    with pytest.raises(ConfigError, match=r"'/dev/zero' is not a regular file"):
+        parse_config(config("/dev/zero"), tmp_path)
+    (tmp_path / "big.txt").write_bytes(b"1.0\n" * (17 * 2**20))
+    with pytest.raises(TooLargeError, match=r"big.txt' holds 71,303,168 bytes"):
+        parse_config(config("big.txt"), tmp_path)
+    (tmp_path / "bad.txt").write_text("1.0\n2.0\nfast\n")
+    with pytest.raises(ConfigError, match=r"bad.txt' line 3: 'fast': expected one finite"):
+        parse_config(config("bad.txt"), tmp_path)
+    (tmp_path / "latin.txt").write_bytes(b"1.0\n\xe9\n")
+    with pytest.raises(ConfigError, match=r"latin.txt' is not UTF-8 text"):
+        parse_config(config("latin.txt"), tmp_path)
+    (tmp_path / "ok.txt").write_text("# measured\n1.5\n\n2.5  # a comment\n")
+    drawn = parse_config(config("ok.txt"), tmp_path).space.axes["shake_deg_per_s"]
+    assert list(drawn.samples) == [1.5, 2.5]

@@ -259,12 +259,12 @@ def _scan_table(scan) -> dict:
     scan = take(table_of("scan", scan), "scan", required=("points",),
                 optional=("seed", "chunk_points", "threads"))
     chunk_points = integer("scan", "chunk_points", scan.get("chunk_points", DEFAULT_CHUNK_POINTS),
-                           BLOCK_POINTS, MAX_CHUNK_POINTS)
+                           BLOCK_POINTS, MAX_CHUNK_POINTS, size=True)
     if chunk_points % BLOCK_POINTS:
         raise ConfigError(f"scan config [scan]: chunk_points = {chunk_points}: expected a "
                           f"multiple of {BLOCK_POINTS} (the block)")
     threads = scan.get("threads")
-    return {"points": integer("scan", "points", scan["points"], 1, MAX_POINTS),
+    return {"points": integer("scan", "points", scan["points"], 1, MAX_POINTS, size=True),
             "seed": integer("scan", "seed", scan.get("seed", 0), 0, 2**64 - 1),
             "chunk_points": chunk_points,
             "threads": None if threads is None else integer("scan", "threads", threads, 1,

@@ -41,17 +41,18 @@ def _q(where, value):
 KEYS = {
     "summary": {"of": _of},
     "fraction_below": {"of": _of, "threshold": lambda w, v: number(w, "threshold", v)},
-    "top_k": {"of": _of, "k": lambda w, v: integer(w, "k", v, 1, MAX_TOP_K),
+    "top_k": {"of": _of, "k": lambda w, v: integer(w, "k", v, 1, MAX_TOP_K, size=True),
               "largest": lambda w, v: boolean(w, "largest", v)},
     "histogram": {"of": _of, "low": lambda w, v: number(w, "low", v),
                   "high": lambda w, v: number(w, "high", v),
-                  "bins": lambda w, v: integer(w, "bins", v, 1, MAX_CELLS),
+                  "bins": lambda w, v: integer(w, "bins", v, 1, MAX_CELLS, size=True),
                   "log": lambda w, v: boolean(w, "log", v)},
     "quantiles": {"of": _of, "q": _q, "low": lambda w, v: number(w, "low", v, 0.0, low_open=True),
                   "high": lambda w, v: number(w, "high", v, 0.0, low_open=True),
-                  "bins_per_decade": lambda w, v: integer(w, "bins_per_decade", v, 1, MAX_CELLS),
+                  "bins_per_decade": lambda w, v: integer(w, "bins_per_decade", v, 1, MAX_CELLS,
+                                                              size=True),
                   "exact_up_to": lambda w, v: integer(w, "exact_up_to", v, 0,
-                                                      MAX_EXACT_QUANTILE_POINTS)},
+                                                      MAX_EXACT_QUANTILE_POINTS, size=True)},
 }
 REQUIRED = {"fraction_below": ("threshold",), "histogram": ("low", "high")}
 
@@ -82,9 +83,9 @@ def _group_part(where: str, part):
     count = log_bins[2]
     if isinstance(count, float) and count.is_integer() and count > MAX_GROUPS:
         count = int(count)
-    if isinstance(count, int) and not isinstance(count, bool) and count > MAX_GROUPS:
+    if isinstance(count, int) and not isinstance(count, bool):
         check_size(where, "log_bins count", count, MAX_GROUPS, 8)
-    count = integer(where, "log_bins n", count, 2, MAX_GROUPS)
+    count = integer(where, "log_bins n", count, 1, MAX_GROUPS)
     return Binned(part["parameter"], tuple(np.geomspace(low, high, count + 1)))
 
 

@@ -56,15 +56,19 @@ def _fail(where: str, key: str, value, expected: str, cls=ConfigError):
     raise cls(f"{where_prefix(where)}: {key} = {short(value)}: expected {expected}")
 
 
-def integer(where: str, key: str, value, low: int, high: int | None = None) -> int:
-    """An int in [low, high]: a TOML integer, or a float that is a whole number."""
+def integer(where: str, key: str, value, low: int, high: int | None = None,
+            size: bool = False) -> int:
+    """An int in [low, high]: a TOML integer, or a float that is a whole number. A ``size``
+    above ``high`` raises :class:`TooLargeError` (a MemoryError too)."""
     if isinstance(value, float) and math.isfinite(value) and value.is_integer():
         value = int(value)
     span = f">= {low:,}" if high is None else f"between {low:,} and {high:,}"
     if isinstance(value, bool) or not isinstance(value, int):
         _fail(where, key, value, f"an integer {span}")
-    if value < low or (high is not None and value > high):
+    if value < low:
         _fail(where, key, value, f"an integer {span}")
+    if high is not None and value > high:
+        _fail(where, key, value, f"an integer {span}", TooLargeError if size else ConfigError)
     return value
 
 
