@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from epc_fast.presets import HIGH_TIER
-from epc_fast.scan import BLOCK_POINTS, Choice, Grid, LogNormal, LogUniform, Space, Uniform
+from epc_fast.scan import (BLOCK_POINTS, Choice, Grid, LogNormal, LogUniform, Space, Uniform,
+                           streams)
 
 
 def _space(**extra):
@@ -59,6 +60,53 @@ def test_draws_do_not_depend_on_the_range_of_points_asked_for():
     for name in ("illuminance_lux", "shake_deg_per_s", "read_noise_e", "pixel_pitch_um"):
         assert np.array_equal(part.parameters[name],
                               whole.parameters[name][3 * BLOCK_POINTS:7 * BLOCK_POINTS + 123])
+
+
+def test_points_at_any_indices_are_the_points_of_the_range_holding_them():
+    space = _space(read_noise_e=Choice((0.0, 1.0, 2.0), weights=(1, 2, 3)),
+                   stabilization=Grid((1.0, 4.0)))
+    whole = space.points(5, 0, 3 * BLOCK_POINTS)
+    # Repeats, in any order.
+    index = np.random.default_rng(0).integers(0, 3 * BLOCK_POINTS, 5000)
+    at = space.points_at(5, index)
+    assert at.start is None and at.stop is None and len(at) == index.size
+    assert np.array_equal(at.index, index)
+    assert at.parameters.keys() == whole.parameters.keys()
+    for name, values in whole.parameters.items():
+        expected = values if np.ndim(values) == 0 else values[index]
+        assert np.array_equal(at.parameters[name], expected), name
+    for name, values in whole.indices.items():
+        assert np.array_equal(at.indices[name], values[index]), name
+    # Beyond 2^32 points, where the counter's second word is used.
+    far = 2**40 + 7 * BLOCK_POINTS
+    ranged = space.points(5, far, far + 100)
+    at = space.points_at(5, np.arange(far, far + 100))
+    for name in ("illuminance_lux", "shake_deg_per_s", "read_noise_e", "stabilization",
+                 "pixel_pitch_um"):
+        assert np.array_equal(at.parameters[name], ranged.parameters[name]), name
+
+
+def test_points_at_refuses_negative_indices():
+    with pytest.raises(ValueError, match="point indices"):
+        _space().points_at(0, [1, -2])
+
+
+def test_a_random_parameter_is_its_distribution_at_the_uniforms_of_its_name():
+    space = _space(read_noise_e=Choice((0.0, 1.0, 2.0)))
+    points = space.points(9, 0, 1000)
+    index = np.arange(1000)
+    u = streams.uniforms(9, streams.stream_id("shake_deg_per_s"), index)
+    assert np.array_equal(points.parameters["shake_deg_per_s"], LogNormal(4.39, 0.5)
+                          .from_uniform(u))
+    u = streams.uniforms(9, streams.stream_id("read_noise_e"), index)
+    assert np.array_equal(points.indices["read_noise_e"], np.minimum(np.floor(u * 3), 2))
+
+
+def test_a_choice_of_designs_draws_from_the_design_stream():
+    space = Space(design=Choice(HIGH_TIER), illuminance_lux=100.0)
+    u = streams.uniforms(4, streams.stream_id("design"), np.arange(1000))
+    assert np.array_equal(space.points(4, 0, 1000).indices["design"],
+                          np.minimum(np.floor(u * 4), 3))
 
 
 def test_adding_a_random_parameter_leaves_the_others_draws_unchanged():

@@ -1,17 +1,17 @@
 """A design space: each model parameter fixed, on a grid, or random, and a ``design`` axis.
 
-Randomness comes in blocks of :data:`BLOCK_POINTS` points. Block b's draws of parameter ``name``
-come from a PCG64 generator seeded with ``SeedSequence(seed, spawn_key=(b, crc32(name)))``:
-the child ``spawn(...)[b].spawn(...)[crc32(name)]`` of the scan's seed. So a point's
-parameters depend only on the seed and the point's index, never on the chunk size, the thread
-count or the machine that evaluates it, and adding a random parameter leaves the others'
-draws unchanged. A chunk is a whole number of blocks.
+Random parameter ``name``'s value at point i is its distribution's inverse CDF at one uniform,
+Philox4x32-10 keyed by the seed at the counter ``(i mod 2^32, i div 2^32, crc32(name), 0)``
+(:mod:`epc_fast.scan.streams`; a choice of designs is the parameter ``"design"``); grid axes
+take point i to grid cell ``i mod grid size``. So a point's parameters depend only on the seed
+and the point's index, never on the chunk size, the thread count or the machine that evaluates
+it, a scan of n points is the prefix of a longer one, and adding a random parameter leaves the
+others' draws unchanged. A chunk is a whole number of :data:`BLOCK_POINTS` points.
 """
 
 from __future__ import annotations
 
 import math
-import zlib
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -19,11 +19,13 @@ import numpy as np
 
 from ..params import PARAMETER_NAMES, SIZE_PARAMETERS
 from ..presets import Design
+from . import streams
 from .distributions import Choice, Grid
 
 __all__ = ["Space", "Points", "BLOCK_POINTS"]
 
-#: Points per block, the unit of randomness: chunks are whole numbers of blocks.
+#: Points per block: chunks are whole numbers of blocks, which fixes the order in which the
+#: reductions merge them.
 BLOCK_POINTS = 1 << 16
 
 #: The per-point keyword parameters of :func:`epc_fast.evaluate`.
@@ -34,33 +36,27 @@ EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe
                     "precision")
 
 
-def block_generator(seed: int, block: int, name: str) -> np.random.Generator:
-    """The generator of block ``block``'s draws of parameter ``name``."""
-    key = (block, zlib.crc32(name.encode()))
-    return np.random.Generator(np.random.PCG64(np.random.SeedSequence(seed, spawn_key=key)))
-
-
 @dataclass
 class Points:
-    """Points ``start .. stop - 1`` of a scan.
+    """Points ``start .. stop - 1`` of a scan, or any points of it (:meth:`Space.points_at`).
 
     Attributes
     ----------
-    start, stop : point indices.
+    start, stop : point indices; None for points that are not a range.
     index : int64 array, the point indices.
     parameters : {name: float or float64 array}, keyword arguments for :func:`epc_fast.evaluate`.
     indices : {axis name: int array}, each discrete axis's value index (``design``, grid and
         choice parameters).
     """
 
-    start: int
-    stop: int
+    start: int | None
+    stop: int | None
     index: np.ndarray
     parameters: dict
     indices: dict
 
     def __len__(self) -> int:
-        return self.stop - self.start
+        return self.index.size
 
 
 def _design_dict(design, position: int) -> dict:
@@ -143,7 +139,7 @@ class Space:
             if values.dtype.kind not in "iuf":
                 raise TypeError(f"{name}'s values must be numbers, got {axis.values!r}")
             return axis
-        if hasattr(axis, "sample"):
+        if hasattr(axis, "from_uniform"):
             return axis
         try:
             return float(axis)
@@ -191,31 +187,47 @@ class Space:
         if start % BLOCK_POINTS or not 0 <= start < stop:
             raise ValueError(f"a range of points starts at a block ({BLOCK_POINTS} points) and "
                              f"is not empty, got {start} .. {stop}")
-        n = stop - start
-        indices, parameters = self._grid_columns(start, n)
+        index = np.arange(start, stop, dtype=np.int64)
+        indices, parameters = self._grid_columns(start, stop - start)
+        self._drawn_columns(seed, index, indices, parameters)
+        return Points(start, stop, index, parameters, indices)
+
+    def points_at(self, seed: int, index) -> Points:
+        """The parameters of the points ``index`` (int array_like of point indices >= 0, in any
+        order, repeats allowed): the same values as :meth:`points` gives them."""
+        index = np.asarray(index, dtype=np.int64).reshape(-1)
+        if index.size and index.min() < 0:
+            raise ValueError(f"point indices are >= 0, got {index.min()}")
+        indices, parameters = {}, {}
+        if self.grid_axes:
+            indices, parameters = self._grid_cells(index % self.grid_size)
+        self._drawn_columns(seed, index, indices, parameters)
+        return Points(None, None, index, parameters, indices)
+
+    def _drawn_columns(self, seed: int, index: np.ndarray, indices: dict, parameters: dict):
+        """Adds the random and fixed parameters at points ``index`` to ``indices`` and
+        ``parameters``: a random axis's values (a choice's value indices) at the uniforms of
+        its name's stream."""
         for name, axis in self.axes.items():
             if isinstance(axis, Choice):
-                indices[name] = self._drawn(seed, start, stop, name, axis.sample_indices)
+                u = streams.uniforms(seed, streams.stream_id(name), index)
+                indices[name] = axis.indices_from_uniform(u)
                 if name != "design":
                     parameters[name] = np.asarray(axis.values, dtype=np.float64)[indices[name]]
             elif isinstance(axis, float):
                 parameters[name] = axis
             elif not isinstance(axis, Grid):
-                parameters[name] = self._drawn(seed, start, stop, name, axis.sample)
+                u = streams.uniforms(seed, streams.stream_id(name), index)
+                parameters[name] = axis.from_uniform(u)
         for name in self.design_constant:
             parameters[name] = float(self.design_table[name][0])
         if isinstance(self.axes.get("design"), Choice):
             for name in self.design_varying:
                 parameters[name] = self.design_table[name][indices["design"]]
-        return Points(start, stop, np.arange(start, stop, dtype=np.int64), parameters, indices)
 
-    def _grid_columns(self, start: int, n: int) -> tuple[dict, dict]:
+    def _grid_cells(self, cell: np.ndarray) -> tuple[dict, dict]:
         """Value indices and values of the grid axes (and the designs' parameters on a design
-        grid) at ``n`` points from ``start``: computed over one period, then tiled."""
-        if not self.grid_axes:
-            return {}, {}
-        period = min(self.grid_size, n)
-        cell = (np.arange(period, dtype=np.int64) + start % self.grid_size) % self.grid_size
+        grid) at grid cells ``cell``, in mixed radix with the last grid axis fastest."""
         indices = {}
         for name, size in reversed(tuple(zip(self.grid_axes, self.grid_shape))):
             cell, indices[name] = np.divmod(cell, size)
@@ -226,23 +238,19 @@ class Space:
                                for param in self.design_varying})
             else:
                 values[name] = np.asarray(self.axes[name].values, dtype=np.float64)[indices[name]]
+        return indices, values
+
+    def _grid_columns(self, start: int, n: int) -> tuple[dict, dict]:
+        """:meth:`_grid_cells` at ``n`` points from ``start``: computed over one period, then
+        tiled."""
+        if not self.grid_axes:
+            return {}, {}
+        period = min(self.grid_size, n)
+        cell = (np.arange(period, dtype=np.int64) + start % self.grid_size) % self.grid_size
+        indices, values = self._grid_cells(cell)
         repeats = -(-n // period)
         return ({k: np.tile(v, repeats)[:n] for k, v in indices.items()},
                 {k: np.tile(v, repeats)[:n] for k, v in values.items()})
-
-    @staticmethod
-    def _drawn(seed, start, stop, name, draw) -> np.ndarray:
-        """Whole blocks of draws, cut to ``start .. stop``: a block's draws never depend on
-        how many of its points are used."""
-        out = None
-        for block in range(start // BLOCK_POINTS, (stop - 1) // BLOCK_POINTS + 1):
-            lo = block * BLOCK_POINTS
-            hi = min(lo + BLOCK_POINTS, stop)
-            values = draw(block_generator(seed, block, name), BLOCK_POINTS)
-            if out is None:
-                out = np.empty(stop - start, dtype=values.dtype)
-            out[lo - start:hi - start] = values[:hi - lo]
-        return out
 
     def describe(self) -> str:
         """One line per axis: how each parameter varies."""
