@@ -314,3 +314,54 @@ def test_a_rerun_into_a_killed_scans_directory_says_what_it_found(tmp_path, caps
     code, _, _ = _cli(capsys, config, "--out", out, "--overwrite", "--no-plots")
     assert code == 0 and pq.read_table(out / "points").num_rows == 200_000
     assert not [p for p in out.rglob(".*")]
+
+
+def test_sigterm_stops_scan_run_between_chunks_with_a_partial_result(tmp_path):
+    script = tmp_path / "scan.py"
+    script.write_text(f"""
+import sys
+from epc_fast.presets import HIGH_TIER
+from epc_fast.scan import LogUniform, Space, run
+
+def progress(done, total):
+    print(done, flush=True)
+
+space = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5))
+result = run(space, 10**8, seed=1, chunk_points={CHUNK}, progress=progress)
+print("partial", result.partial, result.points, int(result["summary"].points.sum()), flush=True)
+""")
+    process = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    assert int(process.stdout.readline()) == CHUNK
+    process.send_signal(signal.SIGTERM)
+    stdout, stderr = process.communicate(timeout=120)
+    assert process.returncode == 0, stderr
+    _, partial, points, summed = stdout.splitlines()[-1].split()
+    assert partial == "True" and int(points) == int(summed) and int(points) % CHUNK == 0
+
+
+def test_a_failed_cluster_writes_the_prefix_marked_partial_and_says_so(tmp_path, capsys,
+                                                                       monkeypatch):
+    import epc_fast.scan
+    from epc_fast.scan.errors import ScanAborted
+
+    real_run = epc_fast.scan.run
+
+    def run_losing_the_cluster(*args, **kwargs):
+        def lose_after_two_chunks(done, total):
+            if done >= 2 * CHUNK:
+                raise ScanAborted("the Dask cluster failed the scan's tasks (CancelledError: "
+                                  "no message), after 131,072 points were merged")
+        return real_run(*args, **{**kwargs, "progress": lose_after_two_chunks})
+
+    monkeypatch.setattr(epc_fast.scan, "run", run_losing_the_cluster)
+    out = tmp_path / "out"
+    code, stdout, err = _cli(capsys, _config(tmp_path), "--out", out, "--chunk-points", CHUNK)
+    assert code == 1 and "INTERRUPTED, partial results" in stdout
+    assert err == ("epc-fast scan: error: the Dask cluster failed the scan's tasks "
+                   "(CancelledError: no message), after 131,072 points were merged; the 131,072 "
+                   "points merged before it are written, marked partial\n")
+    manifest = _manifest(out)
+    assert manifest["state"] == "failed" and manifest["partial"] is True
+    assert manifest["points_done"] == 2 * CHUNK and "Dask cluster" in manifest["stopped_by"]
+    assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == 2 * CHUNK

@@ -53,6 +53,8 @@ def prepare_directory(directory) -> str:
     path.mkdir(parents=True, exist_ok=True)
     if any(_PART.fullmatch(p.name) or _READY.fullmatch(p.name) for p in path.iterdir()):
         raise FileExistsError(f"{path} already holds part-*.parquet files of another scan")
+    # Writable before the first point, not after the first chunk's work.
+    os.unlink(atomic_write(path / ".write-probe", lambda probe: probe.write_bytes(b"epc_fast")))
     return str(path)
 
 
