@@ -4,11 +4,13 @@ worker ends the scan with a clear error that keeps the prefix merged before, mar
 import pytest
 
 import epc_fast.scan.dask_backend as dask_backend
-from epc_fast.scan import BLOCK_POINTS, Summary, run
+from epc_fast.presets import HIGH_TIER
+from epc_fast.scan import BLOCK_POINTS, LogUniform, Space, Summary, run
 from epc_fast.scan.errors import ScanAborted
-from test_scan_runner import SPACE
 
 distributed = pytest.importorskip("distributed")
+
+SPACE = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5))
 
 
 def _cluster():

@@ -39,8 +39,9 @@ from .distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Norm
                             Uniform)
 from .errors import ConfigError
 from .runner import DEFAULT_CHUNK_POINTS
-from .schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_LIST, MAX_POINTS, choice, file_name,
-                     integer, number, number_list, short, string, table_of, take, wrapped)
+from .schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
+                     check_size, choice, file_name, integer, number, number_list, short, string,
+                     table_of, take, wrapped)
 from .space import BLOCK_POINTS, Space
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG"]
@@ -164,6 +165,7 @@ def _designs(table: dict):
         raise ConfigError(f"scan config [design]: custom = {short(custom)}: expected "
                           "[[design.custom]] tables")
     designs.extend(_custom_design(entry, i) for i, entry in enumerate(custom))
+    check_size("design", "designs", len(designs), MAX_GROUPS, 64)
     if not designs:
         raise ConfigError("scan config [design]: give presets or [[design.custom]] entries")
     sampling = choice("design", "sampling", table.get("sampling", "grid"), ("grid", "choice"))
