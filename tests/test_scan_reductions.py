@@ -1,4 +1,5 @@
-"""Each reduction, streamed chunk by chunk, against NumPy on the full arrays of the same points.
+"""Each reduction, streamed chunk by chunk, against NumPy on the full arrays of the same points:
+the core's fused pass on the points it forms, and the NumPy path on the points NumPy draws.
 
 The space has every status: a normal hand shake goes negative (INVALID) and one PRNU in five
 caps the SNR below the target (UNREACHABLE), so the reductions see NaN EPC as well.
@@ -11,6 +12,7 @@ import pytest
 
 from epc_fast import evaluate
 from epc_fast.presets import HIGH_TIER
+from epc_fast.scan.core_plan import CorePlan
 from epc_fast.scan import (BLOCK_POINTS, Binned, Choice, FractionBelow, Grid, Histogram,
                            LogUniform, Normal, Quantiles, Space, Summary, TopK, run)
 
@@ -21,16 +23,24 @@ SPACE = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5),
 DESIGNS = range(len(HIGH_TIER))
 
 
+@pytest.fixture(scope="module", params=["core", "numpy"])
+def backend(request):
+    return request.param
+
+
 @pytest.fixture(scope="module")
-def full():
-    """The scan's points and their results, whole."""
-    points = SPACE.points(SEED, 0, N)
+def full(backend):
+    """The scan's points, as the backend forms them, and their results, whole."""
+    if backend == "core":
+        points = CorePlan(SPACE, SEED).points(0, N)
+    else:
+        points = SPACE.points(SEED, 0, N)
     return points, evaluate(**points.parameters)
 
 
-def _scan(reduction):
+def _scan(backend, reduction):
     return run(SPACE, N, seed=SEED, reductions={"r": reduction}, chunk_points=2 * BLOCK_POINTS,
-               progress=False)["r"]
+               progress=False, backend=backend)["r"]
 
 
 def _finite_epc_of(full, design):
@@ -38,13 +48,13 @@ def _finite_epc_of(full, design):
     return result.epc[(points.indices["design"] == design) & np.isfinite(result.epc)]
 
 
-def test_the_space_gives_every_status_but_blur_unbounded(full):
+def test_the_space_gives_every_status_but_blur_unbounded(backend, full):
     assert np.count_nonzero(np.bincount(full[1].status, minlength=4)[:3]) == 3
 
 
-def test_summary_matches_numpy_per_design(full):
+def test_summary_matches_numpy_per_design(backend, full):
     points, result = full
-    summary = _scan(Summary(by="design"))
+    summary = _scan(backend, Summary(by="design"))
     assert summary.labels == {"design": [d.name for d in HIGH_TIER]}
     for g in DESIGNS:
         epc = _finite_epc_of(full, g)
@@ -60,9 +70,9 @@ def test_summary_matches_numpy_per_design(full):
         assert summary.min[g] == epc.min() and summary.max[g] == epc.max()
 
 
-def test_histogram_matches_numpy_histogram_per_design(full):
+def test_histogram_matches_numpy_histogram_per_design(backend, full):
     points, result = full
-    histogram = _scan(Histogram(1e3, 1e7, 80, by="design"))
+    histogram = _scan(backend, Histogram(1e3, 1e7, 80, by="design"))
     for g in DESIGNS:
         epc = _finite_epc_of(full, g)
         expected, edges = np.histogram(np.log10(epc), bins=80, range=(3.0, 7.0))
@@ -74,17 +84,17 @@ def test_histogram_matches_numpy_histogram_per_design(full):
     np.testing.assert_allclose(histogram.edges, 10.0 ** edges, rtol=1e-15)
 
 
-def test_exact_quantiles_equal_numpy_quantile(full):
+def test_exact_quantiles_equal_numpy_quantile(backend, full):
     q = (0.0, 0.05, 0.5, 0.95, 1.0)
-    quantiles = _scan(Quantiles(q, by="design"))
+    quantiles = _scan(backend, Quantiles(q, by="design"))
     assert quantiles.exact
     for g in DESIGNS:
         assert np.array_equal(quantiles.estimate[g], np.quantile(_finite_epc_of(full, g), q))
 
 
-def test_streamed_quantiles_bound_the_exact_ones_within_their_stated_error(full):
+def test_streamed_quantiles_bound_the_exact_ones_within_their_stated_error(backend, full):
     q = (0.01, 0.05, 0.5, 0.95, 0.99)
-    quantiles = _scan(Quantiles(q, by="design", exact_up_to=0))
+    quantiles = _scan(backend, Quantiles(q, by="design", exact_up_to=0))
     assert not quantiles.exact
     assert quantiles.relative_resolution == pytest.approx(10 ** 0.001 - 1)
     for g in DESIGNS:
@@ -100,8 +110,8 @@ def test_streamed_quantiles_bound_the_exact_ones_within_their_stated_error(full)
         assert np.all(width <= (1 + quantiles.relative_resolution) ** 2 - 1 + 1e-12)
 
 
-def test_fraction_below_matches_numpy_with_its_binomial_error(full):
-    fraction = _scan(FractionBelow(2e6, by="design"))
+def test_fraction_below_matches_numpy_with_its_binomial_error(backend, full):
+    fraction = _scan(backend, FractionBelow(2e6, by="design"))
     for g in DESIGNS:
         epc = _finite_epc_of(full, g)
         p = np.mean(epc < 2e6)
@@ -112,9 +122,9 @@ def test_fraction_below_matches_numpy_with_its_binomial_error(full):
 
 
 @pytest.mark.parametrize("largest", [True, False])
-def test_top_k_are_the_first_k_of_a_full_sort(full, largest):
+def test_top_k_are_the_first_k_of_a_full_sort(backend, full, largest):
     points, result = full
-    top = _scan(TopK(7, largest=largest))
+    top = _scan(backend, TopK(7, largest=largest))
     finite = np.flatnonzero(np.isfinite(result.epc))
     value = result.epc[finite]
     order = finite[np.lexsort((finite, -value if largest else value))][:7]
@@ -138,9 +148,9 @@ def test_top_k_breaks_ties_by_the_lower_point_index_for_any_chunking():
         assert top.value[0] == top.value[1] == top.value[2]
 
 
-def test_groups_by_a_parameter_the_designs_give(full):
+def test_groups_by_a_parameter_the_designs_give(backend, full):
     points, result = full
-    fraction = _scan(FractionBelow(2e6, by="pixel_pitch_um"))
+    fraction = _scan(backend, FractionBelow(2e6, by="pixel_pitch_um"))
     assert fraction.labels == {"pixel_pitch_um": [1.4, 1.75, 2.2, 2.8]}
     pitch = points.parameters["pixel_pitch_um"]
     finite = np.isfinite(result.epc)
@@ -152,9 +162,9 @@ def test_groups_by_a_parameter_the_designs_give(full):
     tuple(np.geomspace(10, 1e5, 9)),          # equal in log10: found arithmetically
     (10.0, 50.0, 100.0, 2000.0, 30000.0, 1e5),  # uneven: found by a search
 ])
-def test_groups_by_design_and_binned_illuminance(full, edges):
+def test_groups_by_design_and_binned_illuminance(backend, full, edges):
     points, result = full
-    summary = _scan(Summary(by=("design", Binned("illuminance_lux", edges))))
+    summary = _scan(backend, Summary(by=("design", Binned("illuminance_lux", edges))))
     bins = len(edges) - 1
     assert summary.labels["illuminance_lux low"][:bins] == list(edges[:-1])
     lux_bin = np.searchsorted(edges[1:-1], points.parameters["illuminance_lux"], side="right")

@@ -15,6 +15,7 @@ from epc_fast import evaluate
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (BLOCK_POINTS, Binned, FractionBelow, Grid, Histogram, LogNormal,
                            LogUniform, Quantiles, Space, Summary, TopK, run)
+from epc_fast.scan.core_plan import CorePlan
 from epc_fast.scan.plots import plot_distributions
 
 SPACE = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5),
@@ -166,12 +167,19 @@ def test_parquet_output_holds_every_point_with_its_parameters_and_outputs(tmp_pa
         parquet=tmp_path / "points")
     assert len(list((tmp_path / "points").glob("part-*.parquet"))) == 3
     table = pq.read_table(tmp_path / "points").to_pydict()
-    drawn = SPACE.points(5, 0, points)
+    # the points as the core forms them (its fused pass too), and as NumPy draws them
+    drawn = CorePlan(SPACE, 5).points(0, points)
+    numpy_drawn = SPACE.points(5, 0, points)
     result = evaluate(**drawn.parameters)
     assert np.array_equal(table["point"], np.arange(points))
     assert table["design"] == [HIGH_TIER[i].name for i in drawn.indices["design"]]
+    assert np.array_equal(drawn.indices["design"], numpy_drawn.indices["design"])
     for name in ("illuminance_lux", "shake_deg_per_s", "read_noise_e", "pixel_pitch_um"):
         assert np.array_equal(table[name], drawn.parameters[name]), name
+        # the same uniforms; exp and the core's fused multiply-adds round differently:
+        # log-uniform's exp(a + u b) moves by |a + u b| <= 12 ulp of its argument
+        np.testing.assert_allclose(table[name], numpy_drawn.parameters[name], rtol=4e-15,
+                                   atol=0, err_msg=name)
     assert np.array_equal(table["epc"], result.epc)
     assert np.array_equal(table["status"], result.status)
 
@@ -241,8 +249,14 @@ def test_a_chunk_computes_only_the_outputs_its_reductions_use(reference, monkeyp
     assert set(asked) == {("status", "epc")}
     assert_same_numbers(lean, reference)
     asked.clear()  # T_MPE alone: f50 is not solved, and the summary counts every point
-    only_t = _run(reductions={"t": Summary(of="t_mpe_s")}, chunk_points=BLOCK_POINTS)
+    only_t = _run(reductions={"t": Summary(of="t_mpe_s")}, chunk_points=BLOCK_POINTS,
+                  backend="numpy")
     assert set(asked) == {("status", "t_mpe_s")} and only_t["t"].points.sum() == POINTS
+    asked.clear()  # the core's fused pass makes no per-point arrays: evaluate is not called
+    fused = _run(reductions={"t": Summary(of="t_mpe_s")}, chunk_points=BLOCK_POINTS)
+    assert asked == [] and np.array_equal(fused["t"].status_counts, only_t["t"].status_counts)
+    # the same draws to a few ulp, summed in another order (docs/scan.md)
+    np.testing.assert_allclose(fused["t"].mean, only_t["t"].mean, rtol=1e-13)
     monkeypatch.setattr(epc_fast.scan.tasks, "chunk_outputs", lambda plan, parquet: None)
     asked.clear()
     assert_same_numbers(_run(chunk_points=BLOCK_POINTS, threads=2), reference)

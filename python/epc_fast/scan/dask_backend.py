@@ -84,7 +84,8 @@ def _outcome(future, merged_points: int):
         raise _aborted(error, merged_points) from error
 
 
-def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_dir):
+def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_dir,
+                  backend="core"):
     """Yield the :class:`~epc_fast.scan.tasks.ChunkOutcome` of each range, in order."""
     try:
         from distributed import wait
@@ -109,7 +110,8 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
             if span is None:
                 return
             future = client.submit(checked_reduce_chunk, expected, space_future, plan_future,
-                                   seed, *span, points, threads, parquet_dir, pure=False)
+                                   seed, *span, points, threads, parquet_dir, backend,
+                                   pure=False)
             number_of[future] = submitted
             submitted += 1
 

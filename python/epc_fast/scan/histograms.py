@@ -169,14 +169,28 @@ class QuantilesResult:
                                   for i, q in enumerate(self.q)}}
 
     def error_statement(self) -> str:
-        """One line: how exact the quantiles are."""
+        """One line: how exact the quantiles are.
+
+        Streamed quantiles are bounded by the bins of the order statistics around them:
+        relative bounds where the lower bound is positive; where it is 0 or less (a quantile
+        in the histogram's bin below ``low``, e.g. EPC = 0 where the blur is unbounded) the
+        bound is absolute, [lower, upper] in the output's unit, and the line says so.
+        """
         if self.exact:
             return "exact"
-        with np.errstate(divide="ignore", invalid="ignore"):
-            width = self.upper / self.lower - 1.0
-        worst = np.max(width[np.isfinite(width)], initial=0.0)
-        return (f"streamed from a log histogram ({100 * self.relative_resolution:.2g}% bins): "
+        finite = np.isfinite(self.lower) & np.isfinite(self.upper)
+        positive = finite & (self.lower > 0)
+        width = np.divide(self.upper, self.lower, out=np.zeros(self.lower.shape),
+                          where=positive) - 1.0
+        worst = np.max(width[positive], initial=0.0)
+        text = (f"streamed from a log histogram ({100 * self.relative_resolution:.2g}% bins): "
                 f"the true quantiles lie within bounds at most {100 * worst:.2g}% wide")
+        absolute = finite & ~positive
+        if absolute.any():
+            text += (f"; {np.count_nonzero(absolute)} at or below the histogram's range lie in "
+                     f"absolute bounds [{np.min(self.lower[absolute]):.4g}, "
+                     f"{np.max(self.upper[absolute]):.4g}] ({self.of})")
+        return text
 
 
 @dataclass(frozen=True)

@@ -11,8 +11,6 @@ import operator
 import time
 from dataclasses import dataclass
 
-import numpy as np
-
 from .errors import ScanAborted
 from .groups import group_key
 from .histograms import Quantiles
@@ -21,7 +19,8 @@ from .signals import signals_deferred as _interrupts_deferred
 from .signals import terminate_as_interrupt
 from .space import BLOCK_POINTS, Space
 from .summaries import FractionBelow, Summary
-from .tasks import PlanItem, reduce_chunk
+from .core_plan import checked_seed
+from .tasks import BACKENDS, PlanItem, reduce_chunk
 
 __all__ = ["run", "ScanResult", "Timing", "default_reductions", "DEFAULT_CHUNK_POINTS"]
 
@@ -38,8 +37,10 @@ class Timing:
     Attributes
     ----------
     wall_s : s, the whole scan.
-    sampling_s : s, drawing the points' parameters.
-    core_s : s, inside :func:`epc_fast.evaluate`.
+    sampling_s : s, drawing the points' parameters as arrays (0 where the core's fused pass
+        draws them: its time is ``core_s``).
+    core_s : s, in the core: the fused pass (drawing, evaluating and reducing each block of
+        points) and :func:`epc_fast.evaluate`.
     output_s : s, writing Parquet.
     reduction_s : s, reducing chunks and merging their partial results.
     """
@@ -109,15 +110,15 @@ def _checked_chunk_points(chunk_points) -> int:
     return count
 
 
-def _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir):
+def _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir, backend):
     for start, stop in ranges:
-        yield reduce_chunk(space, plan, seed, start, stop, points, threads, parquet_dir)
+        yield reduce_chunk(space, plan, seed, start, stop, points, threads, parquet_dir, backend)
 
 
 def run(space: Space, points: int | None = None, *, seed: int | None = None,
         reductions: dict | None = None, chunk_points: int = DEFAULT_CHUNK_POINTS,
         threads: int | None = None, progress=None, parquet=None, client=None,
-        on_chunk=None) -> ScanResult:
+        on_chunk=None, backend: str = "core") -> ScanResult:
     """Evaluate ``points`` points of ``space`` in chunks and reduce them on the fly.
 
     Parameters
@@ -127,13 +128,17 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
         Points to evaluate; default: one pass over the grid (spaces without random
         parameters only). Point i takes grid cell i mod ``space.grid_size``.
     seed : int, optional
-        The seed of every random draw; None draws a fresh one (recorded in the result).
+        The seed of every random draw, in [0, 2**64); None draws a fresh one (recorded in the
+        result). docs/scan.md gives the draw contract: a point's draws depend only on the
+        seed, the parameter and the point's index.
     reductions : {name: reduction}, optional
         :class:`Summary`, :class:`Histogram`, :class:`Quantiles`, :class:`FractionBelow`,
         :class:`TopK`; default :func:`default_reductions`.
     chunk_points : int
-        Points per chunk, a multiple of :data:`BLOCK_POINTS`; memory grows with it (~200 bytes
-        a point), results do not change.
+        Points per chunk, a multiple of :data:`BLOCK_POINTS`: the unit of progress, Ctrl-C,
+        Parquet files and Dask tasks; results do not change. The core's fused pass keeps no
+        per-point array; exact quantiles, Parquet and the other backends hold the chunk's
+        points (~200 bytes a point).
     threads : int, optional
         Core threads per chunk (see :func:`epc_fast.evaluate`); results do not change.
     progress : None, bool or callable
@@ -146,6 +151,12 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     on_chunk : callable, optional
         Called as ``on_chunk(points_done)`` after each chunk is merged (and its Parquet part
         renamed into place), with SIGINT and SIGTERM held: e.g. to record progress on disk.
+    backend : {"core", "numpy", "reference"}
+        ``"core"``: the C++ core draws, evaluates and reduces each block of points in one
+        pass. ``"numpy"``: NumPy draws and reductions around :func:`epc_fast.evaluate`;
+        ``"reference"``: the same with the NumPy reference of the model (slow: the readable
+        specification of a scan, for checking the core on small scans). The same draws in
+        all three; the statistics agree to rounding (docs/scan.md).
 
     Returns
     -------
@@ -159,7 +170,10 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     """
     points = _checked_points(space, points)
     chunk_points = _checked_chunk_points(chunk_points)
-    seed = int(np.random.SeedSequence().entropy if seed is None else operator.index(seed))
+    seed = checked_seed(seed)
+    if backend not in BACKENDS:
+        raise ValueError(f"backend must be one of {', '.join(map(repr, BACKENDS))}; "
+                         f"got {backend!r}")
     reductions = default_reductions(space) if reductions is None else dict(reductions)
     plan = tuple(PlanItem(name, r, group_key(space, r.by)) for name, r in reductions.items())
     states = {item.name: item.reduction.start(item.key, points) for item in plan}
@@ -171,12 +185,13 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     ranges = ((start, min(start + chunk_points, points))
               for start in range(0, points, chunk_points))
     if client is None:
-        outcomes = _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir)
+        outcomes = _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir,
+                                   backend)
     else:
         from .dask_backend import dask_outcomes
 
         outcomes = dask_outcomes(client, space, plan, seed, ranges, points, threads,
-                                 parquet_dir)
+                                 parquet_dir, backend)
     reporter = progress_reporter(progress, points)
     timing = Timing()
     done = 0

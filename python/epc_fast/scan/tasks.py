@@ -1,7 +1,14 @@
 """One chunk of a scan, start to end: draw its points, evaluate them, reduce them.
 
-This is the unit of work of both backends: the local loop calls it in order, and on Dask it
-is the task a worker runs. Its outcome holds only partial reductions (small), never points.
+This is the unit of work of both the local loop (which calls it in order) and Dask (where it
+is the task a worker runs). Its outcome holds only partial reductions (small), never points.
+
+Three backends do the same work: ``"core"``, the fused pass of the C++ core (it forms the
+points, evaluates them and folds them into the reductions; core_plan.py), ``"numpy"``, NumPy
+draws and reductions around :func:`epc_fast.evaluate`, and ``"reference"``, the same with the
+NumPy reference of the model: the scan's readable specification, for tests on small scans.
+Exact quantiles (scans of at most ``exact_up_to`` points) keep every value, and Parquet
+writes every point: for those the core forms and evaluates the chunk's points as arrays.
 """
 
 from __future__ import annotations
@@ -11,10 +18,15 @@ from dataclasses import dataclass
 
 from ..api import evaluate
 from .chunk import Chunk
+from .core_plan import CorePlan
 from .groups import GroupKey
+from .histograms import Quantiles
 from .space import Space
 
-__all__ = ["PlanItem", "ChunkOutcome", "chunk_outputs", "reduce_chunk"]
+__all__ = ["PlanItem", "ChunkOutcome", "chunk_outputs", "reduce_chunk", "BACKENDS"]
+
+#: The scan backends (see the module docstring).
+BACKENDS = ("core", "numpy", "reference")
 
 
 @dataclass(frozen=True)
@@ -34,8 +46,9 @@ class ChunkOutcome:
     ----------
     start, stop : point indices.
     partials : {reduction name: partial}.
-    sampling_s, core_s, output_s, reduction_s : s, time drawing the points, in
-        :func:`epc_fast.evaluate`, writing Parquet, and reducing.
+    sampling_s, core_s, output_s, reduction_s : s, time drawing the points as arrays, in
+        the core (:func:`epc_fast.evaluate`, or the fused pass, which draws, evaluates and
+        reduces), writing Parquet, and reducing in NumPy.
     """
 
     start: int
@@ -57,15 +70,24 @@ def chunk_outputs(plan: tuple, parquet: bool) -> tuple | None:
     return ("status",) + tuple(sorted({item.reduction.of for item in plan}))
 
 
+def _per_point(item: PlanItem, points_total: int) -> bool:
+    """Whether a reduction needs the chunk's values as arrays (exact quantiles keep them)."""
+    return isinstance(item.reduction, Quantiles) and points_total <= item.reduction.exact_up_to
+
+
 def reduce_chunk(space: Space, plan: tuple, seed: int, start: int, stop: int, points_total: int,
-                 threads: int | None, parquet_dir: str | None = None) -> ChunkOutcome:
+                 threads: int | None, parquet_dir: str | None = None,
+                 backend: str = "core") -> ChunkOutcome:
     """Draw, evaluate and reduce points ``start .. stop - 1`` of a scan of ``points_total``."""
+    if backend == "core":
+        return _core_chunk(space, plan, seed, start, stop, points_total, threads, parquet_dir)
     t0 = time.perf_counter()
     points = space.points(seed, start, stop)
     t1 = time.perf_counter()
     result = evaluate(**points.parameters, threads=threads,
                       outputs=chunk_outputs(plan, parquet_dir is not None),
-                      **space.evaluate_options)
+                      backend="reference" if backend == "reference" else "core",
+                      **_options(space, backend))
     t2 = time.perf_counter()
     if parquet_dir is not None:
         from .parquet import write_part
@@ -76,3 +98,61 @@ def reduce_chunk(space: Space, plan: tuple, seed: int, start: int, stop: int, po
     partials = {item.name: item.reduction.reduce(chunk, item.key) for item in plan}
     t4 = time.perf_counter()
     return ChunkOutcome(start, stop, partials, t1 - t0, t2 - t1, t3 - t2, t4 - t3)
+
+
+def _options(space: Space, backend: str) -> dict:
+    """The space's evaluate options; the reference backend takes the spectrum only."""
+    if backend == "reference":
+        return {k: v for k, v in space.evaluate_options.items() if k == "spectrum"}
+    return space.evaluate_options
+
+
+#: The last scan's CorePlan, reused by its next chunk (a run's chunks, or a Dask worker's
+#: tasks, share one space and plan object).
+_last_plan: list = []
+
+
+def _core_plan(space, plan, seed, points_total) -> tuple:
+    """The CorePlan of the reductions the fused pass folds, and the plan items it does not."""
+    key = (space, plan, seed, points_total)
+    if _last_plan:
+        last = _last_plan[0]
+        if last[0] is space and last[1] is plan and last[2:] == key[2:]:
+            return _last_plan[1]
+    fused = tuple(item for item in plan if not _per_point(item, points_total))
+    arrays = tuple(item for item in plan if _per_point(item, points_total))
+    _last_plan[:] = [key, (CorePlan(space, seed, fused), arrays)]
+    return _last_plan[1]
+
+
+def _core_chunk(space, plan, seed, start, stop, points_total, threads, parquet_dir):
+    """The fused pass for every reduction it folds; the chunk's points as arrays, formed by
+    the core, for exact quantiles and Parquet."""
+    from ..api import _threads_of
+
+    t0 = time.perf_counter()
+    threads = _threads_of(threads)
+    core, arrays = _core_plan(space, plan, seed, points_total)
+    fused = core.plan
+    partials = core.reduce(start, stop, threads) if fused else {}
+    core_s = time.perf_counter() - t0
+    sampling_s = output_s = reduction_s = 0.0
+    if arrays or parquet_dir is not None:
+        t1 = time.perf_counter()
+        points = core.points(start, stop)
+        t2 = time.perf_counter()
+        result = evaluate(**points.parameters, threads=threads,
+                          outputs=chunk_outputs(arrays, parquet_dir is not None),
+                          **space.evaluate_options)
+        t3 = time.perf_counter()
+        if parquet_dir is not None:
+            from .parquet import write_part
+
+            write_part(parquet_dir, space, points, result)
+        t4 = time.perf_counter()
+        chunk = Chunk(points, result, points_total)
+        partials.update({item.name: item.reduction.reduce(chunk, item.key) for item in arrays})
+        sampling_s, output_s, reduction_s = t2 - t1, t4 - t3, time.perf_counter() - t4
+        core_s += t3 - t2
+    partials = {item.name: partials[item.name] for item in plan}
+    return ChunkOutcome(start, stop, partials, sampling_s, core_s, output_s, reduction_s)

@@ -1,0 +1,200 @@
+// The fused scan pass: for each block of points, form their parameters (scan_space.h),
+// evaluate the model (kernel.h) and fold the outputs into the reductions (scan_reductions.h),
+// all while the block is in cache. Nothing per point is stored.
+//
+// Threads share a chunk's scan blocks (scan_block_points each); a scan block is folded by one
+// thread in point order, and each thread keeps its own reduction states, added together after
+// the pass (counts, min, max and the k best do not depend on the order). So the results are
+// the same bits for any thread count and any chunking into whole scan blocks.
+#pragma once
+
+#include <cstddef>
+#include <algorithm>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "kernel.h"
+#include "parallel.h"
+#include "scan_reductions.h"
+#include "scan_space.h"
+
+namespace epc_fast {
+
+// What a chunk's pass gives back: each reduction's state over the chunk (its threads'
+// states combined), and each summary's moments per scan block, (blocks, groups) row-major.
+struct ChunkResult {
+    std::vector<ReductionState> states;
+    struct Moments {
+        std::vector<std::int64_t> count;
+        std::vector<double> mean, m2;
+    };
+    std::vector<Moments> moments;  // per reduction (empty but for summaries)
+};
+
+namespace detail {
+
+// A thread's workspace for the pass: its points, the kernel's, the outputs and groups of a
+// block, and its reduction states. Allocated before the threads start (nothing in the
+// parallel region allocates).
+struct ScanThread {
+    ScanLanes lanes;
+    Inputs inputs;
+    Workspace workspace;
+    alignas(64) double outputs[6][block_size];
+    alignas(64) double log10_outputs[6][block_size];
+    alignas(64) unsigned char status[block_size];
+    std::vector<std::vector<std::int32_t>> groups;  // per key, block_size each
+    std::vector<std::int32_t> scratch;
+    std::vector<ReductionState> states;
+    FoldLanes fold;  // views of the arrays above
+
+    ScanThread(const ScanSpace& space, const std::vector<GroupKey>& keys,
+               const std::vector<Reduction>& reductions)
+        : lanes(space), inputs(space.inputs), groups(keys.size(), std::vector<std::int32_t>(block_size)),
+          scratch(block_size) {
+        states.reserve(reductions.size());
+        for (const Reduction& r : reductions) states.emplace_back(r);
+        fold.index = lanes.index;
+        fold.status = status;
+        for (int o = 0; o < 6; ++o) {
+            fold.outputs[o] = outputs[o];
+            fold.log10_outputs[o] = log10_outputs[o];
+        }
+        for (const auto& g : groups) fold.groups.push_back(g.data());
+    }
+    ScanThread(const ScanThread&) = delete;
+    ScanThread& operator=(const ScanThread&) = delete;
+};
+
+}  // namespace detail
+
+// The outputs (Outputs order) that the reductions read, and which of them they read as log10.
+struct ScanNeeds {
+    bool output[6] = {};
+    bool log10[6] = {};
+
+    explicit ScanNeeds(const std::vector<Reduction>& reductions) {
+        for (const Reduction& r : reductions) {
+            output[r.of] = true;
+            if ((r.kind == ReductionKind::histogram || r.kind == ReductionKind::quantiles) && r.log)
+                log10[r.of] = true;
+        }
+    }
+};
+
+// Draws, evaluates and reduces points [start, stop) of the scan (start a multiple of
+// scan_block_points) on `threads` threads. Never throws inside the threads: every allocation is
+// made before they start; per-point problems are statuses.
+inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
+                              const std::vector<GroupKey>& keys,
+                              const std::vector<Reduction>& reductions, std::uint64_t start,
+                              std::uint64_t stop, int threads) {
+    const std::uint64_t n_points = stop > start ? stop - start : 0;
+    const auto n_blocks = static_cast<std::ptrdiff_t>((n_points + scan_block_points - 1) / scan_block_points);
+    const ScanNeeds needs(reductions);
+    ChunkResult result;
+    result.moments.resize(reductions.size());
+    for (std::size_t r = 0; r < reductions.size(); ++r) {
+        if (reductions[r].kind != ReductionKind::summary) continue;
+        const auto cells = static_cast<std::size_t>(n_blocks) * static_cast<std::size_t>(reductions[r].groups);
+        result.moments[r].count.assign(cells, 0);
+        result.moments[r].mean.assign(cells, 0.0);
+        result.moments[r].m2.assign(cells, 0.0);
+    }
+    int team = threads;
+#ifdef _OPENMP
+    if (n_blocks < team) team = static_cast<int>(n_blocks > 0 ? n_blocks : 1);
+#else
+    team = 1;
+#endif
+    std::vector<std::unique_ptr<detail::ScanThread>> workers;
+    for (int t = 0; t < team; ++t)
+        workers.push_back(std::make_unique<detail::ScanThread>(space, keys, reductions));
+
+    auto run_block = [&](std::ptrdiff_t b, detail::ScanThread& w) {
+        const std::uint64_t block_first = start + static_cast<std::uint64_t>(b) * scan_block_points;
+        const std::uint64_t block_end = std::min<std::uint64_t>(stop, block_first + scan_block_points);
+        for (std::size_t r = 0; r < reductions.size(); ++r) {
+            if (reductions[r].kind != ReductionKind::summary) continue;
+            ReductionState& s = w.states[r];
+            std::fill(s.block_count.begin(), s.block_count.end(), 0);
+            std::fill(s.block_mean.begin(), s.block_mean.end(), 0.0);
+            std::fill(s.block_m2.begin(), s.block_m2.end(), 0.0);
+        }
+        const Outputs out{needs.output[0] ? w.outputs[0] : nullptr, needs.output[1] ? w.outputs[1] : nullptr,
+                          needs.output[2] ? w.outputs[2] : nullptr, needs.output[3] ? w.outputs[3] : nullptr,
+                          needs.output[4] ? w.outputs[4] : nullptr, needs.output[5] ? w.outputs[5] : nullptr,
+                          w.status, nullptr};
+        for (std::uint64_t first = block_first; first < block_end; first += block_size) {
+            const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(block_size, block_end - first));
+            w.lanes.n = n;
+            for (std::size_t i = 0; i < n; ++i) w.lanes.index[i] = first + i;
+            form_points(space, true, w.lanes, w.inputs);
+            evaluate_block(w.inputs, opt, out, 0, n, nullptr, w.workspace);
+            for (int o = 0; o < 6; ++o) {
+                if (!needs.log10[o]) continue;
+                const double* __restrict v = w.outputs[o];
+                double* __restrict t = w.log10_outputs[o];
+                EPC_FAST_SIMD
+                for (std::size_t i = 0; i < block_size; ++i) t[i] = log10_any(v[i] > 0.0 ? v[i] : 0.0);
+            }
+            for (std::size_t k = 0; k < keys.size(); ++k)
+                group_indices(keys[k], space, w.lanes, w.groups[k].data(), w.scratch.data());
+            w.fold.n = n;
+            for (std::size_t r = 0; r < reductions.size(); ++r) fold(reductions[r], w.fold, w.states[r]);
+        }
+        for (std::size_t r = 0; r < reductions.size(); ++r) {
+            if (reductions[r].kind != ReductionKind::summary) continue;
+            const ReductionState& s = w.states[r];
+            const auto groups = static_cast<std::size_t>(reductions[r].groups);
+            ChunkResult::Moments& m = result.moments[r];
+            const std::size_t row = static_cast<std::size_t>(b) * groups;
+            std::copy(s.block_count.begin(), s.block_count.end(), m.count.begin() + static_cast<std::ptrdiff_t>(row));
+            std::copy(s.block_mean.begin(), s.block_mean.end(), m.mean.begin() + static_cast<std::ptrdiff_t>(row));
+            std::copy(s.block_m2.begin(), s.block_m2.end(), m.m2.begin() + static_cast<std::ptrdiff_t>(row));
+        }
+    };
+
+#ifdef _OPENMP
+#pragma omp parallel num_threads(team)
+    {
+        detail::ScanThread& w = *workers[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 1)
+        for (std::ptrdiff_t b = 0; b < n_blocks; ++b) run_block(b, w);
+    }
+#else
+    for (std::ptrdiff_t b = 0; b < n_blocks; ++b) run_block(b, *workers[0]);
+#endif
+    result.states = std::move(workers[0]->states);
+    for (std::size_t t = 1; t < workers.size(); ++t)
+        for (std::size_t r = 0; r < reductions.size(); ++r)
+            combine(reductions[r], result.states[r], workers[t]->states[r]);
+    return result;
+}
+
+// The parameters and discrete axes' indices of the points `index[0 .. n - 1]`, as the fused
+// pass forms them: values[j] (n each) for each parameter that is not fixed (others left
+// untouched), axis_index[a] (n each) for each discrete axis.
+inline void scan_points(const ScanSpace& space, const std::uint64_t* index, std::size_t n,
+                        double* const* values, std::int32_t* const* axis_index) {
+    ScanLanes lanes(space);
+    Inputs in = space.inputs;
+    for (std::size_t first = 0; first < n; first += block_size) {
+        const std::size_t m = std::min(block_size, n - first);
+        lanes.n = m;
+        bool consecutive = true;
+        for (std::size_t i = 0; i < m; ++i) {
+            lanes.index[i] = index[first + i];
+            consecutive &= i == 0 || lanes.index[i] == lanes.index[i - 1] + 1;
+        }
+        form_points(space, consecutive, lanes, in);
+        for (int j = 0; j < n_params; ++j)
+            if (values[j] != nullptr)
+                for (std::size_t i = 0; i < m; ++i) values[j][first + i] = lanes.values[j][i];
+        for (std::size_t a = 0; a < space.axes.size(); ++a)
+            for (std::size_t i = 0; i < m; ++i) axis_index[a][first + i] = lanes.axis_index[a][i];
+    }
+}
+
+}  // namespace epc_fast

@@ -1,0 +1,165 @@
+// A scan's design space as the core forms it, a block of points at a time: each parameter
+// fixed, drawn (philox.h, draws.h), or read from a discrete axis (a grid axis visited in mixed
+// radix, a random choice, or the design axis with its table of parameters).
+//
+// python/epc_fast/scan/core_plan.py builds a ScanSpace from a Space; docs/scan.md states the
+// draw contract. A point's parameters depend only on the seed and its index.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "block.h"
+#include "draws.h"
+#include "params.h"
+#include "philox.h"
+
+namespace epc_fast {
+
+// A grid axis (point i is grid cell i mod grid size, mixed radix, last axis fastest) or a
+// random choice among `size` values (equal weights, or the cumulative weights c[0..size-2]).
+struct DiscreteAxis {
+    bool grid = true;
+    std::int64_t size = 1;
+    std::uint32_t stream = 0;
+    std::vector<double> cumulative;
+};
+
+// How one parameter is formed: a fixed value, a draw, or the value of a discrete axis's index.
+struct ParamSource {
+    enum Kind { fixed, drawn, axis_value };
+    Kind kind = fixed;
+    double value = 0.0;          // fixed
+    std::uint32_t stream = 0;    // drawn
+    Draw draw;                   // drawn
+    int axis = -1;               // axis_value: index into ScanSpace::axes
+    std::vector<double> values;  // axis_value: the parameter at each of the axis's indices
+};
+
+struct ScanSpace {
+    // the domains, the size flag and the spectrum; its columns are set per block (ScanLanes)
+    Inputs inputs;
+    std::array<ParamSource, n_params> params;
+    std::vector<DiscreteAxis> axes;
+    std::uint64_t seed = 0;
+    // the grid axes' positions in `axes`, in order, and the number of grid cells (set_grid)
+    std::vector<std::size_t> grid_axes;
+    std::uint64_t grid_cells = 1;
+
+    void set_grid() {
+        grid_axes.clear();
+        grid_cells = 1;
+        for (std::size_t a = 0; a < axes.size(); ++a) {
+            if (!axes[a].grid) continue;
+            grid_axes.push_back(a);
+            grid_cells *= static_cast<std::uint64_t>(axes[a].size);
+        }
+    }
+};
+
+// One block's points: their indices, each discrete axis's index and each parameter's value.
+struct ScanLanes {
+    std::size_t n = 0;
+    alignas(64) std::uint64_t index[block_size];
+    alignas(64) double u[block_size];
+    alignas(64) double values[n_params][block_size];
+    std::vector<std::array<std::int32_t, block_size>> axis_index;
+
+    explicit ScanLanes(const ScanSpace& space) : axis_index(space.axes.size()) {}
+};
+
+namespace detail {
+
+// The index of a choice axis at uniform u (docs/scan.md).
+inline std::int32_t choice_index(const DiscreteAxis& axis, double u) {
+    if (axis.cumulative.empty()) {
+        const auto k = static_cast<std::int64_t>(u * static_cast<double>(axis.size));
+        return static_cast<std::int32_t>(k < axis.size ? k : axis.size - 1);
+    }
+    // the number of cumulative weights at or below u, by bisection
+    std::int32_t lo = 0, hi = static_cast<std::int32_t>(axis.cumulative.size());
+    while (lo < hi) {
+        const std::int32_t mid = (lo + hi) / 2;
+        if (axis.cumulative[static_cast<std::size_t>(mid)] <= u) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+// The grid axes' digits of every lane: from the first lane's cell, counted up lane by lane
+// when the indices are consecutive, else each lane's cell divided out.
+inline void grid_digits(const ScanSpace& space, bool consecutive, ScanLanes& lanes) {
+    const std::vector<std::size_t>& grid = space.grid_axes;
+    if (grid.empty()) return;
+    const std::uint64_t cells = space.grid_cells;
+    auto split = [&](std::uint64_t cell, std::size_t lane) {
+        for (std::size_t g = grid.size(); g-- > 0;) {
+            const auto size = static_cast<std::uint64_t>(space.axes[grid[g]].size);
+            lanes.axis_index[grid[g]][lane] = static_cast<std::int32_t>(cell % size);
+            cell /= size;
+        }
+    };
+    if (!consecutive) {
+        for (std::size_t i = 0; i < lanes.n; ++i) split(lanes.index[i] % cells, i);
+        return;
+    }
+    split(lanes.index[0] % cells, 0);
+    for (std::size_t i = 1; i < lanes.n; ++i) {
+        bool carry = true;
+        for (std::size_t g = grid.size(); g-- > 0;) {
+            const std::size_t a = grid[g];
+            std::int32_t d = lanes.axis_index[a][i - 1];
+            if (carry) {
+                ++d;
+                carry = d == space.axes[a].size;
+                if (carry) d = 0;
+            }
+            lanes.axis_index[a][i] = d;
+        }
+    }
+}
+
+}  // namespace detail
+
+// Forms the parameters of the points lanes.index[0 .. lanes.n - 1] (consecutive: each is the
+// previous plus one) into `lanes`, and points `in`'s columns at them: a fixed parameter is a
+// broadcast column (the kernel drops the terms it zeroes), the others per lane.
+inline void form_points(const ScanSpace& space, bool consecutive, ScanLanes& lanes, Inputs& in) {
+    const std::size_t n = lanes.n;
+    for (std::size_t i = n; i < block_size; ++i) lanes.index[i] = lanes.index[n > 0 ? n - 1 : 0];
+    detail::grid_digits(space, consecutive, lanes);
+    for (std::size_t a = 0; a < space.axes.size(); ++a) {
+        const DiscreteAxis& axis = space.axes[a];
+        if (axis.grid) continue;
+        for (std::size_t i = 0; i < block_size; ++i)
+            lanes.u[i] = stream_uniform(space.seed, axis.stream, lanes.index[i]);
+        for (std::size_t i = 0; i < n; ++i)
+            lanes.axis_index[a][i] = detail::choice_index(axis, lanes.u[i]);
+    }
+    for (int j = 0; j < n_params; ++j) {
+        const ParamSource& p = space.params[j];
+        double* __restrict x = lanes.values[j];
+        if (p.kind == ParamSource::fixed) {
+            in.columns[j] = Column{&p.value, 0};
+            continue;
+        }
+        in.columns[j] = Column{x, 1};
+        if (p.kind == ParamSource::drawn) {
+            const std::uint64_t seed = space.seed;
+            const std::uint32_t stream = p.stream;
+            const std::uint64_t* __restrict index = lanes.index;
+            double* __restrict u = lanes.u;
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < block_size; ++i) u[i] = stream_uniform(seed, stream, index[i]);
+            draw_values(p.draw, u, x);
+        } else {
+            const std::int32_t* __restrict k = lanes.axis_index[static_cast<std::size_t>(p.axis)].data();
+            const double* __restrict v = p.values.data();
+            for (std::size_t i = 0; i < n; ++i) x[i] = v[k[i]];
+        }
+    }
+}
+
+}  // namespace epc_fast

@@ -1,0 +1,250 @@
+"""A scan as the core's fused pass reads it: the space, the group keys and the reductions as
+plain dicts and lists (``cpp/include/epc_fast/scan_space.h``, ``scan_reductions.h``), and the
+core's partial results turned into each reduction's own partial, which its ``merge`` and
+``finish`` then take exactly as they take the NumPy path's.
+
+The core forms every point's parameters itself from this description (docs/scan.md, the draw
+contract), evaluates the model and folds the outputs into the reductions while the points are
+in cache: no per-point array crosses into Python.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import api, params
+from ..spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
+from .best import TopK
+from .chunk import OUTPUTS
+from .distributions import Choice, Grid
+from .groups import GroupKey
+from .histograms import Histogram, Quantiles
+from .space import Points, Space
+from .streams import stream_id
+from .summaries import FractionBelow, Summary
+
+__all__ = ["CorePlan"]
+
+#: The evaluate options a space may fix, and evaluate's defaults for them.
+OPTION_DEFAULTS = {"f50_solver": "halley", "f50_rtol": 1e-14, "t_mpe_solver": "closed_form",
+                   "t_mpe_rtol": 1e-15, "precision": "float64"}
+
+
+def _slot_name(space: Space, slot: str) -> str:
+    """The space's name of a parameter slot: ``size`` is pixel_count or sensor_area_mm2."""
+    if slot != "size":
+        return slot
+    given = set(space.axes) | set(space.design_table)
+    return next(n for n in params.SIZE_PARAMETERS if n in given)
+
+
+def _default(slot: str) -> float:
+    if slot == "electrons_per_lux_s_m2":
+        return DEFAULT_ELECTRONS_PER_LUX_S_M2
+    return float(params.PARAMETERS[params.PARAMETER_NAMES.index(slot)].default)
+
+
+class CorePlan:
+    """One scan's description for the core: built once per run (and once per Dask task).
+
+    Parameters
+    ----------
+    space : Space
+    seed : int, in [0, 2**64).
+    plan : tuple of :class:`~epc_fast.scan.tasks.PlanItem`, the reductions the core folds
+        (exact quantiles and anything per point are the caller's).
+    """
+
+    def __init__(self, space: Space, seed: int, plan: tuple = ()):
+        self.space = space
+        self.seed = seed
+        self.axis_names = tuple(n for n, a in space.axes.items() if isinstance(a, (Grid, Choice)))
+        self.names = tuple(_slot_name(space, slot) for slot in params.PARAMETER_NAMES)
+        self.spec = self._space_spec()
+        self.plan = tuple(plan)
+        keys: list = []
+        self.reduction_specs = []
+        for item in self.plan:
+            key_index = None
+            if not isinstance(item.reduction, TopK):
+                spec = self._key_spec(item.key)
+                if spec not in keys:
+                    keys.append(spec)
+                key_index = keys.index(spec)
+            self.reduction_specs.append(self._reduction_spec(item.reduction, key_index))
+        self.key_specs = keys
+        self.options = self._options()
+
+    # -- the space ---------------------------------------------------------------------------
+
+    def _space_spec(self) -> dict:
+        space = self.space
+        axes = []
+        for name in self.axis_names:
+            axis = space.axes[name]
+            cumulative = None
+            if isinstance(axis, Choice):
+                cumulative = axis.stream_spec()["cumulative"]
+            axes.append({"grid": isinstance(axis, Grid), "size": len(axis.values),
+                         "stream": stream_id(name), "cumulative": cumulative})
+        spectrum, wavelength = self._spectrum()
+        sources = []
+        for slot, name in zip(params.PARAMETER_NAMES, self.names):
+            if slot == "wavelength_nm" and wavelength is not None:
+                sources.append({"kind": "fixed", "value": wavelength})
+            else:
+                sources.append(self._source(name, slot))
+        wavelengths = weights = np.empty(0)
+        if spectrum is not None:
+            wavelengths, weights = spectrum.wavelengths_nm, spectrum.weights
+        return {"seed": self.seed, "axes": axes, "params": sources,
+                "size_is_pixel_count": self.names[params.PARAMETER_NAMES.index("size")]
+                == "pixel_count",
+                "domains": params.domain_table(),
+                "wavelengths_nm": np.ascontiguousarray(wavelengths, dtype=np.float64),
+                "weights": np.ascontiguousarray(weights, dtype=np.float64)}
+
+    def _source(self, name: str, slot: str) -> dict:
+        space = self.space
+        if name in space.axes:
+            axis = space.axes[name]
+            if isinstance(axis, float):
+                return {"kind": "fixed", "value": axis}
+            if isinstance(axis, (Grid, Choice)):
+                return {"kind": "axis", "axis": self.axis_names.index(name),
+                        "values": np.asarray(axis.values, dtype=np.float64)}
+            return {"kind": "drawn", "stream": stream_id(name), "draw": axis.stream_spec()}
+        if name in space.design_table:
+            column = space.design_table[name]
+            if name in space.design_constant:
+                return {"kind": "fixed", "value": float(column[0])}
+            return {"kind": "axis", "axis": self.axis_names.index("design"),
+                    "values": np.asarray(column, dtype=np.float64)}
+        return {"kind": "fixed", "value": _default(slot)}
+
+    def _spectrum(self):
+        """The space's spectrum (None: monochromatic) and, for a spectrum whose weight is on
+        one wavelength, that wavelength (evaluate's rule: the monochromatic model at it)."""
+        spectrum = self.space.evaluate_options.get("spectrum")
+        if spectrum is None:
+            return None, None
+        if "wavelength_nm" in self.space.axes or "wavelength_nm" in self.space.design_table:
+            raise ValueError("a space gives either wavelength_nm or a spectrum, not both")
+        spec = api._spectrum_of(spectrum, 550.0)
+        single, arrays = api._one_wavelength(spec, [np.asarray(550.0)] * len(params.PARAMETERS))
+        if single is None:
+            return None, float(arrays[params.PARAMETER_NAMES.index("wavelength_nm")])
+        return single, None
+
+    def _options(self) -> tuple:
+        given = {k: v for k, v in self.space.evaluate_options.items() if k != "spectrum"}
+        options = {**OPTION_DEFAULTS, **given}
+        api._choice("f50_solver", options["f50_solver"], api.F50_SOLVERS)
+        api._choice("t_mpe_solver", options["t_mpe_solver"], api.T_MPE_SOLVERS)
+        api._choice("precision", options["precision"], api.PRECISIONS)
+        return (options["f50_solver"], api._tolerance("f50_rtol", options["f50_rtol"]),
+                options["t_mpe_solver"], api._tolerance("t_mpe_rtol", options["t_mpe_rtol"]),
+                options["precision"])
+
+    # -- keys and reductions -----------------------------------------------------------------
+
+    def _key_spec(self, key: GroupKey) -> list:
+        parts = []
+        for part in key.parts:
+            if part.kind == "axis":
+                parts.append({"kind": "axis", "axis": self.axis_names.index(part.name),
+                              "size": part.size})
+            elif part.kind == "design value":
+                parts.append({"kind": "lookup", "axis": self.axis_names.index("design"),
+                              "size": part.size,
+                              "lookup": np.asarray(part.lookup, dtype=np.float64)})
+            else:
+                slot = self.names.index(part.name)
+                spec = {"kind": "binned", "param": slot, "size": part.size,
+                        "inner_edges": np.asarray(part.inner_edges, dtype=np.float64),
+                        "first": 0.0, "scale": 1.0}
+                if part.log_spacing is not None:
+                    spec.update(kind="binned_log", first=part.log_spacing[0],
+                                scale=part.log_spacing[1])
+                parts.append(spec)
+        return parts
+
+    @staticmethod
+    def _reduction_spec(reduction, key_index) -> dict:
+        of = OUTPUTS.index(reduction.of)
+        if isinstance(reduction, TopK):
+            return {"kind": "top_k", "of": of, "k": int(reduction.k),
+                    "largest": bool(reduction.largest)}
+        spec = {"kind": None, "of": of, "key": key_index}
+        if isinstance(reduction, Summary):
+            spec["kind"] = "summary"
+        elif isinstance(reduction, FractionBelow):
+            spec.update(kind="fraction_below", threshold=float(reduction.threshold))
+        elif isinstance(reduction, (Histogram, Quantiles)):
+            bins = reduction._bins
+            spec.update(kind="histogram" if isinstance(reduction, Histogram) else "quantiles",
+                        first=bins.first, last=bins.last, bins=bins.bins,
+                        log=bool(getattr(reduction, "log", True)))
+        else:
+            raise TypeError(f"the core cannot fold {reduction!r}")
+        return spec
+
+    # -- running -----------------------------------------------------------------------------
+
+    def reduce(self, start: int, stop: int, threads: int) -> dict:
+        """The partial of every planned reduction over points ``start .. stop - 1``, each in
+        the form its ``merge`` takes."""
+        from .. import _core
+
+        partials = _core.scan_chunk(self.spec, self.key_specs, self.reduction_specs,
+                                    *self.options, start, stop, threads)
+        result = {}
+        for item, partial in zip(self.plan, partials):
+            if isinstance(item.reduction, TopK):
+                partial = self._top_k_partial(item.reduction, partial)
+            result[item.name] = partial
+        return result
+
+    def _top_k_partial(self, reduction: TopK, partial: dict) -> dict:
+        index = partial["index"]
+        value = -partial["order_key"] if reduction.largest else partial["order_key"]
+        points = self.points_at(index)
+        parameters = {name: np.broadcast_to(points.parameters[name], index.shape).copy()
+                      for name in self.space.varying_parameters}
+        design = points.indices.get("design", np.zeros(index.size, np.intp))
+        return {"index": index, "value": value, "parameters": parameters,
+                "design": np.asarray(design, dtype=np.intp)}
+
+    def points_at(self, index: np.ndarray) -> Points:
+        """The parameters of the points ``index`` (int64), formed by the core as its fused
+        pass forms them: :class:`Points` with the parameters the space gives."""
+        from .. import _core
+
+        index = np.ascontiguousarray(index, dtype=np.int64)
+        values, axes = _core.scan_points(self.spec, index)
+        space = self.space
+        given = set(space.axes) | set(space.design_table)
+        parameters = {}
+        for name, source, column in zip(self.names, self.spec["params"], values):
+            if name not in given:
+                continue
+            parameters[name] = source["value"] if column is None else column
+        parameters.pop("design", None)
+        indices = {name: axis.astype(np.intp) for name, axis in zip(self.axis_names, axes)}
+        start = int(index[0]) if index.size else 0
+        return Points(start, start + index.size, index, parameters, indices)
+
+    def points(self, start: int, stop: int) -> Points:
+        """Points ``start .. stop - 1`` as :meth:`points_at` forms them."""
+        return self.points_at(np.arange(start, stop, dtype=np.int64))
+
+
+def checked_seed(seed) -> int:
+    """A scan's seed: an integer in [0, 2**64), or a ValueError naming it; None draws one."""
+    if seed is None:
+        return int(np.random.SeedSequence().generate_state(1, np.uint64)[0])
+    value = api._integer("seed", seed)
+    if not 0 <= value < 2**64:
+        raise ValueError(f"seed must be an integer in [0, 2**64), got {seed!r}")
+    return value
+

@@ -1,0 +1,264 @@
+"""The core's fused scan pass against the NumPy reference of a scan: the same uniforms bit for
+bit, the same values to a few ulp, the same points, and the same reductions (counts equal,
+statistics to rounding, the same top-k points), for every distribution and grouping a space
+offers; and its own exp, log and inverse normal CDF against mpmath."""
+
+import dataclasses
+
+import mpmath
+import numpy as np
+import pytest
+
+from epc_fast import _core
+from epc_fast.presets import HIGH_TIER
+from epc_fast.scan import (BLOCK_POINTS, Binned, Choice, Empirical, FractionBelow, Grid,
+                           Histogram, LogNormal, LogUniform, Normal, Quantiles, Space, Summary,
+                           TopK, Truncated, Uniform, run)
+from epc_fast.scan import streams
+from epc_fast.scan.core_plan import CorePlan
+
+#: Values drawn by the core and by NumPy from the same uniform differ by the rounding of a
+#: fused multiply-add and of exp and log (the core's own, elementary.h, and the C library's,
+#: each within 2 ulp): log-uniform's exp(a + u b) at |a + u b| <= 12 moves by at most 12 ulp
+#: of its argument's rounding, i.e. below 4e-15 relative; ndtri adds its own 1e-16s.
+DRAW_RTOL = 4e-15
+#: A truncated normal's p = pa + u (pb - pa) rounds differently when the core fuses the
+#: multiply-add (an ulp of p, 1e-16 absolute), and the inverse CDF multiplies that by its slope
+#: 1/phi(z): up to 3e-14 absolute in z at |z| = 3.5, ~1e-13 relative in the value.
+TRUNCATED_NORMAL_RTOL = 1e-12
+
+SEEDS = (0, 1, 2009, 2**32 - 1, 2**32, 2**64 - 1)
+
+
+@pytest.mark.parametrize("seed", SEEDS)
+def test_the_cores_uniforms_are_the_references_bit_for_bit(seed):
+    rng = np.random.default_rng(seed % 2**32)
+    index = np.concatenate([np.arange(1000), rng.integers(0, 2**63 - 1, 1000),
+                            [2**32 - 1, 2**32, 2**63 - 1]]).astype(np.int64)
+    for name in ("illuminance_lux", "design", "shake_deg_per_s"):
+        stream = streams.stream_id(name)
+        assert np.array_equal(_core.stream_uniforms(seed, stream, index),
+                              streams.uniforms(seed, stream, index))
+
+
+def test_the_cores_ndtri_matches_mpmath_to_2e_16_relative():
+    mpmath.mp.dps = 40
+    p = np.concatenate([np.geomspace(1e-300, 0.5, 400), 1 - np.geomspace(2**-53, 0.5, 400),
+                        [2**-53, 0.025, 0.5 + 2**-40, 0.975, 1e-11, 1.5e-11]])
+    # Newton on mpmath's normal CDF (erfc-based: accurate in both tails) from the reference's
+    # value; the upper tail through 1 - p, exact in float64 for p >= 1/2
+    def exact_ndtri(x):
+        lower = x < 0.5
+        tail = mpmath.mpf(x) if lower else 1 - mpmath.mpf(x)
+        z = mpmath.findroot(lambda t: mpmath.ncdf(t) - tail, -abs(float(streams.ndtri(x))))
+        return float(z if lower else -z)
+
+    exact = np.array([exact_ndtri(x) for x in p])
+    got = _core.ndtri(p)
+    # AS 241 is good to about 1e-16; its Horner sums and the core's log (2 ulp) add a few ulp
+    nonzero = exact != 0
+    assert np.max(np.abs(got[nonzero] / exact[nonzero] - 1)) < 2e-15
+    np.testing.assert_allclose(got, streams.ndtri(p), rtol=2e-15, atol=0)
+
+
+def test_the_cores_exp_and_log_are_within_2_ulp_of_mpmath():
+    mpmath.mp.dps = 40
+    rng = np.random.default_rng(3)
+    x = np.concatenate([rng.uniform(-745, 709.7, 2000), rng.uniform(-1, 1, 2000),
+                        [0.0, 1e-300, -1e-300, 709.78, -708.4]])
+    exact = np.array([float(mpmath.exp(mpmath.mpf(v))) for v in x])
+    got = _core.elementary_exp(x)
+    normal = exact > np.finfo(float).tiny
+    ulp = np.spacing(exact[normal])
+    assert np.max(np.abs(got[normal] - exact[normal]) / ulp) <= 2
+    y = np.concatenate([np.exp(rng.uniform(-700, 700, 2000)), rng.uniform(0.5, 2, 2000),
+                        [5e-324, 1e-310, 1.0, 2.0, np.finfo(float).max]])
+    exact = np.array([float(mpmath.log(mpmath.mpf(v))) for v in y])
+    got = _core.elementary_log(y)
+    ulp = np.spacing(np.abs(exact))
+    assert np.max(np.abs(got - exact)[exact != 0] / ulp[exact != 0]) <= 2
+    assert _core.elementary_log(1.0) == 0.0
+    assert np.array_equal(_core.elementary_log(np.array([0.0, np.inf])), [-np.inf, np.inf])
+    assert np.isnan(_core.elementary_log(np.array([-1.0, np.nan]))).all()
+    assert np.array_equal(_core.elementary_exp(np.array([-800.0, 800.0])), [0.0, np.inf])
+
+
+#: One parameter of every kind the space offers, each on a parameter it suits.
+EVERY_KIND = dict(
+    design=HIGH_TIER,
+    illuminance_lux=LogUniform(10, 1e5),
+    shake_deg_per_s=Truncated(LogNormal(4.39, 0.5), 0.5, 30),
+    reflectance=Truncated(Normal(0.4, 0.1), 0.05, 0.95),
+    lens_transmittance=Truncated(Normal(0.8, 0.05), 0.85, 0.99),   # upper tail: mirrored
+    read_noise_e=Choice((0.0, 1.0, 2.5), weights=(0.2, 0.5, 0.3)),
+    dark_current_e_per_s=Choice((0.0, 5.0)),
+    prnu=Uniform(0.0, 0.04),             # u sqrt(s) >= 1 above 0.032 at 30 dB: UNREACHABLE
+    fill_factor=Truncated(Uniform(0.5, 1.2), 0.6, 1.0),
+    stabilization=Grid((1.0, 2.0, 4.0)),
+    snr_db=Grid((30.0, 33.0)),
+    jitter_um=Empirical((0.0, 0.1, 0.2, 0.5, 1.0)),
+    full_well_e=Truncated(Empirical((3000.0, 5000.0, 8000.0, 20000.0)), 4000, 1e5),
+    field_angle_deg=Normal(10.0, 40.0),  # |angle| >= 90 degrees: INVALID
+    mtf_threshold=Truncated(LogUniform(0.3, 0.7), 0.4, 0.6),
+)
+SPACE = Space(**EVERY_KIND)
+N = 3 * BLOCK_POINTS + 1234
+
+
+def test_the_core_forms_the_points_numpy_draws():
+    core = CorePlan(SPACE, 77).points(0, N)
+    numpy = SPACE.points(77, 0, N)
+    assert core.indices.keys() == numpy.indices.keys()
+    for name in core.indices:
+        assert np.array_equal(core.indices[name], numpy.indices[name]), name
+    assert core.parameters.keys() == numpy.parameters.keys()
+    for name, value in core.parameters.items():
+        axis = SPACE.axes.get(name)
+        steep = isinstance(axis, Truncated) and isinstance(axis.distribution,
+                                                            (Normal, LogNormal))
+        expected = np.broadcast_to(numpy.parameters[name], (N,))
+        # mean + std z cancels near 0: there the bound is an ulp of the largest term
+        np.testing.assert_allclose(np.broadcast_to(value, (N,)), expected,
+                                   rtol=TRUNCATED_NORMAL_RTOL if steep else DRAW_RTOL,
+                                   atol=DRAW_RTOL * np.max(np.abs(expected)), err_msg=name)
+
+
+def test_any_points_are_formed_as_in_their_chunk():
+    index = np.array([N - 1, 5, 2**40 + 3, 0, 65535, 65536], dtype=np.int64)
+    plan = CorePlan(SPACE, 5)
+    some = plan.points_at(index)
+    for k, i in enumerate(index):
+        one = plan.points(int(i), int(i) + 1)
+        for name, value in some.parameters.items():
+            assert np.broadcast_to(value, index.shape)[k] == np.broadcast_to(
+                one.parameters[name], (1,))[0], name
+        for name in some.indices:
+            assert some.indices[name][k] == one.indices[name][0]
+
+
+def _reductions():
+    by_bins = ("design", Binned("illuminance_lux", tuple(np.geomspace(10, 1e5, 9))))
+    return {"summary": Summary(by=("design", "read_noise_e")),
+            "t_mpe": Summary(of="t_mpe_s", by="stabilization"),
+            "histogram": Histogram(1e2, 1e7, 50, by="design"),
+            "linear": Histogram(0.0, 400.0, 40, log=False, of="f50_cyc_per_mm"),
+            "streamed": Quantiles((0.05, 0.5, 0.95), by=by_bins, exact_up_to=0,
+                                  bins_per_decade=200),
+            "edges": FractionBelow(2e6, by=("design", Binned("shake_deg_per_s",
+                                                                 (0.5, 2.0, 3.0, 7.5, 30.0)))),
+            "pitch": FractionBelow(1e6, by="pixel_pitch_um"),
+            "best": TopK(9), "worst": TopK(4, largest=False, of="f50_cyc_per_mm")}
+
+
+@pytest.fixture(scope="module")
+def scans():
+    """The same small scan by the core's fused pass and by NumPy around the core's evaluate."""
+    common = dict(seed=4, reductions=_reductions(), chunk_points=2 * BLOCK_POINTS,
+                  progress=False)
+    return run(SPACE, N, **common), run(SPACE, N, backend="numpy", **common)
+
+
+def _compare(core, numpy, rtol):
+    """Counts and labels equal; floating-point statistics within rtol."""
+    for name in core.results:
+        a, b = core[name], numpy[name]
+        for field in dataclasses.fields(a):
+            x, y = getattr(a, field.name), getattr(b, field.name)
+            if field.name in ("labels", "parameters"):
+                assert x.keys() == y.keys()
+                for k in x:
+                    xs, ys = np.asarray(x[k]), np.asarray(y[k])
+                    if xs.dtype.kind == "f":
+                        np.testing.assert_allclose(xs, ys, rtol=TRUNCATED_NORMAL_RTOL,
+                                                   err_msg=name)
+                    else:
+                        assert np.array_equal(xs, ys), (name, k)
+                continue
+            x, y = np.asarray(x), np.asarray(y)
+            if x.dtype.kind == "f":
+                np.testing.assert_allclose(x, y, rtol=rtol, atol=0, equal_nan=True,
+                                           err_msg=f"{name}.{field.name}")
+            else:
+                assert np.array_equal(x, y), (name, field.name)
+
+
+def test_the_fused_pass_reduces_as_numpy_does(scans):
+    core, numpy = scans
+    # The same points to a few ulp (DRAW_RTOL), the model at each to its own ~1e-14, summed in
+    # another order: 1e-12 is far above what they differ by and far below any real error.
+    _compare(core, numpy, rtol=1e-12)
+    statuses = core["summary"].status_counts.sum(axis=0)
+    assert np.count_nonzero(statuses) >= 3, statuses  # the space reaches OK, INVALID, UNREACHABLE
+
+
+def test_the_fused_pass_reduces_as_the_numpy_reference_of_the_model_does():
+    # the whole scan in NumPy, the model included, on a smaller scan (the reference evaluates
+    # ~0.1 M points/s); the reference's model agrees with the core to ~1e-13 (docs/numerics.md)
+    n = BLOCK_POINTS + 999
+    reductions = {k: v for k, v in _reductions().items() if k not in ("t_mpe",)}
+    common = dict(seed=8, reductions=reductions, chunk_points=BLOCK_POINTS, progress=False)
+    _compare(run(SPACE, n, **common), run(SPACE, n, backend="reference", **common), rtol=1e-10)
+
+
+@pytest.mark.parametrize("seed", [0, 2**64 - 1])
+def test_seeds_span_0_to_2_to_the_64(seed):
+    result = run(SPACE, 1000, seed=seed, progress=False)
+    assert result.seed == seed and result["summary"].points.sum() == 1000
+
+
+@pytest.mark.parametrize("seed", [-1, 2**64, 1.5, "1"])
+def test_a_seed_outside_0_2_to_the_64_is_refused(seed):
+    with pytest.raises((ValueError, TypeError), match="seed"):
+        run(SPACE, 10, seed=seed, progress=False)
+
+
+def test_a_fresh_seed_is_recorded_and_reproduces_the_scan():
+    first = run(SPACE, 5000, progress=False)
+    again = run(SPACE, 5000, seed=first.seed, progress=False)
+    assert 0 <= first.seed < 2**64
+    assert np.array_equal(first["summary"].mean, again["summary"].mean)
+
+
+def test_a_grid_space_is_visited_in_mixed_radix_by_both():
+    space = Space(pixel_pitch_um=Grid((1.4, 1.75, 2.2)), f_number=Grid((2.0, 2.8)),
+                  focal_length_mm=5.6, sensor_area_mm2=15.7, illuminance_lux=Grid((10.0, 1e3)))
+    core = run(space, reductions={"s": Summary(by=("pixel_pitch_um", "f_number",
+                                                      "illuminance_lux"))}, progress=False)
+    numpy = run(space, reductions={"s": Summary(by=("pixel_pitch_um", "f_number",
+                                                       "illuminance_lux"))}, progress=False,
+                backend="numpy")
+    assert core.points == 12 and np.array_equal(core["s"].points, np.ones(12))
+    # one point per cell: both give that cell's EPC, from the same inputs
+    assert np.array_equal(core["s"].mean, numpy["s"].mean)
+
+
+def test_the_default_backend_needs_no_numpy_draw(monkeypatch):
+    import epc_fast.scan.space
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("NumPy drew the points")
+
+    monkeypatch.setattr(epc_fast.scan.space.Space, "points", refuse)
+    result = run(SPACE, 2 * BLOCK_POINTS, seed=1, progress=False,
+                 reductions={"s": Summary(), "q": Quantiles(exact_up_to=0)})
+    assert result["s"].points.sum() == 2 * BLOCK_POINTS
+
+
+def test_an_unknown_backend_is_refused_by_name():
+    with pytest.raises(ValueError, match="backend"):
+        run(SPACE, 10, backend="gpu", progress=False)
+
+
+def test_quantile_bounds_name_what_they_are_when_values_reach_zero():
+    # a space whose EPC is 0 (blur unbounded) at some points: no relative bound there
+    space = Space(illuminance_lux=LogUniform(1e-3, 1e3), pixel_pitch_um=1.4, f_number=2.8,
+                  focal_length_mm=5.6, pixel_count=8e6, shake_deg_per_s=LogUniform(1, 1e4))
+    result = run(space, 2 * BLOCK_POINTS, seed=2, progress=False,
+                 reductions={"q": Quantiles((0.01, 0.5), exact_up_to=0)})["q"]
+    assert result.lower[0, 0] == 0.0
+    statement = result.error_statement()
+    assert "absolute bounds [0, 1] (epc)" in statement, statement
+    # the relative width is stated over the positive bounds only
+    positive = result.lower > 0
+    assert np.all(result.upper[positive] / result.lower[positive] - 1
+                  <= 2.01 * result.relative_resolution)
