@@ -7,6 +7,7 @@ import csv
 import errno
 import json
 import os
+import pathlib
 import signal
 import subprocess
 import sys
@@ -365,3 +366,22 @@ def test_a_failed_cluster_writes_the_prefix_marked_partial_and_says_so(tmp_path,
     assert manifest["state"] == "failed" and manifest["partial"] is True
     assert manifest["points_done"] == 2 * CHUNK and "Dask cluster" in manifest["stopped_by"]
     assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == 2 * CHUNK
+
+
+def test_a_full_disk_while_writing_a_table_leaves_no_truncated_table(tmp_path, capsys,
+                                                                     monkeypatch):
+    real_write_text = pathlib.Path.write_text
+
+    def fill_the_disk_on_markdown(self, text, *args, **kwargs):
+        if ".md" not in self.name:
+            return real_write_text(self, text, *args, **kwargs)
+        with open(self, "w") as handle:
+            handle.write(text[:len(text) // 2])
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(pathlib.Path, "write_text", fill_the_disk_on_markdown)
+    out = tmp_path / "out"
+    code, _, err = _cli(capsys, _config(tmp_path), "--out", out)
+    assert code == 1 and "No space left on device" in err and err.count("\n") == 1
+    assert not (out / "summary_by_design.md").exists()
+    assert not [p.name for p in out.iterdir() if p.name.startswith(".")]
