@@ -1,32 +1,43 @@
-"""Throughput and peak memory of a Monte Carlo scan against the raw core.
+"""Throughput and peak memory of a Monte Carlo scan against the raw core and the peers.
 
-    python bench/scan_1e9.py                    # the issue's target: 10^9 points, 2 threads
-    python bench/scan_1e9.py --points 1e7       # a quick check
+    python bench/scan_1e9.py                          # 10^9 points, 2 threads
+    python bench/scan_1e9.py --points 2e7 --peers     # a quick run, with the peers and scaling
+    EPC_FAST_ISA=x86-64-v3 python bench/scan_1e9.py --points 2e7   # the AVX2 build
 
 The scan is the built-in default space (the paper's 1/3.2" designs x log-uniform illuminance
-10..1e5 lux x log-normal hand shake, median 4.39 degree/s, sigma 0.5) with the target's
-reductions: per-design summary, per-design histogram and per-design quantiles (streamed from a
-1000-bins-per-decade histogram at every size, as beyond 2^22 points). It prints:
+10..1e5 lux x log-normal hand shake, median 4.39 degree/s, sigma 0.5) with per-design summary,
+streamed 5/50/95% quantiles (from the 1000-bins-per-decade histogram at every size) and the
+fraction below 2 Mpixel. It prints the machine (CPU, the loaded core build, threads, the
+command), then:
 
-- the raw core: evaluate on pre-generated chunks of the scan's own points (drawing them is not
-  timed), over the first ``--raw-chunks`` chunks, once before and once after the scan;
-- the scan, end to end (drawing, core, reductions, merging), and its ratio to the raw core;
-- the core's share of the scan's wall time: the same ratio measured inside the one run (the
-  time spent in evaluate on the scan's pre-drawn chunks, over the wall time), immune to other
-  load on the machine that changes between separate measurements;
-- the peak resident memory of the process (ru_maxrss).
+- the raw core: ``evaluate`` on pre-drawn arrays of the scan's own points with the outputs the
+  scan needs (status and EPC), chunks of 2^20, drawing not timed; the best of three passes;
+- the scan end to end (drawing, evaluating, reducing and merging in the fused pass), its
+  ratio to the raw core, and its peak resident memory;
+- with ``--peers``: the scan on one thread (the 2-thread scaling), the NumPy path (NumPy draws
+  and reductions around ``evaluate``), and the Numba peer (one ``prange`` loop that draws,
+  evaluates and reduces: ``bench/peers/numba_scan_peer.py``), each on ``--peer-points``.
 """
 
 from __future__ import annotations
 
 import argparse
+import platform
 import resource
+import shlex
+import sys
 import time
+from pathlib import Path
 
-from epc_fast import evaluate
-from epc_fast.scan import Histogram, Quantiles, Summary, run
+import numpy as np
+
+from epc_fast import _core, evaluate
+from epc_fast.scan import FractionBelow, Quantiles, Summary, run
 from epc_fast.scan.config import default_config
-from epc_fast.scan.runner import DEFAULT_CHUNK_POINTS
+from epc_fast.scan.core_plan import CorePlan
+
+#: Points per chunk of the raw core's pre-drawn arrays.
+RAW_CHUNK = 1 << 20
 
 
 def benchmark_space():
@@ -35,10 +46,30 @@ def benchmark_space():
 
 
 def benchmark_reductions() -> dict:
-    """The target's reductions: per-design summary, histogram and streamed quantiles."""
+    """Per-design summary, streamed quantiles and fraction below 2 Mpixel."""
     return {"summary": Summary(by="design"),
-            "histogram": Histogram(1e3, 1e7, 80, by="design"),
-            "quantiles": Quantiles((0.05, 0.5, 0.95), by="design", exact_up_to=0)}
+            "quantiles": Quantiles((0.05, 0.5, 0.95), by="design", exact_up_to=0),
+            "below": FractionBelow(2e6, by="design")}
+
+
+def cpu_name() -> str:
+    """The CPU's model name (Linux), else the platform's processor string."""
+    try:
+        with open("/proc/cpuinfo") as handle:
+            for line in handle:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def machine_lines(threads: int) -> list[str]:
+    """What the figures were measured on: CPU, core build, threads and the command."""
+    return [f"cpu               {cpu_name()}",
+            f"core build        {_core.isa} (EPC_FAST_ISA forces one)",
+            f"threads           {threads}",
+            f"command           {shlex.join([sys.executable.split('/')[-1], *sys.argv])}"]
 
 
 def peak_rss_mb() -> float:
@@ -47,18 +78,39 @@ def peak_rss_mb() -> float:
 
 
 def raw_core_points_per_s(space, seed: int, chunks: int, threads: int) -> float:
-    """points/s of evaluate alone on the scan's first ``chunks`` chunks (after one untimed
-    warm-up call: thread start-up and first-touch page faults are not the core's speed)."""
-    warm_up = space.points(seed, 0, DEFAULT_CHUNK_POINTS)
-    evaluate(**warm_up.parameters, threads=threads)
-    elapsed = points = 0
-    for chunk in range(chunks):
-        drawn = space.points(seed, chunk * DEFAULT_CHUNK_POINTS, (chunk + 1) * DEFAULT_CHUNK_POINTS)
+    """points/s of evaluate alone on the scan's first ``chunks`` chunks of RAW_CHUNK points,
+    drawn beforehand, computing the outputs the scan's reductions read (status and EPC): the
+    best of three passes, after an untimed call (thread start-up, first-touch page faults)."""
+    plan = CorePlan(space, seed)
+    drawn = [plan.points(k * RAW_CHUNK, (k + 1) * RAW_CHUNK).parameters for k in range(chunks)]
+    evaluate(**drawn[0], threads=threads, outputs=("status", "epc"))
+    best = 0.0
+    for _ in range(3):
         started = time.perf_counter()
-        evaluate(**drawn.parameters, threads=threads)
-        elapsed += time.perf_counter() - started
-        points += len(drawn)
-    return points / elapsed
+        for parameters in drawn:
+            evaluate(**parameters, threads=threads, outputs=("status", "epc"))
+        best = max(best, chunks * RAW_CHUNK / (time.perf_counter() - started))
+    return best
+
+
+def scan_points_per_s(space, points: int, seed: int, threads: int, backend: str = "core"):
+    """(points/s, result) of one scan end to end."""
+    result = run(space, points, seed=seed, reductions=benchmark_reductions(), threads=threads,
+                 progress=False, backend=backend)
+    return result.points_per_s, result
+
+
+def numba_peer_points_per_s(points: int, seed: int, threads: int):
+    """points/s of the Numba peer (compiled first), or None without Numba."""
+    try:
+        sys.path.insert(0, str(Path(__file__).parent))
+        from peers import numba_scan_peer
+    except ImportError:
+        return None
+    numba_scan_peer.warm_up(threads=threads)
+    started = time.perf_counter()
+    numba_scan_peer.scan(points, seed=seed, threads=threads)
+    return points / (time.perf_counter() - started)
 
 
 def main(argv=None) -> None:
@@ -68,28 +120,41 @@ def main(argv=None) -> None:
     parser.add_argument("--seed", type=int, default=2009)
     parser.add_argument("--raw-chunks", type=int, default=8,
                         help="chunks of 2^20 points timed for the raw core")
+    parser.add_argument("--peers", action="store_true",
+                        help="also time 1 thread, the NumPy path and the Numba peer")
+    parser.add_argument("--peer-points", type=float, default=2**24)
     args = parser.parse_args(argv)
     points = int(args.points)
     space = benchmark_space()
-    raw_before = raw_core_points_per_s(space, args.seed, args.raw_chunks, args.threads)
-    rss_after_raw = peak_rss_mb()
-    result = run(space, points, seed=args.seed, reductions=benchmark_reductions(),
-                 threads=args.threads, progress=None)
-    raw_after = raw_core_points_per_s(space, args.seed, args.raw_chunks, args.threads)
-    raw = 0.5 * (raw_before + raw_after)
-    timing = result.timing
+    for line in machine_lines(args.threads):
+        print(line)
+    run(space, 4 * RAW_CHUNK, seed=args.seed, reductions=benchmark_reductions(),
+        threads=args.threads, progress=False)  # warm-up: threads, caches, the plan
+    raw = raw_core_points_per_s(space, args.seed, args.raw_chunks, args.threads)
+    rss_before = peak_rss_mb()
+    speed, result = scan_points_per_s(space, points, args.seed, args.threads)
     print(f"points            {result.points:,}{' (partial)' if result.partial else ''}")
-    print(f"raw core          {raw / 1e6:.3f} M points/s ({args.threads} threads, "
-          f"{args.raw_chunks} chunks of {DEFAULT_CHUNK_POINTS}: {raw_before / 1e6:.3f} before "
-          f"the scan, {raw_after / 1e6:.3f} after)")
-    print(f"scan              {result.points_per_s / 1e6:.3f} M points/s, "
-          f"{timing.wall_s:.1f} s")
-    print(f"ratio             {result.points_per_s / raw:.3f} of the raw core")
-    print(f"core share        {timing.core_s / timing.wall_s:.3f} of the scan's wall time "
-          f"(drawing {timing.sampling_s / timing.wall_s:.3f}, "
-          f"reducing {timing.reduction_s / timing.wall_s:.3f})")
-    print(f"peak RSS          {peak_rss_mb():.0f} MB (after the raw-core pass: "
-          f"{rss_after_raw:.0f} MB)")
+    print(f"raw core          {raw / 1e6:.1f} M points/s (evaluate on pre-drawn arrays, "
+          f"status and EPC, {args.raw_chunks} chunks of 2^20)")
+    print(f"scan              {speed / 1e6:.1f} M points/s, {result.timing.wall_s:.1f} s "
+          f"(summary, streamed quantiles, fraction below; per design)")
+    print(f"scan / raw core   {speed / raw:.2f}")
+    print(f"peak RSS          {peak_rss_mb():.0f} MB (before the scan: {rss_before:.0f} MB)")
+    if not args.peers:
+        return
+    peer_points = int(args.peer_points)
+    one, _ = scan_points_per_s(space, peer_points, args.seed, 1)
+    two, _ = scan_points_per_s(space, peer_points, args.seed, args.threads)
+    numpy_path, _ = scan_points_per_s(space, peer_points, args.seed, args.threads, "numpy")
+    numba = numba_peer_points_per_s(peer_points, args.seed, args.threads)
+    print(f"at {peer_points:,} points:")
+    print(f"  scan, 1 thread  {one / 1e6:.1f} M points/s ({args.threads} threads: "
+          f"{two / 1e6:.1f}, {two / one:.2f}x)")
+    print(f"  NumPy path      {numpy_path / 1e6:.1f} M points/s (the scan is "
+          f"{two / numpy_path:.1f}x)")
+    if numba is not None:
+        print(f"  Numba peer      {numba / 1e6:.1f} M points/s (the scan is {two / numba:.1f}x)")
+    print(f"numpy             {np.__version__}")
 
 
 if __name__ == "__main__":

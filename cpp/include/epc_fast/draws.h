@@ -38,40 +38,44 @@ EPC_FAST_INLINE double ndtri_far(double r) {
 // (PPND16; Applied Statistics 37(3), 477-484, 1988), relative error about 1e-16. Three
 // rational approximations: the centre |p - 1/2| <= 0.425, then r = sqrt(-log(min(p, 1 - p)))
 // up to 5 (p down to about 1e-11) and beyond. 1 - p is exact for p >= 1/2 (Sterbenz), so both
-// tails keep their precision on the uniforms' grid. All three are computed and one selected,
-// so that a lane loop over it vectorises; log is log_any (elementary.h).
+// tails keep their precision on the uniforms' grid. Straight-line code with selects, so that a
+// lane loop over it vectorises; log is log_any (elementary.h).
 //
 // ndtri_near takes the near tail's rational for every tail lane and sets `far` where r > 5,
 // for the caller to redo with ndtri: lane loops then skip the far rational (p below 1e-11 is
 // one draw in 10^11).
 EPC_FAST_INLINE double ndtri_near(double p, unsigned char& far) {
     const double q = p - 0.5;
+    const bool centre = std::fabs(q) <= 0.425;
     const double rc = 0.180625 - q * q;
-    const double central =
-        q *
-        (((((((2.5090809287301226727e+3 * rc + 3.3430575583588128105e+4) * rc +
-              6.7265770927008700853e+4) * rc + 4.5921953931549871457e+4) * rc +
-            1.3731693765509461125e+4) * rc + 1.9715909503065514427e+3) * rc +
-          1.3314166789178437745e+2) * rc + 3.3871328727963666080e+0) /
+    const double central_num =
+        q * (((((((2.5090809287301226727e+3 * rc + 3.3430575583588128105e+4) * rc +
+                  6.7265770927008700853e+4) * rc + 4.5921953931549871457e+4) * rc +
+                1.3731693765509461125e+4) * rc + 1.9715909503065514427e+3) * rc +
+              1.3314166789178437745e+2) * rc + 3.3871328727963666080e+0);
+    const double central_den =
         (((((((5.2264952788528545610e+3 * rc + 2.8729085735721942674e+4) * rc +
               3.9307895800092710610e+4) * rc + 2.1213794301586595867e+4) * rc +
             5.3941960214247511077e+3) * rc + 6.8718700749205790830e+2) * rc +
           4.2313330701600911252e+1) * rc + 1.0);
     const double tail_p = q < 0.0 ? p : 1.0 - p;
-    // central lanes compute the tail on 1/2 (harmless) and take `central`
-    const double r = std::sqrt(-log_any(std::fabs(q) <= 0.425 ? 0.5 : tail_p));
+    // central lanes compute the tail on 1/2 (harmless) and take the central rational
+    const double r = std::sqrt(-log_any(centre ? 0.5 : tail_p));
     const double rn = r - 1.6;
-    const double near =
+    const double near_num =
         (((((((7.74545014278341407640e-4 * rn + 2.27238449892691845833e-2) * rn +
               2.41780725177450611770e-1) * rn + 1.27045825245236838258e+0) * rn +
             3.64784832476320460504e+0) * rn + 5.76949722146069140550e+0) * rn +
-          4.63033784615654529590e+0) * rn + 1.42343711074968357734e+0) /
+          4.63033784615654529590e+0) * rn + 1.42343711074968357734e+0);
+    const double near_den =
         (((((((1.05075007164441684324e-9 * rn + 5.47593808499534494600e-4) * rn +
               1.51986665636164571966e-2) * rn + 1.48103976427480074590e-1) * rn +
             6.89767334985100004550e-1) * rn + 1.67638483018380384940e+0) * rn +
           2.05319162663775882187e+0) * rn + 1.0);
-    far = std::fabs(q) > 0.425 && r > 5.0;
-    return std::fabs(q) <= 0.425 ? central : q < 0.0 ? -near : near;
+    far = !centre && r > 5.0;
+    // one division for the rational the lane takes
+    const double num = centre ? central_num : q < 0.0 ? -near_num : near_num;
+    return num / (centre ? central_den : near_den);
 }
 
 EPC_FAST_INLINE double ndtri(double p) {

@@ -209,11 +209,53 @@ EPC_FAST_INLINE std::int64_t slot_of(const Reduction& r, double t) {
     return static_cast<std::int64_t>(position);
 }
 
+// Groups up to this many are summarised group by group with vector loops over the block's
+// lanes (fold_summary_few); more, lane by lane with the groups each lane touches.
+constexpr std::int64_t few_groups = 8;
+
+// fold_summary's moments for a key of few groups: for each group, its lanes' count, sum, min
+// and max, then their squared deviations from the mean, each a masked vector reduction over
+// the 64 lanes (the same order for every block: the results depend only on the lanes' values).
+inline void fold_moments_few(const Reduction& r, const FoldLanes& f, ReductionState& s) {
+    const double* __restrict v = f.outputs[r.of];
+    const std::int32_t* __restrict g = f.groups[static_cast<std::size_t>(r.key)];
+    const std::size_t n = f.n;
+    for (std::int32_t k = 0; k < static_cast<std::int32_t>(r.groups); ++k) {
+        std::int64_t count = 0;
+        double sum = 0.0, low = s.low[static_cast<std::size_t>(k)], high = s.high[static_cast<std::size_t>(k)];
+        EPC_FAST_PRAGMA(omp simd reduction(+ : count, sum) reduction(min : low) reduction(max : high))
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const bool in = (i < n) & (g[i] == k) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+            count += in;
+            sum += in ? v[i] : 0.0;
+            low = in && v[i] < low ? v[i] : low;
+            high = in && v[i] > high ? v[i] : high;
+        }
+        if (count == 0) continue;
+        const double mean = sum / static_cast<double>(count);
+        double m2 = 0.0;
+        EPC_FAST_SIMD_REDUCTION(+ : m2)
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const bool in = (i < n) & (g[i] == k) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+            const double d = in ? v[i] - mean : 0.0;
+            m2 += d * d;
+        }
+        const auto kk = static_cast<std::size_t>(k);
+        s.low[kk] = low;
+        s.high[kk] = high;
+        merge_moments(s.block_count[kk], s.block_mean[kk], s.block_m2[kk], count, mean, m2);
+    }
+}
+
 inline void fold_summary(const Reduction& r, const FoldLanes& f, ReductionState& s) {
     const double* v = f.outputs[r.of];
     const std::int32_t* g = f.groups[static_cast<std::size_t>(r.key)];
     for (std::size_t i = 0; i < f.n; ++i)
         ++s.counts[static_cast<std::size_t>(g[i]) * ReductionState::n_status + f.status[i]];
+    if (r.groups <= few_groups) {
+        fold_moments_few(r, f, s);
+        return;
+    }
     // this kernel block's count and mean per group, then its squared deviations (two passes
     // over 64 values in cache), merged into the scan block's moments group by group
     s.touched.clear();
@@ -245,16 +287,19 @@ inline void fold_summary(const Reduction& r, const FoldLanes& f, ReductionState&
 }
 
 inline void fold_histogram(const Reduction& r, const FoldLanes& f, ReductionState& s) {
-    const double* v = f.outputs[r.of];
-    const double* t = r.log ? f.log10_outputs[r.of] : v;
+    const double* __restrict v = f.outputs[r.of];
+    const double* __restrict t = r.log ? f.log10_outputs[r.of] : v;
     const std::int32_t* g = f.groups[static_cast<std::size_t>(r.key)];
     const auto slots = static_cast<std::size_t>(r.slots());
     const bool with_range = r.kind == ReductionKind::quantiles;
+    alignas(64) std::int64_t slot[block_size];  // every lane's slot, in a vector loop
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) slot[i] = slot_of(r, t[i]);
     for (std::size_t i = 0; i < f.n; ++i) {
         const auto k = static_cast<std::size_t>(g[i]);
         if (!with_range) ++s.points[k];
         if (!std::isfinite(v[i])) continue;
-        ++s.counts[k * slots + static_cast<std::size_t>(slot_of(r, t[i]))];
+        ++s.counts[k * slots + static_cast<std::size_t>(slot[i])];
         if (with_range) {
             s.low[k] = v[i] < s.low[k] ? v[i] : s.low[k];
             s.high[k] = v[i] > s.high[k] ? v[i] : s.high[k];

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -88,36 +89,48 @@ inline std::int32_t choice_index(const DiscreteAxis& axis, double u) {
     return lo;
 }
 
-// The grid axes' digits of every lane: from the first lane's cell, counted up lane by lane
-// when the indices are consecutive, else each lane's cell divided out.
+// a div m and a mod m for 0 <= a < 2^31 and 1 <= m, a / m at least 1/(2m) from an integer
+// after the half added: (a + 1/2) / m by a multiplication with 1/m rounded is off by at most
+// 2^-52 (a / m + 1), below that distance while a m < 2^51, so floor gives the quotient exactly.
+// Plain arithmetic, so that the lane loops below vectorise (x86 has no vector integer division).
+EPC_FAST_INLINE double floor_div(double a, double m, double inverse_m) {
+    (void)m;
+    return std::floor((a + 0.5) * inverse_m);
+}
+
+// The grid axes' digits of every lane (mixed radix, the last axis fastest): each lane's cell
+// (its index mod the number of cells, from the first lane's when the indices are consecutive)
+// divided out axis by axis.
 inline void grid_digits(const ScanSpace& space, bool consecutive, ScanLanes& lanes) {
     const std::vector<std::size_t>& grid = space.grid_axes;
     if (grid.empty()) return;
     const std::uint64_t cells = space.grid_cells;
-    auto split = [&](std::uint64_t cell, std::size_t lane) {
-        for (std::size_t g = grid.size(); g-- > 0;) {
-            const auto size = static_cast<std::uint64_t>(space.axes[grid[g]].size);
-            lanes.axis_index[grid[g]][lane] = static_cast<std::int32_t>(cell % size);
-            cell /= size;
+    alignas(64) double cell[block_size];
+    const double g = static_cast<double>(cells), inverse_g = 1.0 / g;
+    if (consecutive) {
+        // the lanes' cells count up from the first's, wrapping at g (an exact double: < 2^31)
+        const double first = static_cast<double>(lanes.index[0] % cells);
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const double c = first + static_cast<double>(i);
+            cell[i] = c - g * floor_div(c, g, inverse_g);
         }
-    };
-    if (!consecutive) {
-        for (std::size_t i = 0; i < lanes.n; ++i) split(lanes.index[i] % cells, i);
-        return;
+    } else {
+        for (std::size_t i = 0; i < block_size; ++i)
+            cell[i] = static_cast<double>(lanes.index[i] % cells);
     }
-    split(lanes.index[0] % cells, 0);
-    for (std::size_t i = 1; i < lanes.n; ++i) {
-        bool carry = true;
-        for (std::size_t g = grid.size(); g-- > 0;) {
-            const std::size_t a = grid[g];
-            std::int32_t d = lanes.axis_index[a][i - 1];
-            if (carry) {
-                ++d;
-                carry = d == space.axes[a].size;
-                if (carry) d = 0;
-            }
-            lanes.axis_index[a][i] = d;
+    double stride = 1.0;  // cells per step of the axis: the product of the later axes' sizes
+    for (std::size_t k = grid.size(); k-- > 0;) {
+        const std::size_t a = grid[k];
+        const double size = static_cast<double>(space.axes[a].size);
+        const double inverse_stride = 1.0 / stride, inverse_size = 1.0 / size;
+        std::int32_t* __restrict digit = lanes.axis_index[a].data();
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const double q = floor_div(cell[i], stride, inverse_stride);
+            digit[i] = static_cast<std::int32_t>(q - size * floor_div(q, size, inverse_size));
         }
+        stride *= size;
     }
 }
 
