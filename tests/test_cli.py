@@ -103,12 +103,12 @@ def test_debug_shows_the_traceback(tmp_path, capsys):
 
 def test_an_error_that_is_not_the_users_is_one_line_with_exit_code_1(tmp_path, capsys,
                                                                      monkeypatch):
-    import epc_fast.scan.tasks
+    import epc_fast.scan.runner
 
     def broken(*args, **kwargs):
         raise RuntimeError()
 
-    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", broken)
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", broken)
     code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + '[reductions.s]\nkind = "summary"\n')
     assert code == 1 and err == "epc-fast scan: error: RuntimeError\n"
     manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())

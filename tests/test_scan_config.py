@@ -7,8 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import epc_fast.scan.tasks
-from epc_fast import evaluate
+import epc_fast.scan.runner
 from epc_fast.__main__ import main
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (Binned, Choice, FractionBelow, Grid, LogNormal, LogUniform, Quantiles,
@@ -110,14 +109,15 @@ def test_cli_scan_without_a_config_runs_the_built_in_default(tmp_path, capsys):
 def test_cli_scan_interrupted_writes_the_partial_tables_and_exits_130(tmp_path, capsys,
                                                                      monkeypatch):
     calls = []
+    reduce_chunk = epc_fast.scan.runner.reduce_chunk
 
-    def evaluate_then_interrupt(*args, **kwargs):
+    def reduce_then_interrupt(*args, **kwargs):
         calls.append(1)
         if len(calls) == 2:
             raise KeyboardInterrupt
-        return evaluate(*args, **kwargs)
+        return reduce_chunk(*args, **kwargs)
 
-    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", evaluate_then_interrupt)
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", reduce_then_interrupt)
     assert main(["scan", "--out", str(tmp_path), "--no-plots", "--no-progress",
                  "--chunk-points", "65536"]) == 130
     assert "scan of 65,536 of 1,000,000 points" in capsys.readouterr().out

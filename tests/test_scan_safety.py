@@ -17,8 +17,7 @@ import types
 import pytest
 
 import epc_fast.scan.output
-import epc_fast.scan.tasks
-from epc_fast import evaluate
+import epc_fast.scan.runner
 from epc_fast.__main__ import main
 from epc_fast.scan.atomic import atomic_write
 
@@ -61,24 +60,28 @@ def _manifest(directory):
     return json.loads((directory / "manifest.json").read_text())
 
 
-class _Evaluations:
-    """evaluate() that counts its calls and interrupts the ``stop_at``-th (as Ctrl-C would)."""
+class _Chunks:
+    """The scan's chunk task (draw, evaluate, reduce, write Parquet), counting its calls; the
+    ``stop_at``-th finishes its work then raises KeyboardInterrupt, as Ctrl-C arriving before
+    its merge would."""
 
     def __init__(self, stop_at=None):
         self.calls = 0
         self.stop_at = stop_at
+        self.reduce_chunk = epc_fast.scan.runner.reduce_chunk
 
     def __call__(self, *args, **kwargs):
         self.calls += 1
+        outcome = self.reduce_chunk(*args, **kwargs)
         if self.calls == self.stop_at:
             raise KeyboardInterrupt
-        return evaluate(*args, **kwargs)
+        return outcome
 
 
 @pytest.fixture
-def evaluations(monkeypatch):
-    counter = _Evaluations()
-    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", counter)
+def chunks(monkeypatch):
+    counter = _Chunks()
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", counter)
     return counter
 
 
@@ -90,30 +93,30 @@ def evaluations(monkeypatch):
     ('[output]\nparquet = "../../x"\n', "parquet = '../../x'"),
     ('[output]\nparquet = "/tmp/points"\n', "parquet = '/tmp/points'"),
 ])
-def test_a_name_that_leaves_out_is_refused_before_any_work(tmp_path, capsys, evaluations,
+def test_a_name_that_leaves_out_is_refused_before_any_work(tmp_path, capsys, chunks,
                                                              extra, key):
     out = tmp_path / "deep" / "er" / "out"
     code, _, err = _cli(capsys, _config(tmp_path, extra), "--out", out)
     assert code == 2 and key in err and "no / or .." in err
-    assert evaluations.calls == 0 and not (tmp_path / "deep").exists()
+    assert chunks.calls == 0 and not (tmp_path / "deep").exists()
     assert not os.path.exists("/tmp/x.csv") or os.path.getmtime("/tmp/x.csv") < time.time() - 60
 
 
 def test_a_reduction_named_like_a_table_is_refused_not_clobbering_it(tmp_path, capsys,
-                                                                     evaluations):
+                                                                     chunks):
     extra = '[reductions.summary_by_design]\nkind = "top_k"\n'
     code, _, err = _cli(capsys, _config(tmp_path, extra), "--out", tmp_path / "out")
-    assert code == 2 and evaluations.calls == 0
+    assert code == 2 and chunks.calls == 0
     assert "would both write summary_by_design.csv" in err
 
 
 def test_a_directory_that_is_not_empty_is_refused_without_overwrite(tmp_path, capsys,
-                                                                    evaluations):
+                                                                    chunks):
     out = tmp_path / "out"
     out.mkdir()
     (out / "summary_by_design.csv").write_text("mine\n")
     code, _, err = _cli(capsys, _config(tmp_path), "--out", out)
-    assert code == 2 and evaluations.calls == 0
+    assert code == 2 and chunks.calls == 0
     assert "not empty" in err and "--overwrite replaces summary_by_design.csv" in err
     assert (out / "summary_by_design.csv").read_text() == "mine\n"
 
@@ -134,7 +137,7 @@ def test_overwrite_replaces_only_this_scans_files_and_never_follows_a_symlink(tm
     assert set(_manifest(out)["files"]) == {"summary_by_design.csv", "summary_by_design.md"}
 
 
-def test_a_parquet_directory_that_is_a_symlink_is_refused(tmp_path, capsys, evaluations):
+def test_a_parquet_directory_that_is_a_symlink_is_refused(tmp_path, capsys, chunks):
     pytest.importorskip("pyarrow")
     out, elsewhere = tmp_path / "out", tmp_path / "elsewhere"
     out.mkdir()
@@ -142,23 +145,23 @@ def test_a_parquet_directory_that_is_a_symlink_is_refused(tmp_path, capsys, eval
     (out / "points").symlink_to(elsewhere)
     code, _, err = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'), "--out",
                         out, "--overwrite")
-    assert code == 2 and "symlink is not followed" in err and evaluations.calls == 0
+    assert code == 2 and "symlink is not followed" in err and chunks.calls == 0
     assert not list(elsewhere.iterdir())
 
 
 # --- failures found before the first point ------------------------------------------------
 
-def test_a_full_disk_is_found_before_the_first_point(tmp_path, capsys, monkeypatch, evaluations):
+def test_a_full_disk_is_found_before_the_first_point(tmp_path, capsys, monkeypatch, chunks):
     usage = types.SimpleNamespace(total=10**9, used=10**9 - 4096, free=4096)
     fake_shutil = types.SimpleNamespace(disk_usage=lambda path: usage)
     monkeypatch.setattr(epc_fast.scan.output, "shutil", fake_shutil)
     code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
-    assert code == 2 and evaluations.calls == 0
+    assert code == 2 and chunks.calls == 0
     assert "4.1 KB free" in err and "this scan writes up to" in err
 
 
 def test_a_read_only_directory_is_found_before_the_first_point(tmp_path, capsys, monkeypatch,
-                                                               evaluations):
+                                                               chunks):
     # Tests run as root, which writes through permission bits: the probe's open fails as on a
     # read-only file system.
     def read_only_open(path, flags, mode=0o777):
@@ -167,19 +170,19 @@ def test_a_read_only_directory_is_found_before_the_first_point(tmp_path, capsys,
     fake_os = types.SimpleNamespace(**{**vars(os), "open": read_only_open})
     monkeypatch.setattr(epc_fast.scan.output, "os", fake_os)
     code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
-    assert code == 2 and evaluations.calls == 0
+    assert code == 2 and chunks.calls == 0
     assert "is not writable: Read-only file system" in err
 
 
 def test_a_parquet_scan_asking_more_than_the_free_space_is_refused(tmp_path, capsys, monkeypatch,
-                                                                   evaluations):
+                                                                   chunks):
     pytest.importorskip("pyarrow")
     usage = types.SimpleNamespace(total=10**12, used=0, free=10**9)
     monkeypatch.setattr(epc_fast.scan.output, "shutil",
                         types.SimpleNamespace(disk_usage=lambda path: usage))
     code, _, err = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'), "--out",
                         tmp_path / "out", "--points", "1e9")
-    assert code == 2 and "Parquet" in err and evaluations.calls == 0
+    assert code == 2 and "Parquet" in err and chunks.calls == 0
 
 
 # --- files written whole -----------------------------------------------------------------
@@ -230,7 +233,7 @@ def test_a_parquet_part_that_fails_midway_is_never_under_a_part_name(tmp_path, m
 def test_ctrl_c_leaves_parquet_tables_and_manifest_on_the_same_prefix(tmp_path, capsys,
                                                                       monkeypatch):
     pq = pytest.importorskip("pyarrow.parquet")
-    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", _Evaluations(stop_at=3))
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=3))
     out = tmp_path / "out"
     code, stdout, _ = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'),
                            "--out", out, "--chunk-points", CHUNK)

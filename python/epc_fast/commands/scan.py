@@ -10,9 +10,7 @@ from __future__ import annotations
 
 import argparse
 import math
-import signal
 import sys
-import threading
 
 NAME = "scan"
 HELP = ("scan a design space from a TOML config (default: the built-in one) and write its "
@@ -25,8 +23,6 @@ MAIN_JOB_POINTS = 200_000
 #: Columns of the main job's compact table: EPC columns are shown in megapixels.
 MAIN_JOB_EPC_COLUMNS = ("mean", "q5", "q50", "q95")
 MAIN_JOB_FRACTION_COLUMN = "P(epc < 2e+06)"
-
-
 #: Exit codes of a scan stopped by SIGINT and SIGTERM (128 + the signal's number).
 EXIT_INTERRUPTED = {"SIGINT": 130, "SIGTERM": 143}
 #: Exit code of a scan that could not go on (e.g. its cluster lost every worker).
@@ -168,32 +164,6 @@ def _parquet_bytes(config) -> int:
     return config.points * columns * PARQUET_BYTES_PER_VALUE
 
 
-class _Stops:
-    """SIGTERM raises KeyboardInterrupt while the scan runs, and which signal stopped it is
-    remembered (the exit code and the manifest say it)."""
-
-    def __init__(self):
-        self.received = []
-        self.previous = None
-
-    def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
-            self.previous = signal.signal(signal.SIGTERM, self._terminate)
-        return self
-
-    def _terminate(self, signum, frame):
-        self.received.append("SIGTERM")
-        raise KeyboardInterrupt("SIGTERM")
-
-    def __exit__(self, *exc):
-        if self.previous is not None:
-            signal.signal(signal.SIGTERM, self.previous)
-
-    @property
-    def name(self) -> str:
-        return self.received[0] if self.received else "SIGINT"
-
-
 def _parquet_files(out, config) -> list[str]:
     from ..scan.parquet import committed_parts
 
@@ -210,6 +180,7 @@ def run(args) -> int:
     from ..scan.errors import ScanAborted
     from ..scan.manifest import new_manifest, write_manifest
     from ..scan.output import OutputDirectory
+    from ..scan.signals import StopSignals
 
     if args.show_config:
         print(DEFAULT_CONFIG, end="")
@@ -232,7 +203,7 @@ def run(args) -> int:
     client = _client(args.scheduler)
     failure = None
     try:
-        with _Stops() as stops:
+        with StopSignals() as stops:
             result = run_scan(config.space, **config.run_kwargs(),
                               progress=False if args.no_progress else None,
                               parquet=None if config.parquet is None else out.path / config.parquet,

@@ -13,7 +13,7 @@ import signal
 import threading
 from contextlib import contextmanager
 
-__all__ = ["terminate_as_interrupt", "signals_deferred", "STOP_SIGNALS"]
+__all__ = ["terminate_as_interrupt", "signals_deferred", "StopSignals", "STOP_SIGNALS"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -58,3 +58,31 @@ def signals_deferred():
             signal.signal(signum, handler)
     for signum in dict.fromkeys(received):
         previous[signum](signum, None)
+
+
+class StopSignals:
+    """A context in which SIGTERM raises KeyboardInterrupt, whatever its handler was, and which
+    remembers the signal that stopped the block (``name``: "SIGTERM", else "SIGINT", the one
+    Python itself turns into KeyboardInterrupt): the command line's exit code and manifest
+    say which it was."""
+
+    def __init__(self):
+        self.received = []
+        self.previous = None
+
+    def __enter__(self):
+        if _main_thread():
+            self.previous = signal.signal(signal.SIGTERM, self._terminate)
+        return self
+
+    def _terminate(self, signum, frame):
+        self.received.append("SIGTERM")
+        raise KeyboardInterrupt("SIGTERM")
+
+    def __exit__(self, *exc):
+        if self.previous is not None:
+            signal.signal(signal.SIGTERM, self.previous)
+
+    @property
+    def name(self) -> str:
+        return self.received[0] if self.received else "SIGINT"
