@@ -263,3 +263,15 @@ def test_an_empirical_sample_file_must_be_a_bounded_regular_text_file(tmp_path):
     (tmp_path / "ok.txt").write_text("# measured\n1.5\n\n2.5  # a comment\n")
     drawn = parse_config(config("ok.txt"), tmp_path).space.axes["shake_deg_per_s"]
     assert list(drawn.samples) == [1.5, 2.5]
+
+
+@pytest.mark.parametrize("value, accepted", [(0.0, True), (1e-12, True), (0.99, True),
+                                             (1.0, False), (-1e-9, False), ("'1e-9'", False)])
+def test_an_evaluate_tolerance_takes_what_evaluate_takes(value, accepted):
+    text = SCHEMA_BASE + f"[evaluate]\nf50_rtol = {value}\n"
+    if accepted:
+        assert parse_config(text).space.evaluate_options == {"f50_rtol": value}
+    else:
+        with pytest.raises(ConfigError, match=r"\[evaluate\]: f50_rtol = .*: expected a finite "
+                                              r"number in \[0, 1\)"):
+            parse_config(text)

@@ -247,7 +247,7 @@ def _evaluate_options(table) -> dict:
         if key in EVALUATE_CHOICES:
             options[key] = choice("evaluate", key, value, EVALUATE_CHOICES[key])
         elif key in EVALUATE_TOLERANCES:
-            options[key] = number("evaluate", key, value, 0.0, 0.5)
+            options[key] = number("evaluate", key, value, 0.0, 1.0, high_open=True)
         else:
             if not (isinstance(value, list) and len(value) == 2):
                 raise ConfigError(f"scan config [evaluate]: spectrum = {short(value)}: expected "

@@ -73,25 +73,27 @@ def integer(where: str, key: str, value, low: int, high: int | None = None,
 
 
 def number(where: str, key: str, value, low: float | None = None, high: float | None = None,
-           low_open: bool = False) -> float:
-    """A finite float, optionally in [low, high] (``low_open``: above ``low``)."""
+           low_open: bool = False, high_open: bool = False) -> float:
+    """A finite float, optionally in [low, high] (``low_open``: above ``low``; ``high_open``:
+    below ``high``)."""
+    expected = "a finite number" + _range_text(low, high, low_open, high_open)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        _fail(where, key, value, "a finite number" + _range_text(low, high, low_open))
+        _fail(where, key, value, expected)
     value = float(value)
     if ((low is not None and (value <= low if low_open else value < low))
-            or (high is not None and value > high)):
-        _fail(where, key, value, "a finite number" + _range_text(low, high, low_open))
+            or (high is not None and (value >= high if high_open else value > high))):
+        _fail(where, key, value, expected)
     return value
 
 
-def _range_text(low, high, low_open) -> str:
+def _range_text(low, high, low_open, high_open=False) -> str:
     if low is None and high is None:
         return ""
     if high is None:
         return f" {'>' if low_open else '>='} {low:g}"
     if low is None:
-        return f" <= {high:g}"
-    return f" in {'(' if low_open else '['}{low:g}, {high:g}]"
+        return f" {'<' if high_open else '<='} {high:g}"
+    return f" in {'(' if low_open else '['}{low:g}, {high:g}{')' if high_open else ']'}"
 
 
 def boolean(where: str, key: str, value) -> bool:
