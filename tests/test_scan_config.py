@@ -275,3 +275,15 @@ def test_an_evaluate_tolerance_takes_what_evaluate_takes(value, accepted):
         with pytest.raises(ConfigError, match=r"\[evaluate\]: f50_rtol = .*: expected a finite "
                                               r"number in \[0, 1\)"):
             parse_config(text)
+
+
+@pytest.mark.parametrize("text, message", [
+    (SCHEMA_BASE + "read_noise_e = { choice = [1, 2], weights = [1] }\n",
+     r"\[parameters.read_noise_e\]: Choice needs 2 non-negative weights"),
+    (SCHEMA_BASE.replace("presets = ['HIGH_TIER']", "presets = ['HIGH_TIER']\n"
+                         "sampling = 'choice'\nweights = [1, 2]"),
+     r"\[design\]: Choice needs 4 non-negative weights"),
+])
+def test_a_check_the_scans_classes_make_names_the_table(text, message):
+    with pytest.raises(ConfigError, match=message):
+        parse_config(text)

@@ -172,11 +172,11 @@ def _designs(table: dict):
     if sampling == "grid":
         if "weights" in table:
             raise ConfigError("scan config [design]: weights need sampling = \"choice\"")
-        return Grid(designs)
+        return wrapped("design", lambda: Grid(designs))
     weights = table.get("weights")
     if weights is not None:
         weights = number_list("design", "weights", weights, low=0.0)
-    return Choice(designs, weights)
+    return wrapped("design", lambda: Choice(designs, weights))
 
 
 def _custom_design(entry, index: int) -> dict:
@@ -189,10 +189,6 @@ def _custom_design(entry, index: int) -> dict:
     return design
 
 
-def _grid_values(where: str, key: str, values) -> tuple:
-    return number_list(where, key, values)
-
-
 def _parameter(name: str, value, base: Path):
     where = f"parameters.{name}"
     if isinstance(value, (int, float)) and not isinstance(value, bool):
@@ -202,14 +198,14 @@ def _parameter(name: str, value, base: Path):
                           "finite number or a table ({grid = [...]}, {choice = [...]}, "
                           "{distribution = ...})")
     if "grid" in value:
-        return Grid(_grid_values(where, "grid", take(value, where, required=("grid",))["grid"]))
+        return Grid(number_list(where, "grid", take(value, where, required=("grid",))["grid"]))
     if "choice" in value:
         take(value, where, required=("choice",), optional=("weights",))
         weights = value.get("weights")
-        values = _grid_values(where, "choice", value["choice"])
+        values = number_list(where, "choice", value["choice"])
         if weights is not None:
             weights = number_list(where, "weights", weights, low=0.0)
-        return Choice(values, weights)
+        return wrapped(where, lambda: Choice(values, weights))
     if "distribution" not in value:
         raise ConfigError(f"scan config [{where}]: give grid, choice or distribution")
     kind = choice(where, "distribution", value["distribution"],
@@ -223,7 +219,7 @@ def _parameter(name: str, value, base: Path):
             samples = number_list(where, "samples", rest["samples"])
         else:
             samples = read_samples(where, rest["file"], base)
-        distribution = Empirical(samples)
+        distribution = wrapped(where, lambda: Empirical(samples))
     else:
         checks = DISTRIBUTION_KEYS[kind]
         take(rest, where, required=tuple(key for key, _, _ in checks))
