@@ -237,6 +237,10 @@ def run(args) -> int:
     write_manifest(out.path, manifest)
     for name in out.written + ["manifest.json"]:
         print(f"wrote {out.path / name}")
+    parts = _parquet_files(out, config)
+    if parts:
+        print(f"wrote {out.path / config.parquet} ({len(parts)} Parquet parts, points 0 to "
+              f"{result.points - 1:,})")
     if failure is not None:
         print(f"epc-fast scan: error: {failure}; the {result.points:,} points merged before it "
               "are written, marked partial", file=sys.stderr)
