@@ -679,10 +679,19 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           "The parameters (None where fixed) and discrete axes' indices of the points `index`.");
     m.attr("scan_block_points") = scan_block_points;
     m.def("stream_uniforms",
+          // block by block, through the fused pass's own stream_uniforms (philox.h)
           [](std::uint64_t seed, std::uint32_t stream, const py::array_t<std::int64_t, py::array::c_style>& index) {
+              const auto n = static_cast<std::size_t>(index.size());
               py::array_t<double> u(index.size());
-              for (py::ssize_t i = 0; i < index.size(); ++i)
-                  u.mutable_data()[i] = stream_uniform(seed, stream, static_cast<std::uint64_t>(index.data()[i]));
+              alignas(64) std::uint64_t points[block_size];
+              alignas(64) double values[block_size];
+              for (std::size_t first = 0; first < n; first += block_size) {
+                  const std::size_t m = std::min(block_size, n - first);
+                  for (std::size_t i = 0; i < block_size; ++i)
+                      points[i] = static_cast<std::uint64_t>(index.data()[first + (i < m ? i : 0)]);
+                  stream_uniforms(seed, stream, points, values);
+                  std::copy(values, values + m, u.mutable_data() + first);
+              }
               return u;
           },
           py::arg("seed"), py::arg("stream"), py::arg("index"));

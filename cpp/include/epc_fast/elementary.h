@@ -47,7 +47,12 @@ EPC_FAST_INLINE double log_any(double x) {
     std::uint64_t bits;
     std::memcpy(&bits, &xs, sizeof bits);
     // the exponent and a mantissa in [1, 2), then m in [sqrt(1/2), sqrt(2))
-    double e = static_cast<double>(static_cast<std::int64_t>(bits >> 52) - 1023) - (subnormal ? 54.0 : 0.0);
+    // the biased exponent as a double through the bits of 2^52 + it (AVX2 has no vector
+    // conversion of 64-bit integers)
+    const std::uint64_t exponent_bits = 0x4330000000000000u | (bits >> 52);
+    double biased;
+    std::memcpy(&biased, &exponent_bits, sizeof biased);
+    double e = (biased - 0x1p52) - 1023.0 - (subnormal ? 54.0 : 0.0);
     const std::uint64_t mantissa_bits = (bits & 0x000FFFFFFFFFFFFFull) | 0x3FF0000000000000ull;
     double m;
     std::memcpy(&m, &mantissa_bits, sizeof m);

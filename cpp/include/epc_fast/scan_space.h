@@ -146,8 +146,7 @@ inline void form_points(const ScanSpace& space, bool consecutive, ScanLanes& lan
     for (std::size_t a = 0; a < space.axes.size(); ++a) {
         const DiscreteAxis& axis = space.axes[a];
         if (axis.grid) continue;
-        for (std::size_t i = 0; i < block_size; ++i)
-            lanes.u[i] = stream_uniform(space.seed, axis.stream, lanes.index[i]);
+        stream_uniforms(space.seed, axis.stream, lanes.index, lanes.u);
         for (std::size_t i = 0; i < n; ++i)
             lanes.axis_index[a][i] = detail::choice_index(axis, lanes.u[i]);
     }
@@ -160,13 +159,8 @@ inline void form_points(const ScanSpace& space, bool consecutive, ScanLanes& lan
         }
         in.columns[j] = Column{x, 1};
         if (p.kind == ParamSource::drawn) {
-            const std::uint64_t seed = space.seed;
-            const std::uint32_t stream = p.stream;
-            const std::uint64_t* __restrict index = lanes.index;
-            double* __restrict u = lanes.u;
-            EPC_FAST_SIMD
-            for (std::size_t i = 0; i < block_size; ++i) u[i] = stream_uniform(seed, stream, index[i]);
-            draw_values(p.draw, u, x);
+            stream_uniforms(space.seed, p.stream, lanes.index, lanes.u);
+            draw_values(p.draw, lanes.u, x);
         } else {
             const std::int32_t* __restrict k = lanes.axis_index[static_cast<std::size_t>(p.axis)].data();
             const double* __restrict v = p.values.data();
