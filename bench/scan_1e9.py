@@ -13,7 +13,8 @@ command), then:
 - the raw core: ``evaluate`` on pre-drawn arrays of the scan's own points with the outputs the
   scan needs (status and EPC), chunks of 2^20, drawing not timed; the best of three passes;
 - the scan end to end (drawing, evaluating, reducing and merging in the fused pass), its
-  ratio to the raw core, and its peak resident memory;
+  ratio to the raw core, and the process's peak resident memory after it (measured before the
+  raw core's arrays are drawn);
 - with ``--peers``: the scan on one thread (the 2-thread scaling), the NumPy path (NumPy draws
   and reductions around ``evaluate``), and the Numba peer (one ``prange`` loop that draws,
   evaluates and reduces: ``bench/peers/numba_scan_peer.py``), each on ``--peer-points``.
@@ -130,16 +131,16 @@ def main(argv=None) -> None:
         print(line)
     run(space, 4 * RAW_CHUNK, seed=args.seed, reductions=benchmark_reductions(),
         threads=args.threads, progress=False)  # warm-up: threads, caches, the plan
-    raw = raw_core_points_per_s(space, args.seed, args.raw_chunks, args.threads)
-    rss_before = peak_rss_mb()
     speed, result = scan_points_per_s(space, points, args.seed, args.threads)
+    rss_scan = peak_rss_mb()  # before the raw core's pre-drawn arrays
+    raw = raw_core_points_per_s(space, args.seed, args.raw_chunks, args.threads)
     print(f"points            {result.points:,}{' (partial)' if result.partial else ''}")
     print(f"raw core          {raw / 1e6:.1f} M points/s (evaluate on pre-drawn arrays, "
           f"status and EPC, {args.raw_chunks} chunks of 2^20)")
     print(f"scan              {speed / 1e6:.1f} M points/s, {result.timing.wall_s:.1f} s "
           f"(summary, streamed quantiles, fraction below; per design)")
     print(f"scan / raw core   {speed / raw:.2f}")
-    print(f"peak RSS          {peak_rss_mb():.0f} MB (before the scan: {rss_before:.0f} MB)")
+    print(f"peak RSS          {rss_scan:.0f} MB (the process, after the scan)")
     if not args.peers:
         return
     peer_points = int(args.peer_points)
