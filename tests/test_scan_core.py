@@ -262,3 +262,23 @@ def test_quantile_bounds_name_what_they_are_when_values_reach_zero():
     positive = result.lower > 0
     assert np.all(result.upper[positive] / result.lower[positive] - 1
                   <= 2.01 * result.relative_resolution)
+
+
+def test_a_spectrum_and_solver_options_reach_the_fused_pass():
+    wavelengths, weights = np.array([450.0, 550.0, 650.0]), np.array([0.2, 0.5, 0.3])
+    options = {"spectrum": (wavelengths, weights), "f50_rtol": 1e-10, "t_mpe_solver": "brent"}
+    space = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5),
+                  read_noise_e=Uniform(0.0, 3.0), evaluate_options=options)
+    common = dict(seed=3, reductions={"s": Summary(by="design")}, progress=False)
+    core, numpy = run(space, 20000, **common), run(space, 20000, backend="numpy", **common)
+    assert np.array_equal(core["s"].status_counts, numpy["s"].status_counts)
+    np.testing.assert_allclose(core["s"].mean, numpy["s"].mean, rtol=1e-12)
+    # and the options change the answer: monochromatic at 550 nm gives other EPCs
+    mono = run(Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5),
+                     read_noise_e=Uniform(0.0, 3.0)), 20000, **common)
+    assert np.all(np.abs(mono["s"].mean / core["s"].mean - 1) > 1e-3)
+
+
+def test_top_k_beyond_the_cores_bound_is_refused_before_any_work():
+    with pytest.raises(MemoryError, match="TopK k = 2000000"):
+        TopK(2_000_000)

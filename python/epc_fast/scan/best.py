@@ -12,10 +12,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .chunk import Chunk
+from .errors import TooLargeError
 from .groups import GroupKey
 from .summaries import _check_output
 
-__all__ = ["TopK", "TopKResult"]
+__all__ = ["TopK", "TopKResult", "MAX_K"]
+
+#: The most points a TopK keeps: the core's bound (scan_reductions.h, bindings).
+MAX_K = 1 << 20
 
 
 def _best(order_key: np.ndarray, index: np.ndarray, k: int) -> np.ndarray:
@@ -74,6 +78,9 @@ class TopK:
         _check_output(self.of)
         if self.k < 1:
             raise ValueError(f"k must be >= 1, got {self.k!r}")
+        if self.k > MAX_K:
+            raise TooLargeError(f"TopK k = {self.k!r}: at most {MAX_K:,} points are kept "
+                                f"(each thread of the core holds k candidates)")
 
     def _order_key(self, values: np.ndarray) -> np.ndarray:
         return -values if self.largest else values

@@ -131,10 +131,11 @@ class CorePlan:
         if "wavelength_nm" in self.space.axes or "wavelength_nm" in self.space.design_table:
             raise ValueError("a space gives either wavelength_nm or a spectrum, not both")
         spec = api._spectrum_of(spectrum, 550.0)
-        single, arrays = api._one_wavelength(spec, [np.asarray(550.0)] * len(params.PARAMETERS))
-        if single is None:
+        polychromatic, arrays = api._one_wavelength(spec, [np.asarray(550.0)] * len(
+            params.PARAMETERS))
+        if polychromatic is None:
             return None, float(arrays[params.PARAMETER_NAMES.index("wavelength_nm")])
-        return single, None
+        return polychromatic, None
 
     def _options(self) -> tuple:
         given = {k: v for k, v in self.space.evaluate_options.items() if k != "spectrum"}

@@ -108,21 +108,21 @@ def _options(space: Space, backend: str) -> dict:
 
 
 #: The last scan's CorePlan, reused by its next chunk (a run's chunks, or a Dask worker's
-#: tasks, share one space and plan object).
-_last_plan: list = []
+#: tasks, share one space and plan object): one (key, value) entry, read and replaced whole.
+_last_plan: list = [None]
 
 
 def _core_plan(space, plan, seed, points_total) -> tuple:
     """The CorePlan of the reductions the fused pass folds, and the plan items it does not."""
-    key = (space, plan, seed, points_total)
-    if _last_plan:
-        last = _last_plan[0]
-        if last[0] is space and last[1] is plan and last[2:] == key[2:]:
-            return _last_plan[1]
+    last = _last_plan[0]
+    if (last is not None and last[0][0] is space and last[0][1] is plan
+            and last[0][2:] == (seed, points_total)):
+        return last[1]
     fused = tuple(item for item in plan if not _per_point(item, points_total))
     arrays = tuple(item for item in plan if _per_point(item, points_total))
-    _last_plan[:] = [key, (CorePlan(space, seed, fused), arrays)]
-    return _last_plan[1]
+    entry = ((space, plan, seed, points_total), (CorePlan(space, seed, fused), arrays))
+    _last_plan[0] = entry
+    return entry[1]
 
 
 def _core_chunk(space, plan, seed, start, stop, points_total, threads, parquet_dir):
