@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The core once more, built with AddressSanitizer and UndefinedBehaviorSanitizer (every finding
-# fatal), and the extremes, bad-input and concurrency tests run against that build. The
+# fatal), and the extremes, bad-input, concurrency and fused-scan tests run against that build. The
 # installed package supplies the Python side; tests/conftest.py loads the sanitized module from
 # EPC_FAST_CORE_DIR. CPython leaks by design, so leak detection is off; an impossible
 # allocation returns NULL (NumPy then raises MemoryError, which the tests expect) instead of
@@ -31,4 +31,4 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
     tests/test_extremes.py tests/test_bad_input.py tests/test_concurrency.py \
     tests/test_spectrum_start.py tests/test_memory.py tests/test_f50_start.py \
-    tests/test_precision.py tests/test_stream.py "$@"
+    tests/test_precision.py tests/test_stream.py tests/test_scan_core.py "$@"
