@@ -4,6 +4,7 @@ statistics to rounding, the same top-k points), for every distribution and group
 offers; and its own exp, log and inverse normal CDF against mpmath."""
 
 import dataclasses
+import math
 
 import mpmath
 import numpy as np
@@ -282,3 +283,23 @@ def test_a_spectrum_and_solver_options_reach_the_fused_pass():
 def test_top_k_beyond_the_cores_bound_is_refused_before_any_work():
     with pytest.raises(MemoryError, match="TopK k = 2000000"):
         TopK(2_000_000)
+
+
+@pytest.mark.parametrize("sizes", [(7, 3), (1000, 999, 997), (100_000, 100_000, 300_000),
+                                   (2**20, 2**20, 2**20, 2**20)])
+def test_grid_digits_are_exact_for_any_number_of_cells(sizes):
+    # up to 2^51 cells in vectorised double arithmetic, beyond by integer division, beyond
+    # 2^63 saturated (point indices are below it); held against Python's integers
+    grids = {name: Grid(tuple(float(v) for v in range(1, n + 1)))
+             for name, n in zip(("reflectance", "read_noise_e", "dark_current_e_per_s",
+                                 "jitter_um"), sizes)}
+    space = Space(illuminance_lux=100.0, pixel_pitch_um=1.4, f_number=2.8,
+                  focal_length_mm=5.6, pixel_count=8e6, **grids)
+    rng = np.random.default_rng(1)
+    index = np.concatenate([np.arange(200), rng.integers(0, 2**62, 500)]).astype(np.int64)
+    core = CorePlan(space, 1).points_at(index)
+    cells = math.prod(sizes)
+    for k, (name, size) in enumerate(zip(grids, sizes)):
+        stride = math.prod(sizes[k + 1:])  # mixed radix, the last axis fastest
+        expected = [(int(i) % cells) // stride % size for i in index]
+        assert np.array_equal(core.indices[name], expected), name

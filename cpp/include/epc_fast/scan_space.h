@@ -55,7 +55,10 @@ struct ScanSpace {
         for (std::size_t a = 0; a < axes.size(); ++a) {
             if (!axes[a].grid) continue;
             grid_axes.push_back(a);
-            grid_cells *= static_cast<std::uint64_t>(axes[a].size);
+            // saturated at 2^63: point indices are below it, so i mod cells is i either way
+            const auto size = static_cast<std::uint64_t>(axes[a].size);
+            grid_cells = grid_cells > (std::uint64_t{1} << 63) / size ? std::uint64_t{1} << 63
+                                                                    : grid_cells * size;
         }
     }
 };
@@ -89,10 +92,10 @@ inline std::int32_t choice_index(const DiscreteAxis& axis, double u) {
     return lo;
 }
 
-// a div m and a mod m for 0 <= a < 2^31 and 1 <= m, a / m at least 1/(2m) from an integer
-// after the half added: (a + 1/2) / m by a multiplication with 1/m rounded is off by at most
-// 2^-52 (a / m + 1), below that distance while a m < 2^51, so floor gives the quotient exactly.
-// Plain arithmetic, so that the lane loops below vectorise (x86 has no vector integer division).
+// floor(a / m) for integers 0 <= a < 2^51 and m >= 1, in doubles: (a + 1/2) / m lies at least
+// 1/(2m) from an integer, and (a + 1/2) times 1/m rounded is within 2^-51 a / m of it, less
+// than that distance while a < 2^51; so floor gives the quotient exactly. Plain arithmetic, so
+// that the lane loops below vectorise (x86 has no vector integer division).
 EPC_FAST_INLINE double floor_div(double a, double m, double inverse_m) {
     (void)m;
     return std::floor((a + 0.5) * inverse_m);
@@ -105,10 +108,21 @@ inline void grid_digits(const ScanSpace& space, bool consecutive, ScanLanes& lan
     const std::vector<std::size_t>& grid = space.grid_axes;
     if (grid.empty()) return;
     const std::uint64_t cells = space.grid_cells;
+    if (cells >= (std::uint64_t{1} << 51)) {  // beyond floor_div's range: integer division
+        for (std::size_t i = 0; i < block_size; ++i) {
+            std::uint64_t cell = lanes.index[i] % cells;
+            for (std::size_t k = grid.size(); k-- > 0;) {
+                const auto size = static_cast<std::uint64_t>(space.axes[grid[k]].size);
+                lanes.axis_index[grid[k]][i] = static_cast<std::int32_t>(cell % size);
+                cell /= size;
+            }
+        }
+        return;
+    }
     alignas(64) double cell[block_size];
     const double g = static_cast<double>(cells), inverse_g = 1.0 / g;
     if (consecutive) {
-        // the lanes' cells count up from the first's, wrapping at g (an exact double: < 2^31)
+        // the lanes' cells count up from the first's, wrapping at g (exact doubles below 2^51)
         const double first = static_cast<double>(lanes.index[0] % cells);
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < block_size; ++i) {
