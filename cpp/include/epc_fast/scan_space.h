@@ -96,8 +96,7 @@ inline std::int32_t choice_index(const DiscreteAxis& axis, double u) {
 // 1/(2m) from an integer, and (a + 1/2) times 1/m rounded is within 2^-51 a / m of it, less
 // than that distance while a < 2^51; so floor gives the quotient exactly. Plain arithmetic, so
 // that the lane loops below vectorise (x86 has no vector integer division).
-EPC_FAST_INLINE double floor_div(double a, double m, double inverse_m) {
-    (void)m;
+EPC_FAST_INLINE double floor_div(double a, double inverse_m) {
     return std::floor((a + 0.5) * inverse_m);
 }
 
@@ -127,7 +126,7 @@ inline void grid_digits(const ScanSpace& space, bool consecutive, ScanLanes& lan
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < block_size; ++i) {
             const double c = first + static_cast<double>(i);
-            cell[i] = c - g * floor_div(c, g, inverse_g);
+            cell[i] = c - g * floor_div(c, inverse_g);
         }
     } else {
         for (std::size_t i = 0; i < block_size; ++i)
@@ -141,8 +140,8 @@ inline void grid_digits(const ScanSpace& space, bool consecutive, ScanLanes& lan
         std::int32_t* __restrict digit = lanes.axis_index[a].data();
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < block_size; ++i) {
-            const double q = floor_div(cell[i], stride, inverse_stride);
-            digit[i] = static_cast<std::int32_t>(q - size * floor_div(q, size, inverse_size));
+            const double q = floor_div(cell[i], inverse_stride);
+            digit[i] = static_cast<std::int32_t>(q - size * floor_div(q, inverse_size));
         }
         stride *= size;
     }
