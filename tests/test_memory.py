@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast import _core, api, memory, params
+from epc_fast import _core, _memory_limits, api, memory, params
 from test_core_vs_reference import random_design_points
 
 MIB = 2**20
@@ -194,7 +194,7 @@ def test_a_bad_environment_limit_is_an_error_naming_the_variable_and_value(monke
 def test_the_default_limit_is_a_sixteenth_of_memory_up_to_1_gib(monkeypatch):
     monkeypatch.delenv(memory.CACHE_ENV, raising=False)
     for total, expected in [(4 * 2**30, 2**28), (64 * 2**30, 2**30), (None, 2**30)]:
-        monkeypatch.setattr(memory, "memory_limit_bytes", lambda total=total: total)
+        monkeypatch.setattr(_memory_limits, "memory_limit_bytes", lambda total=total: total)
         assert memory.default_cache_bytes() == expected
 
 
@@ -215,3 +215,22 @@ def test_the_core_s_allocate_argument_is_checked():
     assert set(_core.evaluate(*args)) == set(api.OUTPUT_DTYPES)
     assert set(_core.evaluate(*args, {"epc": np.empty(3)})) == {"epc"}
     assert set(_core.evaluate(*args, {}, ["status"])) == {"status"}
+
+
+def _package_imports(module) -> set[str]:
+    """The package's modules that a module's source imports (relative imports, anywhere in it)."""
+    import ast
+    import inspect
+
+    names = set()
+    for node in ast.walk(ast.parse(inspect.getsource(module))):
+        if isinstance(node, ast.ImportFrom) and node.level > 0:
+            names.update([node.module] if node.module else [a.name for a in node.names])
+    return names
+
+
+def test_the_core_s_loader_and_memory_do_not_import_each_other():
+    # the limits the loader needs at load time live in a leaf module that both import
+    assert _package_imports(_memory_limits) == set()
+    assert "memory" not in _package_imports(_core)
+    assert _package_imports(memory) == {"_core", "_memory_limits"}

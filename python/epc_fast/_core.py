@@ -11,13 +11,18 @@ lacks it).
 ``OMP_NUM_THREADS`` sets the default thread count of every call; it is checked as ``threads=``
 is (:func:`checked_default_threads`): the OpenMP runtime itself takes any count and crashes
 creating, e.g., 100000 threads. ``EPC_FAST_OUTPUT_CACHE_MB`` (:mod:`epc_fast.memory`) is checked
-when the module loads.
+when the module loads; its limits come from :mod:`epc_fast._memory_limits`, which imports
+nothing of the package, so that the loader and :mod:`epc_fast.memory` do not import each other.
 """
 
 from __future__ import annotations
 
 import importlib
 import os
+
+from ._memory_limits import CACHE_ENV as _CACHE_ENV
+from ._memory_limits import MAX_CACHE_BYTES
+from ._memory_limits import default_cache_bytes as _default_cache_bytes
 
 #: Level name -> extension module, widest first.
 MODULES = {
@@ -33,10 +38,6 @@ def _import(module_name):
         return importlib.import_module(f"{__package__}.{module_name}")
     except ImportError:
         return None
-
-
-#: Bytes the output cache's limit may be: the core holds it in a signed 64-bit integer.
-MAX_CACHE_BYTES = 2**62
 
 
 def _omp_counts(text: str) -> list[int] | None:
@@ -93,9 +94,6 @@ def _load():
 isa, _module = _load()
 globals().update({name: getattr(_module, name) for name in dir(_module)
                   if not name.startswith("__")})
-
-from .memory import CACHE_ENV as _CACHE_ENV  # noqa: E402
-from .memory import default_cache_bytes as _default_cache_bytes  # noqa: E402
 
 _cache_bytes = _default_cache_bytes()
 if _cache_bytes > MAX_CACHE_BYTES:

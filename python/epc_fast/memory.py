@@ -14,17 +14,14 @@ loaded.
 
 from __future__ import annotations
 
-import functools
-import math
 import numbers
-import os
 from typing import NamedTuple
 
-#: The environment variable that sets the output cache's limit, in MiB.
-CACHE_ENV = "EPC_FAST_OUTPUT_CACHE_MB"
+from ._memory_limits import (CACHE_ENV, MAX_CACHE_BYTES, MAX_DEFAULT_CACHE_BYTES,
+                             default_cache_bytes, memory_limit_bytes)
 
-#: The default limit's ceiling (bytes): one 10^7-point default call's outputs (500 MB) fit.
-MAX_DEFAULT_CACHE_BYTES = 2**30
+__all__ = ["CACHE_ENV", "MAX_CACHE_BYTES", "MAX_DEFAULT_CACHE_BYTES", "OutputCacheState",
+           "default_cache_bytes", "memory_limit_bytes", "output_cache"]
 
 
 class OutputCacheState(NamedTuple):
@@ -32,42 +29,6 @@ class OutputCacheState(NamedTuple):
 
     limit_bytes: int
     retained_bytes: int
-
-
-@functools.lru_cache(maxsize=None)
-def memory_limit_bytes() -> int | None:
-    """Physical memory, or the container's (cgroup) limit where lower; None when unknown."""
-    limits = []
-    try:
-        limits.append(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
-    except (AttributeError, ValueError, OSError):
-        pass
-    for path in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
-        try:
-            with open(path) as f:
-                text = f.read().strip()
-        except OSError:
-            continue
-        if text.isdigit():
-            limits.append(int(text))
-    return min(limits) if limits else None
-
-
-def default_cache_bytes() -> int:
-    """The output cache's limit when the core is loaded: ``EPC_FAST_OUTPUT_CACHE_MB`` MiB if
-    set, else min(1 GiB, memory / 16)."""
-    text = os.environ.get(CACHE_ENV, "").strip()
-    if text:
-        try:
-            mib = float(text)
-        except ValueError:
-            mib = math.nan
-        if not (math.isfinite(mib) and mib >= 0):
-            raise ValueError(f"{CACHE_ENV}={text!r}: expected a size in MiB, >= 0")
-        return int(mib * 2**20)
-    memory = memory_limit_bytes()
-    return MAX_DEFAULT_CACHE_BYTES if memory is None else min(MAX_DEFAULT_CACHE_BYTES,
-                                                              memory // 16)
 
 
 def output_cache(limit_bytes: int | None = None) -> OutputCacheState:
@@ -83,6 +44,6 @@ def output_cache(limit_bytes: int | None = None) -> OutputCacheState:
             raise TypeError(f"limit_bytes must be an int, got {limit_bytes!r}")
         if limit_bytes < 0:
             raise ValueError(f"limit_bytes must be >= 0, got {limit_bytes}")
-        limit_bytes = min(int(limit_bytes), 2**62)
+        limit_bytes = min(int(limit_bytes), MAX_CACHE_BYTES)
     state = _core.output_cache(limit_bytes)
     return OutputCacheState(int(state["limit_bytes"]), int(state["retained_bytes"]))
