@@ -11,6 +11,7 @@ import numpy as np
 
 from . import params, reference
 from .memory import memory_limit_bytes as _memory_limit_bytes
+from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Cause, Status
 
@@ -169,20 +170,165 @@ def _choice(name: str, value, allowed) -> str:
     return value
 
 
-def _raise_first_invalid(arrays, names, status, shape):
+def _raise_first_invalid(arrays, names, status, shape, size_parts=None):
+    """A ValueError naming the first argument out of its domain at the first INVALID point;
+    for a sensor area made of a width and a height (or a diagonal), ``size_parts`` names
+    those and their values."""
     flat = int(np.flatnonzero(status.reshape(-1) == Status.INVALID)[0])
     index = np.unravel_index(flat, shape) if shape else ()
+    where = f" at index {tuple(int(i) for i in index)}" if shape else ""
     for param, name, arr in zip(params.PARAMETERS, names, arrays):
         value = np.broadcast_to(arr, shape)[index]
-        if not params.in_domain(param, value):
-            where = f" at index {tuple(int(i) for i in index)}" if shape else ""
-            raise ValueError(f"{name}={float(value)!r}{where} is outside its domain "
-                             f"{param.domain_text()} ({param.meaning})")
+        if params.in_domain(param, value):
+            continue
+        if param.name == "size" and size_parts:
+            parts = ", ".join(f"{k}={float(np.broadcast_to(v, shape)[index])!r}"
+                              for k, v in size_parts.items())
+            raise ValueError(f"the sensor ({parts}){where} is outside its domain: each length "
+                             f"in (0, {params.BIG:g}) mm and their area in "
+                             f"{param.domain_text()} mm^2")
+        raise ValueError(f"{name}={float(value)!r}{where} is outside its domain "
+                         f"{param.domain_text()} ({param.meaning})")
     raise AssertionError("a point is INVALID but every input is in its domain")  # pragma: no cover
 
 
+@dataclass(frozen=True)
+class _Sensor:
+    """The size slot of one call: its name in messages, its value, whether it is a pixel
+    count, and the lengths it was made of (for messages)."""
+
+    name: str
+    value: object
+    is_pixel_count: bool
+    parts: dict
+
+
+def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
+               sensor_diagonal_mm, aspect, snr_at, field_angle_deg, focal_length_mm):
+    """The size slot and the field angle of one call, from however the caller gave them.
+
+    The area of a width and a height (or a diagonal and an aspect ratio) is their product,
+    NaN where a length is outside (0, BIG) so that the point is INVALID. ``snr_at="corner"``
+    is atan(half-diagonal / focal length), which needs the sensor's shape.
+    """
+    lengths = [None if v is None else _as_float_array(k, v) for k, v in (
+        ("sensor_width_mm", sensor_width_mm), ("sensor_height_mm", sensor_height_mm),
+        ("sensor_diagonal_mm", sensor_diagonal_mm))]
+    shape = sensor_shape(*lengths, aspect, sensor_area_mm2=sensor_area_mm2,
+                         pixel_count=pixel_count)
+    if shape is None:
+        if pixel_count is not None:
+            sensor = _Sensor("pixel_count", pixel_count, True, {})
+        else:
+            sensor = _Sensor("sensor_area_mm2", sensor_area_mm2, False, {})
+    else:
+        width, height = shape
+        length = params.Param("length", None, 0.0, params.BIG, False, False, "mm")
+        valid = params.in_domain(length, width) & params.in_domain(length, height)
+        with np.errstate(all="ignore"):
+            area = np.where(valid, width * height, np.nan)
+        if sensor_width_mm is not None:
+            parts = {"sensor_width_mm": width, "sensor_height_mm": height}
+        else:
+            parts = {"sensor_diagonal_mm": lengths[2]}
+        sensor = _Sensor("sensor_area_mm2", area, False, parts)
+    if snr_at is None:
+        return sensor, field_angle_deg
+    check_snr_at(snr_at)
+    if np.any(np.asarray(field_angle_deg) != 0.0):
+        raise TypeError(f"give snr_at or field_angle_deg, not both (snr_at={snr_at!r}, "
+                        f"field_angle_deg={_short(field_angle_deg)})")
+    if snr_at == "axis":
+        return sensor, 0.0
+    if shape is None:
+        raise TypeError("snr_at='corner' needs the sensor's diagonal: give sensor_width_mm and "
+                        "sensor_height_mm, or sensor_diagonal_mm and aspect (not "
+                        f"{sensor.name}), or field_angle_deg")
+    focal = _as_float_array("focal_length_mm", focal_length_mm)
+    return sensor, corner_field_angle_deg(shape[0], shape[1], focal)
+
+
+def _broadcast_inputs(values: dict, size_name: str) -> tuple:
+    """(names, float64 arrays, broadcast shape) of the model parameters in the core's order;
+    ``values`` holds them by parameter name, ``size_name`` is how the caller named the size."""
+    names = [size_name if n == "size" else n for n in params.PARAMETER_NAMES]
+    arrays = [_as_float_array(name, values[key])
+              for name, key in zip(names, params.PARAMETER_NAMES)]
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    except ValueError:
+        shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
+        raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None
+    return names, arrays, shape
+
+
+@dataclass(frozen=True)
+class _Options:
+    """The checked options of one call."""
+
+    backend: str
+    invalid: str
+    f50_solver: str
+    f50_rtol: float
+    t_mpe_solver: str
+    t_mpe_rtol: float
+    precision: str
+    selected: tuple
+
+    @property
+    def computed(self) -> tuple:
+        """The outputs to compute: those selected, and the status ``invalid="raise"`` reads."""
+        extra = ("status",) if self.invalid == "raise" and "status" not in self.selected else ()
+        return self.selected + extra
+
+
+def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
+                outputs) -> _Options:
+    _choice("backend", backend, BACKENDS)
+    _choice("invalid", invalid, INVALID_POLICIES)
+    _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
+    _choice("f50_solver", f50_solver, F50_SOLVERS)
+    _choice("precision", precision, PRECISIONS)
+    return _Options(backend, invalid, f50_solver, _tolerance("f50_rtol", f50_rtol),
+                    t_mpe_solver, _tolerance("t_mpe_rtol", t_mpe_rtol), precision,
+                    _outputs_of(outputs))
+
+
+def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, given) -> dict:
+    """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
+    if options.backend == "core":
+        threads = _threads_of(threads)
+        # the core writes the caller's arrays and allocates the others it computes
+        flat = {} if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
+                                         for k, v in given.items()}
+        return _run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
+                         options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
+                         out=flat, precision=options.precision,
+                         allocate=[k for k in options.computed if k not in flat])
+    if threads is not None:
+        _threads_of(threads)
+    result = _run_reference(arrays, shape, sensor.is_pixel_count, spec)
+    if given is not None:
+        for name, array in given.items():
+            np.copyto(array, result[name].reshape(shape))
+    return result
+
+
+def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Options,
+               given) -> Result:
+    """The Result of a call, after the ValueError ``invalid="raise"`` asks for."""
+    status = result["status"].reshape(shape) if "status" in result else None
+    if options.invalid == "raise" and np.any(status == Status.INVALID):
+        _raise_first_invalid(arrays, names, status, shape, sensor.parts)
+    if given is not None:
+        return Result(**{name: given.get(name) for name in OUTPUT_DTYPES})
+    return _result({k: v for k, v in result.items() if k in options.selected}, shape)
+
+
 def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
-             pixel_count=None, sensor_area_mm2=None, reflectance=0.4, lens_transmittance=1.0,
+             pixel_count=None, sensor_area_mm2=None, sensor_width_mm=None,
+             sensor_height_mm=None, sensor_diagonal_mm=None, aspect=None, snr_at=None,
+             reflectance=0.4, lens_transmittance=1.0,
              field_angle_deg=0.0, fill_factor=1.0, electrons_per_lux_s_m2=None,
              read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0, full_well_e=math.inf,
              snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
@@ -202,10 +348,22 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     pixel_pitch_um : um, pixel pitch.
     f_number : 1, working f-number.
     focal_length_mm : mm, focal length.
-    pixel_count, sensor_area_mm2 : pixels or mm^2, the sensor's size: give exactly one.
+    sensor_width_mm, sensor_height_mm : mm, the sensor's active area, as its data sheet gives
+        it; or
+    sensor_diagonal_mm, aspect : mm and width:height (``"4:3"``, ``(4, 3)`` or 4/3), the same
+        from a diagonal (``aspect`` is one value for the call); or
+    sensor_area_mm2 : mm^2, the sensor's area; or
+    pixel_count : pixels, the pixel count N (area N p^2).
+        The sensor's size: give it one of these four ways. The model takes the area
+        S = width x height exactly; the pixel count is S / p^2, not rounded (docs/sensor.md).
+    snr_at : {"axis", "corner"}, optional
+        Where the SNR target is met: on the optical axis (field angle 0) or at the image corner
+        (field angle atan(half-diagonal / focal length), which needs the sensor's width and
+        height or diagonal). None (the default): at ``field_angle_deg``.
     reflectance : 1, reflectance of the Lambertian gray target, in [0, 1].
     lens_transmittance : 1, lens and filter transmittance, in [0, 1].
-    field_angle_deg : degree, field angle of the image point (cos^4 falloff), in (-90, 90).
+    field_angle_deg : degree, field angle of the image point where the SNR target is met (cos^4
+        falloff), in (-90, 90); 0, the axis, by default. Not with ``snr_at``.
     fill_factor : 1, light-collecting fraction of the pixel area, in (0, 1].
     electrons_per_lux_s_m2 : e-/(lux s m^2), K; None for the D50 + rect-QE default
         (:data:`epc_fast.spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2`).
@@ -214,7 +372,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     prnu : 1, photo-response non-uniformity, rms fraction of the signal.
     full_well_e : e-, full-well capacity (inf: none).
     snr_db : dB, target SNR 20 log10(signal/noise).
-    shake_deg_per_s : degree/s, camera angular velocity during the exposure.
+    shake_deg_per_s : degree/s, camera angular velocity during the exposure (4.39, the
+        paper's, by default).
     stabilization : 1, image stabilisation factor k (motion divided by k).
     jitter_um : um, rms Gaussian jitter (0: off).
     wavelength_nm : nm, wavelength for monochromatic diffraction.
@@ -249,9 +408,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         2^-21 = 4.8e-7: with Halley or Newton an MTF50 point without jitter takes its
         certified starting guess (float64, rounded once: within 1e-7), and every other point
         is solved in float32 on twice the vector lanes, for f50 to about 5e-7 relative
-        (docs/numerics.md has the measured errors); 1.5-1.7x the points/s at 10^7 on 2
-        threads and in the kernel alone (README). Statuses, T_MPE, blur and the electron
-        counts are float64 in both, so they are the same in both;
+        (docs/numerics.md has the measured errors and speeds). Statuses, T_MPE, blur and the
+        electron counts are float64 in both, so they are the same in both;
         a point whose lengths float32 cannot hold (outside 2^-40..2^40 mm) is solved in float64.
         Outputs are float64 arrays either way. The reference backend ignores it.
     out : Result or mapping of its field names to arrays, optional
@@ -279,20 +437,21 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
 
     Raises
     ------
+    TypeError
+        For a sensor size given no way or more than one way, or ``snr_at`` with
+        ``field_angle_deg``; the message names the arguments and their values.
     MemoryError
         Before anything is allocated, when the call would need more memory than the machine
         (or its container) has: evaluate such a grid in pieces.
     """
-    if (pixel_count is None) == (sensor_area_mm2 is None):
-        raise TypeError("give exactly one of pixel_count and sensor_area_mm2")
-    size_is_pixel_count = pixel_count is not None
-    size_name = "pixel_count" if size_is_pixel_count else "sensor_area_mm2"
+    sensor, field_angle_deg = _sensor_of(
+        pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm, sensor_diagonal_mm,
+        aspect, snr_at, field_angle_deg, focal_length_mm)
     if electrons_per_lux_s_m2 is None:
         electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
     values = {
         "illuminance_lux": illuminance_lux, "pixel_pitch_um": pixel_pitch_um,
-        "f_number": f_number, "focal_length_mm": focal_length_mm,
-        "size": pixel_count if size_is_pixel_count else sensor_area_mm2,
+        "f_number": f_number, "focal_length_mm": focal_length_mm, "size": sensor.value,
         "reflectance": reflectance, "lens_transmittance": lens_transmittance,
         "field_angle_deg": field_angle_deg, "fill_factor": fill_factor,
         "electrons_per_lux_s_m2": electrons_per_lux_s_m2, "read_noise_e": read_noise_e,
@@ -300,50 +459,14 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         "snr_db": snr_db, "shake_deg_per_s": shake_deg_per_s, "stabilization": stabilization,
         "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
     }
-    names = [size_name if n == "size" else n for n in params.PARAMETER_NAMES]
-    arrays = [_as_float_array(name, values[key])
-              for name, key in zip(names, params.PARAMETER_NAMES)]
-    try:
-        shape = np.broadcast_shapes(*(a.shape for a in arrays))
-    except ValueError:
-        shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
-        raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None
+    names, arrays, shape = _broadcast_inputs(values, sensor.name)
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
-    _choice("backend", backend, BACKENDS)
-    _choice("invalid", invalid, INVALID_POLICIES)
-    _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
-    _choice("f50_solver", f50_solver, F50_SOLVERS)
-    _choice("precision", precision, PRECISIONS)
-    f50_rtol = _tolerance("f50_rtol", f50_rtol)
-    t_mpe_rtol = _tolerance("t_mpe_rtol", t_mpe_rtol)
-    selected = _outputs_of(outputs)
-    given = None if out is None else _out_arrays(out, shape, selected)
-    # invalid="raise" reads the status even when it is not returned
-    computed = selected + (("status",) if invalid == "raise" and "status" not in selected else ())
-    _check_memory(shape, arrays, backend, given is not None, computed)
-
-    if backend == "core":
-        threads = _threads_of(threads)
-        # the core writes the caller's arrays and allocates the others it computes
-        flat = {} if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
-                                         for k, v in given.items()}
-        result = _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol,
-                           t_mpe_solver, t_mpe_rtol, threads, out=flat, precision=precision,
-                           allocate=[k for k in computed if k not in flat])
-    else:
-        if threads is not None:
-            _threads_of(threads)
-        result = _run_reference(arrays, shape, size_is_pixel_count, spec)
-        if given is not None:
-            for name, array in given.items():
-                np.copyto(array, result[name].reshape(shape))
-
-    status = result["status"].reshape(shape) if "status" in result else None
-    if invalid == "raise" and np.any(status == Status.INVALID):
-        _raise_first_invalid(arrays, names, status, shape)
-    if given is not None:
-        return Result(**{name: given.get(name) for name in OUTPUT_DTYPES})
-    return _result({k: v for k, v in result.items() if k in selected}, shape)
+    options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
+                          precision, outputs)
+    given = None if out is None else _out_arrays(out, shape, options.selected)
+    _check_memory(shape, arrays, options.backend, given is not None, options.computed)
+    result = _compute(arrays, shape, sensor, spec, options, threads, given)
+    return _assembled(result, shape, names, arrays, sensor, options, given)
 
 
 def _outputs_of(outputs) -> tuple:

@@ -1,0 +1,132 @@
+"""A sensor as its data sheet gives it, and where a design meets its SNR target.
+
+Size. A data sheet gives the active area's width and height in mm, or its diagonal and aspect
+ratio, and the pixel pitch in um. The model needs the sensor area S (MODEL.md section 7:
+EPC = 4 S f50^2, S = N p^2), so the area is taken exactly, S = width x height, and the pixel
+count follows as N = S / p^2 = (width / p) x (height / p) with no rounding: rounding the columns
+and rows would move S away from the sensor's area. :class:`epc_fast.presets.Design` reports
+whole columns and rows (each rounded to the nearest integer) for display only.
+
+Where the SNR target is met (``snr_at``). The light falls off as cos^4 of the field angle
+(MODEL.md section 3), so the same target met at the image corner asks for a longer exposure
+than on the optical axis, and moves EPC several-fold:
+
+- ``"axis"``: the optical axis, field angle 0 (``evaluate``'s default, MODEL.md's θ = 0);
+- ``"corner"``: the image corner, field angle atan(half-diagonal / focal length) (the presets'
+  reading of the paper, MODEL.md section 9; 27.03 degrees for its 1/3.2" designs);
+- or an explicit ``field_angle_deg``.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+__all__ = ["SNR_AT", "SHAPE_KEYWORDS", "SIZE_KEYWORDS", "aspect_ratio", "sensor_shape",
+           "corner_field_angle_deg", "snr_at_text"]
+
+#: The named places where the SNR target can be met.
+SNR_AT = ("axis", "corner")
+#: The keywords that give a sensor's shape (width and height, or diagonal and aspect).
+SHAPE_KEYWORDS = ("sensor_width_mm", "sensor_height_mm", "sensor_diagonal_mm", "aspect")
+#: Every keyword that gives a sensor's size, in the order error messages name them.
+SIZE_KEYWORDS = SHAPE_KEYWORDS + ("sensor_area_mm2", "pixel_count")
+#: How a sensor's size can be given, for error messages.
+SIZE_WAYS = ("pixel_count, or sensor_area_mm2, or sensor_width_mm and sensor_height_mm, "
+             "or sensor_diagonal_mm and aspect")
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def aspect_ratio(aspect) -> float:
+    """1: width / height of an aspect ratio written ``"4:3"``, ``"16/9"``, ``(4, 3)`` or ``4/3``.
+
+    Raises ValueError naming ``aspect`` and its value for anything else.
+    """
+    ratio = math.nan
+    if isinstance(aspect, str):
+        for sep in (":", "/", "x"):
+            if sep in aspect:
+                parts = aspect.split(sep)
+                if len(parts) == 2:
+                    try:
+                        ratio = float(parts[0]) / float(parts[1])
+                    except (ValueError, ZeroDivisionError):
+                        ratio = math.nan
+                break
+        else:
+            try:
+                ratio = float(aspect)
+            except ValueError:
+                ratio = math.nan
+    elif isinstance(aspect, (tuple, list)) and len(aspect) == 2 and all(
+            isinstance(a, numbers.Real) and not isinstance(a, bool) for a in aspect):
+        ratio = float(aspect[0]) / float(aspect[1]) if aspect[1] != 0 else math.nan
+    elif isinstance(aspect, numbers.Real) and not isinstance(aspect, bool):
+        ratio = float(aspect)
+    if not (math.isfinite(ratio) and ratio > 0):
+        raise ValueError(f"aspect={_short(aspect)}: expected width:height as \"4:3\", (4, 3) "
+                         "or a positive number (width / height)")
+    return ratio
+
+
+def sensor_shape(sensor_width_mm=None, sensor_height_mm=None, sensor_diagonal_mm=None,
+                 aspect=None, **others):
+    """(width_mm, height_mm) of a sensor given by width and height or by diagonal and aspect;
+    None when none of the four is given.
+
+    ``others`` are the other ways of giving the size (``sensor_area_mm2``, ``pixel_count``),
+    None when not given: any combination but exactly one way is a TypeError naming every
+    argument given and its value. Widths, heights and diagonals may be arrays (float64 out).
+    """
+    given = {"sensor_width_mm": sensor_width_mm, "sensor_height_mm": sensor_height_mm,
+             "sensor_diagonal_mm": sensor_diagonal_mm, "aspect": aspect, **others}
+    given = {k: v for k, v in given.items() if v is not None}
+    ways = [{"sensor_width_mm", "sensor_height_mm"}, {"sensor_diagonal_mm", "aspect"},
+            *({k} for k in others)]
+    if set(given) not in ways:
+        got = ", ".join(f"{k}={_short(v)}" for k, v in given.items()) or "none of them"
+        raise TypeError(f"give the sensor's size one way: {SIZE_WAYS}; got {got}")
+    if "sensor_width_mm" in given:
+        return (np.asarray(sensor_width_mm, dtype=np.float64),
+                np.asarray(sensor_height_mm, dtype=np.float64))
+    if "aspect" in given:
+        ratio = aspect_ratio(aspect)
+        diagonal = np.asarray(sensor_diagonal_mm, dtype=np.float64)
+        height = diagonal / math.hypot(ratio, 1.0)
+        return height * ratio, height
+    return None
+
+
+def corner_field_angle_deg(width_mm, height_mm, focal_length_mm):
+    """degree: the image corner's field angle, atan(half-diagonal / focal length) (half the
+    diagonal field of view)."""
+    half_diagonal = np.hypot(width_mm, height_mm) / 2.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        angle = np.degrees(np.arctan(half_diagonal / np.asarray(focal_length_mm, np.float64)))
+    return float(angle) if np.ndim(angle) == 0 else angle
+
+
+def check_snr_at(snr_at) -> str:
+    """``snr_at`` when it is one of :data:`SNR_AT`, else a ValueError naming its value."""
+    if not isinstance(snr_at, str) or snr_at not in SNR_AT:
+        raise ValueError(f"snr_at={_short(snr_at)}: expected one of "
+                         f"{', '.join(map(repr, SNR_AT))} (or give field_angle_deg)")
+    return snr_at
+
+
+def snr_at_text(snr_at: str | None, field_angle_deg: float, default: bool = False) -> str:
+    """Where a design meets its SNR target, for people: ``"corner (27.03 deg)"``, ``"axis"``,
+    ``"field angle 12 deg"``; ``default`` marks a place nobody chose."""
+    if snr_at == "corner":
+        text = f"corner ({field_angle_deg:.2f} deg)"
+    elif snr_at == "axis" or (snr_at is None and field_angle_deg == 0.0):
+        text = "axis"
+    else:
+        text = f"field angle {field_angle_deg:g} deg"
+    return text + (" (default)" if default else "")
