@@ -51,7 +51,7 @@ class Figure:
 FIGURES = (
     Figure("fig1", 'Figure 1: 1/3.2" sensor, four pixel sizes', HIGH_TIER),
     Figure("fig2", 'Figure 2: 1/8" sensor, four pixel sizes', LOW_TIER),
-    Figure("fig3", 'Figure 3: 1.75 um on 1/3.2", image stabilisation and 3x zoom', FIGURE_3),
+    Figure("fig3", 'Figure 3: 1.75 µm on 1/3.2", image stabilisation and 3x zoom', FIGURE_3),
 )
 
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .plot_layout import freeze_layout, place_line_labels
+from .plot_text import quantity_label, unit_text
 from .presets import READINGS, evaluate_over_illuminance
 
 __all__ = ["plot_epc_over_illuminance", "save_figure"]
@@ -30,7 +32,10 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     """A figure of EPC against illuminance, one curve per design.
 
     The x axis is illuminance in lux on a log scale, the y axis EPC in megapixels; each design's
-    physical pixel count is marked by a dotted line in its curve's colour.
+    physical pixel count is marked by a dotted line in its curve's colour, labelled where no
+    curve passes (:func:`epc_fast.plot_layout.place_line_labels`). The legend sits below the
+    axes, clear of the curves. The figure's layout is fixed when it is returned: add nothing
+    that needs room.
 
     Parameters
     ----------
@@ -49,39 +54,49 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     readings = {d.reading for d in designs}
     if len(readings) != 1:
         raise ValueError(f"the designs of one figure share one reading, got {sorted(readings)}")
-    figure = _figure_class()(figsize=(7.0, 4.8), layout="constrained")
+    figure = _figure_class()(figsize=(7.0, 5.2), layout="constrained")
     ax = figure.subplots()
     lo, hi = np.log10(lux_range[0]), np.log10(lux_range[1])
     lux = np.logspace(lo, hi, int(round((hi - lo) * POINTS_PER_DECADE)) + 1)
     result = evaluate_over_illuminance(designs, lux, backend=backend, threads=threads)
-    for index, (design, epc) in enumerate(zip(designs, result.epc)):
-        ax.plot(lux, epc / 1e6, color=f"C{index}", lw=2, label=design.name)
-    _mark_pixel_counts(ax, designs)
+    curves = [ax.plot(lux, epc / 1e6, color=f"C{index}", lw=2, label=unit_text(design.name))[0]
+              for index, (design, epc) in enumerate(zip(designs, result.epc))]
+    levels, colors = _pixel_count_lines(ax, designs)
     ax.set_xscale("log")
     ax.set_xlim(*lux_range)
     ax.set_ylim(0.0, 1.08 * max(d.pixel_count for d in designs) / 1e6)
-    ax.set_xlabel("illuminance (lux)")
-    ax.set_ylabel("effective pixel count (Mpixel)")
-    ax.set_title(f"{title}\n{READINGS[readings.pop()].meaning}", fontsize=10)
+    ax.set_xlabel(quantity_label("illuminance_lux"))
+    ax.set_ylabel("Effective pixel count, EPC (Mpixel)")
+    ax.set_title(unit_text(f"{title}\n{READINGS[readings.pop()].meaning}"), fontsize=10)
     ax.grid(which="major", alpha=0.4)
     ax.grid(which="minor", alpha=0.15)
-    ax.legend(loc="upper left", fontsize=9)
+    figure.legend(loc="outside lower center", ncols=3, fontsize=9, frameon=False)
+    renderer = freeze_layout(figure)
+    place_line_labels(ax, levels, [f"{level:.2f} Mpixel" for level in levels],
+                      renderer=renderer, fontsize=8, colors=colors, lines=curves)
     return figure
 
 
-def _mark_pixel_counts(ax, designs) -> None:
-    """A dotted line and a label at each physical pixel count: in the colour of its design's
-    curve, or grey where several designs share it."""
+def _pixel_count_lines(ax, designs) -> tuple[list, list]:
+    """A dotted line at each physical pixel count, in the colour of its design's curve, or
+    grey where several designs share it; a legend entry says what the dotted lines are.
+
+    Returns
+    -------
+    levels : list of float, Mpixel, one per distinct count.
+    colors : list, the colour of each line.
+    """
     counts = [d.pixel_count for d in designs]
+    levels, colors = [], []
     for index, count in enumerate(counts):
         if counts.index(count) != index:
             continue
         color = f"C{index}" if counts.count(count) == 1 else "0.4"
         ax.axhline(count / 1e6, color=color, ls=":", lw=1.2)
-        ax.annotate(f"{count / 1e6:.2f} Mpixel", (1.0, count / 1e6), xycoords=("axes fraction",
-                    "data"), xytext=(-4, 2), textcoords="offset points", ha="right",
-                    va="bottom", color=color, fontsize=8)
+        levels.append(count / 1e6)
+        colors.append(color)
     ax.plot([], [], color="0.4", ls=":", lw=1.2, label="physical pixel count")
+    return levels, colors
 
 
 def save_figure(figure, path, dpi=110) -> None:
