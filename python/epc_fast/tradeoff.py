@@ -12,10 +12,16 @@ for polychromatic diffraction). For each setting this module measures
 - **throughput**: points/s on 1 and 2 threads, the median of a few timed rounds after one
   warm-up.
 
-:func:`pareto_front` picks the settings that no other setting beats on both at once, and
-:func:`plot_tradeoff` draws them. ``epc-fast bench`` (:mod:`epc_fast.commands.bench`) is the
-command line. Settings whose knob the installed :func:`evaluate` does not take are skipped
-(:func:`split_by_knobs`), so the list can name knobs before they land.
+:func:`pareto_front` picks the settings that no other setting beats on both at once.
+``epc-fast bench`` (:mod:`epc_fast.commands.bench`) is the command line. Settings whose knob
+the installed :func:`evaluate` does not take are skipped (:func:`split_by_knobs`), so the list
+can name knobs before they land.
+
+This module measures; it never imports matplotlib. The tables are
+:mod:`epc_fast.tradeoff_tables`, the plot :mod:`epc_fast.tradeoff_plot`, the check of the
+reference against mpmath :mod:`epc_fast.tradeoff_mpmath`; their public names are importable
+from here too (``from epc_fast.tradeoff import plot_tradeoff``), each module loaded on first
+use.
 """
 
 from __future__ import annotations
@@ -25,18 +31,15 @@ import importlib
 import inspect
 import math
 import statistics
-import sys
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from .api import evaluate
 from .selfcheck import random_designs
-from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
-from .status import Cause, Status
+from .status import Status
 
 __all__ = [
     "Setting", "Accuracy", "Measurement", "MpmathCheck", "default_settings", "split_by_knobs",
@@ -54,11 +57,9 @@ F50_RTOLS = (1e-14, 1e-10, 1e-6)
 SPECTRUM_SAMPLES = (1, 4, 16, 64)
 #: The setting every speed-up is relative to.
 BASELINE = "default"
-#: 1, where a relative error of exactly 0 is drawn on the plot's log axis.
-ZERO_ERROR_FLOOR = 1e-17
 #: What a build without a knob does: its f50 is bisected, its arithmetic float64.
 IMPLICIT_KNOB_VALUES = {"f50_solver": "bisection", "precision": "float64"}
-#: The design the settings are tried on before they are measured (the paper's 1.4 um design).
+#: The design the settings are tried on before they are measured (the paper's 1.4 µm design).
 PROBE_DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8,
                     focal_length_mm=5.6, sensor_area_mm2=15.6751)
 
@@ -366,212 +367,17 @@ def front_of(measurements: Sequence[Measurement], threads: int = THREADS[-1]) ->
     return pareto_front(errors, [m.points_per_s[threads] for m in measurements])
 
 
-# --- Tables --------------------------------------------------------------------------------------
+#: Names this module gives from the modules split out of it, and where each lives.
+_ELSEWHERE = {
+    "markdown_columns": "tradeoff_tables", "csv_columns": "tradeoff_tables",
+    "plot_tradeoff": "tradeoff_plot", "ZERO_ERROR_FLOOR": "tradeoff_plot",
+    "LABEL_FONTSIZE": "tradeoff_plot",
+    "MpmathCheck": "tradeoff_mpmath", "mpmath_check": "tradeoff_mpmath",
+}
 
 
-def _error_text(value: float) -> str:
-    if math.isnan(value):
-        return "n/a"
-    return "0" if value == 0 else f"{value:.1e}"
-
-
-def markdown_columns(measurements: Sequence[Measurement], front: Sequence[int] = ()) -> dict:
-    """{column: [text]} for the markdown table; settings on ``front`` are marked ``*``."""
-    ratios = speedups(measurements)
-    return {
-        "setting": [m.setting.name + (" *" if i in front else "")
-                    for i, m in enumerate(measurements)],
-        "f50 solver": [str(m.f50_solver) for m in measurements],
-        "rtol": [_rtol_text(m.f50_rtol) for m in measurements],
-        "precision": [str(m.precision) for m in measurements],
-        "max rel err": [_error_text(m.accuracy.max_rel_error) for m in measurements],
-        "median rel err": [_error_text(m.accuracy.median_rel_error) for m in measurements],
-        **{f"M points/s ({t} thread{'s' if t > 1 else ''})":
-           [f"{m.points_per_s[t] / 1e6:.3g}" for m in measurements] for t in THREADS},
-        "speed-up vs default": ["n/a" if math.isnan(r) else f"{r:.2f}" for r in ratios],
-    }
-
-
-def csv_columns(measurements: Sequence[Measurement], front: Sequence[int] = ()) -> dict:
-    """{column: [value]} for the CSV table, every number at full precision."""
-    ratios = speedups(measurements)
-    return {
-        "setting": [m.setting.name for m in measurements],
-        "f50_solver": [m.f50_solver for m in measurements],
-        "f50_rtol": [float(m.f50_rtol) for m in measurements],
-        "precision": [m.precision for m in measurements],
-        "spectrum_samples": [m.setting.spectrum_samples or "" for m in measurements],
-        "extra_kwargs": [" ".join(f"{k}={v!r}" for k, v in m.setting.kwargs.items())
-                         for m in measurements],
-        "max_rel_error": [m.accuracy.max_rel_error for m in measurements],
-        "median_rel_error": [m.accuracy.median_rel_error for m in measurements],
-        "points_compared": [m.accuracy.points_compared for m in measurements],
-        "status_mismatches": [m.accuracy.status_mismatches for m in measurements],
-        **{f"points_per_s_{t}_thread{'s' if t > 1 else ''}":
-           [m.points_per_s[t] for m in measurements] for t in THREADS},
-        "speedup_vs_default": ratios,
-        "pareto": [str(i in front).lower() for i in range(len(measurements))],
-    }
-
-
-# --- The plot ------------------------------------------------------------------------------------
-
-
-def plot_tradeoff(measurements: Sequence[Measurement], front: Sequence[int], *, title="",
-                  threads: int = THREADS[-1]):
-    """Points/s on ``threads`` threads (y, log) against max relative error of f50 (x, log),
-    each setting a labelled point, the Pareto front ``front`` (indices, by error) a line.
-
-    Polychromatic settings are squares. Errors of exactly 0 are drawn at
-    :data:`ZERO_ERROR_FLOOR`, as hollow markers. Needs matplotlib (ImportError otherwise).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    from .plotting import _figure_class
-
-    figure = _figure_class()(figsize=(8.0, 5.6), layout="constrained")
-    ax = figure.subplots()
-    shown = [i for i, m in enumerate(measurements) if not math.isnan(m.accuracy.max_rel_error)]
-    x = {i: max(measurements[i].accuracy.max_rel_error, ZERO_ERROR_FLOOR) for i in shown}
-    y = {i: measurements[i].points_per_s[threads] / 1e6 for i in shown}
-    for group, marker, color, label in (
-            (False, "o", "C0", "monochromatic"),
-            (True, "s", "C2", "polychromatic (vs the reference with its spectrum)")):
-        members = [i for i in shown
-                   if (measurements[i].setting.spectrum_samples is not None) == group]
-        zero = [i for i in members if measurements[i].accuracy.max_rel_error == 0]
-        nonzero = [i for i in members if i not in zero]
-        if nonzero:
-            ax.plot([x[i] for i in nonzero], [y[i] for i in nonzero], marker, color=color,
-                    label=label)
-        if zero:
-            ax.plot([x[i] for i in zero], [y[i] for i in zero], marker, mfc="none",
-                    color=color, label=f"{label}, error exactly 0 (drawn at "
-                    f"{ZERO_ERROR_FLOOR:g})")
-    line = [i for i in front if i in x]
-    ax.plot([x[i] for i in line], [y[i] for i in line], "-", color="C3", lw=1.5, zorder=0,
-            label="Pareto front (monochromatic)")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    names = [measurements[i].setting.name for i in shown]
-    offsets = _label_offsets(ax, [(x[i], y[i]) for i in shown], names, LABEL_FONTSIZE)
-    for i, name, offset in zip(shown, names, offsets):
-        ax.annotate(name, (x[i], y[i]), xytext=offset, textcoords="offset points",
-                    fontsize=LABEL_FONTSIZE, va="center",
-                    arrowprops=None if offset == LABEL_OFFSETS[0] else
-                    dict(arrowstyle="-", color="0.6", lw=0.5, shrinkA=0, shrinkB=3))
-    ax.set_xlabel("max relative error of f50 against the NumPy reference")
-    ax.set_ylabel(f"M points/s ({threads} thread{'s' if threads > 1 else ''})")
-    ax.set_title(title or "epc_fast: speed against accuracy", fontsize=10)
-    ax.grid(which="major", alpha=0.4)
-    ax.grid(which="minor", alpha=0.15)
-    ax.legend(loc="best", fontsize=8)
-    return figure
-
-
-#: pt, the size of the settings' labels on the plot.
-LABEL_FONTSIZE = 7
-#: pt, where a label may go relative to its point, in order of preference (x, y of its left
-#: end, vertically centred).
-LABEL_OFFSETS = [(5, 0)] + [(5 + 12 * abs(k), 9 * k) for k in (1, -1, 2, -2, 3, -3, 4, -4)]
-
-
-def _label_offsets(ax, points, texts, fontsize) -> list[tuple]:
-    """An offset (pt) from :data:`LABEL_OFFSETS` for each label, the first whose box (estimated
-    from the text's length) overlaps no label placed before it; the first offset when none is
-    free. Labels are placed from the top of the plot down."""
-    ax.autoscale_view()
-    to_pt = 72.0 / ax.figure.dpi
-    anchors = [tuple(v * to_pt for v in ax.transData.transform(p)) for p in points]
-    width = [0.55 * fontsize * len(t) for t in texts]
-    height = 1.1 * fontsize
-    placed, offsets = [], [LABEL_OFFSETS[0]] * len(texts)
-    for i in sorted(range(len(texts)), key=lambda i: -anchors[i][1]):
-        for dx, dy in LABEL_OFFSETS:
-            box = (anchors[i][0] + dx, anchors[i][1] + dy - height / 2,
-                   anchors[i][0] + dx + width[i], anchors[i][1] + dy + height / 2)
-            if not any(box[0] < b[2] and b[0] < box[2] and box[1] < b[3] and b[1] < box[3]
-                       for b in placed):
-                offsets[i] = (dx, dy)
-                break
-        else:
-            dx, dy = offsets[i]
-            box = (anchors[i][0] + dx, anchors[i][1] + dy - height / 2,
-                   anchors[i][0] + dx + width[i], anchors[i][1] + dy + height / 2)
-        placed.append(box)
-    return offsets
-
-
-# --- The reference against mpmath ----------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class MpmathCheck:
-    """The reference against the 50-digit mpmath model of tests/test_extremes.py.
-
-    Attributes
-    ----------
-    points : count of points checked.
-    status_mismatches : count whose (status, cause) differs from the one mpmath owes.
-    max_rel_error : dict
-        Output name -> the largest relative error over the points mpmath finds OK.
-    """
-
-    points: int
-    status_mismatches: int
-    max_rel_error: dict
-
-    def summary(self) -> str:
-        errors = ", ".join(f"{name} {value:.1e}" for name, value in self.max_rel_error.items())
-        return (f"reference vs mpmath (50 digits) on {self.points} points: "
-                f"{self.status_mismatches} status mismatches, max relative error {errors}")
-
-
-def _tests_folders() -> list[Path]:
-    """Where tests/test_extremes.py may be: in this module's source checkout (an editable
-    install), or under the working folder."""
-    return [Path(__file__).resolve().parents[2] / "tests", Path.cwd() / "tests"]
-
-
-@functools.lru_cache(maxsize=1)
-def _mpmath_model():
-    """tests/test_extremes.py, imported: its ``mp_model`` (MODEL.md at 50 digits, statuses
-    included), ``expected_status`` and ``relative_error``. Needs a source checkout, mpmath and
-    pytest (the test extra)."""
-    for folder in _tests_folders():
-        if (folder / "test_extremes.py").is_file():
-            sys.path.insert(0, str(folder))  # it imports test_core_vs_reference
-            try:
-                return importlib.import_module("test_extremes")
-            finally:
-                sys.path.remove(str(folder))
-    raise ImportError("the mpmath check uses tests/test_extremes.py from a source checkout: "
-                      "run from the repository's root (searched "
-                      + ", ".join(str(f) for f in _tests_folders()) + ")")
-
-
-def mpmath_check(points: Mapping, reference, count: int) -> MpmathCheck:
-    """The first ``count`` of ``points`` (monochromatic designs, as :func:`random_designs`
-    gives) and the reference's results on them, against mpmath at 50 digits."""
-    model = _mpmath_model()
-    outputs = ("t_mpe_s", "f50_cyc_per_mm", "epc")
-    worst = dict.fromkeys(outputs, 0.0)
-    mismatches = 0
-    count = min(count, len(next(iter(points.values()))))
-    for i in range(count):
-        design = {name: float(values[i]) for name, values in points.items()}
-        design.setdefault("electrons_per_lux_s_m2", DEFAULT_ELECTRONS_PER_LUX_S_M2)
-        exact = model.mp_model(design)
-        got = (Status(int(reference.status[i])), Cause(int(reference.cause[i])))
-        if got != model.expected_status(exact):
-            mismatches += 1
-            continue
-        if exact["status"] != "ok":
-            continue
-        for name in outputs:
-            worst[name] = max(worst[name],
-                              model.relative_error(float(getattr(reference, name)[i]),
-                                                   exact[name]))
-    return MpmathCheck(count, mismatches, worst)
+def __getattr__(name: str):
+    """The tables', the plot's and the mpmath check's names, imported on first use."""
+    if name in _ELSEWHERE:
+        return getattr(importlib.import_module(f".{_ELSEWHERE[name]}", __package__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
