@@ -15,11 +15,18 @@ area of the format. This is a reading of the paper, not a fitted model; the pape
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
+import numbers
+from dataclasses import InitVar, asdict, dataclass, replace
 
 import numpy as np
 
 from .api import Result, evaluate
+from .sensor import check_snr_at, sensor_shape, snr_at_text
+from .sensor import corner_field_angle_deg as _corner_angle
+
+#: How a Design can be given its sensor, for error messages.
+SIZE_WAYS_OF_DESIGN = ("sensor_width_mm and sensor_height_mm, or sensor_diagonal_mm and "
+                       "aspect, or columns and rows")
 
 __all__ = [
     "Reading", "READINGS", "PRESET_READING", "Design", "IS_FACTOR", "HIGH_TIER", "LOW_TIER",
@@ -63,40 +70,100 @@ IS_FACTOR = 4.0
 
 def corner_field_angle_deg(width_mm: float, height_mm: float, focal_length_mm: float) -> float:
     """degree: half the diagonal field of view, atan(half-diagonal / focal length)."""
-    return math.degrees(math.atan(math.hypot(width_mm, height_mm) / 2.0 / focal_length_mm))
+    return float(_corner_angle(width_mm, height_mm, focal_length_mm))
 
 
 @dataclass(frozen=True)
 class Design:
     """A camera design: everything :func:`epc_fast.evaluate` needs except the illuminance.
 
+    Give the sensor as its data sheet does: ``sensor_width_mm`` and ``sensor_height_mm``, or
+    ``sensor_diagonal_mm`` and ``aspect`` (e.g. ``"4:3"``), or the array (``columns`` and
+    ``rows``, the sensor then being columns x rows pixels of ``pixel_pitch_um``)::
+
+        Design("50 Mpx 1/1.56-inch", 1.0, sensor_diagonal_mm=10.24, aspect="4:3",
+               f_number=1.9, focal_length_mm=5.7)
+
+    EPC uses the sensor's area, width x height (MODEL.md section 7); the array, when not given,
+    is the sensor's width and height over the pitch, each rounded to the nearest pixel.
+
     Attributes
     ----------
     name : str
     pixel_pitch_um : um, pixel pitch.
     columns, rows : pixels, the array.
-    sensor_width_mm, sensor_height_mm : mm, the nominal format.
+    sensor_width_mm, sensor_height_mm : mm, the sensor's (nominal) format.
     f_number : 1.
     focal_length_mm : mm.
     stabilization : 1, image stabilisation factor k.
-    reading : str, a key of :data:`READINGS`: the SNR target and where it is met.
+    reading : str, a key of :data:`READINGS`: the SNR target and, unless ``snr_at`` says
+        otherwise, where it is met.
+    snr_at : {"corner", "axis"} or float, optional
+        Where the SNR target is met: the image corner, the optical axis, or a field angle in
+        degrees. None (the default): where the reading says (the corner for the presets).
+    sensor_diagonal_mm, aspect : mm and width:height, the format from its diagonal (used only
+        when constructing; the width and height are kept).
     """
 
     name: str
     pixel_pitch_um: float
-    columns: int
-    rows: int
-    sensor_width_mm: float
-    sensor_height_mm: float
-    f_number: float
-    focal_length_mm: float
+    columns: int | None = None
+    rows: int | None = None
+    sensor_width_mm: float | None = None
+    sensor_height_mm: float | None = None
+    f_number: float | None = None
+    focal_length_mm: float | None = None
     stabilization: float = 1.0
     reading: str = PRESET_READING
+    snr_at: str | float | None = None
+    sensor_diagonal_mm: InitVar[float | None] = None
+    aspect: InitVar[object] = None
 
-    def __post_init__(self):
+    def __post_init__(self, sensor_diagonal_mm, aspect):
         if self.reading not in READINGS:
             raise ValueError(f"reading must be one of {', '.join(map(repr, READINGS))}; "
                              f"got {self.reading!r}")
+        for name in ("pixel_pitch_um", "f_number", "focal_length_mm"):
+            value = getattr(self, name)
+            if value is None:
+                raise TypeError(f"Design {self.name!r} needs {name}")
+            if not (isinstance(value, numbers.Real) and math.isfinite(value) and value > 0):
+                raise ValueError(f"Design {self.name!r}: {name}={value!r} must be a positive "
+                                 "number")
+        if isinstance(self.snr_at, str):
+            check_snr_at(self.snr_at)
+        elif self.snr_at is not None and not isinstance(self.snr_at, numbers.Real):
+            raise ValueError(f"Design {self.name!r}: snr_at={self.snr_at!r}: expected 'corner', "
+                             "'axis' or a field angle in degrees")
+        self._set_format(sensor_diagonal_mm, aspect)
+
+    def _set_format(self, sensor_diagonal_mm, aspect):
+        """Fills in the format from the diagonal or the array, and the array from the format."""
+        pitch_mm = self.pixel_pitch_um * 1e-3
+        array = (self.columns, self.rows)
+        if (array[0] is None) != (array[1] is None):
+            raise TypeError(f"Design {self.name!r}: give both columns and rows, got "
+                            f"columns={self.columns!r}, rows={self.rows!r}")
+        size = {"sensor_width_mm": self.sensor_width_mm,
+                "sensor_height_mm": self.sensor_height_mm,
+                "sensor_diagonal_mm": sensor_diagonal_mm, "aspect": aspect}
+        if all(v is None for v in size.values()):
+            if array[0] is None:
+                raise TypeError(f"Design {self.name!r} needs its sensor: {SIZE_WAYS_OF_DESIGN}")
+            size = {"sensor_width_mm": self.columns * pitch_mm,
+                    "sensor_height_mm": self.rows * pitch_mm}
+        try:
+            width, height = (float(v) for v in sensor_shape(**size))
+        except TypeError as error:
+            raise TypeError(f"Design {self.name!r}: {error}") from None
+        if not (math.isfinite(width * height) and width > 0 and height > 0):
+            raise ValueError(f"Design {self.name!r}: the sensor's width and height must be "
+                             f"positive, got {width!r} x {height!r} mm")
+        object.__setattr__(self, "sensor_width_mm", width)
+        object.__setattr__(self, "sensor_height_mm", height)
+        if array[0] is None:
+            object.__setattr__(self, "columns", round(width / pitch_mm))
+            object.__setattr__(self, "rows", round(height / pitch_mm))
 
     @property
     def pixel_count(self) -> int:
@@ -115,12 +182,31 @@ class Design:
                                             self.focal_length_mm)
 
     @property
+    def where_snr_is_met(self) -> str:
+        """"corner", "axis" or "angle": where the SNR target is met."""
+        if self.snr_at is None:
+            return "corner" if READINGS[self.reading].at_corner else "axis"
+        return self.snr_at if isinstance(self.snr_at, str) else "angle"
+
+    @property
     def field_angle_deg(self) -> float:
-        """degree: where the SNR target is met: the image corner, or 0 for an on-axis reading."""
-        if not READINGS[self.reading].at_corner:
+        """degree: where the SNR target is met: the image corner's field angle, 0 on the axis,
+        or the design's ``snr_at`` angle."""
+        where = self.where_snr_is_met
+        if where == "angle":
+            return float(self.snr_at)
+        if where == "axis":
             return 0.0
         return corner_field_angle_deg(self.sensor_width_mm, self.sensor_height_mm,
                                       self.focal_length_mm)
+
+    @property
+    def snr_at_text(self) -> str:
+        """Where the SNR target is met, for people: ``"corner (27.03 deg)"``, ``"axis"``;
+        marked "(default)" when it is the preset reading's and nobody chose it."""
+        where = self.where_snr_is_met
+        default = self.snr_at is None and self.reading == PRESET_READING
+        return snr_at_text(None if where == "angle" else where, self.field_angle_deg, default)
 
     @property
     def snr_db(self) -> float:
@@ -137,7 +223,7 @@ class Design:
         }
 
     def with_(self, **changes) -> "Design":
-        """A copy with some fields changed."""
+        """A copy with some fields changed (a new pitch keeps the format and the array)."""
         return replace(self, **changes)
 
     def read_as(self, reading: str) -> "Design":

@@ -25,7 +25,7 @@ import numbers
 import numpy as np
 
 __all__ = ["SNR_AT", "SHAPE_KEYWORDS", "SIZE_KEYWORDS", "aspect_ratio", "sensor_shape",
-           "corner_field_angle_deg", "snr_at_text"]
+           "corner_field_angle_deg", "check_snr_at", "snr_at_text", "design_parameters"]
 
 #: The named places where the SNR target can be met.
 SNR_AT = ("axis", "corner")
@@ -122,11 +122,49 @@ def check_snr_at(snr_at) -> str:
 
 def snr_at_text(snr_at: str | None, field_angle_deg: float, default: bool = False) -> str:
     """Where a design meets its SNR target, for people: ``"corner (27.03 deg)"``, ``"axis"``,
-    ``"field angle 12 deg"``; ``default`` marks a place nobody chose."""
+    ``"field angle 12 deg"``; ``default`` marks a place nobody chose:
+    ``"corner (27.03 deg, default)"``, ``"axis (default)"``."""
+    mark = ", default" if default else ""
     if snr_at == "corner":
-        text = f"corner ({field_angle_deg:.2f} deg)"
-    elif snr_at == "axis" or (snr_at is None and field_angle_deg == 0.0):
-        text = "axis"
-    else:
-        text = f"field angle {field_angle_deg:g} deg"
-    return text + (" (default)" if default else "")
+        return f"corner ({field_angle_deg:.2f} deg{mark})"
+    if snr_at == "axis" or (snr_at is None and field_angle_deg == 0.0):
+        return "axis (default)" if default else "axis"
+    return f"field angle {field_angle_deg:g} deg" + (" (default)" if default else "")
+
+
+def design_parameters(entry) -> tuple[dict, str]:
+    """(:func:`epc_fast.evaluate` keywords, where the SNR target is met, for people) of one
+    design given as a mapping of evaluate keywords, its sensor given any of the four ways.
+
+    Where the target is met: ``snr_at`` (``"axis"`` or ``"corner"``) or ``field_angle_deg``
+    when the design says; else the image corner when the design gives its sensor's shape and
+    focal length, as the presets do (marked "default"); else the axis (marked "default").
+    """
+    kwargs = dict(entry)
+    snr_at = kwargs.pop("snr_at", None)
+    shape_given = {k: kwargs.pop(k) for k in SHAPE_KEYWORDS if k in kwargs}
+    shape = None
+    if shape_given:
+        others = {k: kwargs.pop(k) for k in ("sensor_area_mm2", "pixel_count") if k in kwargs}
+        shape = sensor_shape(**shape_given, **others)
+        kwargs["sensor_area_mm2"] = float(shape[0] * shape[1])
+    focal = kwargs.get("focal_length_mm")
+    if snr_at is not None:
+        check_snr_at(snr_at)
+        if "field_angle_deg" in kwargs:
+            raise TypeError(f"give snr_at or field_angle_deg, not both (snr_at={snr_at!r}, "
+                            f"field_angle_deg={_short(kwargs['field_angle_deg'])})")
+        if snr_at == "axis":
+            kwargs["field_angle_deg"] = 0.0
+            return kwargs, snr_at_text("axis", 0.0)
+        if shape is None or focal is None:
+            raise TypeError("snr_at='corner' needs the sensor's diagonal and the focal length: "
+                            "give sensor_width_mm and sensor_height_mm (or sensor_diagonal_mm "
+                            "and aspect) and focal_length_mm, or field_angle_deg")
+    elif "field_angle_deg" in kwargs:
+        return kwargs, snr_at_text(None, float(kwargs["field_angle_deg"]))
+    elif shape is None or focal is None:
+        return kwargs, snr_at_text("axis", 0.0, default=True)
+    angle = corner_field_angle_deg(float(shape[0]), float(shape[1]), float(focal))
+    kwargs["field_angle_deg"] = angle
+    return kwargs, snr_at_text("corner", angle, default=snr_at is None)

@@ -101,12 +101,25 @@ def _client(address):
     return Client(address)
 
 
+def duration(seconds: float) -> str:
+    """A wall time with the digits that matter: ``"42 ms"``, ``"3.21 s"``, ``"24.8 s"``,
+    ``"2 min 05 s"``."""
+    if seconds < 1.0:
+        return f"{seconds * 1e3:.2g} ms" if seconds < 0.01 else f"{seconds * 1e3:.0f} ms"
+    if seconds < 10.0:
+        return f"{seconds:.2f} s"
+    if seconds < 60.0:
+        return f"{seconds:.1f} s"
+    minutes, rest = divmod(round(seconds), 60)
+    return f"{minutes} min {rest:02d} s"
+
+
 def headline(result, source: str) -> str:
     """One line: points, config, seed, time and throughput (and whether it was interrupted)."""
     done = f"{result.points:,} of {result.points_requested:,}" if result.partial else \
         f"{result.points:,}"
     return (f"scan of {done} points ({source}), seed {result.seed}: "
-            f"{result.timing.wall_s:.1f} s, {result.points_per_s / 1e6:.2f} M points/s"
+            f"{duration(result.timing.wall_s)}, {result.points_per_s / 1e6:.2f} M points/s"
             + (" -- INTERRUPTED, partial results" if result.partial else ""))
 
 

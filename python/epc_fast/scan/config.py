@@ -42,7 +42,8 @@ from .runner import DEFAULT_CHUNK_POINTS
 from .schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
                      check_size, choice, file_name, integer, number, number_list, short, string,
                      table_of, take, wrapped)
-from .space import BLOCK_POINTS, Space
+from ..sensor import SHAPE_KEYWORDS, design_parameters
+from .space import BLOCK_POINTS, POINT_PARAMETERS, Space
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG"]
 
@@ -180,12 +181,29 @@ def _designs(table: dict):
 
 
 def _custom_design(entry, index: int) -> dict:
+    """A [[design.custom]] table: evaluate's parameters, its sensor any of the four ways
+    (``sensor_width_mm`` and ``sensor_height_mm``, ``sensor_diagonal_mm`` and ``aspect``,
+    ``sensor_area_mm2``, ``pixel_count``) and ``snr_at``; checked whole here so that a mistake
+    names this table."""
     where = f"design.custom[{index}]"
     entry = table_of(where, entry)
+    known = set(POINT_PARAMETERS) | set(SHAPE_KEYWORDS) | {"name", "snr_at"}
     design = {}
     for key, value in entry.items():
-        design[key] = (string(where, key, value) if key == "name"
-                       else number(where, key, value))
+        if key not in known:
+            raise ConfigError(f"scan config [{where}]: unknown key {short(key)}; a design "
+                              "gives parameters of epc_fast.evaluate (pixel_pitch_um, "
+                              "f_number, focal_length_mm, ...), its sensor (sensor_width_mm "
+                              "and sensor_height_mm, or sensor_diagonal_mm and aspect, or "
+                              "sensor_area_mm2, or pixel_count) and snr_at")
+        if key in ("name", "snr_at"):
+            design[key] = string(where, key, value)
+        elif key == "aspect" and isinstance(value, str):
+            design[key] = value
+        else:
+            design[key] = number(where, key, value)
+    wrapped(where, lambda: design_parameters(
+        {k: v for k, v in design.items() if k != "name"}))
     return design
 
 

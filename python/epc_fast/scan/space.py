@@ -12,13 +12,15 @@ others' draws unchanged. A chunk is a whole number of :data:`BLOCK_POINTS` point
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..params import PARAMETER_NAMES, SIZE_PARAMETERS
+from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
 from ..presets import Design
+from ..sensor import SHAPE_KEYWORDS, design_parameters
 from . import streams
 from .distributions import Choice, Grid
 
@@ -31,6 +33,8 @@ BLOCK_POINTS = 1 << 16
 #: The per-point keyword parameters of :func:`epc_fast.evaluate`.
 POINT_PARAMETERS = tuple(n for n in PARAMETER_NAMES if n != "size") + SIZE_PARAMETERS
 REQUIRED_PARAMETERS = ("illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm")
+#: Characters per line of :meth:`Space.describe`.
+DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
 EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
                     "precision")
@@ -59,15 +63,21 @@ class Points:
         return self.index.size
 
 
-def _design_dict(design, position: int) -> dict:
+def _design_dict(design, position: int) -> tuple[dict, str]:
+    """A design's evaluate keywords (with its ``"name"``) and where it meets the SNR target,
+    for people."""
     if isinstance(design, Design):
-        return {"name": design.name, **design.evaluate_kwargs()}
+        return {"name": design.name, **design.evaluate_kwargs()}, design.snr_at_text
     if not isinstance(design, Mapping):
         raise TypeError(f"a design is an epc_fast.presets.Design or a mapping of parameters, "
                         f"got {design!r}")
     entry = dict(design)
-    entry.setdefault("name", f"design {position}")
-    return entry
+    name = entry.pop("name", f"design {position}")
+    try:
+        kwargs, where = design_parameters(entry)
+    except (TypeError, ValueError) as error:
+        raise type(error)(f"design {name!r}: {error}") from None
+    return {"name": name, **kwargs}, where
 
 
 class Space:
@@ -93,10 +103,14 @@ class Space:
     def __init__(self, design=None, evaluate_options=None, **parameters):
         unknown = sorted(set(parameters) - set(POINT_PARAMETERS))
         if unknown:
+            extra = ("; a sensor's width, height, diagonal and aspect are given per design"
+                     if set(unknown) & set(SHAPE_KEYWORDS) else "")
             raise TypeError(f"unknown parameter(s) {', '.join(unknown)}; the parameters are "
-                            f"{', '.join(POINT_PARAMETERS)}")
+                            f"{', '.join(POINT_PARAMETERS)}{extra}")
         self.axes: dict = {}
         self.design_names: tuple[str, ...] = ()
+        #: Where each design meets the SNR target, for people (``"corner (27.03 deg)"``).
+        self.design_snr_at: tuple[str, ...] = ()
         self.design_table: dict[str, np.ndarray] = {}
         self.design_varying: tuple[str, ...] = ()
         self.design_constant: tuple[str, ...] = ()
@@ -115,8 +129,10 @@ class Space:
 
     def _set_designs(self, design, overridden: set):
         axis = design if isinstance(design, (Grid, Choice)) else Grid(tuple(design))
-        entries = [{k: v for k, v in _design_dict(d, i).items() if k not in overridden}
-                   for i, d in enumerate(axis.values)]
+        resolved = [_design_dict(d, i) for i, d in enumerate(axis.values)]
+        entries = [{k: v for k, v in entry.items() if k not in overridden}
+                   for entry, _ in resolved]
+        self.design_snr_at = tuple(where for _, where in resolved)
         names = set(entries[0]) - {"name"}
         for entry in entries:
             if set(entry) - {"name"} != names:
@@ -125,7 +141,9 @@ class Space:
                                  f"{entry['name']!r} gives {sorted(set(entry) - {'name'})}")
         unknown = sorted(names - set(POINT_PARAMETERS))
         if unknown:
-            raise TypeError(f"designs give unknown parameter(s) {', '.join(unknown)}")
+            raise TypeError(f"designs give unknown parameter(s) {', '.join(unknown)}; a design "
+                            f"gives parameters of epc_fast.evaluate ({', '.join(POINT_PARAMETERS)}"
+                            f"), its sensor as {', '.join(SHAPE_KEYWORDS)}, and snr_at")
         self.design_names = tuple(str(e["name"]) for e in entries)
         self.design_table = {n: np.array([float(e[n]) for e in entries]) for n in sorted(names)}
         self.design_varying = tuple(n for n, v in self.design_table.items() if np.any(v != v[0]))
@@ -252,14 +270,58 @@ class Space:
         return ({k: np.tile(v, repeats)[:n] for k, v in indices.items()},
                 {k: np.tile(v, repeats)[:n] for k, v in values.items()})
 
+    def snr_target_text(self) -> list[str]:
+        """Per design (or one line without designs): the SNR target and where it is met, each
+        marked "default" where nobody chose it."""
+        level = self._level_text("snr_db", "dB")
+        where_axis = self.axes.get("field_angle_deg")
+        if where_axis is not None:
+            where = (f"field angle {where_axis:g} deg" if isinstance(where_axis, float)
+                     else f"field_angle_deg {where_axis!r}")
+            return [f"{level} at {where}"] * max(1, len(self.design_names))
+        if self.design_snr_at:
+            return [f"{level} at {where}" for where in self.design_snr_at]
+        return [f"{level} at axis (default)"]
+
+    def _level_text(self, name: str, unit: str) -> str:
+        axis = self.axes.get(name)
+        if axis is not None:
+            return f"{axis:g} {unit}" if isinstance(axis, float) else f"{name} {axis!r}"
+        if name in self.design_table:
+            values = np.unique(self.design_table[name])
+            return " or ".join(f"{v:g}" for v in values) + f" {unit}"
+        default = next(p.default for p in PARAMETERS if p.name == name)
+        return f"{default:g} {unit}"
+
+    def defaults(self) -> dict:
+        """{name: value}: the model parameters nobody set, which take evaluate's defaults."""
+        given = set(self.axes) | set(self.design_table)
+        return {p.name: p.default for p in PARAMETERS
+                if p.default is not None and p.name not in given}
+
     def describe(self) -> str:
-        """One line per axis: how each parameter varies."""
+        """One line per axis: how each parameter varies; where each design meets its SNR
+        target; and the defaults every point takes (evaluate's, nobody set them)."""
         lines = []
+        targets = self.snr_target_text()
         for name, axis in self.axes.items():
             if name == "design":
                 kind = "grid" if isinstance(axis, Grid) else f"choice (weights {axis.weights})"
-                lines.append(f"design: {kind} over {len(self.design_names)}: "
-                             + ", ".join(self.design_names))
+                lines.append(f"design: {kind} over {len(self.design_names)}:")
+                lines.extend(f"  {design}: SNR target {target}"
+                             for design, target in zip(self.design_names, targets))
             else:
                 lines.append(f"{name}: {axis!r}")
+        if not self.design_names:
+            lines.append(f"SNR target: {targets[0]}")
+        defaults = [f"{name}={value:g}" for name, value in self.defaults().items()]
+        if "electrons_per_lux_s_m2" not in self.axes and \
+                "electrons_per_lux_s_m2" not in self.design_table:
+            defaults.append("electrons_per_lux_s_m2=(D50, QE 0.7 on 480-580 nm)")
+        lines.append(textwrap.fill("defaults (not set here): " + ", ".join(defaults),
+                                   DESCRIBE_WIDTH, subsequent_indent="  ",
+                                   break_on_hyphens=False))
         return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return "Space(\n  " + self.describe().replace("\n", "\n  ") + "\n)"
