@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 __all__ = ["freeze_layout", "line_points", "marker_boxes", "place_point_labels",
-           "place_line_labels", "POINT_OFFSETS"]
+           "place_line_labels", "place_vertical_line_label", "POINT_OFFSETS"]
 
 #: pt: distances from a point to its label's near end, nearest first.
 _RADII_PT = (4, 10, 18, 28, 40, 54, 70, 88, 108)
@@ -239,3 +239,37 @@ def place_line_labels(ax, levels, texts, *, renderer, fontsize, colors, lines=()
             fontsize=fontsize, color=colors[i], ha="right" if fraction > 0.5 else "left",
             va="bottom" if above else "top"))
     return labels
+
+
+def place_vertical_line_label(ax, x, text, *, renderer, fontsize, color, lines=(),
+                              obstacles=(), y_fractions=(0.02, 0.98, 0.5, 0.25, 0.75)):
+    """Label a vertical line at ``x`` (data) with ``text``, written upwards just right or
+    just left of the line at the first of ``y_fractions`` (of the axes height) where nothing
+    is.
+
+    Returns
+    -------
+    matplotlib.text.Annotation
+    """
+    gap_pt = 2.0
+    w, h = _text_sizes_px(ax, [text], fontsize, renderer)[0]
+    placer = _Placer(ax, renderer, obstacles, lines)
+    gap = gap_pt * placer.px_per_pt
+    line_x = ax.transData.transform((x, 1.0))[0]
+    bottom, height = placer.bounds[1], placer.bounds[3] - placer.bounds[1]
+    options = []
+    for fraction in y_fractions:
+        y = bottom + fraction * height
+        y0 = y - w if fraction > 0.5 else (y - w / 2 if fraction == 0.5 else y)
+        for right in (True, False):
+            x0 = line_x + gap if right else line_x - gap - h
+            options.append((fraction, right, (x0, y0, x0 + h, y0 + w)))
+    chosen = next((o for o in options if placer.free(o[2])), None)
+    if chosen is None:
+        chosen = min(options, key=lambda o: placer.cost(o[2]))
+    fraction, right, _ = chosen
+    va = "top" if fraction > 0.5 else ("center" if fraction == 0.5 else "bottom")
+    return ax.annotate(text, (x, fraction), xycoords=("data", "axes fraction"),
+                       xytext=(gap_pt if right else -gap_pt, 0.0), textcoords="offset points",
+                       rotation=90, rotation_mode="default", fontsize=fontsize, color=color,
+                       ha="left" if right else "right", va=va)

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["unit_text", "quantity_label", "output_scale"]
+__all__ = ["unit_text", "quantity_label", "quantity_unit", "output_scale"]
 
 _MICROMETRE = re.compile(r"(?<![A-Za-z])um(?![A-Za-z])")
 _POWER = re.compile(r"\^(-?\d+)")
@@ -43,6 +43,14 @@ def unit_text(text) -> str:
 def output_scale(name: str) -> float:
     """1: what values of ``name`` are divided by before they are drawn (EPC in Mpixel: 1e6)."""
     return _SCALED.get(name, (1.0, ""))[0]
+
+
+def quantity_unit(name: str) -> str:
+    """The unit a figure draws ``name`` in ("" for a pure number): ``"epc"`` -> ``"Mpixel"``."""
+    if name in _SCALED:
+        return _SCALED[name][1]
+    return next((shown for suffix, shown in UNIT_SUFFIXES
+                 if name.endswith(suffix) and len(name) > len(suffix)), "")
 
 
 def quantity_label(name: str) -> str:

@@ -145,12 +145,14 @@ def _write_outputs(result, out, plots: bool) -> None:
 def _write_plots(result, out) -> None:
     from ..scan import plots
     from ..scan.histograms import HistogramResult, QuantilesResult
+    from ..scan.summaries import FractionBelowResult
 
+    below = [r for r in result.results.values() if isinstance(r, FractionBelowResult)]
     for name, r in result.results.items():
         if isinstance(r, HistogramResult):
-            out.write(f"{name}.png", lambda path: plots.plot_distributions(r, path))
+            out.write(f"{name}.png", lambda path: plots.plot_distributions(r, path, below))
         elif isinstance(r, QuantilesResult) and plots.bands_parameter(r):
-            out.write(f"{name}.png", lambda path: plots.plot_bands(r, path))
+            out.write(f"{name}.png", lambda path: plots.plot_bands(r, path, below))
 
 
 def _planned(config, plots: bool) -> dict:

@@ -1,5 +1,11 @@
 """Plots of a scan's results (the ``plot`` extra): cumulative distributions per group, and
-quantile bands against a binned parameter.
+quantile bands against a binned parameter, one panel per group.
+
+Axis labels come from the output's and the parameter's names, with units
+(:func:`epc_fast.plot_text.quantity_label`). A threshold of a ``fraction_below`` reduction of
+the same output is drawn and labelled on both plots, and the distribution marks each group's
+fraction below it. The distribution's axis starts at the histogram's low edge; the figure says
+so and gives each group's share of points below it.
 
 Names from users (designs, parameters) are shown as plain text: a ``$`` is escaped so that
 matplotlib never parses them as mathtext (an unbalanced ``$\\frac`` would stop the plot), and
@@ -9,17 +15,25 @@ temporary file and renamed into place.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from ..plot_layout import freeze_layout, place_line_labels, place_vertical_line_label
+from ..plot_text import output_scale, quantity_label, quantity_unit, unit_text
 from .histograms import HistogramResult, QuantilesResult
 
 __all__ = ["plot_distributions", "plot_bands", "bands_parameter", "bands_parameter_of",
            "plain_text"]
 
+#: The colour of threshold lines and their labels.
+THRESHOLD_COLOR = "0.15"
+
 
 def plain_text(text) -> str:
-    """``text`` as matplotlib shows it literally: ``$`` escaped, a leading ``_`` spaced."""
-    text = str(text).replace("$", r"\$")
+    """``text`` as matplotlib shows it literally, units as a reader writes them (``µm``):
+    ``$`` escaped, a leading ``_`` spaced."""
+    text = unit_text(text).replace("$", r"\$")
     return " " + text if text.startswith("_") else text
 
 
@@ -29,43 +43,105 @@ def _save(figure, path) -> None:
     atomic_write(path, lambda temporary: figure.savefig(temporary, dpi=120, format="png"))
 
 
-def _figure():
+def _figure(size=(7.5, 5.4)):
     try:
         from matplotlib.figure import Figure
     except ImportError:
         raise ImportError("plots need matplotlib: pip install 'epc-fast[plot]'") from None
-    return Figure(figsize=(7.5, 4.8), layout="constrained")
-
-
-def _axis_label(of: str) -> tuple[float, str]:
-    """(divisor, label) for an output's axis: EPC in megapixels, others as they are."""
-    return (1e6, "EPC (Mpixel)") if of == "epc" else (1.0, of)
+    return Figure(figsize=size, layout="constrained")
 
 
 def _group_names(labels: dict, skip=()) -> list[str]:
+    """Each group's name: its design, and "name value" for every other label column."""
     names = [k for k in labels if k not in skip]
     count = len(next(iter(labels.values()))) if labels else 1
-    return [plain_text(", ".join(str(labels[k][i]) for k in names) or "all")
+    return [plain_text(", ".join(str(labels[k][i]) if k == "design"
+                                 else f"{quantity_label(k)} {labels[k][i]}" for k in names)
+                       or "all")
             for i in range(count)]
 
 
-def plot_distributions(histogram: HistogramResult, path) -> None:
-    """One curve per group: the fraction of its points whose output is below x (log x)."""
+def _value_text(value: float, of: str) -> str:
+    """A value of output ``of`` as drawn, with its unit: ``2e6`` EPC -> ``"2 Mpixel"``."""
+    unit = quantity_unit(of)
+    return f"{value / output_scale(of):g}" + (f" {unit}" if unit else "")
+
+
+def _thresholds(fractions_below, of: str) -> list[float]:
+    """The distinct thresholds of the fraction_below results of output ``of``."""
+    return sorted({float(r.threshold) for r in fractions_below if r.of == of})
+
+
+def _in_sentence(label: str) -> str:
+    """A label as it reads mid-sentence: "Illuminance (lux)" -> "illuminance (lux)", an
+    acronym kept ("EPC")."""
+    return label[:1].lower() + label[1:] if label[1:2].islower() else label
+
+
+def _same_groups(a: dict, b: dict) -> bool:
+    """Whether two results' group labels are the same columns with the same values."""
+    return list(a) == list(b) and all(list(a[k]) == list(b[k]) for k in a)
+
+
+def _share(count: int, total: int) -> str:
+    share = count / total if total else math.nan
+    return "0%" if count == 0 else (f"{share:.2%}" if share < 0.001 else f"{share:.1%}")
+
+
+def plot_distributions(histogram: HistogramResult, path, fractions_below=()) -> None:
+    """One curve per group: the fraction of its finite points whose output is below x (log x).
+
+    The x axis spans the histogram's bins: each curve starts at its group's share of points
+    below the low edge, which the legend gives and a note under the axes explains. Each
+    threshold of ``fractions_below`` (FractionBelowResult, those of the same output) is a
+    labelled vertical line; where such a result has the histogram's groups, each group's
+    fraction below the threshold is a dot on the line and a number in the legend.
+    """
+    divisor, of = output_scale(histogram.of), histogram.of
     figure = _figure()
     axes = figure.add_subplot()
-    divisor, label = _axis_label(histogram.of)
-    axes.set_xlabel(plain_text(label))
     totals = histogram.counts.sum(axis=1) + histogram.below + histogram.above
     names = _group_names(histogram.labels)
-    for counts, below, total, name in zip(histogram.counts, histogram.below, totals, names):
+    same_groups = [r for r in fractions_below
+                   if r.of == of and _same_groups(r.labels, histogram.labels)]
+    curves = []
+    for g, (counts, below, total, name) in enumerate(zip(histogram.counts, histogram.below,
+                                                          totals, names)):
         cumulative = np.concatenate(([below], below + np.cumsum(counts))) / max(total, 1)
-        axes.step(histogram.edges / divisor, cumulative, where="post", label=name)
+        label = f"{name}: {_share(below, total)} below {_value_text(histogram.edges[0], of)}"
+        for r in same_groups:
+            label += f", {r.fraction[g]:.1%} below {_value_text(r.threshold, of)}"
+        curve, = axes.step(histogram.edges / divisor, cumulative, where="post", label=label,
+                           color=f"C{g % 10}")
+        curves.append(curve)
+        for r in same_groups:
+            axes.plot([r.threshold / divisor], [r.fraction[g]], "o", ms=6, mfc=curve.get_color(),
+                      mec="white", mew=1.0, zorder=5)
+    thresholds = _thresholds(fractions_below, of)
+    for threshold in thresholds:
+        axes.axvline(threshold / divisor, color=THRESHOLD_COLOR, ls="--", lw=1.2)
     axes.set_xscale("log")
-    axes.set_ylabel("fraction of points below")
-    axes.set_ylim(0.0, 1.0)
+    axes.set_xlim(histogram.edges[0] / divisor, histogram.edges[-1] / divisor)
+    axes.set_xlabel(quantity_label(of))
+    axes.set_ylabel("Fraction of points below x")
+    axes.set_ylim(0.0, 1.02)
     axes.grid(True, alpha=0.3)
-    axes.set_title(f"Distribution of {plain_text(label)} per group (cumulative)")
-    axes.legend(fontsize="small")
+    axes.set_title(f"Cumulative distribution of {quantity_label(of)} per group")
+    note = (f"The x axis starts at the histogram's low edge, "
+            f"{_value_text(histogram.edges[0], of)}:\neach curve starts at its group's share "
+            f"of points below it.")
+    if histogram.above.any():
+        note += f" Points at or above {_value_text(histogram.edges[-1], of)} lie right of it."
+    if histogram.nonfinite.any():
+        note += " Points whose value is not finite are not counted."
+    figure.legend(loc="outside lower center", ncols=1, fontsize="small", frameon=False,
+                  title=note, title_fontsize="small")
+    renderer = freeze_layout(figure)
+    for threshold in thresholds:
+        place_vertical_line_label(axes, threshold / divisor,
+                                  f"threshold {_value_text(threshold, of)}",
+                                  renderer=renderer, fontsize=9, color=THRESHOLD_COLOR,
+                                  lines=curves)
     _save(figure, path)
 
 
@@ -82,30 +158,65 @@ def bands_parameter_of(labels) -> str | None:
     return None
 
 
-def plot_bands(quantiles: QuantilesResult, path) -> None:
-    """The middle quantile against the binned parameter (log axis, bin centres), one line per
-    other group, shaded between the outermost quantiles (and the next pair in, if any)."""
+def plot_bands(quantiles: QuantilesResult, path, fractions_below=()) -> None:
+    """The quantiles against the binned parameter (log axis, bin centres), one panel per other
+    group: the middle quantile a line, shaded between the outermost quantiles and, lighter
+    outside darker, the next pair in; the other groups' middle quantiles thin and grey for
+    comparison. Each threshold of ``fractions_below`` (FractionBelowResult, those of the
+    same output) is a labelled horizontal line in every panel.
+    """
     parameter = bands_parameter(quantiles)
+    of = quantiles.of
     low = np.asarray(quantiles.labels[f"{parameter} low"], dtype=float)
     high = np.asarray(quantiles.labels[f"{parameter} high"], dtype=float)
     centres = np.sqrt(low * high)
     names = np.asarray(_group_names(quantiles.labels,
                                     skip=(f"{parameter} low", f"{parameter} high")))
-    divisor, label = _axis_label(quantiles.of)
-    values = quantiles.estimate / divisor
-    middle = len(quantiles.q) // 2
-    figure = _figure()
-    axes = figure.add_subplot()
-    for name in dict.fromkeys(names):
-        rows = names == name
-        line, = axes.plot(centres[rows], values[rows, middle], label=name)
+    values = quantiles.estimate / output_scale(of)
+    q = list(quantiles.q)
+    middle = len(q) // 2
+    groups = list(dict.fromkeys(names))
+    columns = 1 if len(groups) == 1 else (2 if len(groups) <= 6 else 3)
+    rows = math.ceil(len(groups) / columns)
+    figure = _figure((4.0 * columns + 0.6, 2.5 * rows + 1.6))
+    panels = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False).ravel()
+    thresholds = _thresholds(fractions_below, of)
+    for index, (axes, group) in enumerate(zip(panels, groups)):
+        color = f"C{index % 10}"
+        others = [other for other in groups if other != group]
+        for k, other in enumerate(others):
+            rows_of = names == other
+            axes.plot(centres[rows_of], values[rows_of, middle], color="0.6", lw=0.8,
+                      label=f"q {q[middle]:g} of the other groups"
+                      if index == 0 and k == 0 else None)
+        rows_of = names == group
         for outer in range(min(2, middle)):
-            axes.fill_between(centres[rows], values[rows, outer], values[rows, -1 - outer],
-                              color=line.get_color(), alpha=0.15, linewidth=0)
-    axes.set_xscale("log")
-    axes.set_xlabel(plain_text(parameter))
-    axes.set_ylabel(plain_text(label))
-    shown = ", ".join(f"{q:g}" for q in quantiles.q)
-    axes.set_title(plain_text(f"{label} against {parameter}: quantiles {shown}"))
-    axes.legend(fontsize="small")
+            axes.fill_between(centres[rows_of], values[rows_of, outer],
+                              values[rows_of, -1 - outer], color=color, linewidth=0,
+                              alpha=0.18 + 0.17 * outer,
+                              label=f"q {q[outer]:g} to {q[-1 - outer]:g}" if index == 0
+                              else None)
+        axes.plot(centres[rows_of], values[rows_of, middle], color=color, lw=2,
+                  label=f"q {q[middle]:g}" + (" (median)" if q[middle] == 0.5 else "")
+                  if index == 0 else None)
+        for threshold in thresholds:
+            axes.axhline(threshold / output_scale(of), color=THRESHOLD_COLOR, ls="--", lw=1.0)
+        axes.set_title(group, fontsize=9)
+        axes.set_xscale("log")
+        axes.grid(True, alpha=0.3)
+        if index + columns >= len(groups):  # no panel below: this one carries the x axis
+            axes.set_xlabel(quantity_label(parameter))
+            axes.xaxis.set_tick_params(labelbottom=True)
+    for axes in panels[len(groups):]:
+        axes.set_visible(False)
+    figure.supylabel(quantity_label(of), fontsize=10)
+    figure.suptitle(f"{quantity_label(of)} against {_in_sentence(quantity_label(parameter))}: "
+                    f"quantiles per bin, one panel per group", fontsize=11)
+    figure.legend(loc="outside lower center", ncols=4, fontsize="small", frameon=False)
+    renderer = freeze_layout(figure)
+    for axes in panels[:len(groups)]:
+        levels = [t / output_scale(of) for t in thresholds]
+        place_line_labels(axes, levels, [_value_text(t, of) for t in thresholds],
+                          renderer=renderer, fontsize=8, colors=[THRESHOLD_COLOR] * len(levels),
+                          lines=[line for line in axes.lines if line.get_linestyle() == "-"])
     _save(figure, path)
