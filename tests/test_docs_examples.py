@@ -5,11 +5,12 @@ Conventions of the pages, which this test enforces:
 - Every fenced ```python block runs. The blocks of one page run in order in one namespace, as
   a reader who pastes them one after another into one session would; each page starts in a
   fresh temporary directory (its cwd), where ``examples`` links to the repository's examples.
-- A ```text block right after a ```python, ```toml or ```console block is the expected output
-  of that block (stdout; for a console block, stdout and stderr). A block with no ```text
-  after it must run without error; its output is not checked.
-- A ```toml block is a scan config (``epc-fast scan``): it runs through the CLI as
-  ``epc-fast scan <page>-<n>.toml --out scan-out`` in the page's directory.
+- A ```text block that is the next fenced block after a ```python, ```toml or ```console
+  block (prose may come between) is the expected output of that block: stdout, and for
+  commands stdout and stderr. A block whose next fenced block is not ```text must run without
+  error; its output is not checked.
+- A ```toml block is a scan config: saved as ``scan.toml`` in a directory of its own, it runs
+  as ``epc-fast scan scan.toml --out scan-out``, the command the pages give.
 - A ```console block holds commands, each on a line starting with ``$ ``; they run in the
   page's directory, in order, and must exit with 0. ```bash blocks (installs, benchmarks that
   take minutes, the shell of a cluster) are shown, never run.
@@ -79,8 +80,7 @@ def blocks_of(page: Path) -> list[Block]:
         block = Block(page, text.count("\n", 0, match.start()) + 1, language, match["body"],
                       skip=skip["reason"] if skip else None)
         following = fences[i + 1] if i + 1 < len(fences) else None
-        if (following is not None and following["info"].strip() == "text"
-                and not text[match.end():following.start()].strip()):
+        if following is not None and following["info"].strip() == "text":
             block.expected = following["body"]
         blocks.append(block)
     return blocks
@@ -138,9 +138,10 @@ def _run_console(block: Block, cwd: Path) -> str:
 
 
 def _run_toml(block: Block, cwd: Path, index: int) -> str:
-    config = cwd / f"{block.page.stem.lower()}-{index}.toml"
-    config.write_text(block.body, encoding="utf-8")
-    return _run_command(f"epc-fast scan {config.name} --out scan-out-{index}", cwd)
+    folder = cwd / f"toml-{index}"
+    folder.mkdir()
+    (folder / "scan.toml").write_text(block.body, encoding="utf-8")
+    return _run_command("epc-fast scan scan.toml --out scan-out", folder)
 
 
 def run_page(page: Path, cwd: Path) -> list[str]:

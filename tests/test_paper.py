@@ -20,7 +20,7 @@ from epc_fast.paper import CLAIMS, KINDS, PAPER_LUX_RANGE, VGA_PIXELS, statement
 from epc_fast.paper_table import CSV_COLUMNS, markdown_table, write_csv
 from epc_fast.presets import HIGH_TIER
 
-DOCS = Path(__file__).resolve().parents[1] / "README.md"
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "paper.md"
 CROSSOVERS = {"crossover_1.4_1.75": (HIGH_TIER[3], HIGH_TIER[2], 7500.0),
               "crossover_1.4_2.2": (HIGH_TIER[3], HIGH_TIER[1], 5500.0),
               "crossover_1.4_2.8": (HIGH_TIER[3], HIGH_TIER[0], 4000.0)}
