@@ -83,12 +83,13 @@ def test_cli_scan_writes_the_tables_and_plots_of_the_example(tmp_path, capsys):
     assert main(["scan", str(EXAMPLE), "--out", str(tmp_path), "--points", "2e5",
                  "--no-progress"]) == 0
     out = capsys.readouterr().out
-    assert "scan of 200,000 points" in out and "by design:" in out
+    assert "scan of 200,000 points" in out and "by design (epc in pixels):" in out
     names = {p.name for p in tmp_path.iterdir()}
     assert {"summary_by_design.csv", "summary_by_design.md", "summary_by_pixel_pitch_um.csv",
             "best.csv", "distribution.png", "bands.png"} <= names
     rows = _read_csv(tmp_path / "summary_by_design.csv")
     assert [r["design"] for r in rows] == NAMES
+    assert [r["SNR target"] for r in rows] == ["30 dB at corner (27.03 deg, default)"] * 4
     config = load_config(EXAMPLE)
     expected = run(config.space, 200_000, seed=config.seed, reductions=config.reductions,
                    progress=False)
@@ -146,10 +147,24 @@ def test_tables_join_the_results_on_each_grouping_and_prefix_a_taken_column():
         "all": Summary(), "best": TopK(2)})
     grouped = tables.grouped_tables(result)
     assert list(grouped) == ["design", "all"]
-    assert list(grouped["design"]) == ["design", "q50", "streamed q50"]
+    assert list(grouped["design"]) == ["design", "SNR target", "q50", "streamed q50"]
     assert grouped["all"]["points"] == [1000]
-    stem = tables.file_stem("design, illuminance_lux low")
-    assert stem == "summary_by_design_illuminance_lux_low"
+    assert tables.grouping_units(result) == {"design": "epc in pixels", "all": "epc in pixels"}
+
+
+@pytest.mark.parametrize("grouping, stem", [
+    ("design", "summary_by_design"),
+    ("all", "summary_by_all"),
+    ("design, illuminance_lux low, illuminance_lux high",
+     "summary_by_design_and_illuminance_lux_band"),
+    ("design, stabilization", "summary_by_design_and_stabilization"),
+    ("design (2)", "summary_by_design_2"),
+])
+def test_table_files_are_named_by_their_grouping_in_short_words(grouping, stem):
+    assert tables.file_stem(grouping) == stem
+
+
+def test_markdown_cells_have_thousands_separators_and_four_digits():
     markdown = tables.markdown({"n": [1234567], "x": [0.000123456], "name": ["a|b"]})
     assert markdown.splitlines()[2] == "| 1,234,567 | 0.0001235 | a\\|b |"
 

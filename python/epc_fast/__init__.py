@@ -12,23 +12,22 @@ True
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError, version
-
 from .api import Result, evaluate
 from .inverse import InverseStatus, crossover_lux, lux_for_epc
 from .memory import output_cache
 from .params import PARAMETERS
+from .presets import Design
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Cause, Status
 
-try:
-    __version__ = version("epc-fast")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree
-    __version__ = "0+unknown"
+#: The package's version, the same as pyproject.toml's (a test holds them equal), so that a
+#: source tree and an installed wheel report the same.
+__version__ = "0.2.0"
 
 __all__ = [
     "evaluate",
     "Result",
+    "Design",
     "lux_for_epc",
     "crossover_lux",
     "output_cache",

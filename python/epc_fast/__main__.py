@@ -23,6 +23,10 @@ from .presets import HIGH_TIER
 from .selfcheck import self_check
 
 ILLUMINANCES_LUX = (100.0, 300.0, 1000.0, 3000.0, 10000.0, 100000.0)
+#: The usage text's description, plain text as argparse prints it.
+DESCRIPTION = ("The effective pixel count (EPC) of camera designs. With no command: the build, "
+               "a self-check against the NumPy reference, the paper's 1/3.2\" designs over "
+               "illuminance and a default scan.")
 
 
 def _info() -> None:
@@ -35,12 +39,13 @@ def _info() -> None:
 
 def _design_table() -> None:
     lux = np.asarray(ILLUMINANCES_LUX)
-    print('\nEPC in megapixels of the paper\'s 1/3.2" designs (30 dB at the image corner):')
-    print(f"{'design':<18}{'pixels':>8}" + "".join(f"{x:>10g}" for x in lux) + "  lux")
+    print('\nEPC in pixels of the paper\'s 1/3.2" designs (30 dB met at the image corner, '
+          f'{HIGH_TIER[0].field_angle_deg:.2f} deg):')
+    print(f"{'design':<16}{'pixels':>11}" + "".join(f"{x:>11,g}" for x in lux) + "  lux")
     for design in HIGH_TIER:
         epc = evaluate(lux, **design.evaluate_kwargs()).epc
-        print(f"{design.name:<18}{design.pixel_count / 1e6:>7.2f}M"
-              + "".join(f"{e / 1e6:>10.3f}" for e in epc))
+        print(f"{design.name:<16}{design.pixel_count:>11,}"
+              + "".join(f"{e:>11,.0f}" for e in epc))
 
 
 def main_job(args) -> int:
@@ -54,7 +59,7 @@ def main_job(args) -> int:
 
 
 def build_parser(commands: dict) -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="epc-fast", description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(prog="epc-fast", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"epc_fast {__version__}")
     parser.add_argument("--check-points", type=int, default=20000,
                         help="random points for the core-vs-reference self-check (main job)")

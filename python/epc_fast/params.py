@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Param", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS", "in_domain", "BIG", "TINY",
-           "SNR_DB_MIN", "SNR_DB_MAX"]
+__all__ = ["Param", "ParameterTable", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS",
+           "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX"]
 
 INF = math.inf
 #: The largest magnitude of a parameter that physics leaves unbounded (see the module docstring).
@@ -71,20 +71,56 @@ class Param:
         right = "]" if self.hi_closed else ")"
         return f"{left}{self.lo:g}, {self.hi:g}{right}"
 
+    @property
+    def keywords(self) -> tuple[str, ...]:
+        """The keywords of :func:`epc_fast.evaluate` that set it: its name, or for the sensor's
+        size slot ``"size"`` the ways of giving a sensor's size."""
+        return SIZE_KEYWORDS if self.name == "size" else (self.name,)
+
+    @property
+    def unit(self) -> str:
+        """The unit, as the meaning starts with it."""
+        return self.meaning.split(": ", 1)[0]
+
+
+class ParameterTable(tuple):
+    """The parameters (a tuple of :class:`Param`), printed as a table: keyword, unit, default,
+    domain and meaning."""
+
+    __slots__ = ()
+
+    def __str__(self) -> str:
+        rows = [("keyword", "unit", "default", "domain", "meaning")]
+        for p in self:
+            default = ("required" if p.default is None and p.name != "electrons_per_lux_s_m2"
+                       else "D50" if p.default is None else f"{p.default:g}")
+            keyword = " | ".join(SIZE_PARAMETERS) if p.name == "size" else p.name
+            rows.append((keyword, p.unit, default, p.domain_text(),
+                         p.meaning.split(": ", 1)[-1]))
+        widths = [max(len(row[i]) for row in rows) for i in range(4)]
+        return "\n".join("  ".join(cell.ljust(w) for cell, w in zip(row, widths)) + "  " + row[4]
+                         for row in rows)
+
+    def __repr__(self) -> str:
+        return str(self)
+
 
 def _p(name, default, lo, hi, lo_closed, hi_closed, meaning):
     return Param(name, default, float(lo), float(hi), lo_closed, hi_closed, meaning)
 
 
 # The order is the core's parameter order (cpp/include/epc_fast/params.h, enum ParamIndex).
-# "size" is pixel_count or sensor_area_mm2: exactly one is given per call.
-PARAMETERS: tuple[Param, ...] = (
+# "size" is the core's slot for the sensor's size, a pixel count or an area in mm^2: evaluate
+# takes it as pixel_count or sensor_area_mm2 (or makes the area of a width and a height, or of
+# a diagonal and an aspect ratio), never as "size".
+PARAMETERS: tuple[Param, ...] = ParameterTable((
     _p("illuminance_lux", None, 0, BIG, True, False, "lux: illuminance on the gray target"),
     _p("pixel_pitch_um", None, 0, BIG, False, False, "um: pixel pitch"),
     _p("f_number", None, TINY, INF, False, False, "1: working f-number"),
     _p("focal_length_mm", None, 0, BIG, False, False, "mm: focal length"),
     _p("size", None, 0, BIG, False, False,
-       "pixels (pixel_count) or mm^2 (sensor_area_mm2): the sensor's size"),
+       "pixels or mm^2: the sensor's size, as pixel_count or sensor_area_mm2 (or "
+       "sensor_width_mm and sensor_height_mm, or sensor_diagonal_mm and aspect)"),
     _p("reflectance", 0.4, 0, 1, True, True, "1: reflectance of the Lambertian gray target"),
     _p("lens_transmittance", 1.0, 0, 1, True, True, "1: lens and filter transmittance"),
     _p("field_angle_deg", 0.0, -90, 90, False, False,
@@ -104,12 +140,15 @@ PARAMETERS: tuple[Param, ...] = (
     _p("jitter_um", 0.0, 0, INF, True, False, "um: rms Gaussian jitter (0: off)"),
     _p("wavelength_nm", 550.0, TINY, INF, False, False, "nm: wavelength for diffraction"),
     _p("mtf_threshold", 0.5, 0, 1, False, False, "1: MTF level defining the cut-off (0.5: f50)"),
-)
+))
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)
 
 #: The two public names of the "size" slot.
 SIZE_PARAMETERS = ("pixel_count", "sensor_area_mm2")
+#: Every keyword that gives a sensor's size (evaluate makes an area of the others).
+SIZE_KEYWORDS = SIZE_PARAMETERS + ("sensor_width_mm", "sensor_height_mm", "sensor_diagonal_mm",
+                                   "aspect")
 
 
 def in_domain(param: Param, values) -> np.ndarray:

@@ -24,15 +24,13 @@ import numbers
 
 import numpy as np
 
-__all__ = ["SNR_AT", "SHAPE_KEYWORDS", "SIZE_KEYWORDS", "aspect_ratio", "sensor_shape",
+__all__ = ["SNR_AT", "SHAPE_KEYWORDS", "aspect_ratio", "sensor_shape",
            "corner_field_angle_deg", "check_snr_at", "snr_at_text", "design_parameters"]
 
 #: The named places where the SNR target can be met.
 SNR_AT = ("axis", "corner")
 #: The keywords that give a sensor's shape (width and height, or diagonal and aspect).
 SHAPE_KEYWORDS = ("sensor_width_mm", "sensor_height_mm", "sensor_diagonal_mm", "aspect")
-#: Every keyword that gives a sensor's size, in the order error messages name them.
-SIZE_KEYWORDS = SHAPE_KEYWORDS + ("sensor_area_mm2", "pixel_count")
 #: How a sensor's size can be given, for error messages.
 SIZE_WAYS = ("pixel_count, or sensor_area_mm2, or sensor_width_mm and sensor_height_mm, "
              "or sensor_diagonal_mm and aspect")

@@ -15,7 +15,10 @@ def add_arguments(parser) -> None:
                         help="folder to write into, created if missing (default: figures)")
     parser.add_argument("--backend", choices=("core", "reference"), default="core",
                         help="the compiled core or the NumPy reference (default: core)")
-    parser.add_argument("--threads", type=int, default=None,
+    from ..api import MAX_THREADS
+    from .scan import _whole
+
+    parser.add_argument("--threads", type=_whole("--threads", 1, MAX_THREADS), default=None,
                         help="core threads (default: OMP_NUM_THREADS or every core)")
 
 

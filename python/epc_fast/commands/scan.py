@@ -20,7 +20,7 @@ HELP = ("scan a design space from a TOML config (default: the built-in one) and 
 MAX_PRINTED_ROWS = 24
 #: Points of the default scan the main job runs.
 MAIN_JOB_POINTS = 200_000
-#: Columns of the main job's compact table: EPC columns are shown in megapixels.
+#: Columns of the main job's compact table (EPC in pixels).
 MAIN_JOB_EPC_COLUMNS = ("mean", "q5", "q50", "q95")
 MAIN_JOB_FRACTION_COLUMN = "P(epc < 2e+06)"
 #: Exit codes of a scan stopped by SIGINT and SIGTERM (128 + the signal's number).
@@ -236,9 +236,11 @@ def run(args) -> int:
             client.close()
     print(headline(result, config.source))
     print(config.space.describe())
+    units = tables.grouping_units(result)
     for grouping, columns in tables.grouped_tables(result).items():
         if len(next(iter(columns.values()))) <= MAX_PRINTED_ROWS:
-            print(f"\nby {grouping}:\n{tables.markdown(columns)}")
+            unit = f" ({units[grouping]})" if grouping in units else ""
+            print(f"\nby {grouping}{unit}:\n{tables.markdown(columns)}")
     print()
     for note in _quantile_notes(result):
         print(note)
@@ -264,7 +266,8 @@ def run(args) -> int:
 
 
 def print_default_scan(points: int = MAIN_JOB_POINTS) -> None:
-    """The main job's scan: the built-in config on ``points`` points, a compact table."""
+    """The main job's scan: the built-in config on ``points`` points, a compact table (EPC in
+    pixels, as everywhere)."""
     from ..scan import run as run_scan
     from ..scan import tables
     from ..scan.config import default_config
@@ -274,9 +277,9 @@ def print_default_scan(points: int = MAIN_JOB_POINTS) -> None:
     result = run_scan(config.space, **config.run_kwargs(), progress=False)
     summary = tables.grouped_tables(result)["design"]
     compact = {"design": summary["design"],
-               **{f"{c} (Mpx)": [v / 1e6 for v in summary[c]] for c in MAIN_JOB_EPC_COLUMNS},
-               "P(EPC < 2 Mpx)": summary[MAIN_JOB_FRACTION_COLUMN]}
+               **{f"{c} (pixels)": summary[c] for c in MAIN_JOB_EPC_COLUMNS},
+               "P(EPC < 2,000,000)": summary[MAIN_JOB_FRACTION_COLUMN]}
     print("\nDefault scan (epc-fast scan --show-config): EPC over log-uniform 10..100,000 lux "
-          "and log-normal hand shake (median 4.39 deg/s):")
+          "and log-normal hand shake (median 4.39 deg/s), 30 dB met at the image corner:")
     print(headline(result, config.source))
     print(tables.markdown(compact))

@@ -145,6 +145,8 @@ class QuantilesResult:
     labels : {column: list}, each group's label.
     q : float64 (nq,), the probabilities.
     estimate : float64 (groups, nq), the output's unit; NaN for a group with no finite value.
+        Rows are the groups in the order of ``labels``, columns the probabilities of ``q``;
+        :meth:`quantile` reads it by probability and label.
     lower, upper : float64 (groups, nq), the output's unit: the sample quantile
         (``np.quantile``'s default "linear" method, or any method between the two order
         statistics around it) lies in [lower, upper], and so does the estimate. Equal to
@@ -167,6 +169,36 @@ class QuantilesResult:
         """Table columns, one row per group: ``q5``, ``q50``, ... for q = 0.05, 0.5, ..."""
         return {**self.labels, **{f"q{100 * q:g}": self.estimate[:, i]
                                   for i, q in enumerate(self.q)}}
+
+    def quantile(self, q: float, **group):
+        """The estimate of probability ``q`` (one of :attr:`q`), by group label.
+
+        Without ``group``: {label: estimate} in group order, the label being the group's one
+        label (e.g. the design's name) or the tuple of its labels. With ``group`` (label
+        columns as keywords, e.g. ``design='1/3.2" 1.4 um'``): the estimate of the one group
+        they match, a float. ``result["quantiles"].quantile(0.5)`` gives each design's median.
+        """
+        matches = np.flatnonzero(np.isclose(self.q, q, rtol=1e-12, atol=0.0))
+        if matches.size == 0:
+            raise ValueError(f"q={q!r} is not one of this result's probabilities "
+                             f"{[float(x) for x in self.q]}")
+        column = self.estimate[:, matches[0]]
+        names = list(self.labels)
+        rows = list(zip(*self.labels.values())) if names else [()]
+        if not group:
+            keys = [row[0] if len(row) == 1 else row for row in rows]
+            return {key: float(value) for key, value in zip(keys, column)}
+        unknown = sorted(set(group) - set(names))
+        if unknown:
+            raise ValueError(f"{', '.join(unknown)}: not a label column of this result "
+                             f"({', '.join(names) or 'a single group'})")
+        found = [i for i, row in enumerate(rows)
+                 if all(row[names.index(k)] == v for k, v in group.items())]
+        if len(found) != 1:
+            what = "no group" if not found else f"{len(found)} groups"
+            raise ValueError(f"{what} match {group}; give a value of each label column "
+                             f"({', '.join(names)})")
+        return float(column[found[0]])
 
     def error_statement(self) -> str:
         """One line: how exact the quantiles are.

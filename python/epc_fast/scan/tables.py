@@ -14,8 +14,14 @@ import numpy as np
 
 from .runner import ScanResult
 
-__all__ = ["grouped_tables", "table_groupings", "file_stem", "top_k_columns", "write_csv",
-           "markdown"]
+__all__ = ["grouped_tables", "grouping_units", "table_groupings", "file_stem", "top_k_columns",
+           "write_csv", "markdown", "SNR_TARGET_COLUMN", "OUTPUT_UNITS"]
+
+#: The column, after ``design``, that says where each design meets its SNR target.
+SNR_TARGET_COLUMN = "SNR target"
+#: The unit of each output a reduction may summarise.
+OUTPUT_UNITS = {"electron_rate_e_per_s": "e-/s", "electrons": "e-", "t_mpe_s": "s",
+                "blur_mm": "mm", "f50_cyc_per_mm": "cycles/mm", "epc": "pixels"}
 
 #: First characters that make a spreadsheet read a CSV cell as a formula.
 FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
@@ -50,18 +56,59 @@ def grouped_tables(result: ScanResult) -> dict:
     tables = {}
     for reduction_name, reduction in tabled.items():
         name = groupings[reduction_name]
-        table = tables.setdefault(name, {k: list(v) for k, v in reduction.labels.items()})
+        table = tables.setdefault(name, _label_columns(reduction.labels, result.space))
         for column, values in reduction.columns().items():
             if column not in reduction.labels:
                 table[f"{reduction_name} {column}" if column in table else column] = list(values)
     return tables
 
 
+def grouping_units(result: ScanResult) -> dict:
+    """{grouping: text}: the unit of each table's values (its means, extremes and quantiles),
+    e.g. ``"epc in pixels"``; fractions below a threshold are fractions (1)."""
+    tabled = {name: r for name, r in result.results.items()
+              if hasattr(r, "labels") and hasattr(r, "columns")}
+    groupings = table_groupings({name: r.labels for name, r in tabled.items()})
+    units = {}
+    for name, reduction in tabled.items():
+        if hasattr(reduction, "threshold"):
+            continue
+        outputs = units.setdefault(groupings[name], [])
+        text = f"{reduction.of} in {OUTPUT_UNITS[reduction.of]}"
+        if text not in outputs:
+            outputs.append(text)
+    return {grouping: ", ".join(texts) for grouping, texts in units.items()}
+
+
+def _label_columns(labels: dict, space) -> dict:
+    """A table's label columns; after ``design``, the column :data:`SNR_TARGET_COLUMN`: each
+    design's SNR target and where it is met (its field angle moves EPC several-fold)."""
+    columns = {}
+    for name, values in labels.items():
+        columns[name] = list(values)
+        if name == "design" and space.design_names:
+            target = dict(zip(space.design_names, space.snr_target_text()))
+            columns[SNR_TARGET_COLUMN] = [target[design] for design in values]
+    return columns
+
+
 def file_stem(grouping: str) -> str:
-    """A file name for a grouping's table: ``summary_by_<grouping>`` in letters, digits and
-    underscores."""
-    slug = "".join(c if c.isalnum() else "_" for c in grouping)
-    return "summary_by_" + "_".join(part for part in slug.split("_") if part)
+    """A file name for a grouping's table: ``summary_by_<part>_and_<part>`` in letters, digits
+    and underscores, a binned parameter's ``low`` and ``high`` columns named once as its
+    ``band`` (``"design, illuminance_lux low, illuminance_lux high"`` gives
+    ``summary_by_design_and_illuminance_lux_band``). The groupings of one scan are distinct,
+    and so are their stems: the parts are parameter names, which hold no ``_and_``."""
+    grouping, _, number = grouping.partition(" (")
+    parts = []
+    for part in grouping.split(", "):
+        for end in (" low", " high"):
+            if part.endswith(end):
+                part = part[:-len(end)] + " band"
+        if not parts or parts[-1] != part:
+            parts.append(part)
+    slug = "".join(c if c.isalnum() else "_" for c in "_and_".join(parts)
+                   + (f"_{number.rstrip(')')}" if number else ""))
+    return "summary_by_" + "_".join(piece for piece in slug.split("_") if piece)
 
 
 def top_k_columns(result: ScanResult) -> dict:
