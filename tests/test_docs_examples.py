@@ -210,3 +210,18 @@ def test_no_page_links_to_the_contract_outside_the_repository():
     for page in PAGES:
         text = page.read_text(encoding="utf-8")
         assert "shared/spec" not in text and "MODEL.md" not in text, page.name
+
+
+def test_performance_page_script_prints_one_markdown_row_per_build():
+    # docs/performance.md's table comes from this script; a small run checks its shape only.
+    done = subprocess.run(
+        [sys.executable, str(ROOT / "bench" / "performance_page.py"), "--isa", "x86-64",
+         "--points", "65536", "--reference-points", "2000", "--rounds", "1"],
+        capture_output=True, text=True, timeout=300, check=True)
+    lines = done.stdout.splitlines()
+    assert lines[0].startswith("CPU: ") and "Command: `python bench/performance_page.py" in lines[1]
+    header = next(line for line in lines if line.startswith("| build |"))
+    rows = [line for line in lines if line.startswith("| x86-64")]
+    assert len(rows) == 1 and rows[0].startswith("| x86-64 (SSE2, no FMA) | ")
+    assert rows[0].count("|") == header.count("|") == 11
+    assert "M" in rows[0] and "x |" in rows[0]
