@@ -214,8 +214,8 @@ def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
     lengths = [None if v is None else _as_float_array(k, v) for k, v in (
         ("sensor_width_mm", sensor_width_mm), ("sensor_height_mm", sensor_height_mm),
         ("sensor_diagonal_mm", sensor_diagonal_mm))]
-    shape = sensor_shape(*lengths, aspect, sensor_area_mm2=sensor_area_mm2,
-                         pixel_count=pixel_count)
+    shape = sensor_shape(sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect,
+                         sensor_area_mm2=sensor_area_mm2, pixel_count=pixel_count)
     if shape is None:
         if pixel_count is not None:
             sensor = _Sensor("pixel_count", pixel_count, True, {})

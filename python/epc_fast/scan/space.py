@@ -87,8 +87,9 @@ class Space:
     ----------
     design : sequence, Grid or Choice of designs, optional
         Designs (:class:`epc_fast.presets.Design` or mappings of :func:`epc_fast.evaluate`
-        parameters, with an optional ``"name"``). A plain sequence is a grid axis. Each design
-        must give the same parameters.
+        parameters, with an optional ``"name"``, the sensor given any way
+        :func:`epc_fast.evaluate` takes it, and ``snr_at``). A plain sequence is a grid axis. A
+        parameter some designs give and others leave out takes evaluate's default in those.
     evaluate_options : mapping, optional
         Options of :func:`epc_fast.evaluate` shared by every point: ``spectrum``, ``f50_rtol``,
         ``t_mpe_solver``, ``t_mpe_rtol``.
@@ -133,12 +134,15 @@ class Space:
         entries = [{k: v for k, v in entry.items() if k not in overridden}
                    for entry, _ in resolved]
         self.design_snr_at = tuple(where for _, where in resolved)
-        names = set(entries[0]) - {"name"}
+        names = set().union(*entries) - {"name"}
+        defaults = {p.name: p.default for p in PARAMETERS if p.default is not None}
         for entry in entries:
-            if set(entry) - {"name"} != names:
-                raise ValueError(f"every design must give the same parameters: "
-                                 f"{entries[0]['name']!r} gives {sorted(names)}, "
-                                 f"{entry['name']!r} gives {sorted(set(entry) - {'name'})}")
+            missing = sorted(names - set(entry))
+            if any(name not in defaults for name in missing):
+                raise ValueError(f"every design must give the same parameters, or leave out "
+                                 f"only parameters with a default: {entry['name']!r} gives "
+                                 f"{sorted(set(entry) - {'name'})}, others give {missing}")
+            entry.update({name: defaults[name] for name in missing})
         unknown = sorted(names - set(POINT_PARAMETERS))
         if unknown:
             raise TypeError(f"designs give unknown parameter(s) {', '.join(unknown)}; a design "
