@@ -6,10 +6,14 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
+import epc_fast
 from epc_fast.__main__ import main
+from epc_fast.commands.scan import duration
+from epc_fast.presets import HIGH_TIER
 from epc_fast.selfcheck import self_check
 
 
@@ -19,8 +23,36 @@ def test_main_job_prints_build_self_check_and_design_table(capsys):
     assert "epc_fast " in out
     assert "OpenMP: " in out and "threads: " in out
     assert "self-check passed" in out
-    # The four 1/3.2" designs, one line each.
-    assert sum(line.startswith('1/3.2"') for line in out.splitlines()) == 4
+    # The four 1/3.2" designs, one line each, EPC in pixels as in the scan's tables: the
+    # 1.4 um design's 3200 x 2400 array, then its EPC at 1000 lux (the preset, evaluated).
+    lines = out.splitlines()
+    assert sum(line.startswith('1/3.2"') for line in lines) == 4
+    assert "EPC in pixels of the paper's 1/3.2\" designs (30 dB met at the image corner, " \
+        "27.03 deg)" in out
+    row = next(line for line in lines if line.startswith('1/3.2" 1.4 um')).split()
+    epc = epc_fast.evaluate(1000.0, **HIGH_TIER[3].evaluate_kwargs()).epc
+    assert row[3] == "7,680,000" and row[6] == f"{epc:,.0f}"
+    assert "| mean (pixels) | q5 (pixels) | q50 (pixels) | q95 (pixels) |" in out
+    assert " 0.0 s" not in out
+
+
+@pytest.mark.parametrize("seconds, text", [(0.0004, "0.4 ms"), (0.053, "53 ms"), (3.214, "3.21 s"),
+                                           (24.84, "24.8 s"), (125.2, "2 min 05 s")])
+def test_durations_keep_the_digits_that_matter(seconds, text):
+    assert duration(seconds) == text
+
+
+def test_the_version_is_pyprojects():
+    tomllib = pytest.importorskip("tomllib")
+    pyproject = Path(__file__).parents[1] / "pyproject.toml"
+    assert epc_fast.__version__ == tomllib.loads(pyproject.read_text())["project"]["version"]
+
+
+def test_usage_is_plain_text(capsys):
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = capsys.readouterr().out
+    assert "``" not in out and "The effective pixel count (EPC) of camera designs." in out
 
 
 def test_self_check_finds_the_core_and_reference_in_agreement():

@@ -170,3 +170,21 @@ def test_groups_by_design_and_binned_illuminance(backend, full, edges):
     lux_bin = np.searchsorted(edges[1:-1], points.parameters["illuminance_lux"], side="right")
     expected = np.bincount(points.indices["design"] * bins + lux_bin, minlength=4 * bins)
     assert np.array_equal(summary.points, expected)
+
+
+def test_a_quantile_is_read_by_its_probability_and_group_label():
+    from epc_fast.presets import HIGH_TIER
+    from epc_fast.scan import LogUniform, Quantiles, Space, run
+
+    space = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10.0, 1e5))
+    result = run(space, 4000, progress=False, reductions={
+        "q": Quantiles((0.05, 0.5), by="design")})["q"]
+    names = [d.name for d in HIGH_TIER]
+    assert result.quantile(0.5) == dict(zip(names, result.estimate[:, 1]))
+    assert result.quantile(0.05, design=names[3]) == result.estimate[3, 0]
+    with pytest.raises(ValueError, match=r"q=0\.25 is not one of .*\[0\.05, 0\.5\]"):
+        result.quantile(0.25)
+    with pytest.raises(ValueError, match="pitch: not a label column"):
+        result.quantile(0.5, pitch=1.4)
+    with pytest.raises(ValueError, match="no group match"):
+        result.quantile(0.5, design="none")
