@@ -23,8 +23,8 @@ from ..plot_layout import freeze_layout, place_line_labels, place_vertical_line_
 from ..plot_text import output_scale, quantity_label, quantity_unit, unit_text
 from .histograms import HistogramResult, QuantilesResult
 
-__all__ = ["plot_distributions", "plot_bands", "bands_parameter", "bands_parameter_of",
-           "plain_text"]
+__all__ = ["plot_distributions", "plot_bands", "distribution_figure", "bands_figure",
+           "bands_parameter", "bands_parameter_of", "plain_text"]
 
 #: The colour of threshold lines and their labels.
 THRESHOLD_COLOR = "0.15"
@@ -89,6 +89,11 @@ def _share(count: int, total: int) -> str:
 
 
 def plot_distributions(histogram: HistogramResult, path, fractions_below=()) -> None:
+    """Write :func:`distribution_figure` to ``path`` (PNG)."""
+    _save(distribution_figure(histogram, fractions_below), path)
+
+
+def distribution_figure(histogram: HistogramResult, fractions_below=()):
     """One curve per group: the fraction of its finite points whose output is below x (log x).
 
     The x axis spans the histogram's bins: each curve starts at its group's share of points
@@ -96,6 +101,10 @@ def plot_distributions(histogram: HistogramResult, path, fractions_below=()) -> 
     threshold of ``fractions_below`` (FractionBelowResult, those of the same output) is a
     labelled vertical line; where such a result has the histogram's groups, each group's
     fraction below the threshold is a dot on the line and a number in the legend.
+
+    Returns
+    -------
+    matplotlib.figure.Figure, its layout fixed.
     """
     divisor, of = output_scale(histogram.of), histogram.of
     figure = _figure()
@@ -142,7 +151,7 @@ def plot_distributions(histogram: HistogramResult, path, fractions_below=()) -> 
                                   f"threshold {_value_text(threshold, of)}",
                                   renderer=renderer, fontsize=9, color=THRESHOLD_COLOR,
                                   lines=curves)
-    _save(figure, path)
+    return figure
 
 
 def bands_parameter(quantiles: QuantilesResult) -> str | None:
@@ -159,11 +168,20 @@ def bands_parameter_of(labels) -> str | None:
 
 
 def plot_bands(quantiles: QuantilesResult, path, fractions_below=()) -> None:
+    """Write :func:`bands_figure` to ``path`` (PNG)."""
+    _save(bands_figure(quantiles, fractions_below), path)
+
+
+def bands_figure(quantiles: QuantilesResult, fractions_below=()):
     """The quantiles against the binned parameter (log axis, bin centres), one panel per other
     group: the middle quantile a line, shaded between the outermost quantiles and, lighter
     outside darker, the next pair in; the other groups' middle quantiles thin and grey for
     comparison. Each threshold of ``fractions_below`` (FractionBelowResult, those of the
     same output) is a labelled horizontal line in every panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure, its layout fixed.
     """
     parameter = bands_parameter(quantiles)
     of = quantiles.of
@@ -219,4 +237,4 @@ def plot_bands(quantiles: QuantilesResult, path, fractions_below=()) -> None:
         place_line_labels(axes, levels, [_value_text(t, of) for t in thresholds],
                           renderer=renderer, fontsize=8, colors=[THRESHOLD_COLOR] * len(levels),
                           lines=[line for line in axes.lines if line.get_linestyle() == "-"])
-    _save(figure, path)
+    return figure

@@ -1,0 +1,45 @@
+"""What the figure tests measure: the boxes the renderer gives each label, and whether they
+touch each other, a curve or a marker."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+from matplotlib.text import Text
+
+from epc_fast.plot_layout import line_points
+
+
+def label_boxes(figure, ax) -> dict:
+    """{text: display box} of each annotation in ``ax``: the text alone, without its leader."""
+    renderer = figure.canvas.get_renderer()
+    boxes = {}
+    for text in ax.texts:
+        if hasattr(text, "update_positions"):  # an Annotation: its text placed from its xy
+            text.update_positions(renderer)
+        boxes[text.get_text()] = Text.get_window_extent(text, renderer)
+    return boxes
+
+
+def overlapping_pairs(boxes: dict) -> list:
+    """Pairs of labels whose boxes share any area."""
+    return [(a, b) for (a, box_a), (b, box_b) in itertools.combinations(boxes.items(), 2)
+            if box_a.x0 < box_b.x1 and box_b.x0 < box_a.x1 and box_a.y0 < box_b.y1
+            and box_b.y0 < box_a.y1]
+
+
+def labels_on_lines(boxes: dict, lines) -> list:
+    """Labels a drawn line passes through (points along it 1 px apart)."""
+    points = line_points(lines)
+    return [name for name, box in boxes.items()
+            if np.any((points[:, 0] > box.x0) & (points[:, 0] < box.x1)
+                      & (points[:, 1] > box.y0) & (points[:, 1] < box.y1))]
+
+
+def labels_outside(boxes: dict, figure, ax) -> list:
+    """Labels not wholly inside the axes."""
+    frame = ax.get_window_extent(figure.canvas.get_renderer())
+    return [name for name, box in boxes.items()
+            if box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0
+            or box.y1 > frame.y1]

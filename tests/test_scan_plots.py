@@ -1,0 +1,149 @@
+"""The scan's figures (epc_fast.scan.plots): what a reader must find in them, read back from
+the matplotlib objects: units in the labels, the threshold drawn where it is, the low cut
+stated, one readable panel per group, no label on a curve."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from epc_fast import scan
+from epc_fast.presets import HIGH_TIER
+
+matplotlib = pytest.importorskip("matplotlib")
+
+from epc_fast.plot_layout import line_points  # noqa: E402
+from epc_fast.scan.plots import (bands_figure, distribution_figure, plot_bands,  # noqa: E402
+                                 plot_distributions)
+
+THRESHOLD = 2e6
+POINTS = 40_000
+
+
+@pytest.fixture(scope="module")
+def result():
+    space = scan.Space(design=HIGH_TIER, illuminance_lux=scan.LogUniform(10, 100_000),
+                       shake_deg_per_s=scan.LogNormal(median=4.39, sigma=0.5))
+    return scan.run(space, points=POINTS, seed=7, threads=1, reductions={
+        "distribution": scan.Histogram(1e3, 1e7, 80, by="design"),
+        "below": scan.FractionBelow(THRESHOLD, by="design"),
+        "below_all": scan.FractionBelow(THRESHOLD),
+        "bands": scan.Quantiles([0.05, 0.25, 0.5, 0.75, 0.95], by=(
+            "design", scan.Binned("illuminance_lux", np.geomspace(10, 1e5, 9)))),
+    })
+
+
+def _fractions(result):
+    return [result["below"], result["below_all"]]
+
+
+def _renderer(figure):
+    return figure.canvas.get_renderer()
+
+
+def test_the_distribution_draws_the_threshold_at_2_mpixel_and_labels_it(result):
+    figure = distribution_figure(result["distribution"], _fractions(result))
+    ax = figure.axes[0]
+    dashed = [line for line in ax.lines if line.get_linestyle() == "--"]
+    # Two fraction_below results with the same threshold: one line.
+    assert len(dashed) == 1 and list(dashed[0].get_xdata()) == [2.0, 2.0]
+    labels = [t for t in ax.texts if "2 Mpixel" in t.get_text()]
+    assert len(labels) == 1 and labels[0].get_text() == "threshold 2 Mpixel"
+    assert ax.get_xlabel() == "EPC (Mpixel)"
+
+
+def test_the_distribution_marks_each_groups_fraction_below_the_threshold(result):
+    figure = distribution_figure(result["distribution"], _fractions(result))
+    ax = figure.axes[0]
+    dots = [line for line in ax.lines if line.get_marker() == "o"]
+    # Only the per-design result has the histogram's groups: four dots, none for the total.
+    assert len(dots) == len(HIGH_TIER)
+    np.testing.assert_array_equal([d.get_ydata()[0] for d in dots], result["below"].fraction)
+    assert all(d.get_xdata()[0] == 2.0 for d in dots)
+    legend = figure.legends[0]
+    for text, fraction in zip(legend.get_texts(), result["below"].fraction):
+        assert f"{fraction:.1%} below 2 Mpixel" in text.get_text()
+
+
+def test_the_distribution_states_where_its_axis_cuts_the_low_tail(result):
+    histogram = result["distribution"]
+    assert histogram.below.min() > 0  # the cut hides points: the figure must say so
+    figure = distribution_figure(histogram, _fractions(result))
+    ax = figure.axes[0]
+    legend = figure.legends[0]
+    assert "low edge, 0.001 Mpixel" in legend.get_title().get_text()
+    assert ax.get_xlim()[0] == pytest.approx(1e-3)
+    totals = histogram.counts.sum(axis=1) + histogram.below + histogram.above
+    for text, below, total in zip(legend.get_texts(), histogram.below, totals):
+        assert f"{below / total:.1%} below 0.001 Mpixel" in text.get_text()
+    # Each curve starts at its share below the cut, the value the legend gives.
+    curves = [line for line in ax.lines if line.get_linestyle() == "-"]
+    np.testing.assert_allclose([c.get_ydata()[0] for c in curves], histogram.below / totals,
+                               rtol=1e-15)
+
+
+def test_the_distribution_names_designs_in_micrometres(result):
+    figure = distribution_figure(result["distribution"], _fractions(result))
+    texts = [t.get_text() for t in figure.legends[0].get_texts()]
+    assert all("µm" in t and " um" not in t for t in texts)
+
+
+def test_the_threshold_label_touches_no_curve(result):
+    figure = distribution_figure(result["distribution"], _fractions(result))
+    ax = figure.axes[0]
+    label = next(t for t in ax.texts if "threshold" in t.get_text())
+    box = label.get_window_extent(_renderer(figure))
+    points = line_points([line for line in ax.lines if line.get_linestyle() == "-"])
+    inside = ((points[:, 0] > box.x0) & (points[:, 0] < box.x1) & (points[:, 1] > box.y0)
+              & (points[:, 1] < box.y1))
+    assert not inside.any()
+    assert ax.get_window_extent(_renderer(figure)).contains(box.x0, box.y0)
+
+
+def test_the_bands_have_one_panel_per_design_with_two_shades_and_a_median(result):
+    quantiles = result["bands"]
+    figure = bands_figure(quantiles, _fractions(result))
+    panels = [ax for ax in figure.axes if ax.get_visible()]
+    assert [ax.get_title() for ax in panels] == [d.name.replace(" um", " µm")
+                                                for d in HIGH_TIER]
+    for index, ax in enumerate(panels):
+        shades = [c for c in ax.collections]
+        assert len(shades) == 2  # q 0.05 to 0.95 and q 0.25 to 0.75
+        assert shades[0].get_alpha() < shades[1].get_alpha()  # the inner band is darker
+        median = next(line for line in ax.lines if line.get_linewidth() == 2)
+        rows = slice(index * 8, index * 8 + 8)  # 8 illuminance bins a design, design first
+        np.testing.assert_array_equal(median.get_ydata(), quantiles.estimate[rows, 2] / 1e6)
+        threshold = [line for line in ax.lines if line.get_linestyle() == "--"]
+        assert len(threshold) == 1 and list(threshold[0].get_ydata()) == [2.0, 2.0]
+        assert [t.get_text() for t in ax.texts] == ["2 Mpixel"]
+    legend = [t.get_text() for t in figure.legends[0].get_texts()]
+    assert legend == ["q 0.5 of the other groups", "q 0.05 to 0.95", "q 0.25 to 0.75",
+                      "q 0.5 (median)"]
+
+
+def test_the_bands_label_their_axes_in_words_with_units(result):
+    figure = bands_figure(result["bands"], _fractions(result))
+    bottom = [ax for ax in figure.axes if ax.get_xlabel()]
+    assert len(bottom) == 2 and {ax.get_xlabel() for ax in bottom} == {"Illuminance (lux)"}
+    assert figure.get_supylabel() == "EPC (Mpixel)"
+    assert "illuminance_lux" not in figure.get_suptitle()
+
+
+def test_an_odd_number_of_groups_keeps_an_x_axis_under_every_column(result):
+    space = scan.Space(design=HIGH_TIER[:3], illuminance_lux=scan.LogUniform(10, 100_000))
+    three = scan.run(space, points=6_000, seed=1, threads=1, reductions={
+        "bands": scan.Quantiles([0.1, 0.5, 0.9], by=(
+            "design", scan.Binned("illuminance_lux", np.geomspace(10, 1e5, 5))))})
+    figure = bands_figure(three["bands"])
+    visible = [ax for ax in figure.axes if ax.get_visible()]
+    assert len(visible) == 3
+    # Panel 1 (top right) has no panel below it: it carries the x label and tick labels.
+    assert [bool(ax.get_xlabel()) for ax in visible] == [False, True, True]
+    assert all(len(ax.collections) == 1 for ax in visible)  # one pair of quantiles around q 0.5
+
+
+def test_the_plots_write_pngs(result, tmp_path):
+    plot_distributions(result["distribution"], tmp_path / "d.png", _fractions(result))
+    plot_bands(result["bands"], tmp_path / "b.png")
+    for name in ("d.png", "b.png"):
+        assert (tmp_path / name).read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
