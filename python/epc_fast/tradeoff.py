@@ -15,7 +15,7 @@ for polychromatic diffraction). For each setting this module measures
 :func:`pareto_front` picks the settings that no other setting beats on both at once.
 ``epc-fast bench`` (:mod:`epc_fast.commands.bench`) is the command line. Settings whose knob
 the installed :func:`evaluate` does not take are skipped (:func:`split_by_knobs`), so the list
-can name knobs before they land.
+may name knobs a build lacks.
 
 This module measures; it never imports matplotlib. The tables are
 :mod:`epc_fast.tradeoff_tables`, the plot :mod:`epc_fast.tradeoff_plot`, the check of the
@@ -226,8 +226,8 @@ def points_per_s(points: Mapping, kwargs_list: Sequence[Mapping], threads: Seque
 
     Every call writes into one set of output arrays, made by the first warm-up call and passed
     back as ``out=``: the time is the model's, not that of paging in fresh output arrays, which
-    would add the same cost to every setting (a third of a 200,000-point call on the VM the
-    README's table comes from) and so flatten their differences.
+    would add the same cost to every setting (a large share of the fast settings' time) and
+    so flatten their differences.
 
     The rounds are interleaved (round 1 of every setting, then round 2, ...), so that a
     machine that slows down or speeds up during the run (other work, clock changes) moves
