@@ -4,8 +4,15 @@ The format, section by section (every value in the unit of the parameter it sets
 
     [scan]                       # points (required), seed, chunk_points, threads
     [design]                     # presets = ["HIGH_TIER", ...] (names in epc_fast.presets),
-                                 # [[design.custom]] tables of parameters with a name,
                                  # sampling = "grid" | "choice", weights = [...]
+    [[design.custom]]            # name, evaluate's parameters, the sensor as
+                                 #   sensor_width_mm + sensor_height_mm
+                                 #   | sensor_diagonal_mm + aspect ("4:3")
+                                 #   | sensor_area_mm2 | pixel_count,
+                                 #   snr_at = "corner" | "axis" (or field_angle_deg): where the
+                                 #   SNR target is met; default the corner when the sensor's
+                                 #   shape and the focal length are given, as for the presets,
+                                 #   else the axis (docs/sensor.md)
     [parameters]                 # name = 2.0 | {grid = [...]} | {choice = [...], weights = [...]}
                                  #   | {distribution = "uniform", low, high} | "log_uniform"
                                  #   | "normal" (mean, std) | "lognormal" (median, sigma)
