@@ -147,3 +147,15 @@ def test_the_plots_write_pngs(result, tmp_path):
     plot_bands(result["bands"], tmp_path / "b.png")
     for name in ("d.png", "b.png"):
         assert (tmp_path / name).read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
+
+
+def test_a_histogram_that_hides_no_point_says_nothing_of_a_cut():
+    space = scan.Space(design=HIGH_TIER[:1], illuminance_lux=scan.LogUniform(10, 100_000))
+    linear = scan.run(space, points=4_000, seed=3, threads=1, reductions={
+        "distribution": scan.Histogram(0.0, 3e6, 30, log=False)})["distribution"]
+    assert linear.below.sum() == 0 and linear.above.sum() == 0
+    figure = distribution_figure(linear)
+    ax = figure.axes[0]
+    assert ax.get_xscale() == "linear" and ax.get_xlim() == (0.0, 3.0)
+    assert not figure.legends[0].get_title().get_text()
+    assert [t.get_text() for t in figure.legends[0].get_texts()] == ["all"]

@@ -66,6 +66,9 @@ def plot_tradeoff(measurements: Sequence[Measurement], front: Sequence[int], *, 
     ax.set_yscale("log")
     if shown:
         _make_room(ax, [x[i] for i in shown], [y[i] for i in shown])
+    else:  # nothing measured: empty axes over a typical range, not a log axis without data
+        ax.set_xlim(1e-16, 1e-6)
+        ax.set_ylim(1.0, 100.0)
     _plain_numbers(ax.yaxis)
     ax.set_xlabel("Max relative error of f50 against the NumPy reference")
     ax.set_ylabel(f"Throughput (M points/s, {threads} thread{'s' if threads > 1 else ''})")

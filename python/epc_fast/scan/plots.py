@@ -113,13 +113,16 @@ def distribution_figure(histogram: HistogramResult, fractions_below=()):
     names = _group_names(histogram.labels)
     same_groups = [r for r in fractions_below
                    if r.of == of and _same_groups(r.labels, histogram.labels)]
+    cut = bool(histogram.below.any())  # points left of the axis: the figure says how many
     curves = []
     for g, (counts, below, total, name) in enumerate(zip(histogram.counts, histogram.below,
                                                           totals, names)):
         cumulative = np.concatenate(([below], below + np.cumsum(counts))) / max(total, 1)
-        label = f"{name}: {_share(below, total)} below {_value_text(histogram.edges[0], of)}"
-        for r in same_groups:
-            label += f", {r.fraction[g]:.1%} below {_value_text(r.threshold, of)}"
+        parts = [f"{_share(below, total)} below {_value_text(histogram.edges[0], of)}"] \
+            if cut else []
+        parts += [f"{r.fraction[g]:.1%} below {_value_text(r.threshold, of)}"
+                  for r in same_groups]
+        label = f"{name}: {', '.join(parts)}" if parts else name
         curve, = axes.step(histogram.edges / divisor, cumulative, where="post", label=label,
                            color=f"C{g % 10}")
         curves.append(curve)
@@ -129,22 +132,26 @@ def distribution_figure(histogram: HistogramResult, fractions_below=()):
     thresholds = _thresholds(fractions_below, of)
     for threshold in thresholds:
         axes.axvline(threshold / divisor, color=THRESHOLD_COLOR, ls="--", lw=1.2)
-    axes.set_xscale("log")
+    if histogram.edges[0] > 0:  # bins from a positive edge are drawn on a log axis
+        axes.set_xscale("log")
     axes.set_xlim(histogram.edges[0] / divisor, histogram.edges[-1] / divisor)
     axes.set_xlabel(quantity_label(of))
     axes.set_ylabel("Fraction of points below x")
     axes.set_ylim(0.0, 1.02)
     axes.grid(True, alpha=0.3)
     axes.set_title(f"Cumulative distribution of {quantity_label(of)} per group")
-    note = (f"The x axis starts at the histogram's low edge, "
-            f"{_value_text(histogram.edges[0], of)}:\neach curve starts at its group's share "
-            f"of points below it.")
+    notes = []
+    if cut:
+        notes.append(f"The x axis starts at the histogram's low edge, "
+                     f"{_value_text(histogram.edges[0], of)}:\neach curve starts at its "
+                     f"group's share of points below it.")
     if histogram.above.any():
-        note += f" Points at or above {_value_text(histogram.edges[-1], of)} lie right of it."
+        notes.append(f"Points at or above {_value_text(histogram.edges[-1], of)} lie right "
+                     f"of the axis.")
     if histogram.nonfinite.any():
-        note += " Points whose value is not finite are not counted."
+        notes.append("Points whose value is not finite are not counted.")
     figure.legend(loc="outside lower center", ncols=1, fontsize="small", frameon=False,
-                  title=note, title_fontsize="small")
+                  title="\n".join(notes) or None, title_fontsize="small")
     renderer = freeze_layout(figure)
     for threshold in thresholds:
         place_vertical_line_label(axes, threshold / divisor,
@@ -196,7 +203,8 @@ def bands_figure(quantiles: QuantilesResult, fractions_below=()):
     groups = list(dict.fromkeys(names))
     columns = 1 if len(groups) == 1 else (2 if len(groups) <= 6 else 3)
     rows = math.ceil(len(groups) / columns)
-    figure = _figure((4.0 * columns + 0.6, 2.5 * rows + 1.6))
+    size = (7.5, 5.0) if len(groups) == 1 else (4.0 * columns + 0.6, 2.5 * rows + 1.6)
+    figure = _figure(size)
     panels = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False).ravel()
     thresholds = _thresholds(fractions_below, of)
     for index, (axes, group) in enumerate(zip(panels, groups)):
@@ -229,7 +237,8 @@ def bands_figure(quantiles: QuantilesResult, fractions_below=()):
         axes.set_visible(False)
     figure.supylabel(quantity_label(of), fontsize=10)
     figure.suptitle(f"{quantity_label(of)} against {_in_sentence(quantity_label(parameter))}: "
-                    f"quantiles per bin, one panel per group", fontsize=11)
+                    f"quantiles per bin" + (", one panel per group" if len(groups) > 1 else ""),
+                    fontsize=11)
     figure.legend(loc="outside lower center", ncols=4, fontsize="small", frameon=False)
     renderer = freeze_layout(figure)
     for axes in panels[:len(groups)]:
