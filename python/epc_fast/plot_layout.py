@@ -67,7 +67,8 @@ def _densify(xy: np.ndarray, spacing_px: float) -> np.ndarray:
 
 
 def marker_boxes(points_px, size_pt: float, dpi: float) -> list[tuple]:
-    """Boxes (x0, y0, x1, y1, display) of markers ``size_pt`` wide centred on ``points_px``."""
+    """Display boxes (x0, y0, x1, y1) of markers ``size_pt`` wide centred on ``points_px``
+    (display coordinates), at ``dpi`` pixels per inch."""
     half = size_pt * dpi / 72.0 / 2.0
     return [(x - half, y - half, x + half, y + half) for x, y in points_px]
 
@@ -108,8 +109,6 @@ class _Placer:
     """The free space of one axes: label boxes taken, obstacle boxes, points of lines."""
 
     def __init__(self, ax, renderer, obstacles=(), lines=()):
-        self.ax = ax
-        self.renderer = renderer
         self.px_per_pt = ax.figure.dpi / 72.0
         self.pad = _PAD_PT * self.px_per_pt
         bounds = ax.get_window_extent(renderer)
