@@ -1,6 +1,7 @@
-"""Fits the f50 solvers' starting guesses (cpp/include/epc_fast/f50_start.h).
+"""Fits the f50 solvers' starting guesses and writes their coefficients to
+cpp/include/epc_fast/f50_start_coefficients.h (f50_start.h evaluates them).
 
-Three fits, printed as C++ for f50_start.h with their largest and median errors:
+Three fits, written as C++ tables with their largest and median errors:
 
 - `accurate`: one wavelength and no jitter, where f50 depends on two numbers only; one table
   row per threshold of ACCURATE_THRESHOLDS (MTF50, 30, 20, 10). Fitted to 1e-8..5e-5, so that
@@ -11,6 +12,10 @@ Three fits, printed as C++ for f50_start.h with their largest and median errors:
 - `cubic`: every other scene (jitter at another threshold, another threshold, a spectrum), a
   cheap guess to 0.4%.
 
+The fits are deterministic (fixed nodes and seeds): re-running the script rewrites the same
+file. `read_header` reads a written file back into the same tables, so that a test checks the
+file is exactly what `coefficients_header` makes of its own numbers.
+
 `--check` instead measures the installed core's accurate and jitter starts densely against the
 bisected f50 (core_start_errors): the evidence for f50_start.h's certified_start_error, the bound
 within which Halley and Newton take a start as f50 without a step.
@@ -20,7 +25,7 @@ a sinc of length l at X50 / l. With x_i = 1 / f_i (diffraction, pixel, motion), 
 v_i = x_i / sqrt(S), the system's f50 is f50 = P(v) / sqrt(S), where P is a smooth function on
 the unit sphere; this script fits P as a cubic polynomial in v_d, s = v_p + v_m and t = v_p v_m
 (symmetric in the two sincs), by least squares on the relative error over factor ratios
-e^-7..e^7, and prints the coefficients for f50.h with the largest and median errors.
+e^-7..e^7.
 
 The accurate fit: with no jitter the sphere has two coordinates, v_d and
 w = v_p^2 - v_m^2 (|w| <= 1 - v_d^2: no division to form it), and P(v) is smooth in both (the
@@ -28,14 +33,22 @@ sincs enter through the squares of their lengths, diffraction linearly). P is a 
 total degree ACCURATE_DEGREE in a = 2 v_d - 1 and w, even in w (swapping pixel and motion
 changes w's sign), fitted in the Chebyshev basis on Chebyshev
 nodes in v_d and s = v_p^2 / (v_p^2 + v_m^2), the largest relative error then reduced by
-Lawson's reweighting, and printed in the power basis of (a, w^2) for Horner's rule.
+Lawson's reweighting, and written in the power basis of (a, w^2) for Horner's rule.
 
-    python tools/fit_f50_start.py            # the fits, as C++
+    python tools/fit_f50_start.py            # fits (~2 min) and writes the header
+    python tools/fit_f50_start.py --stdout   # the same text on stdout instead
     python tools/fit_f50_start.py --check    # the core's starts' largest errors (~4 min)
     python tools/fit_f50_start.py --degrees 10 20 24   # MTF50's accurate start at other degrees
 """
 
+import re
+from pathlib import Path
+from typing import NamedTuple
+
 import numpy as np
+
+#: The generated header, beside f50_start.h.
+HEADER = Path(__file__).resolve().parent.parent / "cpp/include/epc_fast/f50_start_coefficients.h"
 
 NU50 = 0.4039727532995172   # D(nu) = 1/2, the circular-pupil diffraction MTF
 X50 = 0.6033545644016142    # sinc(x) = 1/2
@@ -72,16 +85,26 @@ def f50(x_d, x_p, x_m, threshold=0.5, x_j=0.0):
 
 def terms(v_d, s, t, degree=DEGREE):
     """The monomials v_d^i s^j t^k of total degree i + j + 2k <= degree, and their exponents."""
-    columns, exponents = [], []
-    for i in range(degree + 1):
-        for j in range(degree + 1 - i):
-            for k in range((degree - i - j) // 2 + 1):
-                columns.append(v_d ** i * s ** j * t ** k)
-                exponents.append((i, j, k))
-    return np.stack(columns, 1), exponents
+    exponents = cubic_exponents(degree)
+    return np.stack([v_d ** i * s ** j * t ** k for i, j, k in exponents], 1), exponents
+
+
+class Fitted(NamedTuple):
+    """One start's coefficients (a table row) with its largest and median relative errors."""
+
+    coefficients: np.ndarray
+    largest: float
+    median: float
+
+
+def cubic_exponents(degree=DEGREE):
+    """(i, j, k) of the cubic start's terms v_d^i s^j t^k, in its coefficients' order."""
+    return [(i, j, k) for i in range(degree + 1) for j in range(degree + 1 - i)
+            for k in range((degree - i - j) // 2 + 1)]
 
 
 def fit_cubic(n=400_000, seed=0):
+    """The cubic start's coefficients, in the order of cubic_exponents."""
     rng = np.random.default_rng(seed)
     x_d = np.ones(n)
     x_p = np.exp(rng.uniform(-7, 7, n))
@@ -89,12 +112,10 @@ def fit_cubic(n=400_000, seed=0):
     root_s = np.sqrt(x_d ** 2 + x_p ** 2 + x_m ** 2)
     v_d, v_p, v_m = x_d / root_s, x_p / root_s, x_m / root_s
     h = f50(x_d, x_p, x_m) * root_s
-    columns, exponents = terms(v_d, v_p + v_m, v_p * v_m)
+    columns, _ = terms(v_d, v_p + v_m, v_p * v_m)
     coefficients, *_ = np.linalg.lstsq(columns / h[:, None], np.ones(n), rcond=None)
     error = np.abs(columns @ coefficients / h - 1)
-    print(f"relative error of the start: max {error.max():.2e}, median {np.median(error):.2e}")
-    for (i, j, k), c in zip(exponents, coefficients):
-        print(f"    {{{i}, {j}, {k}, {float(c)!r}}},")
+    return Fitted(coefficients, error.max(), np.median(error))
 
 
 def accurate_target(v_d, s, threshold):
@@ -196,26 +217,6 @@ def print_degrees(degrees, threshold=0.5, nodes=80, rounds=40):
               f"relative error max {largest:.2e}, median {median:.2e}")
 
 
-def print_accurate(thresholds=ACCURATE_THRESHOLDS):
-    """Fits every threshold's row and prints the table for f50_start.h."""
-    rows = []
-    for c in thresholds:
-        power, largest, median = fit_accurate(c)
-        print(f"// threshold {c}: relative error max {largest:.2e}, median {median:.2e} "
-              f"(degree {ACCURATE_DEGREE}, power basis in float64)")
-        rows.append(power)
-    print(f"constexpr double accurate_start_thresholds[] = {{{', '.join(map(repr, thresholds))}}};")
-    print("constexpr double accurate_start_coefficients[][accurate_start_terms] = {")
-    for c, power in zip(thresholds, rows):
-        print(f"    {{  // threshold {c}")
-        for i in range(ACCURATE_DEGREE + 1):
-            print(f"        // a^{i}: z^0 .. z^{(ACCURATE_DEGREE - i) // 2}")
-            for j in range((ACCURATE_DEGREE - i) // 2 + 1):
-                print(f"        {float(power[i, j])!r},")
-        print("    },")
-    print("};")
-
-
 def jitter_target(v_d, t, s):
     """f sqrt(S) at threshold 1/2 with jitter, at v_d, t = v_j / sqrt(1 - v_d^2) (jitter's share
     of the rest) and s = v_p^2 / (v_p^2 + v_m^2), by bisection."""
@@ -286,18 +287,121 @@ def horner_jitter(power, a, u, w, degree=JITTER_DEGREE):
     return total
 
 
-def print_jitter():
+def accurate_row(power, degree=ACCURATE_DEGREE):
+    """A threshold's power-basis grid c[i][j] as its table row: a^i z^j, i outer."""
+    return np.array([power[i, j] for i in range(degree + 1) for j in range((degree - i) // 2 + 1)])
+
+
+def accurate_power(row, degree=ACCURATE_DEGREE):
+    """A table row back as the power-basis grid c[i][j] (zeros where i + 2j > degree)."""
+    power = np.zeros((degree + 1, degree // 2 + 1))
+    values = iter(row)
+    for i in range(degree + 1):
+        for j in range((degree - i) // 2 + 1):
+            power[i, j] = next(values)
+    return power
+
+
+def fit_all():
+    """Every start's fit: {threshold: Fitted} of the accurate start's rows, the jitter start's
+    and the cubic start's."""
+    accurate = {}
+    for c in ACCURATE_THRESHOLDS:
+        power, largest, median = fit_accurate(c)
+        accurate[c] = Fitted(accurate_row(power), largest, median)
     power, largest, median = fit_jitter()
-    print(f"// jitter, threshold 0.5: relative error max {largest:.2e}, median {median:.2e} "
-          f"(degree {JITTER_DEGREE}, power basis in float64)")
-    print(f"constexpr double jitter_start_coefficients[{len(power)}] = {{")
+    return accurate, Fitted(power, largest, median), fit_cubic()
+
+
+def _errors(fitted):
+    return f"relative error max {fitted.largest:.2e}, median {fitted.median:.2e}"
+
+
+def coefficients_header(accurate, jitter, cubic):
+    """The text of f50_start_coefficients.h: the three starts' tables (fit_all's results)."""
+    lines = [
+        "// Generated by tools/fit_f50_start.py (python tools/fit_f50_start.py); do not edit.",
+        "// The fitted coefficients of the f50 solvers' starting guesses, which f50_start.h",
+        "// evaluates (the fits, their variables and their domains: f50_start.h and the tool).",
+        "// Each start's largest and median relative errors against the bisected f50 are the",
+        "// tool's, over its check points (400,000 random points and the domain's edges).",
+        "#pragma once",
+        "",
+        "namespace epc_fast {",
+        "namespace detail {",
+        "",
+        "// The accurate start: one row per threshold, the coefficients of a^i z^j",
+        f"// (i + 2j <= {ACCURATE_DEGREE}) in float64, i outer.",
+        f"constexpr int accurate_start_degree = {ACCURATE_DEGREE};",
+        f"constexpr int accurate_start_terms = {accurate_terms(ACCURATE_DEGREE)};"
+        f"  // i + 2j <= {ACCURATE_DEGREE}",
+    ]
+    lines += [f"// threshold {c!r}: {_errors(f)}" for c, f in accurate.items()]
+    lines.append("constexpr double accurate_start_thresholds[] = "
+                 f"{{{', '.join(repr(float(c)) for c in accurate)}}};")
+    lines.append("constexpr double accurate_start_coefficients[][accurate_start_terms] = {")
+    for c, fitted in accurate.items():
+        lines.append(f"    {{  // threshold {c!r}")
+        values = iter(fitted.coefficients)
+        for i in range(ACCURATE_DEGREE + 1):
+            last = (ACCURATE_DEGREE - i) // 2
+            lines.append(f"        // a^{i}: z^0 .. z^{last}")
+            lines += [f"        {float(next(values))!r}," for _ in range(last + 1)]
+        lines.append("    },")
+    lines += [
+        "};",
+        "",
+        "// The jitter start (threshold 1/2): the coefficients of a^i u^k z^j",
+        f"// (i + k + 2j <= {JITTER_DEGREE}) in float64, i outer, then k.",
+        f"constexpr int jitter_start_degree = {JITTER_DEGREE};",
+        f"constexpr int jitter_start_terms = {len(jitter_exponents())};"
+        f"  // i + k + 2j <= {JITTER_DEGREE}",
+        f"// jitter, threshold 0.5: {_errors(jitter)}",
+        "constexpr double jitter_start_coefficients[jitter_start_terms] = {",
+    ]
     last = None
-    for (i, k, j), c in zip(jitter_exponents(), power):
+    for (i, k, j), c in zip(jitter_exponents(), jitter.coefficients):
         if (i, k) != last:
-            print(f"    // a^{i} u^{k}: z^0 .. z^{(JITTER_DEGREE - i - k) // 2}")
+            lines.append(f"    // a^{i} u^{k}: z^0 .. z^{(JITTER_DEGREE - i - k) // 2}")
             last = (i, k)
-        print(f"    {float(c)!r},")
-    print("};")
+        lines.append(f"    {float(c)!r},")
+    lines += [
+        "};",
+        "",
+        "// The cubic start: the coefficients c_ijk of v_d^i s^j t^k (i + j + 2k <= 3), in",
+        "// (i, j, k) order.",
+        f"constexpr int cubic_start_terms = {len(cubic_exponents())};",
+        f"// cubic, threshold 0.5, factor ratios e^-7..e^7: {_errors(cubic)}",
+        "constexpr double cubic_start_coefficients[cubic_start_terms] = {",
+    ]
+    lines += [f"    {float(c)!r},  // {e}" for e, c in zip(cubic_exponents(), cubic.coefficients)]
+    lines += [
+        "};",
+        "",
+        "}  // namespace detail",
+        "}  // namespace epc_fast",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def read_header(text):
+    """The tables of a written header, as coefficients_header takes them (the inverse of it)."""
+    def block(name):
+        body = re.search(rf"{name}\[[^]]*\](?:\[[^]]*\])? = {{(.*?)}};", text, re.S).group(1)
+        body = re.sub(r"//[^\n]*", "", body)
+        return [float(x) for x in re.findall(r"-?\d[\d.e+-]*", body)]
+
+    def errors(label):
+        found = re.search(rf"// {re.escape(label)}: relative error max (\S+), median (\S+)\n", text)
+        return float(found.group(1).rstrip(",")), float(found.group(2))
+
+    thresholds = block("accurate_start_thresholds")
+    rows = np.reshape(block("accurate_start_coefficients"), (len(thresholds), -1))
+    accurate = {c: Fitted(row, *errors(f"threshold {c!r}")) for c, row in zip(thresholds, rows)}
+    jitter = Fitted(np.array(block("jitter_start_coefficients")), *errors("jitter, threshold 0.5"))
+    cubic = Fitted(np.array(block("cubic_start_coefficients")),
+                   *errors("cubic, threshold 0.5, factor ratios e^-7..e^7"))
+    return accurate, jitter, cubic
 
 
 def core_start_errors(n_random=4_000_000, n_grid=1001, n_grid_jitter=101, chunk=1_000_000):
@@ -355,6 +459,9 @@ if __name__ == "__main__":
         for name, error in core_start_errors().items():
             print(f"{name}: largest relative error {error:.3e}")
     else:
-        print_accurate()
-        print_jitter()
-        fit_cubic()
+        text = coefficients_header(*fit_all())
+        if "--stdout" in sys.argv[1:]:
+            print(text, end="")
+        else:
+            HEADER.write_text(text)
+            print(f"wrote {HEADER}")
