@@ -118,9 +118,18 @@ def output_mismatch(expected: str, actual: str) -> str | None:
     return None
 
 
+#: NumPy's default print options, which a reader's fresh session has (another test may have
+#: changed them in this process).
+NUMPY_PRINT_DEFAULTS = dict(edgeitems=3, infstr="inf", linewidth=75, nanstr="nan", precision=8,
+                            suppress=False, threshold=1000, formatter=None, sign="-",
+                            floatmode="maxprec", legacy=False)
+
+
 def _run_python(block: Block, namespace: dict) -> str:
+    import numpy as np
+
     stdout = io.StringIO()
-    with contextlib.redirect_stdout(stdout):
+    with contextlib.redirect_stdout(stdout), np.printoptions(**NUMPY_PRINT_DEFAULTS):
         exec(compile(block.body, block.where(), "exec"), namespace)
     return stdout.getvalue()
 
