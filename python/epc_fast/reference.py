@@ -71,7 +71,7 @@ def electron_rate(illuminance_lux, reflectance, lens_transmittance, field_angle_
     """e-/s: photo-electron rate of one pixel.
 
     E = L R tau cos^4(theta) / (4 F^2) lux on the focal plane; r = E K a (p 1e-6 m)^2.
-    cos(theta) is evaluated as sin(90 deg - |theta|), whose argument is exact near 90 deg, so
+    cos(theta) is evaluated as ``sin(90 deg - |theta|)``, whose argument is exact near 90 deg, so
     the falloff keeps its digits at grazing field angles. The product is a
     :func:`scaled_product`: no factor's size can push an intermediate out of range. A rate below
     the smallest normal float64 (2.2e-308 e-/s) is returned as 0 (no light): it would carry too
@@ -230,12 +230,12 @@ def mtf_diffraction(f_cyc_per_mm, wavelength_nm, f_number):
 
 
 def mtf_pixel(f_cyc_per_mm, pixel_pitch_um, fill_factor):
-    """1: square pixel aperture of side sqrt(a) p: |sinc(sqrt(a) p f)|, p in mm."""
+    """1: square pixel aperture of side sqrt(a) p: ``|sinc(sqrt(a) p f)|``, p in mm."""
     return np.abs(sinc(np.sqrt(fill_factor) * (pixel_pitch_um * 1e-3) * f_cyc_per_mm))
 
 
 def mtf_motion(f_cyc_per_mm, blur_mm):
-    """1: linear motion of length b: |sinc(b f)|."""
+    """1: linear motion of length b: ``|sinc(b f)|``."""
     return np.abs(sinc(blur_mm * f_cyc_per_mm))
 
 
