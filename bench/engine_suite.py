@@ -361,9 +361,8 @@ def numba_contender(numba_evaluate) -> Contender:
 def bench_paired(benchmark, data: Data, size: Size, first: Contender, second: Contender) -> None:
     """``first`` and ``second`` on the same points, taken in turn in every round (``first``
     leads in even rounds, ``second`` in odd ones), each call timed on its own: a drift in the
-    machine's speed, which between two benchmarks of a group run a minute apart moved the core's
-    ratio to the Numba peer over 6.5-10.0x in five runs on our 2-core VM, falls on both sides
-    of a round alike. The benchmark's own median is a round's, both calls; extra_info records
+    machine's speed, which on a shared machine can move the ratio of two benchmarks of a group
+    run a minute apart by a third, falls on both sides of a round alike. The benchmark's own median is a round's, both calls; extra_info records
     each side's median seconds and points/s, and the speed-up of ``first`` over ``second``
     (second's seconds over first's) per round: its median, least and greatest. One untimed pair
     first, so that neither side's first call (new pages, thread pools) counts. Both answers are

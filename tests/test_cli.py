@@ -105,8 +105,9 @@ def _scan(tmp_path, capsys, text, *args, name="scan.toml"):
 
 
 @pytest.mark.parametrize("text, key", [
-    # The tracebacks these gave: 'int' object is not iterable; cannot unpack non-iterable int
-    # object; must be real number, not str; Partition index must be integer; 'H' is not a preset.
+    # Unchecked, each would end in a traceback ('int' object is not iterable; cannot unpack
+    # non-iterable int object; must be real number, not str; Partition index must be integer;
+    # 'H' is not a preset) instead of one line naming the key and value.
     ('[scan]\npoints = 10\n[design]\npresets = 5\n', "[design]: presets = 5"),
     (SCAN_CONFIG.replace('high = 100_000 }', 'high = 100_000, truncate = 5 }'),
      "[parameters.illuminance_lux]: truncate = 5"),

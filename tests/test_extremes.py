@@ -343,7 +343,7 @@ def test_electrons_needed_match_the_mpmath_root_for_every_sign_pattern(read, dar
 def test_the_prnu_cap_is_decided_exactly_where_sqrt_s_is_a_double(options):
     # At 20 k dB, sqrt(s) = 10^k is a double (k <= 22), so u sqrt(s) >= 1 is decided on the
     # exact product: the double next below fl(10^-k) is reachable even where u * 10^k rounds
-    # to 1.0 (before, 1e-6 at 120 dB was reported PRNU-capped: 1e-6 is 4.5e-23 short of it).
+    # to 1.0 (e.g. PRNU 1e-6 at 120 dB is 4.5e-23 short of the cap, so not PRNU-capped).
     designs, capped = [], []
     for k in range(23):
         threshold = 10.0 ** -k
@@ -642,15 +642,16 @@ def test_worst_case_relative_error_at_the_extremes_is_within_the_documented_boun
 
 #: Two-wavelength spectra (equal weights) at the ends of double's range:
 #: - wavelengths from 1e160 nm on, whose f50 lies below 1e-154 cycles/mm: R^2 and the squared
-#:   lengths of the curvature overflow there, and Halley's step from an infinite denominator, 0,
-#:   was taken for convergence (f50 was the bracket's midpoint, 20-36% off);
-#: - subnormal wavelengths, for which no start can be fitted (the fit's matrix is rank-deficient:
-#:   the call raised "least_squares: rank-deficient matrix");
+#:   lengths of the curvature overflow there, and Halley's step from an infinite denominator is
+#:   0, which must not pass for convergence (f50 would be the bracket's midpoint, 20-36% off);
+#: - subnormal wavelengths, for which no start can be fitted (the fit's matrix is rank-deficient),
+#:   so the call must go on without one rather than raise "least_squares: rank-deficient
+#:   matrix";
 #: - wavelengths 10^17.4 and 10^628 apart: past the long one's cut-off the short one's D rounds to
 #:   1, so the MTF is exactly c = 1/2 over a stretch, and f50 is the stretch's first point (the
-#:   first frequency where MTF <= c, as the reference bisects to). Brent, Halley and Newton took
-#:   any point of it where h = 0 for the root: 26x f50 for Brent at 400 nm and 1e20 nm, and 3e296x
-#:   for all three at 1e-320 nm and 1e308 nm, where the stretch is 12 decades long.
+#:   first frequency where MTF <= c, as the reference bisects to). Brent, Halley and Newton must
+#:   not take another point of it, where h = 0 too, for the root: at 400 nm and 1e20 nm such a
+#:   point lies up to 26x f50, at 1e-320 nm and 1e308 nm up to 3e296x (a 12-decade stretch).
 #: (At 400 nm and 1e15 nm the MTF is not flat but nearly so, and f50's condition number with
 #: respect to the MTF's roundings is ~1e4: core and reference differ by 6e-13 there, within it.)
 EXTREME_SPECTRA = [(1e160, 1.2e160), (1e300, 3e300), (1e-310, 2e-310), (5e-324, 500.0),

@@ -25,7 +25,8 @@ from epc_fast.selfcheck import random_designs
 
 BACKENDS = ("core", "reference")
 # Known answers: both backends resolve ln L to ~1e-13 (core: Brent, rtol 1e-13) or to adjacent
-# floats (reference), and the model's rounding moves EPC by ~1e-15; 1e-10 is the bound.
+# floats (reference), and the model's rounding moves EPC by ~1e-15; 1e-10 is the accuracy the
+# inverse solvers are held to.
 RTOL = 1e-10
 
 #: 1, the root of sinc(x) = 1/2: f50 of a lone sinc factor of width w is X0 / w.

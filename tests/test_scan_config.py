@@ -177,7 +177,7 @@ SCHEMA_BASE = ("[scan]\npoints = 1000\n[design]\npresets = ['HIGH_TIER']\n[param
 
 
 @pytest.mark.parametrize("extra, message", [
-    # Each was accepted and changed the answer.
+    # Each, unchecked, would be accepted and change the answer.
     ("[reductions.b]\nkind = 'top_k'\nlargest = 'false'\n",
      r"\[reductions.b\]: largest = 'false': expected true or false"),
     ("[reductions.h]\nkind = 'histogram'\nlow = 1e3\nhigh = 1e7\nlog = 'no'\n",
@@ -187,7 +187,7 @@ SCHEMA_BASE = ("[scan]\npoints = 1000\n[design]\npresets = ['HIGH_TIER']\n[param
     ("[reductions.f]\nkind = 'fraction_below'\nthreshold = nan\n",
      r"\[reductions.f\]: threshold = nan: expected a finite number"),
     ("[reductions.q]\nkind = 'quantiles'\nq = [0.5, inf]\n", r"\[reductions.q\]: q = "),
-    # Each was a traceback naming neither key nor value.
+    # Each, unchecked, would be a traceback naming neither key nor value.
     ("[reductions.b]\nkind = 'top_k'\nk = 2.5\n", r"\[reductions.b\]: k = 2.5: expected an int"),
     ("[reductions.h]\nkind = 'histogram'\nlow = 'a'\nhigh = 1e7\n",
      r"\[reductions.h\]: low = 'a': expected a finite number"),

@@ -1,7 +1,7 @@
 // The kernel's speed without Python: evaluate() on random phone designs (phone_designs.h, those
 // of epc_fast.selfcheck.random_designs), outputs preallocated (one thread unless asked for
 // more); prints the best points/s of `rounds` calls. For profiling the kernel (perf record) and comparing two
-// versions of a header on the same machine in one sitting; bench/ measures the package.
+// versions of a header back to back on the same machine; bench/ measures the package.
 //
 //   g++ -std=c++17 -O3 -march=x86-64-v4 -mprefer-vector-width=512 -ffp-contract=fast
 //       -fno-math-errno -fno-trapping-math -fopenmp -I cpp/include tools/kernel_speed.cpp

@@ -1,7 +1,7 @@
 """Compares two builds of tools/stage_costs.cpp stage by stage, their runs alternating.
 
-The VM's speed drifts by half between its phases, so one build's run against the other's an
-hour later says nothing. This runs A, B, A, B, ... `pairs` times (the same arguments) and
+A shared machine's speed can drift by half within an hour, so one build's run against the
+other's an hour later says little. This runs A, B, A, B, ... `pairs` times (the same arguments) and
 prints, for each build, the least and the median of its totals and the least of every stage:
 a change shows in the stage it touches, the others should agree.
 
@@ -9,7 +9,7 @@ a change shows in the stage it touches, the others should agree.
     g++ <the same> -I /tmp/changed/include tools/stage_costs.cpp -o /tmp/b
     python tools/stage_ab.py /tmp/a /tmp/b [8192 300 float64] [--pairs 12]
 
-README "Where the time goes" quotes its runs.
+docs/performance.md ("Where the kernel's time goes") describes its use.
 """
 from __future__ import annotations
 

@@ -40,7 +40,7 @@ double pass_s(const Inputs& in, const Options& opt, const Outputs& out, std::siz
 }
 
 // The best ns a point of each cumulative pass (1..5 stages), the passes taken in turn in
-// every round so that the VM's drifts in speed fall on all of them alike.
+// every round so that a drift in the machine's speed falls on all of them alike.
 template <class T>
 void best_ns_per_point(const Inputs& in, const Options& opt, const Outputs& out, std::size_t n,
                        int rounds, double (&best)[6]) {

@@ -38,8 +38,7 @@ inline int default_threads() {
 // [begin, end), on `threads` threads. Each thread default-constructs one State and hands it to
 // every block it runs. Dynamic schedule, 16 blocks (1024 points) a grab: blocks differ in cost
 // (lanes that stop early, slow lanes, Brent's T_MPE, the inverse solvers' trials), and a static
-// split leaves one thread idle at the end of every chunk while the other finishes its half
-// (on 10^7 random designs with out=: 40.6 -> 42.8 M points/s on 2 threads, mean of 5 runs).
+// split leaves one thread idle at the end of every chunk while the other finishes its half.
 // Which thread runs a block never changes its result: the State holds only caches keyed by
 // value (kernel.h Workspace). block must not throw. The team is never larger than the number
 // of blocks: a small call does not wake idle threads. Block boundaries depend only on begin,
@@ -80,8 +79,8 @@ struct Region {
 // it, which on a transparent huge page is 2 MiB at once while the other thread waits for it if
 // it writes there too. The kernel's blocks (for_each_block) run both threads through the
 // same pages; their shares of the pages here are apart, so the two threads zero different
-// pages at the same time. For 10^7 points' outputs (500 MB), the default call ran 5-12%
-// faster this way on this project's 2-core VM (README).
+// pages at the same time. For 10^7 points' outputs (500 MB) that makes the default call 5-12%
+// faster on two cores.
 template <std::size_t N>
 void first_touch(const Region (&regions)[N], int threads) {
     constexpr std::size_t page = 4096;  // the smallest x86-64 page; finer strides touch twice
