@@ -4,7 +4,8 @@ The preset reads the paper as MODEL.md section 9 documents: the 30 dB target met
 corner (cos^4 falloff at half the diagonal field of view) and EPC taken over the nominal sensor
 area of the format. This is a reading of the paper, not a fitted model; the paper's literal
 30 dB and 33 dB targets on the optical axis are the other :data:`READINGS`, one
-``design.read_as("on_axis_33db")`` away.
+``design.read_as("on_axis_33db")`` away. A design of your own is a :class:`Design` made from
+its sensor's data sheet (docs/sensor.md); ``snr_at`` chooses where it meets the target.
 
 >>> from epc_fast.presets import HIGH_TIER, evaluate_over_illuminance
 >>> r = evaluate_over_illuminance(HIGH_TIER[3], [100.0, 1000.0, 10000.0])
