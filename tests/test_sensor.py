@@ -247,3 +247,9 @@ def test_parameters_print_as_a_table_naming_evaluates_keywords():
     assert any(line.startswith("pixel_count | sensor_area_mm2") for line in lines)
     shake = next(line for line in lines if line.startswith("shake_deg_per_s"))
     assert shake.split()[1:4] == ["degree/s", "4.39", "[0,"]
+
+
+def test_sensor_sides_that_do_not_broadcast_are_named():
+    with pytest.raises(ValueError, match=r"illuminance_lux\(4,\).*sensor_width_mm x "
+                                         r"sensor_height_mm\(3,\)"):
+        evaluate(np.ones(4), **LENS, sensor_width_mm=np.ones(3), sensor_height_mm=1.0)

@@ -231,7 +231,7 @@ def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
             parts = {"sensor_width_mm": width, "sensor_height_mm": height}
         else:
             parts = {"sensor_diagonal_mm": lengths[2]}
-        sensor = _Sensor("sensor_area_mm2", area, False, parts)
+        sensor = _Sensor(" x ".join(parts), area, False, parts)
     if snr_at is None:
         return sensor, field_angle_deg
     check_snr_at(snr_at)
