@@ -253,3 +253,11 @@ def test_sensor_sides_that_do_not_broadcast_are_named():
     with pytest.raises(ValueError, match=r"illuminance_lux\(4,\).*sensor_width_mm x "
                                          r"sensor_height_mm\(3,\)"):
         evaluate(np.ones(4), **LENS, sensor_width_mm=np.ones(3), sensor_height_mm=1.0)
+
+
+def test_a_space_without_designs_or_with_a_field_angle_of_its_own_says_where():
+    bare = Space(illuminance_lux=LogUniform(10.0, 1e5), sensor_area_mm2=15.0, **LENS)
+    assert "SNR target: 30 dB at axis (default)" in bare.describe()
+    tilted = Space(design=HIGH_TIER, illuminance_lux=100.0, field_angle_deg=12.0, snr_db=33.0)
+    assert tilted.snr_target_text() == ["33 dB at field angle 12 deg"] * 4
+    assert "snr_db" not in tilted.defaults() and "shake_deg_per_s" in tilted.defaults()
