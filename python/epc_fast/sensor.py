@@ -15,6 +15,11 @@ than on the optical axis, and moves EPC several-fold:
 - ``"corner"``: the image corner, field angle atan(half-diagonal / focal length) (the presets'
   reading of the paper, MODEL.md section 9; 27.03 degrees for its 1/3.2" designs);
 - or an explicit ``field_angle_deg``.
+
+:func:`epc_fast.evaluate` is the model and meets the target on the axis unless told. A
+design (a preset, a :class:`~epc_fast.presets.Design`, a ``[[design.custom]]`` table) meets it
+at the corner when it gives its sensor's shape and focal length, on the axis otherwise; the
+space a scan prints names which, marked "default" where the design did not choose.
 """
 
 from __future__ import annotations
