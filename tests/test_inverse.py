@@ -311,3 +311,39 @@ def test_crossover_core_agrees_with_the_reference_on_random_pairs():
     lux = np.where(ok, ref.illuminance_lux, 1.0)
     slope = _log_slope(lambda x: _epc(a, x) - _epc(b, x), lux)
     _assert_lux_agree(core, ref, slope)
+
+
+DATA_SHEET = dict(pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6, sensor_width_mm=4.57,
+                  sensor_height_mm=3.43, snr_at="corner")
+# the same design as evaluate's area and field angle: S = w h, atan(half-diagonal / f)
+AS_AREA = dict(pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
+               sensor_area_mm2=4.57 * 3.43,
+               field_angle_deg=math.degrees(math.atan(math.hypot(4.57, 3.43) / 2 / 5.6)))
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+def test_a_design_from_its_data_sheet_solves_as_its_area_and_corner_angle(backend):
+    sheet = lux_for_epc(DATA_SHEET, [5e5, 1e6, 2e6], backend=backend)
+    area = lux_for_epc(AS_AREA, [5e5, 1e6, 2e6], backend=backend)
+    # the same inputs up to the rounding of w h and of the angle: a few ulp, through a solve
+    # to rtol 1e-13
+    np.testing.assert_allclose(sheet.illuminance_lux, area.illuminance_lux, rtol=1e-12)
+    assert (sheet.status == InverseStatus.OK).all()
+    diagonal = dict(DATA_SHEET, sensor_width_mm=None, sensor_height_mm=None,
+                    sensor_diagonal_mm=math.hypot(4.57, 3.43), aspect=4.57 / 3.43)
+    np.testing.assert_allclose(lux_for_epc(diagonal, 1e6, backend=backend).illuminance_lux,
+                               area.illuminance_lux[1], rtol=1e-12)
+    a, b = dict(DATA_SHEET, pixel_pitch_um=2.8), DATA_SHEET
+    np.testing.assert_allclose(
+        crossover_lux(a, b, backend=backend).illuminance_lux,
+        crossover_lux(dict(AS_AREA, pixel_pitch_um=2.8), AS_AREA, backend=backend).illuminance_lux,
+        rtol=1e-12)
+
+
+def test_a_design_gives_its_sensor_size_one_way():
+    with pytest.raises(TypeError, match="sensor_area_mm2=3"):
+        lux_for_epc(dict(DATA_SHEET, sensor_area_mm2=3.0), 1e6)
+    with pytest.raises(TypeError, match="none of them"):
+        lux_for_epc(dict(pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6), 1e6)
+    with pytest.raises(TypeError, match="snr_at or field_angle_deg"):
+        lux_for_epc(dict(DATA_SHEET, field_angle_deg=10.0), 1e6)

@@ -203,13 +203,15 @@ def _broadcast_shape(shapes: dict) -> tuple:
         raise ValueError(f"the shapes do not broadcast: {text}") from None
 
 
-# --- A design's keywords as model columns (candidate for api.py) ----------------------------
-# evaluate() turns its keywords into columns inline; the inverse solvers need the same without
-# an illuminance. This block belongs in api.py as a public helper that evaluate() also uses.
+# --- A design's keywords as model columns ----------------------------------------------------
+# The inverse solvers take a design as evaluate()'s keywords without the illuminance, and
+# resolve its sensor size and field angle as evaluate() does (api._sensor_of).
 
 _EVALUATE = inspect.signature(api.evaluate)
+_SENSOR_KEYWORDS = ("pixel_count", "sensor_area_mm2", "sensor_width_mm", "sensor_height_mm",
+                    "sensor_diagonal_mm", "aspect", "snr_at")
 _DESIGN_KEYWORDS = frozenset(params.PARAMETER_NAMES[1:]) - {"size"} | {
-    "pixel_count", "sensor_area_mm2", "spectrum"}
+    *_SENSOR_KEYWORDS, "spectrum"}
 
 
 @dataclass(frozen=True)
@@ -246,8 +248,12 @@ class ModelInputs:
 def model_inputs(design: dict) -> ModelInputs:
     """A design (evaluate() keywords without the illuminance) as :class:`ModelInputs`.
 
-    Raises TypeError for an unknown or missing keyword, or for not exactly one of
-    ``pixel_count`` and ``sensor_area_mm2``; ValueError where the shapes do not broadcast.
+    The sensor's size and where the SNR target is met are given as to evaluate():
+    ``pixel_count``, ``sensor_area_mm2``, ``sensor_width_mm`` and ``sensor_height_mm``, or
+    ``sensor_diagonal_mm`` and ``aspect``; ``snr_at`` or ``field_angle_deg``.
+
+    Raises TypeError for an unknown or missing keyword, or for a sensor size given in no way
+    or in more than one; ValueError where the shapes do not broadcast.
     """
     unknown = sorted(set(design) - _DESIGN_KEYWORDS)
     if unknown:
@@ -256,10 +262,11 @@ def model_inputs(design: dict) -> ModelInputs:
     bound = _EVALUATE.bind(0.0, **design)
     bound.apply_defaults()
     values = dict(bound.arguments)
-    if (values["pixel_count"] is None) == (values["sensor_area_mm2"] is None):
-        raise TypeError("a design gives exactly one of pixel_count and sensor_area_mm2")
-    size_is_pixel_count = values["pixel_count"] is not None
-    values["size"] = values.pop("pixel_count" if size_is_pixel_count else "sensor_area_mm2")
+    sensor, values["field_angle_deg"] = api._sensor_of(
+        *(values.pop(name) for name in _SENSOR_KEYWORDS), values["field_angle_deg"],
+        values["focal_length_mm"])
+    size_is_pixel_count = sensor.is_pixel_count
+    values["size"] = sensor.value
     if values["electrons_per_lux_s_m2"] is None:
         values["electrons_per_lux_s_m2"] = DEFAULT_ELECTRONS_PER_LUX_S_M2
     arrays = tuple(api._as_float_array(name, values[name]) for name in params.PARAMETER_NAMES)
