@@ -13,8 +13,9 @@ Three fits, written as C++ tables with their largest and median errors:
   cheap guess to 0.4%.
 
 The fits are deterministic (fixed nodes and seeds): re-running the script rewrites the same
-file. `read_header` reads a written file back into the same tables, so that a test checks the
-file is exactly what `coefficients_header` makes of its own numbers.
+file, byte for byte, with the same NumPy and LAPACK. `read_header` reads a written file back
+into the same tables, so that a test checks the file is exactly what `coefficients_header`
+makes of its own numbers.
 
 `--check` instead measures the installed core's accurate and jitter starts densely against the
 bisected f50 (core_start_errors): the evidence for f50_start.h's certified_start_error, the bound
