@@ -365,9 +365,9 @@ def bench_paired(benchmark, data: Data, size: Size, first: Contender, second: Co
     run a minute apart by a third, falls on both sides of a round alike. The benchmark's own
     median is a round's, both calls; extra_info records each side's median seconds and
     points/s, and the speed-up of ``first`` over ``second`` (second's seconds over first's)
-    per round: its median, least and greatest. One untimed pair
-    first, so that neither side's first call (new pages, thread pools) counts. Both answers are
-    checked, each at its own tolerance."""
+    per round: its median, least and greatest. One untimed pair first, so that neither side's
+    first call (new pages, thread pools) counts. Both answers are checked, each at its own
+    tolerance."""
     designs = data.designs(size.points)
     sides = (first, second)
     seconds = ([], [])
