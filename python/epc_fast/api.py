@@ -33,6 +33,8 @@ INVALID_POLICIES = ("status", "raise")
 class Result:
     """The model's outputs, each shaped like the broadcast inputs (scalars for scalar input).
 
+    A field left out of ``evaluate(outputs=...)`` is None.
+
     Attributes
     ----------
     electron_rate_e_per_s : e-/s, photo-electron rate of one pixel.
@@ -44,8 +46,6 @@ class Result:
     epc : pixels, effective pixel count 4 S f50^2.
     status : :class:`Status` codes (uint8 array).
     cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
-
-    A field left out of ``evaluate(outputs=...)`` is None.
     """
 
     electron_rate_e_per_s: np.ndarray | float | None
