@@ -84,6 +84,33 @@ def test_the_cores_exp_and_log_are_within_2_ulp_of_mpmath():
     assert np.array_equal(_core.elementary_exp(np.array([-800.0, 800.0])), [0.0, np.inf])
 
 
+def test_the_draws_exp_gives_the_same_bits_as_exp_where_its_argument_is_bounded():
+    # exp_normal (|x| <= 700) scales by 2^k in one step, exp_any in two: both exact for a
+    # normal result, so the bits must agree everywhere in the bound, its ends included
+    rng = np.random.default_rng(11)
+    x = np.concatenate([rng.uniform(-700, 700, 200_000), rng.uniform(-1, 1, 20_000),
+                        [-700.0, 700.0, 0.0, -0.0, 1e-300, np.log(2) / 2, -np.log(2) / 2]])
+    assert np.array_equal(_core.elementary_exp_normal(x), _core.elementary_exp(x))
+    assert np.isnan(_core.elementary_exp_normal(np.array([-700.5, 701.0]))).all()
+
+
+# (distribution, |a| + |b|: the largest term of exp's argument a + u b or a + b z)
+@pytest.mark.parametrize("distribution, terms", [
+    (LogUniform(1e-300, 1e30), abs(math.log(1e-300)) + math.log(1e330)),
+    (LogNormal(1.0, 80.0), 0.0)])
+def test_draws_whose_exp_argument_is_unbounded_match_numpy(distribution, terms):
+    # |a| + |b| z_max beyond exp_normal's bound: the draws take exp_any
+    space = Space(design=HIGH_TIER, illuminance_lux=distribution)
+    got = CorePlan(space, 5).points(0, 4096).parameters["illuminance_lux"]
+    expected = space.points(5, 0, 4096).parameters["illuminance_lux"]
+    assert np.array_equal(np.isfinite(got), np.isfinite(expected))
+    # exp turns its argument's absolute error into a relative one: 2 ulp of the argument's
+    # largest term (the core may fuse a + u b), and ndtri's 2e-15 relative error (the ndtri
+    # test) times b z, i.e. 2e-15 |ln value|
+    bound = DRAW_RTOL + 2 * np.finfo(float).eps * terms + 2e-15 * np.abs(np.log(expected))
+    assert np.all(np.abs(got / expected - 1) <= bound)
+
+
 #: One parameter of every kind the space offers, each on a parameter it suits.
 EVERY_KIND = dict(
     design=HIGH_TIER,

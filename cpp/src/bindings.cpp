@@ -696,6 +696,10 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           py::arg("seed"), py::arg("stream"), py::arg("index"));
     m.def("ndtri", py::vectorize([](double p) { return ndtri(p); }), py::arg("p"));
     m.def("elementary_exp", py::vectorize([](double x) { return exp_any(x); }), py::arg("x"));
+    // the draws' exp where its argument is bounded (elementary.h); NaN outside that bound
+    m.def("elementary_exp_normal", py::vectorize([](double x) {
+              return std::fabs(x) <= exp_normal_bound ? exp_normal(x) : std::numeric_limits<double>::quiet_NaN();
+          }), py::arg("x"));
     m.def("elementary_log", py::vectorize([](double x) { return log_any(x); }), py::arg("x"));
     m.def("output_cache", &output_cache_py, py::arg("limit_bytes") = py::none(),
           "Sets the most bytes of output memory kept for later calls (when limit_bytes is not "
