@@ -198,8 +198,11 @@ def run(args) -> int:
     md.write_text("\n\n".join([header, *notes, table, *footer]) + "\n", encoding="utf-8")
     write_csv(args.out / "trade.csv", csv_columns(measurements, front))
     written = [md, args.out / "trade.csv"]
-    title = (f"epc_fast {__version__}: speed against accuracy (f50 error on {error_points:,} "
-             f"points, speed on {points:,})")
+    from .. import _core
+
+    # the build and the CPUs name what the speeds were measured on
+    title = (f"epc_fast {__version__} on {_core.isa}, {os.cpu_count()} CPUs: speed against "
+             f"accuracy (f50 error on {error_points:,} points, speed on {points:,})")
     if not args.no_plot and _write_plot(measurements, front, args.out / "trade.png", title):
         written.append(args.out / "trade.png")
     for path in written:
