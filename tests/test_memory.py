@@ -234,3 +234,9 @@ def test_the_core_s_loader_and_memory_do_not_import_each_other():
     assert _package_imports(_memory_limits) == set()
     assert "memory" not in _package_imports(_core)
     assert _package_imports(memory) == {"_core", "_memory_limits"}
+
+
+def test_the_core_s_loader_imports_no_module_that_imports_it():
+    # its thread limit is its own (api re-exports it): the loader imports leaves only
+    assert _package_imports(_core) == {"_memory_limits"}
+    assert api.MAX_THREADS is _core.MAX_THREADS

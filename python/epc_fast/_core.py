@@ -24,6 +24,10 @@ from ._memory_limits import CACHE_ENV as _CACHE_ENV
 from ._memory_limits import MAX_CACHE_BYTES
 from ._memory_limits import default_cache_bytes as _default_cache_bytes
 
+#: Upper bound on ``threads=`` and OMP_NUM_THREADS: more is a mistake, not a faster run
+#: (re-exported as ``epc_fast.api.MAX_THREADS``).
+MAX_THREADS = 1024
+
 #: Level name -> extension module, widest first.
 MODULES = {
     "x86-64-v4": "_core_x86_64_v4",
@@ -50,10 +54,8 @@ def _omp_counts(text: str) -> list[int] | None:
 
 
 def checked_default_threads() -> int:
-    """The thread count a call without ``threads=`` uses, at most ``epc_fast.api.MAX_THREADS``;
-    a ValueError naming ``OMP_NUM_THREADS`` when it asks for more, or is not a count."""
-    from .api import MAX_THREADS
-
+    """The thread count a call without ``threads=`` uses, at most :data:`MAX_THREADS`; a
+    ValueError naming ``OMP_NUM_THREADS`` when it asks for more, or is not a count."""
     text = os.environ.get("OMP_NUM_THREADS", "").strip()
     if text:
         counts = _omp_counts(text)

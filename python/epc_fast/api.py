@@ -10,6 +10,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from . import params, reference
+from ._core import MAX_THREADS
 from .memory import memory_limit_bytes as _memory_limit_bytes
 from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
@@ -17,8 +18,6 @@ from .status import Cause, Status
 
 __all__ = ["evaluate", "Result", "MAX_THREADS"]
 
-#: Upper bound on ``threads=``: more is a mistake, not a faster run.
-MAX_THREADS = 1024
 #: Points per call into the core between two checks for Ctrl-C (the GIL is released inside).
 CHUNK_POINTS = 1 << 18
 BACKENDS = ("core", "reference")
