@@ -695,6 +695,24 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           },
           py::arg("seed"), py::arg("stream"), py::arg("index"));
     m.def("ndtri", py::vectorize([](double p) { return ndtri(p); }), py::arg("p"));
+    // the draws' block form of ndtri (draws.h ndtri_block), block by block; the tail of the
+    // last block is padded with 1/2
+    m.def("ndtri_blocks",
+          [](py::array_t<double, py::array::c_style | py::array::forcecast> p) {
+              const py::ssize_t n = p.size();
+              py::array_t<double> z(n);
+              const double* in = p.data();
+              double* out = z.mutable_data();
+              for (py::ssize_t first = 0; first < n; first += static_cast<py::ssize_t>(block_size)) {
+                  const auto m = static_cast<std::size_t>(std::min<py::ssize_t>(block_size, n - first));
+                  alignas(64) double lanes[block_size], values[block_size];
+                  for (std::size_t i = 0; i < block_size; ++i) lanes[i] = i < m ? in[first + static_cast<py::ssize_t>(i)] : 0.5;
+                  ndtri_block(lanes, 1.0, values);
+                  std::copy(values, values + m, out + first);
+              }
+              return z;
+          },
+          py::arg("p"));
     m.def("elementary_exp", py::vectorize([](double x) { return exp_any(x); }), py::arg("x"));
     // the draws' exp where its argument is bounded (elementary.h); NaN outside that bound
     m.def("elementary_exp_normal", py::vectorize([](double x) {
