@@ -23,10 +23,7 @@ import os
 from ._memory_limits import CACHE_ENV as _CACHE_ENV
 from ._memory_limits import MAX_CACHE_BYTES
 from ._memory_limits import default_cache_bytes as _default_cache_bytes
-
-#: Upper bound on ``threads=`` and OMP_NUM_THREADS: more is a mistake, not a faster run
-#: (re-exported as ``epc_fast.api.MAX_THREADS``).
-MAX_THREADS = 1024
+from ._threads import MAX_THREADS
 
 #: Level name -> extension module, widest first.
 MODULES = {

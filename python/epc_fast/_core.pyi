@@ -12,7 +12,7 @@ streaming_stores: bool
 isa: str
 module_name: str
 MODULES: dict[str, str]
-MAX_THREADS: int
+MAX_THREADS: int  # epc_fast._threads.MAX_THREADS
 
 def cpu_levels() -> dict[str, bool]: ...
 def openmp_enabled() -> bool: ...

@@ -10,7 +10,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 
 from . import params, reference
-from ._core import MAX_THREADS
+from ._threads import MAX_THREADS
 from .memory import memory_limit_bytes as _memory_limit_bytes
 from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
