@@ -136,6 +136,12 @@ class _Placer:
         return inside + _overlap_area(padded, self.taken + self.obstacles) + 10.0 * float(
             _hits_points(padded, self.points))
 
+    def choose(self, options, box_of, leader_of=lambda option: None):
+        """The first option whose box (``box_of(option)``) and leader are free, else the one
+        whose box collides least."""
+        chosen = next((o for o in options if self.free(box_of(o), leader_of(o))), None)
+        return chosen if chosen is not None else min(options, key=lambda o: self.cost(box_of(o)))
+
     def take(self, box, leader=None) -> None:
         self.taken.append(box)
         if leader is not None and len(leader):
@@ -187,10 +193,7 @@ def place_point_labels(ax, anchors, texts, *, renderer, fontsize, obstacles=(), 
             box = box_at(i, dx, dy)
             far = math.hypot(dx, dy) > _LEADER_FROM_PT
             options.append(((dx, dy), box, _leader(anchors_px[i], box) if far else None))
-        chosen = next((o for o in options if placer.free(o[1], o[2])), None)
-        if chosen is None:
-            chosen = min(options, key=lambda o: placer.cost(o[1]))
-        (dx, dy), box, leader = chosen
+        (dx, dy), box, leader = placer.choose(options, lambda o: o[1], lambda o: o[2])
         placer.take(box, leader)
         side = 0.0 if dx >= 0 else 1.0
         labels[i] = ax.annotate(
@@ -227,10 +230,7 @@ def place_line_labels(ax, levels, texts, *, renderer, fontsize, colors, lines=()
             for above in (True, False):
                 y0 = y + gap if above else y - gap - h
                 options.append((fraction, above, (x0, y0, x0 + w, y0 + h)))
-        chosen = next((o for o in options if placer.free(o[2])), None)
-        if chosen is None:
-            chosen = min(options, key=lambda o: placer.cost(o[2]))
-        fraction, above, box = chosen
+        fraction, above, box = placer.choose(options, lambda o: o[2])
         placer.take(box)
         labels.append(ax.annotate(
             text, (fraction, levels[i]), xycoords=("axes fraction", "data"),
@@ -263,10 +263,7 @@ def place_vertical_line_label(ax, x, text, *, renderer, fontsize, color, lines=(
         for right in (True, False):
             x0 = line_x + gap if right else line_x - gap - h
             options.append((fraction, right, (x0, y0, x0 + h, y0 + w)))
-    chosen = next((o for o in options if placer.free(o[2])), None)
-    if chosen is None:
-        chosen = min(options, key=lambda o: placer.cost(o[2]))
-    fraction, right, _ = chosen
+    fraction, right, _ = placer.choose(options, lambda o: o[2])
     va = "top" if fraction > 0.5 else ("center" if fraction == 0.5 else "bottom")
     return ax.annotate(text, (x, fraction), xycoords=("data", "axes fraction"),
                        xytext=(gap_pt if right else -gap_pt, 0.0), textcoords="offset points",
