@@ -30,17 +30,14 @@ EPC_FAST_INLINE double exp_any(double x) {
 // exp_normal(x) takes arguments within this bound, where exp(x) is a normal number.
 constexpr double exp_normal_bound = 700.0;
 
-// exp(x) for |x| <= exp_normal_bound: exp_poly's reduction and polynomial, scaled by 2^k in
+// exp(x) for |x| <= exp_normal_bound: exp_poly's reduction (exp_reduced), scaled by 2^k in
 // one step, which is exact for a normal result: the same bits as exp_any, without the clamps
 // and the two-step scaling that exp_any needs for the rest of the line. For a scan's draws,
 // whose arguments are bounded (draws.h).
 EPC_FAST_INLINE double exp_normal(double x) {
-    constexpr double inv_ln2 = 1.4426950408889634;
-    constexpr double ln2_hi = 0.6931471803691238;  // as exp_poly's
-    constexpr double ln2_lo = 1.9082149292705877e-10;
-    const double k = round_to_integer(x * inv_ln2);
-    const double r = (x - k * ln2_hi) - k * ln2_lo;
-    return poly::horner(poly::exp_coefficients, r) * pow2_integer(k);
+    double k;
+    const double e = exp_reduced(x, k);
+    return e * pow2_integer(k);
 }
 
 namespace detail {

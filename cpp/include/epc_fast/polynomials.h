@@ -167,23 +167,30 @@ EPC_FAST_INLINE T pow2_integer(T k) {
     return r;
 }
 
-// exp(x) for x <= 0 (the jitter factor's argument is never positive): x = k ln 2 + r with
-// |r| <= ln(2)/2 (Cody-Waite, ln 2 split so k ln2_hi is exact), exp(r) by its Taylor
-// polynomial, times 2^k applied in two halves so that results below the smallest normal
-// underflow gradually. 0 below -746 (float32: -104), where exp underflows to 0 anyway.
-// float64: <= 2 ulp.
+// exp(r) of the reduction x = k ln 2 + r, |r| <= ln(2)/2 (Cody-Waite, ln 2 split so that
+// k ln2_hi is exact), by its Taylor polynomial; k is returned in `k`. For |x| below 2^51 ln 2.
 template <class T>
-EPC_FAST_INLINE T exp_poly(T x) {
+EPC_FAST_INLINE T exp_reduced(T x, T& k) {
     constexpr bool wide = sizeof(T) == sizeof(double);
     constexpr T inv_ln2 = T(1.4426950408889634);
     // ln 2 in two parts, the first with few enough significant bits that k ln2_hi is exact
     constexpr T ln2_hi = wide ? T(0.6931471803691238) : T(0.693145751953125);  // 32 / 16 bits
     constexpr T ln2_lo = wide ? T(1.9082149292705877e-10) : T(1.428606765330187e-06);
+    k = round_to_integer(x * inv_ln2);
+    const T r = (x - k * ln2_hi) - k * ln2_lo;
+    return poly::horner(poly::exp_coefficients, r);
+}
+
+// exp(x) for x <= 0 (the jitter factor's argument is never positive): exp_reduced's e^r times
+// 2^k applied in two halves so that results below the smallest normal underflow gradually. 0
+// below -746 (float32: -104), where exp underflows to 0 anyway. float64: <= 2 ulp.
+template <class T>
+EPC_FAST_INLINE T exp_poly(T x) {
+    constexpr bool wide = sizeof(T) == sizeof(double);
     constexpr T lowest = wide ? T(-746.0) : T(-104.0);
     const T xc = x < lowest ? lowest : x;
-    const T k = round_to_integer(xc * inv_ln2);
-    const T r = (xc - k * ln2_hi) - k * ln2_lo;
-    const T e = poly::horner(poly::exp_coefficients, r);
+    T k;
+    const T e = exp_reduced(xc, k);
     const T k1 = round_to_integer(T(0.5) * k);
     const T scaled = e * pow2_integer(k1) * pow2_integer(k - k1);
     return x < lowest ? T(0) : scaled;
