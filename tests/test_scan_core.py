@@ -341,3 +341,51 @@ def test_grid_digits_are_exact_for_any_number_of_cells(sizes):
         stride = math.prod(sizes[k + 1:])  # mixed radix, the last axis fastest
         expected = [(int(i) % cells) // stride % size for i in index]
         assert np.array_equal(core.indices[name], expected), name
+
+
+#: Grid spaces whose keys on grid axes fold by position in the grid's cycle (scan_reductions.h
+#: set_cycle): one cell (a cycle of 64 points), 3 cells (192), 100 cells (1600), and 4100
+#: cells, beyond the longest cycle folded by position (4096), folded lane by lane.
+CYCLE_GRIDS = {
+    "one cell": {},
+    "3 cells": {"pixel_pitch_um": Grid((1.4, 1.75, 2.2))},
+    "100 cells": {"pixel_pitch_um": Grid((1.4, 2.2)),
+                  "f_number": Grid(tuple(1.6 + 0.1 * k for k in range(50)))},
+    "4100 cells": {"pixel_pitch_um": Grid((1.4, 2.2)),
+                   "f_number": Grid(tuple(1.0 + 0.001 * k for k in range(2050)))},
+}
+
+
+@pytest.mark.parametrize("grids", CYCLE_GRIDS.values(), ids=CYCLE_GRIDS.keys())
+def test_a_key_on_grid_axes_reduces_as_the_same_groups_folded_lane_by_lane(grids):
+    # The same groups by a key on grid axes alone (folded per position of the grid's cycle)
+    # and by that key with a binned part whose first bin holds every point (folded lane by
+    # lane): counts, min and max identical, the moments summed in another order within 1e-12.
+    fixed = dict(f_number=2.0, focal_length_mm=5.6, sensor_area_mm2=15.7, pixel_pitch_um=1.75,
+                 read_noise_e=1.5)
+    space = Space(**{**fixed, **grids}, illuminance_lux=LogUniform(0.1, 1e5),
+                  shake_deg_per_s=LogNormal(4.39, 0.5), prnu=Uniform(0.0, 0.04))
+    axes = tuple(grids)[:1]
+    one_bin = Binned("illuminance_lux", (0.0, 1e9, 1e10))  # every point in bin 0 of 2
+
+    def reductions(by):
+        return {"summary": Summary(by=by), "below": FractionBelow(2e6, by=by),
+                "streamed": Quantiles((0.05, 0.5, 0.95), by=by, exact_up_to=0)}
+
+    common = dict(seed=11, chunk_points=BLOCK_POINTS, threads=2, progress=False)
+    n = 2 * BLOCK_POINTS + 777
+    cycled = run(space, n, reductions=reductions(axes), **common)
+    lanes = run(space, n, reductions=reductions(axes + (one_bin,)), **common)
+    for name in ("summary", "below", "streamed"):
+        a, b = cycled[name], lanes[name]
+        for field in dataclasses.fields(a):
+            x, y = getattr(a, field.name), getattr(b, field.name)
+            if field.name in ("labels", "q") or not isinstance(x, np.ndarray):
+                continue
+            y = y[::2] if x.ndim == 0 or y.shape[0] == 2 * x.shape[0] else y  # bin 0's rows
+            if field.name in ("mean", "std"):
+                np.testing.assert_allclose(x, y, rtol=1e-12, atol=0, err_msg=name)
+            else:
+                assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), (name, field.name)
+    assert cycled["summary"].status_counts.sum() == n
+    assert (cycled["summary"].status_counts[:, 2] > 0).all()  # prnu above 0.032: UNREACHABLE

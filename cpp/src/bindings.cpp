@@ -482,6 +482,7 @@ std::vector<GroupKey> keys_of(const py::list& keys, const ScanSpace& space) {
             if (size > INT32_MAX) throw std::invalid_argument("scan spec: a key of 2^31 groups or more");
         }
         key.size = size;
+        set_cycle(key, space);
         result.push_back(std::move(key));
     }
     return result;
@@ -508,6 +509,7 @@ std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<Gr
             if (r.key < 0 || static_cast<std::size_t>(r.key) >= keys.size())
                 throw std::invalid_argument("scan spec: a reduction's key");
             r.groups = keys[static_cast<std::size_t>(r.key)].size;
+            r.cycle = keys[static_cast<std::size_t>(r.key)].cycle.size();
         }
         if (r.kind == ReductionKind::histogram || r.kind == ReductionKind::quantiles) {
             r.first = item<double>(d, "first");

@@ -142,8 +142,12 @@ inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
             for (std::size_t k = 0; k < keys.size(); ++k)
                 group_indices(keys[k], space, w.lanes, w.groups[k].data(), w.scratch.data());
             w.fold.n = n;
+            w.fold.first = first;
             for (std::size_t r = 0; r < reductions.size(); ++r) fold(reductions[r], w.fold, w.states[r]);
         }
+        for (std::size_t r = 0; r < reductions.size(); ++r)
+            if (reductions[r].cycle > 0)
+                flush_cycle(reductions[r], keys[static_cast<std::size_t>(reductions[r].key)], w.states[r]);
         for (std::size_t r = 0; r < reductions.size(); ++r) {
             if (reductions[r].kind != ReductionKind::summary) continue;
             const ReductionState& s = w.states[r];

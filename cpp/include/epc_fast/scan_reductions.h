@@ -3,11 +3,13 @@
 // (equal in the value or its log10), the fraction below a threshold, and the k best points.
 //
 // Every state is exact or order-free (integer counts, min, max, the k best by a total order)
-// except the mean and the squared deviations, which are accumulated in a fixed order: 64
-// points (a kernel block) at a time, two-pass within them, merged one after the other into
-// their scan block's moments (Chan et al.'s update). A scan block (scan_block_points) is
-// folded by one thread, in point order, so its moments do not depend on the thread count or
-// the chunk size; python/epc_fast/scan/summaries.py merges scan blocks in block order.
+// except the mean and the squared deviations, which are accumulated in a fixed order into
+// their scan block's moments: for a key with a cycle (GroupKey), per position of the cycle over
+// the scan block, merged position by position at its end; otherwise 64 points (a kernel block)
+// at a time, two-pass within them, merged one after the other (Chan et al.'s update). A scan
+// block (scan_block_points) is folded by one thread, in point order, so its moments do not
+// depend on the thread count or the chunk size; python/epc_fast/scan/summaries.py merges scan
+// blocks in block order.
 #pragma once
 
 #include <algorithm>
@@ -42,10 +44,20 @@ struct KeyPart {
 };
 
 // Groups are the parts' indices in mixed radix, the last part fastest; no parts: one group.
+//
+// A key whose parts are all grid axes (or lookups of them) repeats with the grid: point i's
+// group is cycle[i mod cycle.size()] (set_cycle). Its reductions then accumulate per position
+// in the cycle with plain vector loops (CycleSums) and fold the positions into their groups
+// once per scan block. Empty: the key has no cycle of at most max_cycle points.
 struct GroupKey {
     std::vector<KeyPart> parts;
     std::int64_t size = 1;
+    std::vector<std::int32_t> cycle;
 };
+
+// The longest cycle a key's reductions accumulate by position (their sums take 10 doubles a
+// position per thread).
+constexpr std::size_t max_cycle = 4096;
 
 namespace detail {
 
@@ -97,6 +109,40 @@ inline void group_indices(const GroupKey& key, const ScanSpace& space, const Sca
     }
 }
 
+// Sets key.cycle: the groups of points 0 .. L - 1, L the least multiple of block_size (so that
+// every kernel block starts a cycle's block) that the key's period divides. The period is the
+// number of grid cells from the slowest grid axis the key reads (the grid's mixed radix, last
+// axis fastest): 1 for a key without parts. Left empty when a part is not a grid axis's or L
+// exceeds max_cycle.
+inline void set_cycle(GroupKey& key, const ScanSpace& space) {
+    key.cycle.clear();
+    std::size_t slowest = space.grid_axes.size();
+    for (const KeyPart& part : key.parts) {
+        if (part.kind != KeyPart::axis && part.kind != KeyPart::lookup) return;
+        const auto at = std::find(space.grid_axes.begin(), space.grid_axes.end(),
+                                  static_cast<std::size_t>(part.axis_index));
+        if (at == space.grid_axes.end()) return;  // a random choice
+        slowest = std::min(slowest, static_cast<std::size_t>(at - space.grid_axes.begin()));
+    }
+    std::uint64_t period = 1;
+    for (std::size_t k = slowest; k < space.grid_axes.size(); ++k) {
+        period *= static_cast<std::uint64_t>(space.axes[space.grid_axes[k]].size);
+        if (period > max_cycle) return;
+    }
+    std::uint64_t length = block_size;
+    while (length % period != 0) length += block_size;
+    if (length > max_cycle) return;
+    ScanLanes lanes(space);
+    std::vector<std::int32_t> scratch(block_size);
+    key.cycle.resize(length);
+    for (std::uint64_t first = 0; first < length; first += block_size) {
+        lanes.n = block_size;
+        for (std::size_t i = 0; i < block_size; ++i) lanes.index[i] = first + i;
+        detail::grid_digits(space, true, lanes);
+        group_indices(key, space, lanes, key.cycle.data() + first, scratch.data());
+    }
+}
+
 enum class ReductionKind { summary, histogram, quantiles, fraction_below, top_k };
 
 // One reduction of one output (`of`, an index into the kernel's six float outputs) per group
@@ -115,6 +161,7 @@ struct Reduction {
     double threshold = 0.0;  // fraction_below
     std::int64_t k = 1;      // top_k
     bool largest = true;
+    std::size_t cycle = 0;   // the key's cycle length (GroupKey::cycle), 0 without one
 
     std::int64_t slots() const { return bins + 2; }
 };
@@ -122,6 +169,35 @@ struct Reduction {
 // The k best points: (order key, point index), the smallest first; order key -value for the
 // largest values, the value for the smallest. Ties go to the lower index.
 using Candidate = std::pair<double, std::uint64_t>;
+
+// A reduction's sums per position of its key's cycle over the scan block being folded (a
+// position takes at most scan_block_points / block_size = 1024 of a scan block's points). Per
+// kind (the rest stay empty):
+//   summary         tally: its points per status and its finite points, five 12-bit counts
+//                   packed in one integer (tally_of); shift: the first finite value; the sums
+//                   of the deviations from the shift and of their squares; min and max
+//   quantiles       min and max
+//   fraction_below  finite points, those below the threshold
+struct CycleSums {
+    std::vector<std::uint64_t> tally;
+    std::vector<double> count, shift, sum, squares, low, high, below;
+
+    void reset(std::size_t p) {
+        if (!tally.empty()) tally[p] = 0;
+        for (std::vector<double>* v : {&count, &shift, &sum, &squares, &below})
+            if (!v->empty()) (*v)[p] = 0.0;
+        if (!low.empty()) {
+            low[p] = std::numeric_limits<double>::infinity();
+            high[p] = -std::numeric_limits<double>::infinity();
+        }
+    }
+};
+
+// A summary's tally fields: status k (0 .. 3) counts in bits 12k .. 12k + 11, finite points in
+// bits 48 .. 59.
+constexpr int tally_bits = 12;
+constexpr std::uint64_t tally_field = (std::uint64_t{1} << tally_bits) - 1;
+static_assert(scan_block_points / block_size <= tally_field, "a position's points fit a field");
 
 // One thread's state of one reduction over the points it folded.
 struct ReductionState {
@@ -134,9 +210,23 @@ struct ReductionState {
     std::vector<double> block_mean, block_m2, sub_sum, sub_m2;
     std::vector<std::int32_t> touched;
     std::vector<Candidate> heap;  // top_k: a max-heap of the best k so far
+    CycleSums cycle;              // with a key's cycle (Reduction::cycle)
 
     explicit ReductionState(const Reduction& r) {
         const auto g = static_cast<std::size_t>(r.groups);
+        const std::size_t c = r.cycle;
+        if (c > 0 && r.kind == ReductionKind::summary) {
+            cycle.tally.assign(c, 0);
+            for (std::vector<double>* v : {&cycle.shift, &cycle.sum, &cycle.squares, &cycle.low, &cycle.high})
+                v->assign(c, 0.0);
+        } else if (c > 0 && r.kind == ReductionKind::quantiles) {
+            cycle.low.assign(c, 0.0);
+            cycle.high.assign(c, 0.0);
+        } else if (c > 0 && r.kind == ReductionKind::fraction_below) {
+            cycle.count.assign(c, 0.0);
+            cycle.below.assign(c, 0.0);
+        }
+        for (std::size_t p = 0; p < c; ++p) cycle.reset(p);
         switch (r.kind) {
             case ReductionKind::summary:
                 counts.assign(g * n_status, 0);
@@ -177,6 +267,7 @@ struct ReductionState {
 // each key, the outputs and, where a log-binned reduction needs it, log10 of an output.
 struct FoldLanes {
     std::size_t n = 0;
+    std::uint64_t first = 0;  // lane 0's point index, a multiple of block_size
     const std::uint64_t* index = nullptr;
     const unsigned char* status = nullptr;
     const double* outputs[6] = {};
@@ -286,27 +377,6 @@ inline void fold_summary(const Reduction& r, const FoldLanes& f, ReductionState&
     }
 }
 
-inline void fold_histogram(const Reduction& r, const FoldLanes& f, ReductionState& s) {
-    const double* __restrict v = f.outputs[r.of];
-    const double* __restrict t = r.log ? f.log10_outputs[r.of] : v;
-    const std::int32_t* g = f.groups[static_cast<std::size_t>(r.key)];
-    const auto slots = static_cast<std::size_t>(r.slots());
-    const bool with_range = r.kind == ReductionKind::quantiles;
-    alignas(64) std::int64_t slot[block_size];  // every lane's slot, in a vector loop
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < block_size; ++i) slot[i] = slot_of(r, t[i]);
-    for (std::size_t i = 0; i < f.n; ++i) {
-        const auto k = static_cast<std::size_t>(g[i]);
-        if (!with_range) ++s.points[k];
-        if (!std::isfinite(v[i])) continue;
-        ++s.counts[k * slots + static_cast<std::size_t>(slot[i])];
-        if (with_range) {
-            s.low[k] = v[i] < s.low[k] ? v[i] : s.low[k];
-            s.high[k] = v[i] > s.high[k] ? v[i] : s.high[k];
-        }
-    }
-}
-
 inline void fold_fraction_below(const Reduction& r, const FoldLanes& f, ReductionState& s) {
     const double* v = f.outputs[r.of];
     const std::int32_t* g = f.groups[static_cast<std::size_t>(r.key)];
@@ -335,15 +405,171 @@ inline void fold_top_k(const Reduction& r, const FoldLanes& f, ReductionState& s
     }
 }
 
+// The kernel block's position in its key's cycle: its lanes are positions p .. p + 63.
+EPC_FAST_INLINE std::size_t cycle_position(const Reduction& r, const FoldLanes& f) {
+    return static_cast<std::size_t>(f.first % r.cycle);
+}
+
+// fold_summary with a cycle: each lane's values added to its position's sums, one vector loop.
+// A position's deviations are taken from its first finite value in the scan block, a value of
+// the same group, so that the sum of squares loses little to cancellation (flush_cycle).
+inline void fold_summary_cycle(const Reduction& r, const FoldLanes& f, ReductionState& s) {
+    const std::size_t p = cycle_position(r, f), n = f.n;
+    CycleSums& c = s.cycle;
+    const double* __restrict v = f.outputs[r.of];
+    const unsigned char* __restrict status = f.status;
+    std::uint64_t* __restrict tally = c.tally.data() + p;
+    double* __restrict shift = c.shift.data() + p;
+    double* __restrict sum = c.sum.data() + p;
+    double* __restrict squares = c.squares.data() + p;
+    double* __restrict low = c.low.data() + p;
+    double* __restrict high = c.high.data() + p;
+    constexpr std::uint64_t finite_one = std::uint64_t{1} << (4 * tally_bits);
+    // each lane's tally increment: its status's field, and the finite field if finite
+    alignas(64) std::uint64_t add[block_size];
+    for (std::size_t i = 0; i < block_size; ++i) add[i] = status[i] & 3u;  // widened
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const std::uint64_t k = add[i];
+        const std::uint64_t status_one = (k == 0 ? std::uint64_t{1} : 0) + (k == 1 ? std::uint64_t{1} << tally_bits : 0) +
+                                         (k == 2 ? std::uint64_t{1} << (2 * tally_bits) : 0) +
+                                         (k == 3 ? std::uint64_t{1} << (3 * tally_bits) : 0);
+        const bool in = std::fabs(v[i]) <= std::numeric_limits<double>::max();
+        add[i] = i < n ? status_one + (in ? finite_one : 0) : 0;
+    }
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const double x = v[i];
+        const bool in = add[i] >= finite_one;
+        const double from = tally[i] >= finite_one ? shift[i] : x;  // a finite point before
+        const double d = in ? x - from : 0.0;
+        shift[i] = from;  // x itself (unused until a finite point comes) or the kept shift
+        tally[i] += add[i];
+        sum[i] += d;
+        squares[i] += d * d;
+        low[i] = in && x < low[i] ? x : low[i];
+        high[i] = in && x > high[i] ? x : high[i];
+    }
+}
+
+// fold_fraction_below with a cycle.
+inline void fold_fraction_below_cycle(const Reduction& r, const FoldLanes& f, ReductionState& s) {
+    const std::size_t p = cycle_position(r, f), n = f.n;
+    const double* __restrict v = f.outputs[r.of];
+    double* __restrict count = s.cycle.count.data() + p;
+    double* __restrict below = s.cycle.below.data() + p;
+    const double threshold = r.threshold;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const bool in = (i < n) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+        count[i] += in ? 1.0 : 0.0;
+        below[i] += in && v[i] < threshold ? 1.0 : 0.0;
+    }
+}
+
+// The quantiles' finite min and max with a cycle.
+inline void fold_range_cycle(const Reduction& r, const FoldLanes& f, ReductionState& s) {
+    const std::size_t p = cycle_position(r, f), n = f.n;
+    const double* __restrict v = f.outputs[r.of];
+    double* __restrict low = s.cycle.low.data() + p;
+    double* __restrict high = s.cycle.high.data() + p;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const bool in = (i < n) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+        low[i] = in && v[i] < low[i] ? v[i] : low[i];
+        high[i] = in && v[i] > high[i] ? v[i] : high[i];
+    }
+}
+
+// A histogram's or the quantiles' counts (and, without a cycle, the quantiles' min and max):
+// each lane's cell in the counts (its group's row, its slot) and whether it counts (a finite
+// value) found in a vector loop, then added lane by lane without a branch.
+inline void fold_histogram(const Reduction& r, const FoldLanes& f, ReductionState& s) {
+    const double* __restrict v = f.outputs[r.of];
+    const double* __restrict t = r.log ? f.log10_outputs[r.of] : v;
+    const std::int32_t* __restrict g = f.groups[static_cast<std::size_t>(r.key)];
+    const std::int64_t slots = r.slots();
+    const std::size_t n = f.n;
+    alignas(64) std::int64_t cell[block_size], finite[block_size];
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const bool real = i < n;  // lanes past n: any cell in range, counted 0 times
+        cell[i] = real ? static_cast<std::int64_t>(g[i]) * slots + slot_of(r, t[i]) : 0;
+        finite[i] = real & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+    }
+    std::int64_t* __restrict counts = s.counts.data();
+    for (std::size_t i = 0; i < block_size; ++i) counts[cell[i]] += finite[i];
+    if (r.kind == ReductionKind::histogram)
+        for (std::size_t i = 0; i < n; ++i) ++s.points[static_cast<std::size_t>(g[i])];
+    if (r.kind != ReductionKind::quantiles || r.cycle > 0) return;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!finite[i]) continue;
+        const auto k = static_cast<std::size_t>(g[i]);
+        s.low[k] = v[i] < s.low[k] ? v[i] : s.low[k];
+        s.high[k] = v[i] > s.high[k] ? v[i] : s.high[k];
+    }
+}
+
 }  // namespace detail
+
+// Folds a scan block's sums per position of the key's cycle into the groups' states, position
+// by position (a fixed order), and clears them: at the end of every scan block, before its
+// moments are read.
+inline void flush_cycle(const Reduction& r, const GroupKey& key, ReductionState& s) {
+    if (r.cycle == 0) return;
+    CycleSums& c = s.cycle;
+    for (std::size_t p = 0; p < r.cycle; ++p) {
+        const auto k = static_cast<std::size_t>(key.cycle[p]);
+        switch (r.kind) {
+            case ReductionKind::summary: {
+                const std::uint64_t tally = c.tally[p];
+                for (std::size_t j = 0; j < ReductionState::n_status; ++j)
+                    s.counts[k * ReductionState::n_status + j] +=
+                        static_cast<std::int64_t>((tally >> (tally_bits * j)) & tally_field);
+                const auto finite = static_cast<std::int64_t>((tally >> (4 * tally_bits)) & tally_field);
+                if (finite > 0) {
+                    // the deviations' sums about the shift give the mean and the squared
+                    // deviations about it: sum (x - m)^2 = sum (x - a)^2 - n (m - a)^2
+                    const double n = static_cast<double>(finite), mean_shift = c.sum[p] / n;
+                    const double m2 = std::max(0.0, c.squares[p] - c.sum[p] * mean_shift);
+                    detail::merge_moments(s.block_count[k], s.block_mean[k], s.block_m2[k],
+                                          finite, c.shift[p] + mean_shift, m2);
+                }
+                s.low[k] = std::min(s.low[k], c.low[p]);
+                s.high[k] = std::max(s.high[k], c.high[p]);
+                break;
+            }
+            case ReductionKind::quantiles:
+                s.low[k] = std::min(s.low[k], c.low[p]);
+                s.high[k] = std::max(s.high[k], c.high[p]);
+                break;
+            case ReductionKind::fraction_below:
+                s.counts[k] += static_cast<std::int64_t>(c.count[p]);
+                s.points[k] += static_cast<std::int64_t>(c.below[p]);
+                break;
+            default:
+                break;
+        }
+        c.reset(p);
+    }
+}
 
 // Folds one kernel block into a thread's state of reduction r.
 inline void fold(const Reduction& r, const FoldLanes& f, ReductionState& s) {
     switch (r.kind) {
-        case ReductionKind::summary: detail::fold_summary(r, f, s); return;
-        case ReductionKind::histogram:
-        case ReductionKind::quantiles: detail::fold_histogram(r, f, s); return;
-        case ReductionKind::fraction_below: detail::fold_fraction_below(r, f, s); return;
+        case ReductionKind::summary:
+            if (r.cycle > 0) detail::fold_summary_cycle(r, f, s);
+            else detail::fold_summary(r, f, s);
+            return;
+        case ReductionKind::histogram: detail::fold_histogram(r, f, s); return;
+        case ReductionKind::quantiles:
+            detail::fold_histogram(r, f, s);
+            if (r.cycle > 0) detail::fold_range_cycle(r, f, s);
+            return;
+        case ReductionKind::fraction_below:
+            if (r.cycle > 0) detail::fold_fraction_below_cycle(r, f, s);
+            else detail::fold_fraction_below(r, f, s);
+            return;
         case ReductionKind::top_k: detail::fold_top_k(r, f, s); return;
     }
 }
