@@ -428,6 +428,7 @@ ScanSpace scan_space_of(const py::dict& spec) {
             throw std::invalid_argument("scan spec: unknown param kind '" + kind + "'");
         }
     }
+    set_cycles(space);
     py::list columns;
     for (int j = 0; j < n_params; ++j) columns.append(py::array_t<double>(1));
     space.inputs = inputs_of(columns, item<bool>(spec, "size_is_pixel_count"),

@@ -55,10 +55,6 @@ struct GroupKey {
     std::vector<std::int32_t> cycle;
 };
 
-// The longest cycle a key's reductions accumulate by position (their sums take 10 doubles a
-// position per thread).
-constexpr std::size_t max_cycle = 4096;
-
 namespace detail {
 
 // The part's index of each of the lanes' n points.

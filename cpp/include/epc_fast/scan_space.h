@@ -37,7 +37,16 @@ struct ParamSource {
     Draw draw;                   // drawn
     int axis = -1;               // axis_value: index into ScanSpace::axes
     std::vector<double> values;  // axis_value: the parameter at each of the axis's indices
+    // axis_value on a grid axis: the parameter at points 0 .. cycle + block_size - 1, whose
+    // slice from (i mod cycle) gives the block of consecutive points from i (set_cycles);
+    // empty otherwise
+    std::vector<double> by_cycle;
 };
+
+// The longest cycle of grid cells that a scan keeps tables over (the grid's cycle: the least
+// multiple of block_size that the number of cells divides): each table holds a double per
+// point of it, per parameter or reduction.
+constexpr std::uint64_t max_cycle = 4096;
 
 struct ScanSpace {
     // the domains, the size flag and the spectrum; its columns are set per block (ScanLanes)
@@ -48,6 +57,7 @@ struct ScanSpace {
     // the grid axes' positions in `axes`, in order, and the number of grid cells (set_grid)
     std::vector<std::size_t> grid_axes;
     std::uint64_t grid_cells = 1;
+    std::uint64_t cycle = 0;  // the grid's cycle, 0 above max_cycle (set_cycles)
 
     void set_grid() {
         grid_axes.clear();
@@ -149,6 +159,29 @@ inline void grid_digits(const ScanSpace& space, bool consecutive, ScanLanes& lan
 
 }  // namespace detail
 
+// Sets space.cycle and the by_cycle tables of the parameters read from grid axes, once the
+// axes and parameters are set.
+inline void set_cycles(ScanSpace& space) {
+    space.cycle = 0;
+    for (ParamSource& p : space.params) p.by_cycle.clear();
+    if (space.grid_cells > max_cycle) return;
+    std::uint64_t length = block_size;
+    while (length % space.grid_cells != 0) length += block_size;
+    if (length > max_cycle) return;
+    space.cycle = length;
+    ScanLanes lanes(space);
+    for (std::uint64_t first = 0; first < length + block_size; first += block_size) {
+        lanes.n = block_size;
+        for (std::size_t i = 0; i < block_size; ++i) lanes.index[i] = first + i;
+        detail::grid_digits(space, true, lanes);
+        for (ParamSource& p : space.params) {
+            if (p.kind != ParamSource::axis_value || !space.axes[static_cast<std::size_t>(p.axis)].grid) continue;
+            const std::int32_t* k = lanes.axis_index[static_cast<std::size_t>(p.axis)].data();
+            for (std::size_t i = 0; i < block_size; ++i) p.by_cycle.push_back(p.values[static_cast<std::size_t>(k[i])]);
+        }
+    }
+}
+
 // Forms the parameters of the points lanes.index[0 .. lanes.n - 1] (consecutive: each is the
 // previous plus one) into `lanes`, and points `in`'s columns at them: a fixed parameter is a
 // broadcast column (the kernel drops the terms it zeroes), the others per lane.
@@ -174,6 +207,10 @@ inline void form_points(const ScanSpace& space, bool consecutive, ScanLanes& lan
         if (p.kind == ParamSource::drawn) {
             stream_uniforms(space.seed, p.stream, lanes.index, lanes.u);
             draw_values(p.draw, lanes.u, x);
+        } else if (consecutive && !p.by_cycle.empty()) {  // a slice of the grid's cycle
+            const double* __restrict c = p.by_cycle.data() + lanes.index[0] % space.cycle;
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < block_size; ++i) x[i] = c[i];
         } else {
             const std::int32_t* __restrict k = lanes.axis_index[static_cast<std::size_t>(p.axis)].data();
             const double* __restrict v = p.values.data();
