@@ -42,6 +42,54 @@ def test_the_cores_uniforms_are_the_references_bit_for_bit(seed):
                               streams.uniforms(seed, stream, index))
 
 
+def _block_cases():
+    """Index arrays for the core's stream_uniforms, which takes them 64 points (a block) at a
+    time from the first and pads a partial last block by repeating its last index: blocks of
+    whole pairs (consecutive from an even index: one Philox call per two points) and every other
+    kind of block (one call per point)."""
+    rng = np.random.default_rng(5)
+    block = 64
+    top = 2**64
+    return {
+        "consecutive from even": np.arange(0, 40 * block),
+        "consecutive from even, far": np.arange(2**40 + 2 * block, 2**40 + 12 * block),
+        "consecutive from odd": np.arange(1, 1 + 20 * block),
+        "consecutive from odd, far": np.arange(2**50 + 3, 2**50 + 3 + 10 * block),
+        "shuffled": rng.permutation(20 * block),
+        "arbitrary": rng.integers(0, top, 10 * block, dtype=np.uint64),
+        "arbitrary even": rng.integers(0, top // 2, 10 * block, dtype=np.uint64) * 2,
+        "descending": np.arange(10 * block)[::-1],
+        "each twice": np.repeat(np.arange(10 * block), 2),
+        "one even index": np.full(block, 123_456),
+        "one odd index": np.full(block, 123_457),
+        "pairs' even points only": np.arange(0, 4 * block, 2),
+        "around 2^32, from even": np.arange(2**32 - 3 * block, 2**32 + 3 * block),
+        "around 2^32, from odd": np.arange(2**32 - 3 * block + 1, 2**32 + 3 * block),
+        "around 2^33, from even": np.arange(2**33 - 3 * block, 2**33 + 3 * block),
+        "a block across 2^33": np.arange(2**33 - block // 2, 2**33 + block // 2),
+        "around 2^33, from odd": np.arange(2**33 - 3 * block - 1, 2**33 + 3 * block),
+        "to 2^64 - 1, from even": np.arange(top - 4 * block, top, dtype=np.uint64),
+        "to 2^64 - 1, from odd": np.arange(top - 4 * block + 1, top, dtype=np.uint64),
+        "wrapping past 2^64 - 1": np.concatenate([np.arange(top - 10, top, dtype=np.uint64),
+                                                  np.arange(0, block - 10, dtype=np.uint64)]),
+        "padded tail of 1, from even": np.arange(0, 2 * block + 1),
+        "padded tail of 2, from even": np.arange(2**33 - block, 2**33 + block + 2),
+        "padded tail of 33, from even": np.arange(1000, 1000 + block + 33),
+        "padded tail of 63, from odd": np.arange(7, 7 + block + 63),
+        "padded tail to 2^64 - 1": np.arange(top - block - 37, top, dtype=np.uint64),
+    }
+
+
+@pytest.mark.parametrize("case", list(_block_cases()))
+@pytest.mark.parametrize("seed", (0, 2009, 2**32, 2**64 - 1))
+def test_the_cores_block_uniforms_are_the_references_for_every_kind_of_block(case, seed):
+    index = np.asarray(_block_cases()[case]).astype(np.uint64)
+    for stream in (0, streams.stream_id("shake_deg_per_s"), 2**32 - 1):
+        # the binding takes int64: indices from 2^63 up pass as their two's complement
+        got = _core.stream_uniforms(seed, stream, index.view(np.int64))
+        assert np.array_equal(got, streams.uniforms(seed, stream, index)), (case, stream)
+
+
 def test_the_cores_ndtri_matches_mpmath_to_2e_16_relative():
     mpmath.mp.dps = 40
     p = np.concatenate([np.geomspace(1e-300, 0.5, 400), 1 - np.geomspace(2**-53, 0.5, 400),
@@ -197,10 +245,12 @@ def scans():
     return run(SPACE, N, **common), run(SPACE, N, backend="numpy", **common)
 
 
-def _compare(core, numpy, rtol):
-    """Counts and labels equal; floating-point statistics within rtol."""
+def _compare(core, numpy, rtol, rtol_of=None):
+    """Counts and labels equal; floating-point statistics within rtol (rtol_of[name] for the
+    reductions it names)."""
     for name in core.results:
         a, b = core[name], numpy[name]
+        rtol_here = (rtol_of or {}).get(name, rtol)
         for field in dataclasses.fields(a):
             x, y = getattr(a, field.name), getattr(b, field.name)
             if field.name in ("labels", "parameters"):
@@ -215,7 +265,7 @@ def _compare(core, numpy, rtol):
                 continue
             x, y = np.asarray(x), np.asarray(y)
             if x.dtype.kind == "f":
-                np.testing.assert_allclose(x, y, rtol=rtol, atol=0, equal_nan=True,
+                np.testing.assert_allclose(x, y, rtol=rtol_here, atol=0, equal_nan=True,
                                            err_msg=f"{name}.{field.name}")
             else:
                 assert np.array_equal(x, y), (name, field.name)
@@ -225,7 +275,11 @@ def test_the_fused_pass_reduces_as_numpy_does(scans):
     core, numpy = scans
     # The same points to a few ulp (DRAW_RTOL), the model at each to its own ~1e-14, summed in
     # another order: 1e-12 is far above what they differ by and far below any real error.
-    _compare(core, numpy, rtol=1e-12)
+    # Except T_MPE near a 90 degree field angle: T_MPE goes as 1/cos^4(angle), so an ulp of the
+    # angle (the core fuses mean + std z) moves it by 4 angle tan(angle) ulp, 1.2e4 ulp (2e-12)
+    # at 89.97 degrees, and the scan of seed 4 has such a point holding 99% of its group's
+    # T_MPE sum: the T_MPE summary gets 1e-11.
+    _compare(core, numpy, rtol=1e-12, rtol_of={"t_mpe": 1e-11})
     statuses = core["summary"].status_counts.sum(axis=0)
     assert np.count_nonzero(statuses) >= 3, statuses  # the space reaches OK, INVALID, UNREACHABLE
 

@@ -68,26 +68,59 @@ def test_a_stream_is_the_crc32_of_the_name_in_utf8():
     assert streams.stream_id("µ") == zlib.crc32("µ".encode("utf-8"))
 
 
-def _hand_uniform(seed, stream, i):
-    """The contract's uniform, spelled with Python integers from the Philox output words."""
-    counter = np.array([i % 2**32, i // 2**32, stream, 0], dtype=np.uint32)
-    x0, x1, _, _ = (int(w) for w in streams.philox4x32_10(counter, (seed % 2**32, seed // 2**32)))
-    k = x0 * 2**20 + x1 // 2**12
+def _uniform_of_words(high, low):
+    """The contract's uniform of two Philox output words, with Python integers."""
+    k = high * 2**20 + low // 2**12
     assert 0 <= k < 2**52
     return (k + 0.5) * 2.0**-52
 
 
-def test_a_uniform_is_k_plus_a_half_over_2_to_the_52_from_the_first_two_words():
-    # Seed 0, stream 0 (the empty name), point 0: Random123's first known answer.
-    k = 0x6627e8d5 * 2**20 + 0xe169c58d // 2**12
-    assert streams.uniforms(0, 0, [0])[0] == (k + 0.5) / 2**52
+def _hand_uniform(seed, stream, i):
+    """The contract's uniform, spelled with Python integers from the Philox output words of the
+    counter of i's pair i div 2: (x0, x1) for an even i, (x2, x3) for an odd one."""
+    j = i // 2
+    counter = np.array([j % 2**32, j // 2**32, stream, 0], dtype=np.uint32)
+    x0, x1, x2, x3 = (int(w) for w in streams.philox4x32_10(counter, (seed % 2**32, seed // 2**32)))
+    return _uniform_of_words(x2, x3) if i % 2 else _uniform_of_words(x0, x1)
+
+
+def test_a_uniform_is_k_plus_a_half_over_2_to_the_52_from_two_words_of_its_pairs_call():
+    # Seed 0, stream 0 (the empty name), points 0 and 1: both from counter (0, 0, 0, 0),
+    # Random123's first known answer, point 0 from its first two words and point 1 from its
+    # last two.
+    even = (0x6627e8d5 * 2**20 + 0xe169c58d // 2**12 + 0.5) / 2**52
+    odd = (0xbc57ac4c * 2**20 + 0x9b00dbd8 // 2**12 + 0.5) / 2**52
+    assert streams.uniforms(0, 0, [0, 1]).tolist() == [even, odd]
     seed = 0x0123456789ABCDEF
     stream = streams.stream_id("illuminance_lux")
-    index = np.array([0, 1, 2**32 - 1, 2**32, 2**32 + 5, 2**63 + 7, 2**64 - 1], dtype=np.uint64)
+    index = np.array([0, 1, 2, 3, 2**32 - 1, 2**32, 2**32 + 5, 2**33 - 1, 2**33, 2**63 + 7,
+                      2**64 - 2, 2**64 - 1], dtype=np.uint64)
     expected = [_hand_uniform(seed, stream, int(i)) for i in index]
     assert streams.uniforms(seed, stream, index).tolist() == expected
     assert streams.uniforms(2**64 - 1, 2**32 - 1, [3])[0] == _hand_uniform(2**64 - 1,
                                                                           2**32 - 1, 3)
+
+
+# (seed, stream, pair j): the pair's points are 2j and 2j + 1; j = 2^31 - 1, 2^31 put the pair
+# on either side of point 2^32, j = 2^32 - 1, 2^32 on either side of the counter's second word
+# (point 2^33), j = 2^63 - 1 is the last pair (points 2^64 - 2 and 2^64 - 1).
+PAIRS = [(0, 0, 0), (2009, streams.stream_id("shake_deg_per_s"), 1),
+         (2**32 + 5, streams.stream_id("design"), 2**31 - 1), (7, 0xFFFFFFFF, 2**31),
+         (2**64 - 1, streams.stream_id("illuminance_lux"), 2**32 - 1), (1, 2, 2**32),
+         (0x0123456789ABCDEF, 12345, 2**63 - 1)]
+
+
+@pytest.mark.parametrize("seed, stream, j", PAIRS)
+def test_one_philox_call_gives_the_uniforms_of_a_pair_of_points(seed, stream, j):
+    counter = np.array([j % 2**32, j // 2**32, stream, 0], dtype=np.uint32)
+    x0, x1, x2, x3 = (int(w) for w in streams.philox4x32_10(counter, (seed % 2**32, seed // 2**32)))
+    index = np.array([2 * j, 2 * j + 1], dtype=np.uint64)
+    assert streams.uniforms(seed, stream, index).tolist() == [_uniform_of_words(x0, x1),
+                                                             _uniform_of_words(x2, x3)]
+    # each point alone, and in the other order: a uniform depends on its own index only
+    assert streams.uniforms(seed, stream, index[::-1]).tolist() == [_uniform_of_words(x2, x3),
+                                                                    _uniform_of_words(x0, x1)]
+    assert streams.uniforms(seed, stream, index[1:])[0] == _uniform_of_words(x2, x3)
 
 
 def test_uniforms_are_on_the_half_integer_grid_strictly_inside_0_1():

@@ -11,8 +11,10 @@ here in Numba:
 
 - Philox4x32-10 (Salmon, Moraes, Dror and Shaw, SC'11; multipliers 0xD2511F53, 0xCD9E8D57, key
   increments 0x9E3779B9, 0xBB67AE85), the 32x32 -> 64-bit products in uint64; key
-  (seed mod 2^32, seed div 2^32), counter (i mod 2^32, i div 2^32, crc32(name), 0);
-- one uniform per point and parameter, u = (k + 0.5) 2^-52 with k = x0 2^20 + (x1 div 2^12);
+  (seed mod 2^32, seed div 2^32), counter (j mod 2^32, j div 2^32, crc32(name), 0) with
+  j = i div 2 (one call serves points 2j and 2j + 1);
+- one uniform per point and parameter, u = (k + 0.5) 2^-52 with k = xa 2^20 + (xb div 2^12),
+  (xa, xb) = (x0, x1) for an even i and (x2, x3) for an odd i;
 - log-uniform exp(log lo + u (log hi - log lo)) clamped to [lo, hi]; log-normal
   exp(log median + sigma ndtri(u)), ndtri by Wichura's AS 241 (PPND16, Applied Statistics 37,
   1988, 477-484; relative error about 1e-16).
@@ -78,6 +80,7 @@ SHIFT_12 = np.uint64(12)
 SHIFT_20 = np.uint64(20)
 SHIFT_32 = np.uint64(32)
 ZERO = np.uint64(0)
+ONE = np.uint64(1)
 #: 2^-52: the uniforms' grid step.
 TWO_TO_MINUS_52 = 2.0 ** -52
 
@@ -101,8 +104,13 @@ def _philox(c0, c1, c2, c3, k0, k1):
 @numba.njit(inline="always")
 def _uniform(index, stream, key0, key1):
     """1: the uniform in (0, 1) of point ``index`` (uint64) in stream ``stream`` (uint64):
-    (k + 0.5) 2^-52, k = x0 2^20 + (x1 div 2^12) < 2^52, so every step is exact in float64."""
-    x0, x1, _, _ = _philox(index & MASK32, index >> SHIFT_32, stream, ZERO, key0, key1)
+    (k + 0.5) 2^-52, k = xa 2^20 + (xb div 2^12) < 2^52 from the words of the call of the pair
+    index div 2, (xa, xb) = (x0, x1) for an even index and (x2, x3) for an odd one, so every
+    step is exact in float64."""
+    pair = index >> ONE
+    x0, x1, x2, x3 = _philox(pair & MASK32, pair >> SHIFT_32, stream, ZERO, key0, key1)
+    if index & ONE:
+        x0, x1 = x2, x3
     k = (x0 << SHIFT_20) | (x1 >> SHIFT_12)
     return (float(k) + 0.5) * TWO_TO_MINUS_52
 

@@ -681,7 +681,8 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
           "The parameters (None where fixed) and discrete axes' indices of the points `index`.");
     m.attr("scan_block_points") = scan_block_points;
     m.def("stream_uniforms",
-          // block by block, through the fused pass's own stream_uniforms (philox.h)
+          // block by block, through the fused pass's own stream_uniforms (philox.h); the tail
+          // lanes of a partial last block repeat its last index, as form_points pads them
           [](std::uint64_t seed, std::uint32_t stream, const py::array_t<std::int64_t, py::array::c_style>& index) {
               const auto n = static_cast<std::size_t>(index.size());
               py::array_t<double> u(index.size());
@@ -690,7 +691,7 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
               for (std::size_t first = 0; first < n; first += block_size) {
                   const std::size_t m = std::min(block_size, n - first);
                   for (std::size_t i = 0; i < block_size; ++i)
-                      points[i] = static_cast<std::uint64_t>(index.data()[first + (i < m ? i : 0)]);
+                      points[i] = static_cast<std::uint64_t>(index.data()[first + (i < m ? i : m - 1)]);
                   stream_uniforms(seed, stream, points, values);
                   std::copy(values, values + m, u.mutable_data() + first);
               }

@@ -1,7 +1,8 @@
 """A design space: each model parameter fixed, on a grid, or random, and a ``design`` axis.
 
 Random parameter ``name``'s value at point i is its distribution's inverse CDF at one uniform,
-Philox4x32-10 keyed by the seed at the counter ``(i mod 2^32, i div 2^32, crc32(name), 0)``
+from Philox4x32-10 keyed by the seed at the counter ``(j mod 2^32, j div 2^32, crc32(name), 0)``
+of i's pair ``j = i div 2``, words (x0, x1) for an even i and (x2, x3) for an odd one
 (:mod:`epc_fast.scan.streams`; a choice of designs is the parameter ``"design"``); grid axes
 take point i to grid cell ``i mod grid size``. So a point's parameters depend only on the seed
 and the point's index, never on the chunk size, the thread count or the machine that evaluates

@@ -3,11 +3,13 @@
 Every random value of a scan is a function of the seed, the parameter and the point's index
 only. The generator is Philox4x32-10 (J. K. Salmon, M. A. Moraes, R. O. Dror and D. E. Shaw,
 "Parallel random numbers: as easy as 1, 2, 3", SC'11, 2011), keyed by the seed
-``(seed mod 2^32, seed div 2^32)``; point ``i`` of parameter stream ``s`` is its counter
-``(i mod 2^32, i div 2^32, s, 0)``, with ``s = crc32(name)`` (zlib's CRC-32 of the parameter's
-name in UTF-8). The first two output words give one uniform on a grid of 2^52 values in (0, 1),
-never 0 or 1, and the parameter's value is the inverse of its distribution's CDF at that
-uniform (:func:`transform`), with Wichura's AS 241 for the inverse normal CDF (:func:`ndtri`).
+``(seed mod 2^32, seed div 2^32)``. One call serves two consecutive points: point ``i`` of
+parameter stream ``s`` has the counter ``(j mod 2^32, j div 2^32, s, 0)`` with ``j = i div 2``,
+``s = crc32(name)`` (zlib's CRC-32 of the parameter's name in UTF-8); an even ``i`` takes the
+output words ``(x0, x1)``, an odd ``i`` the words ``(x2, x3)``. The two words give one uniform
+on a grid of 2^52 values in (0, 1), never 0 or 1, and the parameter's value is the inverse of
+its distribution's CDF at that uniform (:func:`transform`), with Wichura's AS 241 for the
+inverse normal CDF (:func:`ndtri`).
 """
 
 from __future__ import annotations
@@ -128,8 +130,9 @@ def uniforms(seed: int, stream: int, index) -> np.ndarray:
     Returns
     -------
     float64 array of ``index``'s shape, each ``(k + 0.5) * 2^-52`` with
-    ``k = x0 * 2^20 + x1 div 2^12`` from the output words of the point's counter: in (0, 1),
-    exact, on a grid symmetric about 1/2.
+    ``k = xa * 2^20 + xb div 2^12`` from the output words of the counter of point ``i``'s pair
+    ``i div 2``: ``(xa, xb) = (x0, x1)`` for an even ``i``, ``(x2, x3)`` for an odd one. In
+    (0, 1), exact, on a grid symmetric about 1/2.
     """
     seed = _checked_seed(seed)
     stream = operator.index(stream)
@@ -144,10 +147,13 @@ def uniforms(seed: int, stream: int, index) -> np.ndarray:
     # depends on its own counter only, so the pieces change nothing but the speed.
     for lo in range(0, index.size, _PIECE):
         i = index[lo:lo + _PIECE]
-        x0, x1, _, _ = _philox_rounds(i & _MASK32, i >> _SHIFT32, np.uint64(stream),
-                                      np.uint64(0), *key)
+        pair = i >> np.uint64(1)
+        x0, x1, x2, x3 = _philox_rounds(pair & _MASK32, pair >> _SHIFT32, np.uint64(stream),
+                                        np.uint64(0), *key)
+        odd = (i & np.uint64(1)).astype(bool)
+        high, low = np.where(odd, x2, x0), np.where(odd, x3, x1)
         # k < 2^52, so k + 0.5 takes 53 bits: exact in float64, as is the scaling by 2^-52.
-        k = (x0 << np.uint64(20)) | (x1 >> np.uint64(12))
+        k = (high << np.uint64(20)) | (low >> np.uint64(12))
         out[lo:lo + _PIECE] = (k.astype(np.float64) + 0.5) * 2.0**-52
     return out.reshape(shape)
 
