@@ -187,7 +187,10 @@ struct Counters {
 };
 
 // Philox4x32-10 of every lane of c in place under the key of `seed`; the vectors' rounds
-// interleave, so that one's multiplies fill the others' latency.
+// interleave, so that one's multiplies fill the others' latency. Within the rounds each word
+// is right in its low 32 bits only: the products' low halves (x1, x3) are kept whole, so x0
+// and x2 carry their high halves too, which the next multiply (of the low 32 bits) and the
+// next xor's low bits ignore. The words are cut to 32 bits once, after the last round.
 EPC_FAST_INLINE void philox_rounds(Counters& c, std::uint64_t seed) {
     const Lanes low = splat(0xFFFFFFFFu), m0 = splat(philox::m0), m1 = splat(philox::m1);
     std::uint64_t k0 = seed & 0xFFFFFFFFu, k1 = seed >> 32;
@@ -201,9 +204,15 @@ EPC_FAST_INLINE void philox_rounds(Counters& c, std::uint64_t seed) {
             const Lanes p0 = mul32(c.x0[v], m0), p1 = mul32(c.x2[v], m1);
             c.x0[v] = bit_xor(bit_xor(shr(p1, 32), c.x1[v]), key0);
             c.x2[v] = bit_xor(bit_xor(shr(p0, 32), c.x3[v]), key1);
-            c.x1[v] = bit_and(p1, low);
-            c.x3[v] = bit_and(p0, low);
+            c.x1[v] = p1;
+            c.x3[v] = p0;
         }
+    }
+    for (std::size_t v = 0; v < interleaved; ++v) {
+        c.x0[v] = bit_and(c.x0[v], low);
+        c.x1[v] = bit_and(c.x1[v], low);
+        c.x2[v] = bit_and(c.x2[v], low);
+        c.x3[v] = bit_and(c.x3[v], low);
     }
 }
 
