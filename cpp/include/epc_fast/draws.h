@@ -8,7 +8,12 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
+
+#if defined(__AVX512F__) || defined(__AVX2__)
+#include <immintrin.h>
+#endif
 
 #include "block.h"
 #include "constants.h"
@@ -84,6 +89,64 @@ EPC_FAST_INLINE double ndtri(double p) {
     return p < 0.5 ? -detail::ndtri_far(r) : detail::ndtri_far(r);
 }
 
+namespace detail {
+
+// Gathers the lanes of a block outside ndtri's centre: their p into tail_p[0 .. m - 1] and
+// their lane numbers into lane[0 .. m - 1], in lane order; returns m. Both arrays take
+// block_size + 8 values (a vector's store may run past m). AVX-512 compresses each vector's
+// tail lanes; AVX2 permutes them by a table of its 16 lane masks; otherwise lane by lane.
+inline std::size_t gather_tail_lanes(const double* __restrict p, double* __restrict tail_p,
+                                     std::int64_t* __restrict lane) {
+    std::size_t m = 0;
+#if defined(__AVX512F__)
+    const __m512d half = _mm512_set1_pd(0.5), edge = _mm512_set1_pd(0.425);
+    const __m512i eight = _mm512_set1_epi64(8);
+    __m512i numbers = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+    for (std::size_t i = 0; i < block_size; i += 8) {
+        const __m512d x = _mm512_loadu_pd(p + i);
+        // !ndtri_centre: not |p - 1/2| <= 0.425 (unordered counts as outside)
+        const __mmask8 tail = _mm512_cmp_pd_mask(_mm512_abs_pd(_mm512_sub_pd(x, half)), edge, _CMP_NLE_UQ);
+        _mm512_storeu_pd(tail_p + m, _mm512_maskz_compress_pd(tail, x));
+        _mm512_storeu_si512(lane + m, _mm512_maskz_compress_epi64(tail, numbers));
+        m += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(tail)));
+        numbers = _mm512_add_epi64(numbers, eight);
+    }
+#elif defined(__AVX2__)
+    // for each mask of 4 lanes, the 32-bit elements that move its set lanes' doubles to the
+    // front, in order
+    alignas(32) static const std::int32_t front[16][8] = {
+        {0, 1, 2, 3, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 0, 1, 4, 5, 6, 7},
+        {0, 1, 2, 3, 4, 5, 6, 7}, {4, 5, 0, 1, 2, 3, 6, 7}, {0, 1, 4, 5, 2, 3, 6, 7},
+        {2, 3, 4, 5, 0, 1, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}, {6, 7, 0, 1, 2, 3, 4, 5},
+        {0, 1, 6, 7, 2, 3, 4, 5}, {2, 3, 6, 7, 0, 1, 4, 5}, {0, 1, 2, 3, 6, 7, 4, 5},
+        {4, 5, 6, 7, 0, 1, 2, 3}, {0, 1, 4, 5, 6, 7, 2, 3}, {2, 3, 4, 5, 6, 7, 0, 1},
+        {0, 1, 2, 3, 4, 5, 6, 7}};
+    const __m256d half = _mm256_set1_pd(0.5), edge = _mm256_set1_pd(0.425);
+    const __m256d sign_bit = _mm256_set1_pd(-0.0);
+    const __m256i four = _mm256_set1_epi64x(4);
+    __m256i numbers = _mm256_setr_epi64x(0, 1, 2, 3);
+    for (std::size_t i = 0; i < block_size; i += 4) {
+        const __m256d x = _mm256_loadu_pd(p + i);
+        const __m256d distance = _mm256_andnot_pd(sign_bit, _mm256_sub_pd(x, half));
+        const int tail = _mm256_movemask_pd(_mm256_cmp_pd(distance, edge, _CMP_NLE_UQ));
+        const __m256i order = _mm256_load_si256(reinterpret_cast<const __m256i*>(front[tail]));
+        _mm256_storeu_pd(tail_p + m, _mm256_castsi256_pd(_mm256_permutevar8x32_epi32(_mm256_castpd_si256(x), order)));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(lane + m), _mm256_permutevar8x32_epi32(numbers, order));
+        m += static_cast<std::size_t>(__builtin_popcount(static_cast<unsigned>(tail)));
+        numbers = _mm256_add_epi64(numbers, four);
+    }
+#else
+    for (std::size_t i = 0; i < block_size; ++i) {
+        lane[m] = static_cast<std::int64_t>(i);
+        tail_p[m] = p[i];
+        m += !ndtri_centre(p[i]);
+    }
+#endif
+    return m;
+}
+
+}  // namespace detail
+
 // z[i] = sign ndtri(p[i]) for every lane of a block. Every lane takes the central rational in
 // one vector loop; the lanes outside the centre (15% of uniform p) are gathered into a short
 // array for the near tail's, in a second vector loop over whole vectors of them; the lanes of
@@ -94,13 +157,8 @@ inline void ndtri_block(const double* __restrict p, double sign, double* __restr
     for (std::size_t i = 0; i < block_size; ++i) z[i] = sign * ndtri_central(p[i]);
     constexpr std::size_t pad = 8;  // whole vectors of any width up to 8 doubles
     alignas(64) double tail_p[block_size + pad];
-    alignas(64) unsigned char lane[block_size];
-    std::size_t m = 0;
-    for (std::size_t i = 0; i < block_size; ++i) {
-        lane[m] = static_cast<unsigned char>(i);
-        tail_p[m] = p[i];
-        m += !ndtri_centre(p[i]);
-    }
+    alignas(64) std::int64_t lane[block_size + pad];
+    const std::size_t m = detail::gather_tail_lanes(p, tail_p, lane);
     if (m == 0) return;
     const std::size_t whole = (m + pad - 1) / pad * pad;
     for (std::size_t j = m; j < whole; ++j) tail_p[j] = 0.25;  // any p: their results go unused
