@@ -139,8 +139,19 @@ inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
                 EPC_FAST_SIMD
                 for (std::size_t i = 0; i < block_size; ++i) t[i] = log10_any(v[i] > 0.0 ? v[i] : 0.0);
             }
-            for (std::size_t k = 0; k < keys.size(); ++k)
-                group_indices(keys[k], space, w.lanes, w.groups[k].data(), w.scratch.data());
+            for (std::size_t k = 0; k < keys.size(); ++k) {
+                const std::vector<std::int32_t>& cycle = keys[k].cycle;
+                if (cycle.empty()) {
+                    group_indices(keys[k], space, w.lanes, w.groups[k].data(), w.scratch.data());
+                    continue;
+                }
+                // a block of the key's cycle (first is a multiple of block_size, as the
+                // cycle's length is)
+                const std::int32_t* __restrict from = cycle.data() + first % cycle.size();
+                std::int32_t* __restrict to = w.groups[k].data();
+                EPC_FAST_SIMD
+                for (std::size_t i = 0; i < block_size; ++i) to[i] = from[i];
+            }
             w.fold.n = n;
             w.fold.first = first;
             for (std::size_t r = 0; r < reductions.size(); ++r) fold(reductions[r], w.fold, w.states[r]);
