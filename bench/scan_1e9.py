@@ -15,9 +15,11 @@ command), then:
 - the scan end to end (drawing, evaluating, reducing and merging in the fused pass), its
   ratio to the raw core, and the process's peak resident memory after it (measured before the
   raw core's arrays are drawn);
-- with ``--peers``: the scan on one thread (the 2-thread scaling), the NumPy path (NumPy draws
-  and reductions around ``evaluate``), and the Numba peer (one ``prange`` loop that draws,
-  evaluates and reduces: ``bench/peers/numba_scan_peer.py``), each on ``--peer-points``.
+- with ``--peers``: the scan on one thread (the 2-thread scaling), the draws' floor (the same
+  points drawn and evaluated with one overall fraction below as the only reduction), the NumPy
+  path (NumPy draws and reductions around ``evaluate``), and the Numba peer (one ``prange``
+  loop that draws, evaluates and reduces: ``bench/peers/numba_scan_peer.py``), each on
+  ``--peer-points``.
 """
 
 from __future__ import annotations
@@ -51,6 +53,12 @@ def benchmark_reductions() -> dict:
     return {"summary": Summary(by="design"),
             "quantiles": Quantiles((0.05, 0.5, 0.95), by="design", exact_up_to=0),
             "below": FractionBelow(2e6, by="design")}
+
+
+def floor_reductions() -> dict:
+    """The least a scan folds: one fraction below 2 Mpixel over all points (the draws' floor:
+    the scan's points drawn and evaluated, next to nothing reduced)."""
+    return {"below": FractionBelow(2e6)}
 
 
 def cpu_name() -> str:
@@ -146,11 +154,15 @@ def main(argv=None) -> None:
     peer_points = int(args.peer_points)
     one, _ = scan_points_per_s(space, peer_points, args.seed, 1)
     two, _ = scan_points_per_s(space, peer_points, args.seed, args.threads)
+    floor = run(space, peer_points, seed=args.seed, reductions=floor_reductions(),
+                threads=args.threads, progress=False).points_per_s
     numpy_path, _ = scan_points_per_s(space, peer_points, args.seed, args.threads, "numpy")
     numba = numba_peer_points_per_s(peer_points, args.seed, args.threads)
     print(f"at {peer_points:,} points:")
     print(f"  scan, 1 thread  {one / 1e6:.1f} M points/s ({args.threads} threads: "
           f"{two / 1e6:.1f}, {two / one:.2f}x)")
+    print(f"  draws' floor    {floor / 1e6:.1f} M points/s ({floor / raw:.2f} of the raw core: "
+          f"drawing and evaluating, one overall fraction below)")
     print(f"  NumPy path      {numpy_path / 1e6:.1f} M points/s (the scan is "
           f"{two / numpy_path:.1f}x)")
     if numba is not None:
