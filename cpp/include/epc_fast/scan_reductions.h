@@ -170,7 +170,7 @@ using Candidate = std::pair<double, std::uint64_t>;
 // position takes at most scan_block_points / block_size = 1024 of a scan block's points). Per
 // kind (the rest stay empty):
 //   summary         tally: its points per status and its finite points, five 12-bit counts
-//                   packed in one integer (tally_of); shift: the first finite value; the sums
+//                   packed in one integer (tally_bits); shift: the first finite value; the sums
 //                   of the deviations from the shift and of their squares; min and max
 //   quantiles       min and max
 //   fraction_below  finite points, those below the threshold
