@@ -102,17 +102,25 @@ def _philox(c0, c1, c2, c3, k0, k1):
 
 
 @numba.njit(inline="always")
-def _uniform(index, stream, key0, key1):
-    """1: the uniform in (0, 1) of point ``index`` (uint64) in stream ``stream`` (uint64):
-    (k + 0.5) 2^-52, k = xa 2^20 + (xb div 2^12) < 2^52 from the words of the call of the pair
-    index div 2, (xa, xb) = (x0, x1) for an even index and (x2, x3) for an odd one, so every
-    step is exact in float64."""
-    pair = index >> ONE
-    x0, x1, x2, x3 = _philox(pair & MASK32, pair >> SHIFT_32, stream, ZERO, key0, key1)
-    if index & ONE:
-        x0, x1 = x2, x3
-    k = (x0 << SHIFT_20) | (x1 >> SHIFT_12)
+def _uniform_of(xa, xb):
+    """1: (k + 0.5) 2^-52 with k = xa 2^20 + (xb div 2^12) < 2^52, every step exact."""
+    k = (xa << SHIFT_20) | (xb >> SHIFT_12)
     return (float(k) + 0.5) * TWO_TO_MINUS_52
+
+
+@numba.njit(inline="always")
+def _pair_uniforms(pair, stream, key0, key1):
+    """1: the uniforms of points 2 pair and 2 pair + 1 (pair a uint64) in stream ``stream``
+    (uint64), from one call: words (x0, x1) for the even point, (x2, x3) for the odd one."""
+    x0, x1, x2, x3 = _philox(pair & MASK32, pair >> SHIFT_32, stream, ZERO, key0, key1)
+    return _uniform_of(x0, x1), _uniform_of(x2, x3)
+
+
+@numba.njit(inline="always")
+def _uniform(index, stream, key0, key1):
+    """1: the uniform in (0, 1) of point ``index`` (uint64) in stream ``stream`` (uint64)."""
+    even, odd = _pair_uniforms(index >> ONE, stream, key0, key1)
+    return odd if index & ONE else even
 
 
 def stream_id(name: str) -> int:
@@ -370,10 +378,17 @@ def _draw(index, key0, key1, lux_stream, shake_stream, lux_low, lux_high, lux_lo
           lux_log_span, shake_log_median, shake_sigma):
     """Point ``index``'s illuminance (lux; log-uniform, clamped to [low, high]) and hand shake
     (degree/s; log-normal) by the stream contract."""
-    u = _uniform(index, lux_stream, key0, key1)
-    lux = min(max(math.exp(lux_log_low + u * lux_log_span), lux_low), lux_high)
-    u = _uniform(index, shake_stream, key0, key1)
-    return lux, math.exp(shake_log_median + shake_sigma * _ndtri(u))
+    return _values(_uniform(index, lux_stream, key0, key1),
+                   _uniform(index, shake_stream, key0, key1), lux_low, lux_high, lux_log_low,
+                   lux_log_span, shake_log_median, shake_sigma)
+
+
+@numba.njit(inline="always")
+def _values(u_lux, u_shake, lux_low, lux_high, lux_log_low, lux_log_span, shake_log_median,
+            shake_sigma):
+    """The illuminance and hand shake at their uniforms."""
+    lux = min(max(math.exp(lux_log_low + u_lux * lux_log_span), lux_low), lux_high)
+    return lux, math.exp(shake_log_median + shake_sigma * _ndtri(u_shake))
 
 
 @numba.njit
@@ -426,10 +441,15 @@ def _scan_part(start, stop, key0, key1, lux_stream, shake_stream, lux_low, lux_h
     histogram, fine = np.zeros_like(histogram), np.zeros_like(fine)
     designs = light.shape[0]
     alpha, beta, log_c = _guess_coefficients(threshold)
+    lux_uniforms, shake_uniforms = (0.0, 0.0), (0.0, 0.0)
     for i in range(start, stop):
         d = i % designs
-        lux, shake = _draw(np.uint64(i), key0, key1, lux_stream, shake_stream, lux_low,
-                           lux_high, lux_log_low, lux_log_span, shake_log_median, shake_sigma)
+        if i == start or i % 2 == 0:  # one Philox call a stream serves the pair i div 2
+            pair = np.uint64(i) >> ONE
+            lux_uniforms = _pair_uniforms(pair, lux_stream, key0, key1)
+            shake_uniforms = _pair_uniforms(pair, shake_stream, key0, key1)
+        lux, shake = _values(lux_uniforms[i % 2], shake_uniforms[i % 2], lux_low, lux_high,
+                             lux_log_low, lux_log_span, shake_log_median, shake_sigma)
         epc, state = _epc(lux, shake, light[d], electrons[d], focal[d], stabilization[d],
                           lambda_f[d], aperture[d], area[d], threshold, rtol, alpha, beta,
                           log_c, same_algorithm, coefficients, degree)
