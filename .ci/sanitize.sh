@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # The core once more, built with AddressSanitizer and UndefinedBehaviorSanitizer (every finding
-# fatal), and the extremes, bad-input, concurrency and fused-scan tests run against that build. The
-# installed package supplies the Python side; tests/conftest.py loads the sanitized module from
-# EPC_FAST_CORE_DIR. CPython leaks by design, so leak detection is off; an impossible
+# fatal), and the extremes, bad-input, concurrency and fused-scan tests run against that build's
+# baseline module; then the stream and scan tests against each vector module this CPU runs
+# (x86-64-v3, x86-64-v4), whose intrinsics (Philox, the inverse normal CDF's tail gathers) the
+# baseline never reaches. The installed package supplies the Python side; tests/conftest.py
+# loads the sanitized modules from EPC_FAST_CORE_DIR. CPython leaks by design, so leak detection is off; an impossible
 # allocation returns NULL (NumPy then raises MemoryError, which the tests expect) instead of
 # aborting.
 set -euo pipefail
@@ -20,7 +22,7 @@ fi
 
 build=build/sanitize
 cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DEPC_FAST_SANITIZE=ON -DEPC_FAST_DISPATCH=OFF -DCMAKE_CXX_FLAGS="-fno-sanitize-recover=all" \
+    -DEPC_FAST_SANITIZE=ON -DEPC_FAST_DISPATCH=ON -DCMAKE_CXX_FLAGS="-fno-sanitize-recover=all" \
     -DPython_EXECUTABLE="$(command -v python)" -Dpybind11_DIR="$(python -m pybind11 --cmakedir)" \
     >/dev/null
 cmake --build "$build"
@@ -32,3 +34,16 @@ LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
     tests/test_extremes.py tests/test_bad_input.py tests/test_concurrency.py \
     tests/test_spectrum_start.py tests/test_memory.py tests/test_f50_start.py \
     tests/test_precision.py tests/test_stream.py tests/test_scan_core.py "$@"
+
+levels="$(python -c 'import epc_fast._core as c
+print(" ".join(level for level, ok in c._module.cpu_levels().items() if ok))')"
+for level in x86-64-v3 x86-64-v4; do
+    if [[ " $levels " != *" $level "* ]]; then
+        echo "sanitize.sh: this CPU does not run $level: its module is not tested"
+        continue
+    fi
+    echo "sanitize.sh: $level"
+    EPC_FAST_ISA="$level" LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
+        tests/test_stream.py tests/test_scan_core.py tests/test_scan_streams.py \
+        tests/test_scan_reductions.py tests/test_scan_runner.py "$@"
+done
