@@ -510,7 +510,8 @@ std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<Gr
             if (r.key < 0 || static_cast<std::size_t>(r.key) >= keys.size())
                 throw std::invalid_argument("scan spec: a reduction's key");
             r.groups = keys[static_cast<std::size_t>(r.key)].size;
-            r.cycle = keys[static_cast<std::size_t>(r.key)].cycle.size();
+            // a histogram keeps no sums per position of the cycle
+            if (r.kind != ReductionKind::histogram) r.cycle = keys[static_cast<std::size_t>(r.key)].cycle.size();
         }
         if (r.kind == ReductionKind::histogram || r.kind == ReductionKind::quantiles) {
             r.first = item<double>(d, "first");

@@ -216,6 +216,19 @@ EPC_FAST_INLINE void philox_rounds(Counters& c, std::uint64_t seed) {
     }
 }
 
+// Vector v's counters: (pair mod 2^32, pair div 2^32, stream, 0).
+EPC_FAST_INLINE void set_counter(Counters& c, std::size_t v, Lanes pair, Lanes stream_word) {
+    c.x0[v] = bit_and(pair, splat(0xFFFFFFFFu));
+    c.x1[v] = shr(pair, 32);
+    c.x2[v] = stream_word;
+    c.x3[v] = splat(0);
+}
+
+// The bits of 2^52 + k for output words (xa, xb), k = xa 2^20 + (xb div 2^12) (uniform_of).
+EPC_FAST_INLINE Lanes uniform_bits(Lanes xa, Lanes xb) {
+    return bit_or(splat(0x4330000000000000u), bit_or(shl(xa, 20), shr(xb, 12)));
+}
+
 }  // namespace detail
 #endif
 
@@ -229,8 +242,7 @@ inline void stream_uniforms(std::uint64_t seed, std::uint32_t stream, const std:
     constexpr std::size_t pairs = block_size / 2;
 #if EPC_FAST_PHILOX_VECTOR
     using namespace detail;
-    const Lanes low = splat(0xFFFFFFFFu), stream_word = splat(stream), zero = splat(0);
-    const Lanes exponent = splat(0x4330000000000000u);
+    const Lanes stream_word = splat(stream);
     constexpr std::size_t step = interleaved * lanes_per_vector;
     static_assert(pairs % step == 0, "whole steps a block, and a half block");
     Counters c;
@@ -241,27 +253,18 @@ inline void stream_uniforms(std::uint64_t seed, std::uint32_t stream, const std:
         const Lanes numbers = lane_numbers();
         for (std::size_t p = 0; p < pairs; p += step) {
             for (std::size_t v = 0; v < interleaved; ++v) {
-                const Lanes pair = add(splat(first_pair + p + v * lanes_per_vector), numbers);
-                c.x0[v] = bit_and(pair, low);
-                c.x1[v] = shr(pair, 32);
-                c.x2[v] = stream_word;
-                c.x3[v] = zero;
+                set_counter(c, v, add(splat(first_pair + p + v * lanes_per_vector), numbers), stream_word);
             }
             philox_rounds(c, seed);
             for (std::size_t v = 0; v < interleaved; ++v)
-                store_pairs(u + 2 * (p + v * lanes_per_vector),
-                            bit_or(exponent, bit_or(shl(c.x0[v], 20), shr(c.x1[v], 12))),
-                            bit_or(exponent, bit_or(shl(c.x2[v], 20), shr(c.x3[v], 12))));
+                store_pairs(u + 2 * (p + v * lanes_per_vector), uniform_bits(c.x0[v], c.x1[v]),
+                            uniform_bits(c.x2[v], c.x3[v]));
         }
         return;
     }
     for (std::size_t i = 0; i < block_size; i += step) {
         for (std::size_t v = 0; v < interleaved; ++v) {
-            const Lanes pair = shr(load(index + i + v * lanes_per_vector), 1);
-            c.x0[v] = bit_and(pair, low);
-            c.x1[v] = shr(pair, 32);
-            c.x2[v] = stream_word;
-            c.x3[v] = zero;
+            set_counter(c, v, shr(load(index + i + v * lanes_per_vector), 1), stream_word);
         }
         philox_rounds(c, seed);
         for (std::size_t v = 0; v < interleaved; ++v) {
@@ -269,7 +272,7 @@ inline void stream_uniforms(std::uint64_t seed, std::uint32_t stream, const std:
             // registers)
             const Lanes point = load(index + i + v * lanes_per_vector);
             const Lanes high = select_odd(point, c.x0[v], c.x2[v]), low_word = select_odd(point, c.x1[v], c.x3[v]);
-            store_uniform(u + i + v * lanes_per_vector, bit_or(exponent, bit_or(shl(high, 20), shr(low_word, 12))));
+            store_uniform(u + i + v * lanes_per_vector, uniform_bits(high, low_word));
         }
     }
 #else

@@ -125,18 +125,13 @@ inline void set_cycle(GroupKey& key, const ScanSpace& space) {
         period *= static_cast<std::uint64_t>(space.axes[space.grid_axes[k]].size);
         if (period > max_cycle) return;
     }
-    std::uint64_t length = block_size;
-    while (length % period != 0) length += block_size;
-    if (length > max_cycle) return;
-    ScanLanes lanes(space);
+    const std::uint64_t length = cycle_length(period);
+    if (length == 0) return;
     std::vector<std::int32_t> scratch(block_size);
     key.cycle.resize(length);
-    for (std::uint64_t first = 0; first < length; first += block_size) {
-        lanes.n = block_size;
-        for (std::size_t i = 0; i < block_size; ++i) lanes.index[i] = first + i;
-        detail::grid_digits(space, true, lanes);
-        group_indices(key, space, lanes, key.cycle.data() + first, scratch.data());
-    }
+    for_grid_blocks(space, length, [&](const ScanLanes& lanes) {
+        group_indices(key, space, lanes, key.cycle.data() + lanes.index[0], scratch.data());
+    });
 }
 
 enum class ReductionKind { summary, histogram, quantiles, fraction_below, top_k };
@@ -157,7 +152,8 @@ struct Reduction {
     double threshold = 0.0;  // fraction_below
     std::int64_t k = 1;      // top_k
     bool largest = true;
-    std::size_t cycle = 0;   // the key's cycle length (GroupKey::cycle), 0 without one
+    std::size_t cycle = 0;   // the key's cycle length (GroupKey::cycle); 0 without one, and for
+                             // a histogram, which keeps no sums per position
 
     std::int64_t slots() const { return bins + 2; }
 };
@@ -273,6 +269,12 @@ struct FoldLanes {
 
 namespace detail {
 
+// Whether lane i of a kernel block of n points holds a point whose value x is finite: the
+// points that moments, ranges, fractions and histograms count.
+EPC_FAST_INLINE bool counted(std::size_t i, std::size_t n, double x) {
+    return (i < n) & (std::fabs(x) <= std::numeric_limits<double>::max());
+}
+
 // Chan et al.'s update of (count, mean, m2) by another set's (count_b, mean_b, m2_b): the
 // formula of summaries.py _Moments.add.
 EPC_FAST_INLINE void merge_moments(std::int64_t& count, double& mean, double& m2,
@@ -314,7 +316,7 @@ inline void fold_moments_few(const Reduction& r, const FoldLanes& f, ReductionSt
         double sum = 0.0, low = s.low[static_cast<std::size_t>(k)], high = s.high[static_cast<std::size_t>(k)];
         EPC_FAST_PRAGMA(omp simd reduction(+ : count, sum) reduction(min : low) reduction(max : high))
         for (std::size_t i = 0; i < block_size; ++i) {
-            const bool in = (i < n) & (g[i] == k) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+            const bool in = counted(i, n, v[i]) & (g[i] == k);
             count += in;
             sum += in ? v[i] : 0.0;
             low = in && v[i] < low ? v[i] : low;
@@ -325,7 +327,7 @@ inline void fold_moments_few(const Reduction& r, const FoldLanes& f, ReductionSt
         double m2 = 0.0;
         EPC_FAST_SIMD_REDUCTION(+ : m2)
         for (std::size_t i = 0; i < block_size; ++i) {
-            const bool in = (i < n) & (g[i] == k) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+            const bool in = counted(i, n, v[i]) & (g[i] == k);
             const double d = in ? v[i] - mean : 0.0;
             m2 += d * d;
         }
@@ -432,8 +434,7 @@ inline void fold_summary_cycle(const Reduction& r, const FoldLanes& f, Reduction
         const std::uint64_t status_one = (k == 0 ? std::uint64_t{1} : 0) + (k == 1 ? std::uint64_t{1} << tally_bits : 0) +
                                          (k == 2 ? std::uint64_t{1} << (2 * tally_bits) : 0) +
                                          (k == 3 ? std::uint64_t{1} << (3 * tally_bits) : 0);
-        const bool in = std::fabs(v[i]) <= std::numeric_limits<double>::max();
-        add[i] = i < n ? status_one + (in ? finite_one : 0) : 0;
+        add[i] = (i < n ? status_one : 0) + (counted(i, n, v[i]) ? finite_one : 0);
     }
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
@@ -459,7 +460,7 @@ inline void fold_fraction_below_cycle(const Reduction& r, const FoldLanes& f, Re
     const double threshold = r.threshold;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
-        const bool in = (i < n) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+        const bool in = counted(i, n, v[i]);
         count[i] += in ? 1.0 : 0.0;
         below[i] += in && v[i] < threshold ? 1.0 : 0.0;
     }
@@ -473,7 +474,7 @@ inline void fold_range_cycle(const Reduction& r, const FoldLanes& f, ReductionSt
     double* __restrict high = s.cycle.high.data() + p;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
-        const bool in = (i < n) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+        const bool in = counted(i, n, v[i]);
         low[i] = in && v[i] < low[i] ? v[i] : low[i];
         high[i] = in && v[i] > high[i] ? v[i] : high[i];
     }
@@ -494,7 +495,7 @@ inline void fold_histogram(const Reduction& r, const FoldLanes& f, ReductionStat
     alignas(64) std::int32_t finite[block_size];
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i)
-        finite[i] = (i < n) & (std::fabs(v[i]) <= std::numeric_limits<double>::max());
+        finite[i] = counted(i, n, v[i]);
     if (r.groups * slots <= std::numeric_limits<std::int32_t>::max()) {
         // the cells as exact doubles below 2^31, converted to 32-bit integers
         alignas(64) std::int32_t cell[block_size];

@@ -159,27 +159,42 @@ inline void grid_digits(const ScanSpace& space, bool consecutive, ScanLanes& lan
 
 }  // namespace detail
 
+// The cycle of points that repeat with period `period` (the grid's cells, or a key's): the
+// least multiple of block_size that the period divides, so that every kernel block starts a
+// block of the cycle; 0 above max_cycle.
+inline std::uint64_t cycle_length(std::uint64_t period) {
+    if (period > max_cycle) return 0;
+    std::uint64_t length = block_size;
+    while (length % period != 0) length += block_size;
+    return length <= max_cycle ? length : 0;
+}
+
+// f(lanes) for each block of the points 0 .. points - 1 (a multiple of block_size), the lanes
+// holding its indices and grid digits.
+template <class F>
+inline void for_grid_blocks(const ScanSpace& space, std::uint64_t points, F&& f) {
+    ScanLanes lanes(space);
+    lanes.n = block_size;
+    for (std::uint64_t first = 0; first < points; first += block_size) {
+        for (std::size_t i = 0; i < block_size; ++i) lanes.index[i] = first + i;
+        detail::grid_digits(space, true, lanes);
+        f(lanes);
+    }
+}
+
 // Sets space.cycle and the by_cycle tables of the parameters read from grid axes, once the
 // axes and parameters are set.
 inline void set_cycles(ScanSpace& space) {
-    space.cycle = 0;
     for (ParamSource& p : space.params) p.by_cycle.clear();
-    if (space.grid_cells > max_cycle) return;
-    std::uint64_t length = block_size;
-    while (length % space.grid_cells != 0) length += block_size;
-    if (length > max_cycle) return;
-    space.cycle = length;
-    ScanLanes lanes(space);
-    for (std::uint64_t first = 0; first < length + block_size; first += block_size) {
-        lanes.n = block_size;
-        for (std::size_t i = 0; i < block_size; ++i) lanes.index[i] = first + i;
-        detail::grid_digits(space, true, lanes);
+    space.cycle = cycle_length(space.grid_cells);
+    if (space.cycle == 0) return;
+    for_grid_blocks(space, space.cycle + block_size, [&](const ScanLanes& lanes) {
         for (ParamSource& p : space.params) {
             if (p.kind != ParamSource::axis_value || !space.axes[static_cast<std::size_t>(p.axis)].grid) continue;
             const std::int32_t* k = lanes.axis_index[static_cast<std::size_t>(p.axis)].data();
             for (std::size_t i = 0; i < block_size; ++i) p.by_cycle.push_back(p.values[static_cast<std::size_t>(k[i])]);
         }
-    }
+    });
 }
 
 // Forms the parameters of the points lanes.index[0 .. lanes.n - 1] (consecutive: each is the
