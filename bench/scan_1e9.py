@@ -6,7 +6,7 @@
 
 The scan is the built-in default space (the paper's 1/3.2" designs x log-uniform illuminance
 10..1e5 lux x log-normal hand shake, median 4.39 degree/s, sigma 0.5) with per-design summary,
-streamed 5/50/95% quantiles (from the 1000-bins-per-decade histogram at every size) and the
+streamed 5/50/95% quantiles (from the histogram of 512 bins an octave at every size) and the
 fraction below 2 Mpixel. It prints the machine (CPU, the loaded core build, threads, the
 command), then:
 

@@ -10,9 +10,10 @@ import math
 import numpy as np
 import pytest
 
-from epc_fast import evaluate
+from epc_fast import _core, evaluate
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan.core_plan import CorePlan
+from epc_fast.scan.histograms import _OctaveBins
 from epc_fast.scan import (BLOCK_POINTS, Binned, Choice, FractionBelow, Grid, Histogram,
                            LogUniform, Normal, Quantiles, Space, Summary, TopK, run)
 
@@ -94,20 +95,79 @@ def test_exact_quantiles_equal_numpy_quantile(backend, full):
 
 def test_streamed_quantiles_bound_the_exact_ones_within_their_stated_error(backend, full):
     q = (0.01, 0.05, 0.5, 0.95, 0.99)
-    quantiles = _scan(backend, Quantiles(q, by="design", exact_up_to=0))
+    reduction = Quantiles(q, by="design", exact_up_to=0)
+    quantiles = _scan(backend, reduction)
     assert not quantiles.exact
-    assert quantiles.relative_resolution == pytest.approx(10 ** 0.001 - 1)
+    # 1000 bins a decade asked (0.23%): 2^9 an octave, 0.195%, the least power of 2 as fine
+    resolution = quantiles.relative_resolution
+    assert resolution == 2.0 ** -9
+    bins = reduction._bins
+    edges = np.concatenate(([-np.inf], bins.edges, [np.inf]))
     for g in DESIGNS:
-        exact = np.quantile(_finite_epc_of(full, g), q)
-        # The bounds are bin edges converted from log10 back to pixels: one rounding each.
-        assert np.all(quantiles.lower[g] <= exact * (1 + 1e-13))
-        assert np.all(exact <= quantiles.upper[g] * (1 + 1e-13))
+        values = np.sort(_finite_epc_of(full, g))
+        exact = np.quantile(values, q)
+        # the order statistics around each quantile, and the bins that hold them
+        rank = np.asarray(q) * (values.size - 1)
+        x_low = values[np.floor(rank).astype(int)]
+        x_high = values[np.minimum(np.floor(rank).astype(int) + 1, values.size - 1)]
+        low, high = values[0], values[-1]
+        # the bounds are those bins' outer edges (exact doubles), clipped to the group's range
+        assert np.array_equal(quantiles.lower[g], np.clip(edges[bins.slot(x_low)], low, high))
+        assert np.array_equal(quantiles.upper[g],
+                              np.clip(edges[bins.slot(x_high) + 1], low, high))
+        assert np.all((quantiles.lower[g] <= exact) & (exact <= quantiles.upper[g]))
         assert np.all((quantiles.lower[g] <= quantiles.estimate[g])
                       & (quantiles.estimate[g] <= quantiles.upper[g]))
-        # ~7 10^4 values per design over ~5 decades: the two order statistics around each
-        # quantile sit in the same or neighbouring bins, so the bounds span at most two.
-        width = quantiles.upper[g] / quantiles.lower[g] - 1
-        assert np.all(width <= (1 + quantiles.relative_resolution) ** 2 - 1 + 1e-12)
+        # each bound within one bin of its order statistic: a bin is at most 2^-9 wide (the
+        # products round once: 1e-15)
+        assert np.all(x_low <= quantiles.lower[g] * (1 + resolution) * (1 + 1e-15))
+        assert np.all(quantiles.upper[g] <= x_high * (1 + resolution) * (1 + 1e-15))
+
+
+@pytest.mark.parametrize("bins_per_decade", [1, 3, 10, 100, 200, 1000, 10_000, 10**6])
+def test_octave_bins_are_as_fine_as_asked_and_no_finer(bins_per_decade):
+    bins = _OctaveBins.covering(1.0, 1e10, bins_per_decade)
+    k = 52 - bins.shift
+    asked = 10.0 ** (1.0 / bins_per_decade) - 1.0
+    assert bins.relative_resolution == 2.0 ** -k <= asked
+    assert k == 0 or 2.0 ** -(k - 1) > asked
+    edges = bins.edges
+    assert edges.size == bins.bins + 1 and np.all(np.diff(edges) > 0)
+    assert edges[0] <= 1.0 < edges[1] and edges[-2] <= 1e10 < edges[-1]
+    # each bin at most 2^-k wide, relative: the difference of two edges within a factor 2 of
+    # each other is exact, and so is a product by a power of 2
+    assert np.all(np.diff(edges) <= edges[:-1] * 2.0 ** -k)
+
+
+def _octave_test_values(bins: _OctaveBins) -> np.ndarray:
+    """Every edge and the doubles either side of it, values drawn over and beyond the range,
+    and the values the slots single out: 0, negatives, subnormals, the largest double, inf."""
+    edges = bins.edges
+    rng = np.random.default_rng(5)
+    drawn = 10.0 ** rng.uniform(-3.0, 13.0, 100_000)
+    special = np.array([0.0, -0.0, -1.0, -np.inf, 5e-324, 2.2e-308, 1.7976931348623157e308,
+                        np.inf, 1.0, 1e10])
+    return np.concatenate([edges, np.nextafter(edges, 0.0), np.nextafter(edges, np.inf),
+                           drawn, special])
+
+
+@pytest.mark.parametrize("bins_per_decade", [1, 200, 1000, 10**6])
+def test_octave_slots_put_every_value_in_the_bin_that_holds_it(bins_per_decade):
+    bins = _OctaveBins.covering(1.0, 1e10, bins_per_decade)
+    values = _octave_test_values(bins)
+    slot = bins.slot(values)
+    edges = bins.edges
+    inside = (slot >= 1) & (slot <= bins.bins)
+    assert np.all(edges[slot[inside] - 1] <= values[inside])
+    assert np.all(values[inside] < edges[slot[inside]])
+    assert np.array_equal(slot == 0, ~(values >= edges[0]))
+    assert np.array_equal(slot == bins.bins + 1, values >= edges[-1])
+    # the fused pass bins every value alike, to the slot
+    core = _core.octave_slots(values, bins.first_key, bins.bins, bins.shift)
+    assert np.array_equal(core, slot)
+    assert _core.octave_slots(np.array([np.nan, -np.nan]), bins.first_key, bins.bins,
+                              bins.shift).tolist() == [0, 0]
+    assert bins.slot(np.array([np.nan])).tolist() == [0]
 
 
 def test_fraction_below_matches_numpy_with_its_binomial_error(backend, full):

@@ -513,13 +513,22 @@ std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<Gr
             // a histogram keeps no sums per position of the cycle
             if (r.kind != ReductionKind::histogram) r.cycle = keys[static_cast<std::size_t>(r.key)].cycle.size();
         }
-        if (r.kind == ReductionKind::histogram || r.kind == ReductionKind::quantiles) {
+        if (r.kind == ReductionKind::histogram) {
             r.first = item<double>(d, "first");
             r.last = item<double>(d, "last");
             r.bins = item<std::int32_t>(d, "bins");
             r.log = item<bool>(d, "log");
             if (!(r.first < r.last) || r.bins < 1) throw std::invalid_argument("scan spec: a histogram's bins");
             r.bins_per_t = static_cast<double>(r.bins) / (r.last - r.first);
+        }
+        if (r.kind == ReductionKind::quantiles) {
+            r.first_key = item<std::int64_t>(d, "first_key");
+            r.bins = item<std::int32_t>(d, "bins");
+            r.shift = item<int>(d, "shift");
+            // keys below 2^52 (octave_slot_of), the last bin's among them
+            if (r.shift < 12 || r.shift > 52 || r.bins < 1 || r.first_key < 0 ||
+                r.first_key + r.bins > (std::int64_t{1} << (64 - r.shift)))
+                throw std::invalid_argument("scan spec: quantiles' octave bins");
         }
         if (r.kind == ReductionKind::fraction_below) r.threshold = item<double>(d, "threshold");
         result.push_back(r);
@@ -724,6 +733,27 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
               return std::fabs(x) <= exp_normal_bound ? exp_normal(x) : std::numeric_limits<double>::quiet_NaN();
           }), py::arg("x"));
     m.def("elementary_log", py::vectorize([](double x) { return log_any(x); }), py::arg("x"));
+    // the streamed quantiles' slot of each value (scan_reductions.h octave_slot_of), as the
+    // fused pass bins it
+    m.def(
+        "octave_slots",
+        [](py::array_t<double, py::array::c_style | py::array::forcecast> values,
+           std::int64_t first_key, std::int32_t bins, int shift) {
+            if (shift < 12 || shift > 52 || bins < 1 || first_key < 0)
+                throw std::invalid_argument("octave_slots: shift in [12, 52], bins >= 1, first_key >= 0");
+            Reduction r;
+            r.kind = ReductionKind::quantiles;
+            r.first_key = first_key;
+            r.bins = bins;
+            r.shift = shift;
+            py::array_t<std::int32_t> slots(values.size());
+            const double* v = values.data();
+            std::int32_t* out = slots.mutable_data();
+            for (py::ssize_t i = 0; i < values.size(); ++i)
+                out[i] = static_cast<std::int32_t>(detail::octave_slot_of(r, v[i]));
+            return slots;
+        },
+        py::arg("values"), py::arg("first_key"), py::arg("bins"), py::arg("shift"));
     m.def("output_cache", &output_cache_py, py::arg("limit_bytes") = py::none(),
           "Sets the most bytes of output memory kept for later calls (when limit_bytes is not "
           "None); returns {'limit_bytes', 'retained_bytes'}.");

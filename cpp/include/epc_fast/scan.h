@@ -77,7 +77,7 @@ struct ScanNeeds {
     explicit ScanNeeds(const std::vector<Reduction>& reductions) {
         for (const Reduction& r : reductions) {
             output[r.of] = true;
-            if ((r.kind == ReductionKind::histogram || r.kind == ReductionKind::quantiles) && r.log)
+            if (r.kind == ReductionKind::histogram && r.log)
                 log10[r.of] = true;
         }
     }

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -143,12 +144,16 @@ struct Reduction {
     int of = 5;   // Outputs order: rate, electrons, T_MPE, blur, f50, EPC
     int key = 0;  // index into the scan's keys (unused by top_k)
     std::int64_t groups = 1;
-    // histogram and quantiles: `bins` equal bins on t in [first, last), t the value or its
-    // log10; slot 0 counts below, slot bins + 1 at or above (histograms.py _Bins)
+    // histogram: `bins` equal bins on t in [first, last), t the value or its log10 (histograms.py
+    // _Bins); quantiles: `bins` octave bins, the keys first_key .. first_key + bins - 1 of a
+    // value's bits shifted right by `shift` (histograms.py _OctaveBins). Slot 0 counts below,
+    // slot bins + 1 at or above.
     double first = 0.0, last = 1.0;
     std::int32_t bins = 1;
     double bins_per_t = 1.0;  // bins / (last - first)
     bool log = false;
+    std::int64_t first_key = 0;
+    int shift = 52;
     double threshold = 0.0;  // fraction_below
     std::int64_t k = 1;      // top_k
     bool largest = true;
@@ -256,7 +261,7 @@ struct ReductionState {
 };
 
 // What one kernel block gives the reductions: each lane's point index, status, group under
-// each key, the outputs and, where a log-binned reduction needs it, log10 of an output.
+// each key, the outputs and, where a log-binned histogram needs it, log10 of an output.
 struct FoldLanes {
     std::size_t n = 0;
     std::uint64_t first = 0;  // lane 0's point index, a multiple of block_size
@@ -298,6 +303,23 @@ EPC_FAST_INLINE double slot_of(const Reduction& r, double t) {
     const double top = static_cast<double>(r.bins) + 1.0;
     position = position >= 0.0 ? (position <= top ? position : top) : 0.0;
     return std::floor(position);
+}
+
+// The slot of value v on quantiles' octave bins (histograms.py _OctaveBins.slot): v's key, its
+// bits shifted right by `shift`, less first_key, plus 1, clipped to [0, bins + 1]; 0 for v <= 0
+// or NaN. The key (below 2^52: shift >= 12) becomes a double exactly through the bits of
+// 2^52 + key, and the rest is integer arithmetic on exact doubles: NumPy's integers give the
+// same slot. A double, as slot_of's, so that the lane loop vectorises on AVX2 too.
+EPC_FAST_INLINE double octave_slot_of(const Reduction& r, double v) {
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &v, sizeof bits);
+    const std::uint64_t key_bits = 0x4330000000000000u | (bits >> r.shift);
+    double key = 0.0;
+    std::memcpy(&key, &key_bits, sizeof key);
+    double position = (key - 0x1p52) - static_cast<double>(r.first_key - 1);
+    const double top = static_cast<double>(r.bins) + 1.0;
+    position = position >= 0.0 ? (position <= top ? position : top) : 0.0;
+    return v > 0.0 ? position : 0.0;
 }
 
 // Groups up to this many are summarised group by group with vector loops over the block's
@@ -486,6 +508,7 @@ inline void fold_range_cycle(const Reduction& r, const FoldLanes& f, ReductionSt
 inline void fold_histogram(const Reduction& r, const FoldLanes& f, ReductionState& s) {
     const double* __restrict v = f.outputs[r.of];
     const double* __restrict t = r.log ? f.log10_outputs[r.of] : v;
+    const bool octave = r.kind == ReductionKind::quantiles;
     const std::int32_t* __restrict g = f.groups[static_cast<std::size_t>(r.key)];
     const std::int64_t slots = r.slots();
     const std::size_t n = f.n;
@@ -500,13 +523,21 @@ inline void fold_histogram(const Reduction& r, const FoldLanes& f, ReductionStat
         // the cells as exact doubles below 2^31, converted to 32-bit integers
         alignas(64) std::int32_t cell[block_size];
         const double row = static_cast<double>(slots);
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < block_size; ++i)
-            cell[i] = static_cast<std::int32_t>(static_cast<double>(g[i]) * row + slot_of(r, t[i]));
+        if (octave) {
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < block_size; ++i)
+                cell[i] = static_cast<std::int32_t>(static_cast<double>(g[i]) * row + octave_slot_of(r, v[i]));
+        } else {
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < block_size; ++i)
+                cell[i] = static_cast<std::int32_t>(static_cast<double>(g[i]) * row + slot_of(r, t[i]));
+        }
         for (std::size_t i = 0; i < block_size; ++i) counts[cell[i]] += finite[i];
     } else {
-        for (std::size_t i = 0; i < block_size; ++i)
-            counts[static_cast<std::int64_t>(g[i]) * slots + static_cast<std::int64_t>(slot_of(r, t[i]))] += finite[i];
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const double slot = octave ? octave_slot_of(r, v[i]) : slot_of(r, t[i]);
+            counts[static_cast<std::int64_t>(g[i]) * slots + static_cast<std::int64_t>(slot)] += finite[i];
+        }
     }
     if (r.kind == ReductionKind::histogram)
         for (std::size_t i = 0; i < n; ++i) ++s.points[static_cast<std::size_t>(g[i])];

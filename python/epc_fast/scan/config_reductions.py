@@ -118,9 +118,8 @@ def _check_sizes(where: str, reduction, space) -> None:
     if isinstance(reduction, Histogram):
         check_size(where, "groups x bins", groups * (reduction.bins + 2), MAX_CELLS, 16)
     if isinstance(reduction, Quantiles):
-        decades = math.log10(reduction.high) - math.log10(reduction.low)
-        bins = max(1, round(decades * reduction.bins_per_decade))
-        check_size(where, "groups x streamed histogram bins", groups * (bins + 2), MAX_CELLS, 16)
+        slots = reduction._bins.slots
+        check_size(where, "groups x streamed histogram bins", groups * slots, MAX_CELLS, 16)
 
 
 def _reduction(name: str, table):

@@ -181,11 +181,14 @@ class CorePlan:
             spec["kind"] = "summary"
         elif isinstance(reduction, FractionBelow):
             spec.update(kind="fraction_below", threshold=float(reduction.threshold))
-        elif isinstance(reduction, (Histogram, Quantiles)):
+        elif isinstance(reduction, Histogram):
             bins = reduction._bins
-            spec.update(kind="histogram" if isinstance(reduction, Histogram) else "quantiles",
-                        first=bins.first, last=bins.last, bins=bins.bins,
-                        log=bool(getattr(reduction, "log", True)))
+            spec.update(kind="histogram", first=bins.first, last=bins.last, bins=bins.bins,
+                        log=bool(reduction.log))
+        elif isinstance(reduction, Quantiles):
+            bins = reduction._bins
+            spec.update(kind="quantiles", first_key=bins.first_key, bins=bins.bins,
+                        shift=bins.shift)
         else:
             raise TypeError(f"the core cannot fold {reduction!r}")
         return spec

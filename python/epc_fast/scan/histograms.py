@@ -1,10 +1,12 @@
 """Histograms on fixed bins, and quantiles: exact when the values fit, else from a fine
 histogram with a stated error.
 
-Bins are equal in t (the value, or its log10 on log bins) over [t_low, t_high): a value's bin
-is floor((t - t_low) bins / (t_high - t_low)), the arithmetic ``np.histogram`` uses for equal
-bins before it re-checks values within rounding of an edge (which this skips: it halves the
-cost, and such a value is one in ~10^13). Counts are integers: they merge exactly.
+A histogram's bins are equal in t (the value, or its log10 on log bins) over [t_low, t_high):
+a value's bin is floor((t - t_low) bins / (t_high - t_low)), the arithmetic ``np.histogram``
+uses for equal bins before it re-checks values within rounding of an edge (which this skips:
+it halves the cost, and such a value is one in ~10^13). Streamed quantiles count on octave bins
+(:class:`_OctaveBins`): a value's bin is read from its bits, with no rounding at all. Counts
+are integers: they merge exactly.
 """
 
 from __future__ import annotations
@@ -48,6 +50,76 @@ class _Bins:
     def counts(self, t: np.ndarray, group: np.ndarray, groups: int) -> np.ndarray:
         """int64 (groups, slots): how many ``t`` of each group fall in each slot."""
         cell = group * self.slots + self.slot(t)
+        return np.bincount(cell, minlength=groups * self.slots).reshape(groups, self.slots)
+
+
+#: The finest octave bins: 2**40 an octave keeps a bin's key (a double's bits shifted right
+#: by 52 - 40) below 2**52, where the core holds it exactly in a double.
+MAX_OCTAVE_BITS = 40
+
+
+@dataclass(frozen=True)
+class _OctaveBins:
+    """Bins by the leading bits of a positive double, ``2**k`` an octave.
+
+    A positive double's bits, read as an unsigned integer and shifted right by ``shift`` =
+    52 - k, keep its exponent and the first k bits of its mantissa: its *key*. Keys grow with
+    the value, and the values of one key form the bin [m 2**e, (m + 1) 2**e) with 2**k <= m <
+    2**(k + 1): bins at most 2**-k wide relative, whose edges are doubles. A value's bin is an
+    integer function of its bits, so the core and NumPy bin every value alike, and a value on
+    an edge is in the bin above it, exactly. Bins ``first_key .. first_key + bins - 1``; slot 0
+    counts the values below the first edge (0 and any value <= 0 included), slots 1..bins the
+    bins, bins + 1 the values at or above the last edge.
+    """
+
+    first_key: int
+    bins: int
+    shift: int
+
+    @classmethod
+    def covering(cls, low: float, high: float, bins_per_decade: int) -> "_OctaveBins":
+        """The bins from ``low``'s to ``high``'s, at least as fine as ``bins_per_decade`` equal
+        log bins: the least k whose bins, 2**-k wide, are at most 10**(1 / bins_per_decade) - 1
+        wide (k = 9, 0.195%, at 1000)."""
+        width = 10.0 ** (1.0 / bins_per_decade) - 1.0
+        k = 0
+        while 2.0 ** -k > width and k < MAX_OCTAVE_BITS:
+            k += 1
+        shift = 52 - k
+        first, last = cls._key(low, shift), cls._key(high, shift)
+        return cls(first, last - first + 1, shift)
+
+    @staticmethod
+    def _key(value: float, shift: int) -> int:
+        return int(np.float64(value).view(np.uint64)) >> shift
+
+    @property
+    def relative_resolution(self) -> float:
+        """A bin's width, relative, at most: 2**-k."""
+        return 2.0 ** -(52 - self.shift)
+
+    @property
+    def edges(self) -> np.ndarray:
+        """float64 (bins + 1,): the bins' edges, exact (the last may be inf)."""
+        keys = np.arange(self.first_key, self.first_key + self.bins + 1, dtype=np.uint64)
+        return (keys << np.uint64(self.shift)).view(np.float64)
+
+    @property
+    def slots(self) -> int:
+        return self.bins + 2
+
+    def slot(self, values: np.ndarray) -> np.ndarray:
+        """The slot (int32) of each finite value."""
+        values = np.ascontiguousarray(values, dtype=np.float64)
+        keys = (values.view(np.uint64) >> np.uint64(self.shift)).astype(np.int64)
+        keys -= self.first_key - 1
+        np.clip(keys, 0, self.bins + 1, out=keys)
+        keys[~(values > 0.0)] = 0
+        return keys.astype(np.int32)
+
+    def counts(self, values: np.ndarray, group: np.ndarray, groups: int) -> np.ndarray:
+        """int64 (groups, slots): how many ``values`` of each group fall in each slot."""
+        cell = group * self.slots + self.slot(values)
         return np.bincount(cell, minlength=groups * self.slots).reshape(groups, self.slots)
 
 
@@ -215,8 +287,8 @@ class QuantilesResult:
         width = np.divide(self.upper, self.lower, out=np.zeros(self.lower.shape),
                           where=positive) - 1.0
         worst = np.max(width[positive], initial=0.0)
-        text = (f"streamed from a log histogram ({100 * self.relative_resolution:.2g}% bins): "
-                f"the true quantiles lie within bounds at most {100 * worst:.2g}% wide")
+        text = (f"streamed from a histogram (bins at most {100 * self.relative_resolution:.3g}% "
+                f"wide): the true quantiles lie within bounds at most {100 * worst:.2g}% wide")
         absolute = finite & ~positive
         if absolute.any():
             text += (f"; {np.count_nonzero(absolute)} at or below the histogram's range lie in "
@@ -234,11 +306,13 @@ class Quantiles:
     q : sequence of floats in [0, 1].
     by : group key, optional; None: one group.
     of : str, the output (default ``"epc"``).
-    low, high : the output's unit, the range of the log histogram used beyond
-        ``exact_up_to`` points (default 1 to 1e10, pixels); quantiles outside it are bounded
-        only by the group's min and max.
-    bins_per_decade : int, the histogram's resolution: bins 10**(1 / bins_per_decade) - 1
-        wide, relative (0.23% at 1000).
+    low, high : the output's unit, the range of the histogram used beyond ``exact_up_to``
+        points (default 1 to 1e10, pixels); quantiles outside it are bounded only by the
+        group's min and max.
+    bins_per_decade : int, the histogram's resolution: its bins are at most
+        10**(1 / bins_per_decade) - 1 wide, relative. They are octave bins (2**k an octave,
+        the least k that is that fine: at 1000, 512 an octave, 0.195% wide), each value's bin
+        read from its bits.
     exact_up_to : int, scans of at most this many points keep every finite value (16 bytes
         each with its group index) and compute exact quantiles.
     """
@@ -262,9 +336,8 @@ class Quantiles:
             raise ValueError(f"bins_per_decade must be >= 1, got {self.bins_per_decade!r}")
 
     @property
-    def _bins(self) -> _Bins:
-        first, last = math.log10(self.low), math.log10(self.high)
-        return _Bins(first, last, max(1, round((last - first) * self.bins_per_decade)))
+    def _bins(self) -> _OctaveBins:
+        return _OctaveBins.covering(self.low, self.high, self.bins_per_decade)
 
     def start(self, key: GroupKey, points_total: int) -> dict:
         if points_total <= self.exact_up_to:
@@ -279,7 +352,7 @@ class Quantiles:
             return {"values": values, "groups": group}
         low, high = chunk.finite_min_max(self.of, key)
         return {"min": low, "max": high,
-                "counts": self._bins.counts(chunk.finite_log10(self.of), group, key.size)}
+                "counts": self._bins.counts(values, group, key.size)}
 
     def merge(self, state: dict, partial: dict) -> dict:
         if state["exact"]:
@@ -297,10 +370,10 @@ class Quantiles:
             estimate = _exact_quantiles(state, key.size, q)
             return QuantilesResult(self.of, key.columns, q, estimate, estimate, estimate,
                                    True, 0.0)
-        estimate, lower, upper = _histogram_quantiles(self._bins, state, q)
-        resolution = 10.0 ** ((self._bins.last - self._bins.first) / self._bins.bins) - 1.0
+        bins = self._bins
+        estimate, lower, upper = _histogram_quantiles(bins, state, q)
         return QuantilesResult(self.of, key.columns, q, estimate, lower, upper, False,
-                               resolution)
+                               bins.relative_resolution)
 
 
 def _exact_quantiles(state: dict, groups: int, q: np.ndarray) -> np.ndarray:
@@ -315,11 +388,12 @@ def _exact_quantiles(state: dict, groups: int, q: np.ndarray) -> np.ndarray:
     return estimate
 
 
-def _histogram_quantiles(bins: _Bins, state: dict, q: np.ndarray):
+def _histogram_quantiles(bins: _OctaveBins, state: dict, q: np.ndarray):
     """Quantiles from slot counts: the bins of the order statistics around q (n - 1) bound the
     sample quantile; the estimate interpolates in log10 within the bin."""
     counts = state["counts"]
-    t_edges = np.concatenate(([-np.inf], bins.edges, [np.inf]))
+    edges = np.concatenate(([-np.inf], bins.edges, [np.inf]))
+    t_edges = np.concatenate(([-np.inf], np.log10(bins.edges), [np.inf]))
     groups = counts.shape[0]
     estimate, lower, upper = (np.full((groups, q.size), np.nan) for _ in range(3))
     for g in range(groups):
@@ -332,8 +406,8 @@ def _histogram_quantiles(bins: _Bins, state: dict, q: np.ndarray):
         slot_low = np.searchsorted(cumulative, below, side="right")
         slot_high = np.searchsorted(cumulative, np.minimum(below + 1, n - 1), side="right")
         low, high = state["min"][g], state["max"][g]
-        lower[g] = np.clip(10.0 ** t_edges[slot_low], low, high)
-        upper[g] = np.clip(10.0 ** t_edges[slot_high + 1], low, high)
+        lower[g] = np.clip(edges[slot_low], low, high)
+        upper[g] = np.clip(edges[slot_high + 1], low, high)
         slot = np.searchsorted(cumulative, rank, side="right")
         before = np.where(slot > 0, cumulative[slot - 1], 0)
         fraction = (rank - before + 0.5) / counts[g][slot]
