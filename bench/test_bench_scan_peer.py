@@ -124,9 +124,10 @@ def numpy_scan(points: int) -> dict:
         out["histogram_below"].append(np.count_nonzero(t < 3.0))
         out["histogram_above"].append(np.count_nonzero(t >= 7.0))
         out["below"].append(np.count_nonzero(values < 2e6))
-        fine = np.histogram(t, bins=10_000, range=(0.0, 10.0))[0]
-        out["quantile_counts"].append(np.concatenate(
-            ([np.count_nonzero(t < 0.0)], fine, [np.count_nonzero(t >= 10.0)])))
+        bins = peer.QUANTILE_HISTOGRAM
+        keys = (values.view(np.uint64) >> np.uint64(52 - bins.k)).astype(np.int64)
+        slots = np.where(values > 0.0, np.clip(keys - bins.first_key + 1, 0, bins.bins + 1), 0)
+        out["quantile_counts"].append(np.bincount(slots, minlength=bins.bins + 2))
         out["exact_quantiles"].append(np.quantile(values, peer.QUANTILES))
     return {name: np.asarray(value) for name, value in out.items()}
 
@@ -156,8 +157,11 @@ def check_against_numpy(got: dict, expected: dict, points: int) -> None:
     # Quantiles: read from the counts (equal above) by the rule of the package's streamed
     # Quantiles (its own function gives the same bits), and the exact sample quantile lies
     # within the bounds they state.
+    bins = Quantiles()._bins  # the peer counts on the package's default bins
+    assert (bins.first_key, bins.bins, bins.shift) == (peer.FINE_FIRST_KEY, peer.FINE_BINS,
+                                                        52 - peer.FINE_K)
     state = {"counts": got["quantile_counts"], "min": got["min"], "max": got["max"]}
-    package = _histogram_quantiles(Quantiles()._bins, state, np.asarray(peer.QUANTILES))
+    package = _histogram_quantiles(bins, state, np.asarray(peer.QUANTILES))
     for name, value in zip(("quantiles", "quantiles_lower", "quantiles_upper"), package):
         np.testing.assert_array_equal(got[name], value, err_msg=name)
     assert np.all(got["quantiles_lower"] <= expected["exact_quantiles"])

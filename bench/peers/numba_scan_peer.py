@@ -32,12 +32,15 @@ standard deviation, which merge in another order):
   (Welford's update per point, Chan's merge across threads);
 - an 80-bin log10 histogram of EPC on [1e3, 1e7) pixels with the finite values below and above;
 - the number and fraction of finite values below 2e6 pixels;
-- a 1000-bins-per-decade log10 histogram on [1, 1e10) pixels, and from it the 5, 50 and 95%
+- an octave histogram on [1, 1e10) pixels, 512 bins an octave, and from it the 5, 50 and 95%
   quantiles as ``epc_fast.scan.Quantiles`` streams them (:func:`histogram_quantiles`).
 
-A value's bin is floor((log10 EPC - log10 low) bins / (log10 high - log10 low)) + 1 in slots
-0 .. bins + 1 (0 below, bins + 1 at or above), as ``epc_fast.scan.histograms`` bins; EPC = 0
-(blur unbounded) is finite and falls below every histogram.
+On the log10 histogram a value's bin is floor((log10 EPC - log10 low) bins / (log10 high -
+log10 low)) + 1 in slots 0 .. bins + 1 (0 below, bins + 1 at or above), as
+``epc_fast.scan.histograms`` bins; on the octave histogram it is the value's exponent and first
+9 mantissa bits (from ``math.frexp``), less the first bin's, plus 1, clipped likewise, as
+``epc_fast.scan.Quantiles`` bins. EPC = 0 (blur unbounded) is finite and falls below every
+histogram.
 
     from peers import numba_scan_peer
     numba_scan_peer.warm_up(threads=2)             # compiles; no timing should include it
@@ -67,7 +70,7 @@ from .numba_peer import (START_COEFFICIENTS, START_DEGREE, _f50_core_algorithm, 
 
 __all__ = ["scan", "warm_up", "Scene", "default_scene", "histogram_quantiles", "draws",
            "uniforms", "ndtri", "philox4x32_10", "stream_id", "HISTOGRAM", "QUANTILE_HISTOGRAM",
-           "BELOW_THRESHOLD", "QUANTILES"]
+           "OctaveBins", "BELOW_THRESHOLD", "QUANTILES"]
 
 # --- Philox4x32-10 and the uniforms (the stream contract) -----------------------------------
 
@@ -346,10 +349,44 @@ class LogBins:
         return 10.0 ** self.log_edges
 
 
+@dataclass(frozen=True)
+class OctaveBins:
+    """2**k bins an octave: a positive value's key is its biased exponent times 2**k plus the
+    first k bits of its mantissa (its bits shifted right by 52 - k); the bins are the keys from
+    ``low``'s to ``high``'s. Slot 0 below (0 included), 1..bins, bins + 1 at or above."""
+
+    low: float
+    high: float
+    k: int
+
+    @staticmethod
+    def key(value: float, k: int) -> int:
+        return int(np.float64(value).view(np.uint64)) >> (52 - k)
+
+    @property
+    def first_key(self) -> int:
+        return self.key(self.low, self.k)
+
+    @property
+    def bins(self) -> int:
+        return self.key(self.high, self.k) - self.first_key + 1
+
+    @property
+    def edges(self) -> np.ndarray:
+        """The value's unit: the bins + 1 edges, exact."""
+        keys = np.arange(self.first_key, self.first_key + self.bins + 1, dtype=np.uint64)
+        return (keys << np.uint64(52 - self.k)).view(np.float64)
+
+    @property
+    def log_edges(self) -> np.ndarray:
+        """log10 of the edges."""
+        return np.log10(self.edges)
+
+
 #: The per-design histogram of EPC: 80 log bins on [1e3, 1e7) pixels.
 HISTOGRAM = LogBins(1e3, 1e7, 80)
-#: The quantiles' histogram: 1000 bins a decade on [1, 1e10) pixels (Quantiles' defaults).
-QUANTILE_HISTOGRAM = LogBins(1.0, 1e10, 10_000)
+#: The quantiles' histogram: 512 bins an octave on [1, 1e10) pixels (Quantiles' defaults).
+QUANTILE_HISTOGRAM = OctaveBins(1.0, 1e10, 9)
 #: pixels: the fraction-below threshold.
 BELOW_THRESHOLD = 2e6
 #: The quantiles read from QUANTILE_HISTOGRAM.
@@ -359,8 +396,8 @@ QUANTILES = (0.05, 0.5, 0.95)
 # The bins as plain numbers, which the kernel reads as compile-time constants.
 HISTOGRAM_FIRST, HISTOGRAM_SCALE = HISTOGRAM.first, HISTOGRAM.scale
 HISTOGRAM_BINS, HISTOGRAM_SLOTS = float(HISTOGRAM.bins), HISTOGRAM.bins + 2
-FINE_FIRST, FINE_SCALE = QUANTILE_HISTOGRAM.first, QUANTILE_HISTOGRAM.scale
-FINE_BINS, FINE_SLOTS = float(QUANTILE_HISTOGRAM.bins), QUANTILE_HISTOGRAM.bins + 2
+FINE_K, FINE_FIRST_KEY = QUANTILE_HISTOGRAM.k, QUANTILE_HISTOGRAM.first_key
+FINE_BINS, FINE_SLOTS = QUANTILE_HISTOGRAM.bins, QUANTILE_HISTOGRAM.bins + 2
 
 
 @numba.njit(inline="always")
@@ -368,6 +405,17 @@ def _slot(t, first, scale, bins):
     """The slot of t = log10(value) (-inf for 0): as epc_fast.scan.histograms bins it."""
     position = (t - first) * scale + 1.0
     return int(min(max(position, 0.0), bins + 1.0))
+
+
+@numba.njit(inline="always")
+def _octave_slot(value, k, first_key, bins):
+    """The slot of a finite value on octave bins: its key from frexp (value = m 2^e, m in
+    [1/2, 1): biased exponent e + 1022, mantissa bits floor((2m - 1) 2^k), both exact)."""
+    if not value > 0.0:
+        return 0
+    m, e = math.frexp(value)
+    key = (e + 1022) * (1 << k) + int((2.0 * m - 1.0) * (1 << k))
+    return min(max(key - first_key + 1, 0), bins + 1)
 
 
 # --- The kernel -----------------------------------------------------------------------------
@@ -467,7 +515,7 @@ def _scan_part(start, stop, key0, key1, lux_stream, shake_stream, lux_low, lux_h
             below[d] += 1
         t = math.log10(epc) if epc > 0.0 else -math.inf
         histogram[d, _slot(t, HISTOGRAM_FIRST, HISTOGRAM_SCALE, HISTOGRAM_BINS)] += 1
-        fine[d, _slot(t, FINE_FIRST, FINE_SCALE, FINE_BINS)] += 1
+        fine[d, _octave_slot(epc, FINE_K, FINE_FIRST_KEY, FINE_BINS)] += 1
     out_status[:], out_count[:], out_mean[:], out_m2[:] = status, count, mean, m2
     out_low[:], out_high[:], out_below[:] = low, high, below
     out_histogram[:], out_fine[:] = histogram, fine
@@ -531,7 +579,7 @@ def histogram_quantiles(counts, low, high, q=QUANTILES, bins=QUANTILE_HISTOGRAM)
     counts : int64 (groups, bins + 2), slot counts (below, the bins, at or above).
     low, high : (groups,), the value's unit: each group's least and greatest value.
     q : probabilities.
-    bins : the :class:`LogBins` of ``counts``.
+    bins : the :class:`OctaveBins` of ``counts``.
 
     Returns
     -------
@@ -539,6 +587,7 @@ def histogram_quantiles(counts, low, high, q=QUANTILES, bins=QUANTILE_HISTOGRAM)
         for a group without values.
     """
     q = np.asarray(q, dtype=np.float64)
+    edges = np.concatenate(([-np.inf], bins.edges, [np.inf]))
     t_edges = np.concatenate(([-np.inf], bins.log_edges, [np.inf]))
     shape = (counts.shape[0], q.size)
     estimate, lower, upper = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape,
@@ -552,8 +601,8 @@ def histogram_quantiles(counts, low, high, q=QUANTILES, bins=QUANTILE_HISTOGRAM)
         floor = np.floor(rank)
         first = np.searchsorted(cumulative, floor, side="right")
         second = np.searchsorted(cumulative, np.minimum(floor + 1, n - 1), side="right")
-        lower[g] = np.clip(10.0 ** t_edges[first], low[g], high[g])
-        upper[g] = np.clip(10.0 ** t_edges[second + 1], low[g], high[g])
+        lower[g] = np.clip(edges[first], low[g], high[g])
+        upper[g] = np.clip(edges[second + 1], low[g], high[g])
         slot = np.searchsorted(cumulative, rank, side="right")
         before = np.where(slot > 0, cumulative[slot - 1], 0)
         fraction = (rank - before + 0.5) / group_counts[slot]
@@ -616,8 +665,8 @@ def scan(points: int, seed: int, threads: int, same_algorithm: bool = False,
     - ``below_threshold`` : float64 scalar array, 2e6 pixels; ``below`` : int64 (designs,),
       the finite EPC below it; ``fraction_below`` : float64 (designs,), below / count.
     - ``quantile_q`` : float64 (3,), 0.05, 0.5, 0.95; ``quantile_counts`` : int64
-      (designs, 10002), slot counts of the 1000-bins-per-decade log histogram on [1, 1e10)
-      (slot 0 below, 10001 at or above); ``quantiles``, ``quantiles_lower``,
+      (designs, bins + 2), slot counts of the octave histogram on [1, 1e10), 512 bins an
+      octave (slot 0 below, bins + 1 at or above); ``quantiles``, ``quantiles_lower``,
       ``quantiles_upper`` : float64 (designs, 3), the estimate and the bounds on the sample
       quantile (:func:`histogram_quantiles`).
     """
