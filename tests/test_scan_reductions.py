@@ -170,6 +170,14 @@ def test_octave_slots_put_every_value_in_the_bin_that_holds_it(bins_per_decade):
     assert bins.slot(np.array([np.nan])).tolist() == [0]
 
 
+@pytest.mark.parametrize("first_key, bins, shift", [(0, 10, 11), (0, 10, 53), (0, 0, 43),
+                                                    (-1, 10, 43), (2**21 - 5, 10, 43)])
+def test_octave_bins_the_core_cannot_hold_are_refused(first_key, bins, shift):
+    # keys must stay below 2^52 (exact doubles) and below 2^(64 - shift) (what a double gives)
+    with pytest.raises(ValueError, match="octave bins"):
+        _core.octave_slots(np.ones(3), first_key, bins, shift)
+
+
 def test_fraction_below_matches_numpy_with_its_binomial_error(backend, full):
     fraction = _scan(backend, FractionBelow(2e6, by="design"))
     for g in DESIGNS:

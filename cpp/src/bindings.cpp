@@ -489,6 +489,17 @@ std::vector<GroupKey> keys_of(const py::list& keys, const ScanSpace& space) {
     return result;
 }
 
+// Quantiles' octave bins (histograms.py _OctaveBins), checked: keys below 2^52
+// (octave_slot_of), the last bin's among them.
+void set_octave_bins(Reduction& r, std::int64_t first_key, std::int32_t bins, int shift) {
+    if (shift < 12 || shift > 52 || bins < 1 || first_key < 0 ||
+        first_key + bins > (std::int64_t{1} << (64 - shift)))
+        throw std::invalid_argument("octave bins: shift in [12, 52], bins >= 1, keys from first_key >= 0 below 2^(64 - shift)");
+    r.first_key = first_key;
+    r.bins = bins;
+    r.shift = shift;
+}
+
 std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<GroupKey>& keys) {
     static const char* kinds[] = {"summary", "histogram", "quantiles", "fraction_below", "top_k"};
     std::vector<Reduction> result;
@@ -521,15 +532,9 @@ std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<Gr
             if (!(r.first < r.last) || r.bins < 1) throw std::invalid_argument("scan spec: a histogram's bins");
             r.bins_per_t = static_cast<double>(r.bins) / (r.last - r.first);
         }
-        if (r.kind == ReductionKind::quantiles) {
-            r.first_key = item<std::int64_t>(d, "first_key");
-            r.bins = item<std::int32_t>(d, "bins");
-            r.shift = item<int>(d, "shift");
-            // keys below 2^52 (octave_slot_of), the last bin's among them
-            if (r.shift < 12 || r.shift > 52 || r.bins < 1 || r.first_key < 0 ||
-                r.first_key + r.bins > (std::int64_t{1} << (64 - r.shift)))
-                throw std::invalid_argument("scan spec: quantiles' octave bins");
-        }
+        if (r.kind == ReductionKind::quantiles)
+            set_octave_bins(r, item<std::int64_t>(d, "first_key"), item<std::int32_t>(d, "bins"),
+                            item<int>(d, "shift"));
         if (r.kind == ReductionKind::fraction_below) r.threshold = item<double>(d, "threshold");
         result.push_back(r);
     }
@@ -739,13 +744,9 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
         "octave_slots",
         [](py::array_t<double, py::array::c_style | py::array::forcecast> values,
            std::int64_t first_key, std::int32_t bins, int shift) {
-            if (shift < 12 || shift > 52 || bins < 1 || first_key < 0)
-                throw std::invalid_argument("octave_slots: shift in [12, 52], bins >= 1, first_key >= 0");
             Reduction r;
             r.kind = ReductionKind::quantiles;
-            r.first_key = first_key;
-            r.bins = bins;
-            r.shift = shift;
+            set_octave_bins(r, first_key, bins, shift);
             py::array_t<std::int32_t> slots(values.size());
             const double* v = values.data();
             std::int32_t* out = slots.mutable_data();
