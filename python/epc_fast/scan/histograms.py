@@ -23,6 +23,12 @@ from .summaries import _check_output
 __all__ = ["Histogram", "HistogramResult", "Quantiles", "QuantilesResult"]
 
 
+def _slot_counts(slot: np.ndarray, group: np.ndarray, groups: int, slots: int) -> np.ndarray:
+    """int64 (groups, slots): how many points of each group fall in each slot."""
+    cell = group * slots + slot
+    return np.bincount(cell, minlength=groups * slots).reshape(groups, slots)
+
+
 @dataclass(frozen=True)
 class _Bins:
     """Equal bins on t in [first, last); slot 0 is below, slots 1..bins, bins + 1 above."""
@@ -49,8 +55,7 @@ class _Bins:
 
     def counts(self, t: np.ndarray, group: np.ndarray, groups: int) -> np.ndarray:
         """int64 (groups, slots): how many ``t`` of each group fall in each slot."""
-        cell = group * self.slots + self.slot(t)
-        return np.bincount(cell, minlength=groups * self.slots).reshape(groups, self.slots)
+        return _slot_counts(self.slot(t), group, groups, self.slots)
 
 
 #: The finest octave bins: 2**40 an octave keeps a bin's key (a double's bits shifted right
@@ -119,8 +124,7 @@ class _OctaveBins:
 
     def counts(self, values: np.ndarray, group: np.ndarray, groups: int) -> np.ndarray:
         """int64 (groups, slots): how many ``values`` of each group fall in each slot."""
-        cell = group * self.slots + self.slot(values)
-        return np.bincount(cell, minlength=groups * self.slots).reshape(groups, self.slots)
+        return _slot_counts(self.slot(values), group, groups, self.slots)
 
 
 def _check_range(low: float, high: float, log: bool) -> None:
