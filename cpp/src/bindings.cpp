@@ -48,6 +48,23 @@ constexpr std::size_t first_touch_points = std::size_t{1} << 16;
 
 constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t_mpe_s",
                                         "blur_mm", "f50_cyc_per_mm", "epc", "status", "cause"};
+// The outputs computed only when named (sensitivity.h): the shares, in Share's order, and the
+// elasticities, n_params rows of n points in one array.
+constexpr const char* share_names[] = {"share_diffraction", "share_pixel", "share_motion",
+                                       "share_jitter"};
+constexpr const char* elasticities_name = "elasticities";
+
+// How many values output `name` holds for n points.
+py::ssize_t output_size(const std::string& name, py::ssize_t n) {
+    return name == elasticities_name ? n * n_params : n;
+}
+
+bool is_output_name(const std::string& name) {
+    auto in = [&](const auto& names) {
+        return std::find(std::begin(names), std::end(names), name) != std::end(names);
+    };
+    return in(output_names) || in(share_names) || name == elasticities_name;
+}
 
 // The cache of output memory (output_cache.h) that evaluate's new arrays come from. Never
 // destroyed: an array may outlive the module's static objects at interpreter exit.
@@ -225,15 +242,14 @@ py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize
         names.assign(std::begin(output_names), std::end(output_names));
     }
     for (const std::string& name : names) {
-        const bool known = std::find(std::begin(output_names), std::end(output_names), name) !=
-                           std::end(output_names);
+        const bool known = is_output_name(name);
         if (!known || result.contains(name))
             throw std::invalid_argument("allocate: '" + name + "' is " +
                                         (known ? "in out already" : "not an output"));
         bool is_fresh = false;
         py::array array = name == "status" || name == "cause"
                               ? new_column<std::uint8_t>(n, is_fresh)
-                              : new_column<double>(n, is_fresh);
+                              : new_column<double>(output_size(name, n), is_fresh);
         result[name.c_str()] = array;
         if (is_fresh) fresh[name.c_str()] = array;
     }
@@ -242,14 +258,20 @@ py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize
 
 // The kernel's view of `arrays` (output name -> array): null for the outputs it lacks.
 Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
-    return Outputs{output_column<double>(arrays, "electron_rate_e_per_s", n),
-                   output_column<double>(arrays, "electrons", n),
-                   output_column<double>(arrays, "t_mpe_s", n),
-                   output_column<double>(arrays, "blur_mm", n),
-                   output_column<double>(arrays, "f50_cyc_per_mm", n),
-                   output_column<double>(arrays, "epc", n),
-                   output_column<std::uint8_t>(arrays, "status", n),
-                   output_column<std::uint8_t>(arrays, "cause", n)};
+    Outputs out{output_column<double>(arrays, "electron_rate_e_per_s", n),
+                output_column<double>(arrays, "electrons", n),
+                output_column<double>(arrays, "t_mpe_s", n),
+                output_column<double>(arrays, "blur_mm", n),
+                output_column<double>(arrays, "f50_cyc_per_mm", n),
+                output_column<double>(arrays, "epc", n),
+                output_column<std::uint8_t>(arrays, "status", n),
+                output_column<std::uint8_t>(arrays, "cause", n)};
+    for (int k = 0; k < n_shares; ++k)
+        out.sensitivity.share[k] = output_column<double>(arrays, share_names[k], n);
+    out.sensitivity.elasticities =
+        output_column<double>(arrays, elasticities_name, output_size(elasticities_name, n));
+    out.sensitivity.stride = static_cast<std::size_t>(n);
+    return out;
 }
 
 py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,

@@ -9,14 +9,15 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from . import params, reference
+from . import params, reference, reference_sensitivity
 from ._threads import MAX_THREADS
 from .memory import memory_limit_bytes as _memory_limit_bytes
+from .reference_sensitivity import ELASTICITY_PARAMETERS, SHARE_NAMES
 from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Cause, Status
 
-__all__ = ["evaluate", "Result", "MAX_THREADS"]
+__all__ = ["evaluate", "Result", "MAX_THREADS", "ELASTICITY_PARAMETERS"]
 
 #: Points per call into the core between two checks for Ctrl-C (the GIL is released inside).
 CHUNK_POINTS = 1 << 18
@@ -45,6 +46,15 @@ class Result:
     epc : pixels, effective pixel count 4 S f50^2.
     status : :class:`Status` codes (uint8 array).
     cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
+    share_diffraction, share_pixel, share_motion, share_jitter : 1, each MTF factor's share
+        ln MTF_i(f50) / ln MTF_sys(f50) of the loss at f50 (the denominator is ln c at the
+        root); the four sum to 1. NaN where the status is not OK, except where the blur is
+        unbounded: 0, 0, 1, 0. Computed only when ``outputs=`` names them.
+    elasticities : dict of parameter name to 1, the elasticity d ln EPC / d ln theta of every
+        model parameter (:data:`ELASTICITY_PARAMETERS`; the sensor's size under the keyword
+        that gave it, ``sensor_area_mm2`` for a width and a height or a diagonal), each the
+        broadcast shape; NaN where the status is not OK. Computed only when ``outputs=``
+        names ``"elasticities"``.
     """
 
     electron_rate_e_per_s: np.ndarray | float | None
@@ -55,15 +65,28 @@ class Result:
     epc: np.ndarray | float | None
     status: np.ndarray | Status | None
     cause: np.ndarray | Cause | None
+    share_diffraction: np.ndarray | float | None = None
+    share_pixel: np.ndarray | float | None = None
+    share_motion: np.ndarray | float | None = None
+    share_jitter: np.ndarray | float | None = None
+    elasticities: dict | None = None
 
     def as_dict(self) -> dict:
-        """The outputs by name."""
-        return {f.name: getattr(self, f.name) for f in fields(self)}
+        """The outputs by name: the default ones, and the others that were computed."""
+        return {f.name: getattr(self, f.name) for f in fields(self)
+                if f.name in OUTPUT_DTYPES or getattr(self, f.name) is not None}
 
 
-#: Each output's dtype, in Result's field order.
+#: The shares of the loss at f50, one output each (``outputs=`` names them).
+SHARE_OUTPUTS = tuple(f"share_{name}" for name in SHARE_NAMES)
+#: The outputs computed only when ``outputs=`` names them.
+SENSITIVITY_OUTPUTS = SHARE_OUTPUTS + ("elasticities",)
+#: Each default output's dtype, in Result's field order.
 OUTPUT_DTYPES = {f.name: np.dtype(np.uint8 if f.name in ("status", "cause") else np.float64)
-                 for f in fields(Result)}
+                 for f in fields(Result) if f.name not in SENSITIVITY_OUTPUTS}
+#: Every output's dtype (the elasticities: float64 rows), in Result's field order.
+ALL_OUTPUT_DTYPES = {**OUTPUT_DTYPES, **{name: np.dtype(np.float64)
+                                         for name in SENSITIVITY_OUTPUTS}}
 
 
 def _as_float_array(name: str, value) -> np.ndarray:
@@ -298,7 +321,7 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
     if options.backend == "core":
         threads = _threads_of(threads)
         # the core writes the caller's arrays and allocates the others it computes
-        flat = {} if given is None else {k: v.reshape(-1).view(OUTPUT_DTYPES[k])
+        flat = {} if given is None else {k: v.reshape(-1).view(ALL_OUTPUT_DTYPES[k])
                                          for k, v in given.items()}
         return _run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
                          options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
@@ -306,10 +329,10 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
                          allocate=[k for k in options.computed if k not in flat])
     if threads is not None:
         _threads_of(threads)
-    result = _run_reference(arrays, shape, sensor.is_pixel_count, spec)
+    result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed)
     if given is not None:
         for name, array in given.items():
-            np.copyto(array, result[name].reshape(shape))
+            np.copyto(array, result[name].reshape(array.shape))
     return result
 
 
@@ -320,8 +343,11 @@ def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Op
     if options.invalid == "raise" and np.any(status == Status.INVALID):
         _raise_first_invalid(arrays, names, status, shape, sensor.parts)
     if given is not None:
-        return Result(**{name: given.get(name) for name in OUTPUT_DTYPES})
-    return _result({k: v for k, v in result.items() if k in options.selected}, shape)
+        kept = {name: given.get(name) for name in ALL_OUTPUT_DTYPES}
+        if kept["elasticities"] is not None:
+            kept["elasticities"] = _by_parameter(kept["elasticities"], sensor, shape, arrays=True)
+        return Result(**kept)
+    return _result({k: v for k, v in result.items() if k in options.selected}, shape, sensor)
 
 
 def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
@@ -469,7 +495,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
 
 
 def _outputs_of(outputs) -> tuple:
-    """The Result fields ``outputs=`` asks for, in Result's order; all of them for None."""
+    """The Result fields ``outputs=`` asks for, in Result's order; the default ones for None."""
     if outputs is None:
         return tuple(OUTPUT_DTYPES)
     if isinstance(outputs, str):
@@ -479,12 +505,12 @@ def _outputs_of(outputs) -> tuple:
     except TypeError:
         raise TypeError(f"outputs must be a field name or an iterable of them, got "
                         f"{_short(outputs)}") from None
-    unknown = [name for name in names if name not in OUTPUT_DTYPES]
+    unknown = [name for name in names if name not in ALL_OUTPUT_DTYPES]
     if unknown or not names:
         what = f"unknown field(s) {unknown}" if unknown else "none"
-        raise ValueError(f"outputs must name at least one of {', '.join(OUTPUT_DTYPES)}; "
+        raise ValueError(f"outputs must name at least one of {', '.join(ALL_OUTPUT_DTYPES)}; "
                          f"got {what}")
-    return tuple(name for name in OUTPUT_DTYPES if name in names)
+    return tuple(name for name in ALL_OUTPUT_DTYPES if name in names)
 
 
 def _out_arrays(out, shape, selected) -> dict:
@@ -500,7 +526,7 @@ def _out_arrays(out, shape, selected) -> dict:
         raise ValueError(f"out must have exactly the fields {', '.join(selected)}; "
                          f"missing: {missing}, unknown: {unknown}")
     for name in selected:
-        dtype = OUTPUT_DTYPES[name]
+        dtype = ALL_OUTPUT_DTYPES[name]
         array = out[name]
         where = f"out[{name!r}]"
         if not isinstance(array, np.ndarray):
@@ -508,9 +534,11 @@ def _out_arrays(out, shape, selected) -> dict:
         if array.dtype != dtype:
             raise TypeError(f"{where} has dtype {array.dtype.str}, expected {dtype.str} "
                             f"({dtype.name}, native byte order)")
-        if array.shape != shape:
-            raise ValueError(f"{where} has shape {array.shape}, expected the broadcast "
-                             f"shape {shape}")
+        expected = _output_shape(name, shape)
+        if array.shape != expected:
+            what = ("(one row per parameter of ELASTICITY_PARAMETERS, then the broadcast shape)"
+                    if name == "elasticities" else "the broadcast shape")
+            raise ValueError(f"{where} has shape {array.shape}, expected {what} {expected}")
         if not array.flags.c_contiguous:
             raise ValueError(f"{where} must be C-contiguous")
         if not array.flags.writeable:
@@ -527,6 +555,20 @@ def _out_arrays(out, shape, selected) -> dict:
 #: (6 float64 + 2 uint8); the reference peaks near 320 (tracemalloc, 2e5 random designs), twice
 #: that leaves room.
 BYTES_PER_POINT = {"core": 6 * 8 + 2, "reference": 640}
+#: The reference's peak per byte of a sensitivity output it returns: its temporaries hold a few
+#: copies of each (tracemalloc on 2e5 random designs stays below 4).
+SENSITIVITY_BYTES_FACTOR = 4
+
+
+def _output_shape(name, shape) -> tuple:
+    """The shape of output ``name`` for the broadcast ``shape``."""
+    return (len(ELASTICITY_PARAMETERS),) + tuple(shape) if name == "elasticities" else shape
+
+
+def _output_bytes(name) -> int:
+    """Bytes output ``name`` takes per point."""
+    rows = len(ELASTICITY_PARAMETERS) if name == "elasticities" else 1
+    return rows * ALL_OUTPUT_DTYPES[name].itemsize
 
 
 def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES)):
@@ -540,9 +582,10 @@ def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPE
     n = math.prod(shape)
     columns = sum(1 for a in arrays if a.size > 1)
     if backend == "core":  # the outputs it computes, unless the caller gave them
-        own = 0 if out_given else sum(OUTPUT_DTYPES[k].itemsize for k in computed)
+        own = 0 if out_given else sum(_output_bytes(k) for k in computed)
     else:
-        own = BYTES_PER_POINT[backend]
+        own = BYTES_PER_POINT[backend] + sum(_output_bytes(k) * SENSITIVITY_BYTES_FACTOR
+                                             for k in computed if k in SENSITIVITY_OUTPUTS)
     per_point = 8 * columns + own
     needed = n * per_point
     if limit is not None and needed > limit:
@@ -578,7 +621,7 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_
                           out, allocate)
 
 
-def _run_reference(arrays, shape, size_is_pixel_count, spec):
+def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=()):
     n = math.prod(shape)
     p = {name: np.broadcast_to(a, shape).reshape(n)
          for name, a in zip(params.PARAMETER_NAMES, arrays)}
@@ -588,16 +631,36 @@ def _run_reference(arrays, shape, size_is_pixel_count, spec):
     wavelengths = weights = None
     if spec is not None:
         wavelengths, weights = spec.wavelengths_nm, spec.weights
-    return reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid)
+    result = reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid)
+    shares = any(name in computed for name in SHARE_OUTPUTS)
+    if shares or "elasticities" in computed:
+        result.update(reference_sensitivity.sensitivity_points(
+            p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
+            elasticities="elasticities" in computed))
+    return result
 
 
-def _result(out, shape) -> Result:
+def _by_parameter(rows, sensor: _Sensor, shape, arrays=False) -> dict:
+    """The elasticities' rows (one per parameter) as a dict by the caller's parameter names,
+    each of the broadcast shape: floats for scalar input, unless ``arrays`` (views of the rows,
+    0-d for scalar input, as for ``out=``)."""
+    size_name = "pixel_count" if sensor.is_pixel_count else "sensor_area_mm2"
+    rows = rows.reshape((len(ELASTICITY_PARAMETERS),) + tuple(shape))
+    names = [size_name if name == "size" else name for name in ELASTICITY_PARAMETERS]
+    if shape == () and not arrays:
+        return {name: float(row) for name, row in zip(names, rows)}
+    return {name: rows[j, ...] for j, name in enumerate(names)}
+
+
+def _result(out, shape, sensor: _Sensor) -> Result:
     """A Result of the flat arrays in ``out``; a field ``out`` lacks is None."""
     def value(name, v):
         if v is None:
             return None
+        if name == "elasticities":
+            return _by_parameter(v, sensor, shape)
         if shape != ():
             return v.reshape(shape)
         return (Status(int(v[0])) if name == "status" else
                 Cause(int(v[0])) if name == "cause" else float(v[0]))
-    return Result(**{name: value(name, out.get(name)) for name in OUTPUT_DTYPES})
+    return Result(**{name: value(name, out.get(name)) for name in ALL_OUTPUT_DTYPES})

@@ -21,6 +21,7 @@
 #include "f50.h"
 #include "parallel.h"
 #include "params.h"
+#include "sensitivity.h"
 #include "status.h"
 #include "stream.h"
 
@@ -562,6 +563,28 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     }
 }
 
+// Writes the block's n points of the shares and elasticities (sensitivity.h), for the outputs
+// that ask for them; with streaming stores as scatter writes.
+template <class T>
+void scatter_sensitivity(const Inputs& in, const Block<T>& b, const Outputs& out) {
+    const SensitivityOutputs& to = out.sensitivity;
+    alignas(64) double shares[n_shares][block_size];
+    alignas(64) double elasticities[n_params][block_size];
+    bool any_share = false;
+    for (double* s : to.share) any_share |= s != nullptr;
+    sensitivity(in, b, any_share, to.elasticities != nullptr, shares, elasticities);
+    const std::size_t n = b.n;
+    const bool stream = out.stream && n == block_size;
+    auto copy = [n, stream](double* dst, const double* from) {
+        if (stream) stream_copy(dst, from, n * sizeof *from);
+        else std::memcpy(dst, from, n * sizeof *from);
+    };
+    for (int s = 0; s < n_shares; ++s)
+        if (to.share[s] != nullptr) copy(to.share[s], shares[s]);
+    if (to.elasticities != nullptr)
+        for (int j = 0; j < n_params; ++j) copy(to.elasticities + j * to.stride, elasticities[j]);
+}
+
 // Evaluates points [begin, begin + n) with f50 solved in T (block.h).
 template <class T>
 void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
@@ -569,12 +592,13 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
     b.n = n;
     gather(in, begin, illuminance_lux, b);
     exposure(opt, b);
-    if (out.f50_cyc_per_mm != nullptr || out.epc != nullptr) {
+    if (out.f50_cyc_per_mm != nullptr || out.epc != nullptr || out.sensitivity.any()) {
         f50(in.spectrum, opt, b);
     } else {  // f50 not asked for: not solved (status and the rest need only the exposure)
         for (std::size_t i = 0; i < block_size; ++i) b.wide[i] = 0;
     }
     scatter(in, b, out);
+    if (out.sensitivity.any()) scatter_sensitivity(in, b, out);
 }
 
 }  // namespace detail
@@ -614,8 +638,17 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     if (n_wide == 0) return;
     double values[6][block_size];
     unsigned char codes[2][block_size];
-    const Outputs wide_out{values[0], values[1], values[2], values[3], values[4], values[5],
-                           codes[0], codes[1]};
+    Outputs wide_out{values[0], values[1], values[2], values[3], values[4], values[5],
+                     codes[0], codes[1]};
+    // the sensitivity outputs asked for, as rows of block_size
+    double shares[n_shares][block_size];
+    double elasticities[n_params][block_size];
+    for (int s = 0; s < n_shares; ++s)
+        wide_out.sensitivity.share[s] = out.sensitivity.share[s] != nullptr ? shares[s] : nullptr;
+    if (out.sensitivity.elasticities != nullptr) {
+        wide_out.sensitivity.elasticities = elasticities[0];
+        wide_out.sensitivity.stride = block_size;
+    }
     detail::evaluate_block_as(in, opt, wide_out, begin, n, illuminance_lux, ws.block64);
     stream_fence();  // the block's streamed lines land before these lanes overwrite them
     auto take = [&](auto* to, const auto* from) {
@@ -631,6 +664,10 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     take(out.epc, values[5]);
     take(out.status, codes[0]);
     take(out.cause, codes[1]);
+    for (int s = 0; s < n_shares; ++s) take(out.sensitivity.share[s], shares[s]);
+    if (out.sensitivity.elasticities != nullptr)
+        for (int j = 0; j < n_params; ++j)
+            take(out.sensitivity.elasticities + j * out.sensitivity.stride, elasticities[j]);
 }
 
 // first_touch (parallel.h) over the pages of the outputs' points [begin, end): for output arrays
@@ -645,6 +682,13 @@ inline void first_touch(const Outputs& out, std::size_t begin, std::size_t end,
                               of(out.blur_mm), of(out.f50_cyc_per_mm), of(out.epc),
                               of(out.status), of(out.cause)};
     first_touch(regions, threads);
+    const SensitivityOutputs& s = out.sensitivity;
+    if (!s.any()) return;
+    Region more[n_shares + n_params];
+    for (int k = 0; k < n_shares; ++k) more[k] = of(s.share[k]);
+    for (int j = 0; j < n_params; ++j)
+        more[n_shares + j] = of(s.elasticities != nullptr ? s.elasticities + j * s.stride : nullptr);
+    first_touch(more, threads);
 }
 
 // `out` for a call of n points: streaming (stream.h) when its outputs total stream_min_bytes

@@ -112,6 +112,24 @@ struct Options {
     double t_mpe_rtol = 1e-15;  // Brent's tolerance on the electrons needed
 };
 
+// The MTF factors of the share outputs (sensitivity.h), in their order.
+enum Share : int { share_diffraction, share_pixel, share_motion, share_jitter, n_shares };
+
+// The outputs of what limits a design and how sensitive it is (sensitivity.h); null: not
+// computed. Each share has a column; the elasticities are n_params rows of `stride` points,
+// row j parameter j's, point i at index i of its row.
+struct SensitivityOutputs {
+    double* share[n_shares] = {};
+    double* elasticities = nullptr;
+    std::size_t stride = 0;
+
+    bool any() const {
+        for (double* s : share)
+            if (s != nullptr) return true;
+        return elasticities != nullptr;
+    }
+};
+
 // Output columns, contiguous. Point i of a call to evaluate_block is written at index i: the
 // caller offsets the pointers to the block (Outputs::at). A null pointer: that output is not
 // computed (and without f50 and EPC, f50 is not solved). No output may share memory with an
@@ -129,13 +147,18 @@ struct Outputs {
     // Write full blocks' whole cache lines with streaming stores (stream.h): for calls whose
     // outputs are too large to stay in the caches (kernel.h streaming_for).
     bool stream = false;
+    // The shares and elasticities, when asked for (sensitivity.h).
+    SensitivityOutputs sensitivity = {};
 
     // The outputs from point `offset` on; a null output (not computed) stays null.
     Outputs at(std::size_t offset) const {
         auto shift = [offset](auto* p) { return p != nullptr ? p + offset : p; };
+        SensitivityOutputs moved = sensitivity;
+        for (double*& s : moved.share) s = shift(s);
+        moved.elasticities = shift(moved.elasticities);
         return Outputs{shift(electron_rate_e_per_s), shift(electrons), shift(t_mpe_s),
                        shift(blur_mm), shift(f50_cyc_per_mm), shift(epc), shift(status),
-                       shift(cause), stream};
+                       shift(cause), stream, moved};
     }
 
     // The bytes a point's computed outputs take.
@@ -144,6 +167,8 @@ struct Outputs {
                                   f50_cyc_per_mm, epc};
         std::size_t bytes = (status != nullptr ? 1 : 0) + (cause != nullptr ? 1 : 0);
         for (const double* v : values) bytes += v != nullptr ? sizeof(double) : 0;
+        for (const double* v : sensitivity.share) bytes += v != nullptr ? sizeof(double) : 0;
+        if (sensitivity.elasticities != nullptr) bytes += n_params * sizeof(double);
         return bytes;
     }
 };

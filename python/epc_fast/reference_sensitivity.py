@@ -1,0 +1,292 @@
+"""The NumPy reference of what limits a design and how sensitive it is: each MTF factor's share
+of the loss at f50, and the elasticity d ln EPC / d ln theta of every parameter.
+
+Every function carries the same name as its C++ counterpart in
+``cpp/include/epc_fast/sensitivity.h``; the core is tested against this module, and this module
+against 40-digit mpmath central differences (tests/test_sensitivity.py).
+
+**Shares.** At f50 the system MTF is c, so ln D + ln P + ln M + ln J = ln c: the share of a
+factor is ln MTF_i(f50) / ln MTF_sys(f50) (= ln c at the root), and the four shares sum to 1.
+
+**Elasticities.** EPC = 4 S f50^2, so d ln EPC / d ln theta = d ln S / d ln theta +
+2 d ln f50 / d ln theta. f50 is defined by ln MTF(f50; theta) = ln c; differentiating it,
+
+    d ln f50 / d ln theta = (d ln MTF / d ln theta) / A,   A = -d ln MTF / d ln f > 0,
+
+both at f50 (A is the MTF's log-slope the solvers use). A parameter reaches the MTF directly
+(the f-number and the wavelength through diffraction, the pitch and the fill factor through the
+pixel aperture, the focal length through the blur, the jitter, the threshold c) and through
+T_MPE, which sets the blur angle. T_MPE is the positive root of
+
+    Q(T) = r^2 w T^2 - s (r + D) T - s sigma_r^2 = 0,   w = 1 - s u^2,
+
+so d ln T / d ln x = -x dQ/dx / (T dQ/dT). With e = r T the electrons and the positive
+``spread`` = e + D T + 2 sigma_r^2 (T dQ/dT / s, written with Q = 0 so that nothing cancels):
+
+    d ln T / d ln r       = -(e + 2 D T + 2 sigma_r^2) / spread
+    d ln T / d ln D       = D T / spread
+    d ln T / d ln sigma_r = 2 sigma_r^2 / spread
+    d ln T / d ln s       = (u^2 e^2 + e + D T + sigma_r^2) / spread
+    d ln T / d ln u       = 2 u^2 e^2 / spread
+
+Every one is a ratio of sums of positive terms. An elasticity is theta times the partial
+derivative of ln EPC, all other parameters of MODEL.md section 1 held: with a pixel count the
+pitch's includes the area N p^2, with a sensor area it does not.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import params
+from .reference import mtf_diffraction, scaled_product, sinpi
+
+__all__ = [
+    "ZETA_EVEN",
+    "log_sinc",
+    "sinc_log_slope",
+    "diffraction_loss",
+    "diffraction_log_slope_numerator",
+    "log_mtf_diffraction",
+    "mtf_log_factors",
+    "mtf_loss_shares",
+    "t_mpe_log_slopes",
+    "blur_angle_log_slope",
+    "field_angle_rate_log_slope",
+    "epc_elasticities",
+    "ELASTICITY_PARAMETERS",
+    "SHARE_NAMES",
+]
+
+#: The parameters an elasticity is given for, in the core's order (every model parameter; the
+#: size is the sensor's area or pixel count, whichever the caller gave).
+ELASTICITY_PARAMETERS = params.PARAMETER_NAMES
+#: The MTF factors, in the order of the share outputs.
+SHARE_NAMES = ("diffraction", "pixel", "motion", "jitter")
+
+
+#: zeta(2), zeta(4), ..., zeta(30), rounded to float64 (tests/test_sensitivity.py checks them
+#: against mpmath.zeta): the coefficients of the series of ln sinc.
+ZETA_EVEN = (
+    1.6449340668482264, 1.0823232337111381, 1.0173430619844492, 1.0040773561979444,
+    1.000994575127818, 1.000246086553308, 1.0000612481350588, 1.0000152822594086,
+    1.000003817293265, 1.0000009539620338, 1.0000002384505027, 1.000000059608189,
+    1.0000000149015549, 1.000000003725334, 1.0000000009313275,
+)
+
+#: Below this y the series of ln sinc are used: their 15 terms reach 4^-30 = 1e-18 of the first
+#: at y = 1/4; above it the direct formulas lose at most 3 bits to cancellation.
+SERIES_BELOW = 0.25
+#: nm per mm: mtf_diffraction(nu, _NM_PER_MM, 1) is D at nu itself.
+_NM_PER_MM = 1e6
+
+
+def _even_series(y, coefficients):
+    """sum_k coefficients[k] y^(2k + 2), by Horner in y^2."""
+    t = np.asarray(y, dtype=np.float64) ** 2
+    total = np.zeros_like(t)
+    for c in reversed(coefficients):
+        total = (total + c) * t
+    return total
+
+
+def log_sinc(y):
+    """1: ln sinc(y) for 0 <= y < 1; -sum_k zeta(2k) y^(2k) / k below :data:`SERIES_BELOW`
+    (where ln of a value near 1 would lose its digits)."""
+    y = np.asarray(y, dtype=np.float64)
+    series = -_even_series(y, [z / (k + 1) for k, z in enumerate(ZETA_EVEN)])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        direct = np.log(sinpi(y) / (np.pi * y))
+    return np.where(y < SERIES_BELOW, series, direct)
+
+
+def sinc_log_slope(y):
+    """1: y d ln sinc(y) / dy = pi y cot(pi y) - 1 for 0 <= y < 1; -2 sum_k zeta(2k) y^(2k)
+    below :data:`SERIES_BELOW` (where the two terms cancel)."""
+    y = np.asarray(y, dtype=np.float64)
+    series = -2.0 * _even_series(y, list(ZETA_EVEN))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        direct = np.pi * y * sinpi(0.5 - y) / sinpi(y) - 1.0
+    return np.where(y < SERIES_BELOW, series, direct)
+
+
+def diffraction_loss(nu):
+    """1: 1 - D(nu), the diffraction MTF's loss; (2/pi) (asin nu + nu sqrt(1 - nu^2)) up to
+    nu = 1/2 (no cancellation where D is near 1), 1 - D above, 1 past the cut-off."""
+    v = np.minimum(np.asarray(nu, dtype=np.float64), 1.0)
+    low = (2.0 / np.pi) * (np.arcsin(np.minimum(v, 0.5)) + v * np.sqrt((1.0 - v) * (1.0 + v)))
+    return np.where(v <= 0.5, low, 1.0 - mtf_diffraction(v, _NM_PER_MM, 1.0))  # nu = f 1 mm 1
+
+
+def diffraction_log_slope_numerator(nu):
+    """1: nu dD/dnu = -(4/pi) nu sqrt(1 - nu^2) below the cut-off, 0 past it."""
+    v = np.minimum(np.asarray(nu, dtype=np.float64), 1.0)
+    return -(4.0 / np.pi) * v * np.sqrt((1.0 - v) * (1.0 + v))
+
+
+def log_mtf_diffraction(value, loss):
+    """1: ln D, from D and its loss 1 - D (:func:`diffraction_loss`; both summed over a
+    spectrum with its weights): log1p(-loss) where the loss is below 1/2 (it keeps a small
+    loss's digits), ln D elsewhere (D's own digits, down to the cut-off)."""
+    value = np.asarray(value, dtype=np.float64)
+    loss = np.asarray(loss, dtype=np.float64)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(loss < 0.5, np.log1p(-np.minimum(loss, 0.5)), np.log(value))
+
+
+def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
+                    wavelengths_nm, weights):
+    """1: (ln D, ln P, ln M, ln J) at f, and (nu dD/dnu / D, y_p dlnP/dy_p, y_m dlnM/dy_m):
+    each factor's log and the log-slopes the elasticities need. ``wavelengths_nm`` and
+    ``weights`` as in :func:`epc_fast.reference.mtf_system` (a per-point wavelength array with
+    weight 1 for a monochromatic scene)."""
+    f = np.asarray(f_cyc_per_mm, dtype=np.float64)
+    loss = 0.0
+    slope_numerator = 0.0
+    value = 0.0
+    for lam, w in zip(wavelengths_nm, weights):
+        nu = f * (np.asarray(lam) * 1e-6) * f_number
+        loss = loss + w * diffraction_loss(nu)
+        slope_numerator = slope_numerator + w * diffraction_log_slope_numerator(nu)
+        value = value + w * mtf_diffraction(f, lam, f_number)
+    y_pixel = np.sqrt(fill_factor) * (pixel_pitch_um * 1e-3) * f
+    y_motion = np.asarray(blur_mm, dtype=np.float64) * f
+    sigma_f = jitter_um * 1e-3 * f
+    logs = (log_mtf_diffraction(value, loss), log_sinc(y_pixel), log_sinc(y_motion),
+            -2.0 * np.pi**2 * sigma_f * sigma_f)
+    slopes = (slope_numerator / value, sinc_log_slope(y_pixel), sinc_log_slope(y_motion))
+    return logs, slopes
+
+
+def mtf_loss_shares(log_factors):
+    """1: each factor's share ln MTF_i / sum_i ln MTF_i of the loss at f50 (diffraction, pixel,
+    motion, jitter); the sum is ln MTF_sys(f50) = ln c at the root, so the shares sum to 1."""
+    total = sum(log_factors)
+    return tuple(v / total for v in log_factors)
+
+
+def t_mpe_log_slopes(electrons, t_mpe_s, read_noise_e, dark_current_e_per_s, prnu):
+    """1: d ln T_MPE / d ln x for x = the rate r, dark current D, read noise sigma_r, the
+    target s = 10^(snr_db/10) and the PRNU u (module docstring), as a dict keyed ``rate``,
+    ``dark``, ``read``, ``target``, ``prnu``. Each is written in the ratios q = D T / e and
+    v = 2 sigma_r^2 / e, so that a huge dark term gives its limit, not inf / inf."""
+    e = np.asarray(electrons, dtype=np.float64)
+    q = dark_current_e_per_s * t_mpe_s / e
+    v = 2.0 * read_noise_e**2 / e
+    ue = prnu * prnu * e
+    inverse = 1.0 / (1.0 + q + v)
+    # q / (1 + q + v), as 1 / (1 + (1 + v) / q): 1 at q = inf, 0 at q = 0
+    with np.errstate(divide="ignore"):
+        dark = np.where(q > 0, 1.0 / (1.0 + (1.0 + v) / q), 0.0)
+    return {"rate": -1.0 - dark, "dark": dark, "read": v * inverse,
+            "target": 1.0 - 0.5 * v * inverse + ue * inverse, "prnu": 2.0 * ue * inverse}
+
+
+def blur_angle_log_slope(blur_mm, focal_length_mm, shake_deg_per_s, stabilization, t_mpe_s):
+    """1: d ln b / d ln alpha = alpha (1 + tan^2 alpha) / tan alpha for the blur angle alpha
+    (1 at alpha = 0, growing without bound towards pi/2), with tan alpha = b / f_L."""
+    angle = scaled_product([shake_deg_per_s, np.pi / 180.0, t_mpe_s], [stabilization])
+    t = np.asarray(blur_mm, dtype=np.float64) / focal_length_mm
+    with np.errstate(divide="ignore", invalid="ignore"):
+        slope = angle * (1.0 + t * t) / t
+    return np.where(t > 0, slope, 1.0)
+
+
+def field_angle_rate_log_slope(field_angle_deg):
+    """1: d ln r / d ln theta = -4 theta tan theta (the cos^4 falloff), theta in radians;
+    cos theta as sin(90 deg - |theta|), as :func:`epc_fast.reference.electron_rate` does."""
+    theta = np.deg2rad(np.abs(field_angle_deg))
+    return -4.0 * theta * np.sin(theta) / np.sin(np.deg2rad(90.0 - np.abs(field_angle_deg)))
+
+
+def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s, blur_mm,
+                     wavelengths_nm, weights):
+    """1: d ln EPC / d ln theta for every parameter of :data:`ELASTICITY_PARAMETERS`, a dict
+    of arrays, at points whose status is OK (f50 > 0); ``q`` holds the parameters by name (as
+    :func:`epc_fast.reference.evaluate_points` does), the rest are the model's outputs there.
+    """
+    logs, (g_d, g_p, g_m) = mtf_log_factors(
+        f50_cyc_per_mm, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_mm,
+        q["jitter_um"], wavelengths_nm, weights)
+    log_j = logs[3]
+    a_slope = -(g_d + g_p + g_m + 2.0 * log_j)  # -d ln MTF / d ln f, > 0
+    t = t_mpe_log_slopes(electrons, t_mpe_s, q["read_noise_e"], q["dark_current_e_per_s"],
+                         q["prnu"])
+    # d ln MTF / d ln alpha: the motion factor's slope through the blur angle
+    mu = g_m * blur_angle_log_slope(blur_mm, q["focal_length_mm"], q["shake_deg_per_s"],
+                                    q["stabilization"], t_mpe_s)
+    via_rate = mu * t["rate"]
+    snr_scale = q["snr_db"] * (math.log(10.0) / 10.0)  # d ln s / d ln snr_db
+    zero = np.zeros_like(a_slope)
+    mtf_slopes = {
+        "illuminance_lux": via_rate,
+        "pixel_pitch_um": g_p + 2.0 * via_rate,
+        "f_number": g_d - 2.0 * via_rate,
+        "focal_length_mm": g_m,
+        "size": zero,
+        "reflectance": via_rate,
+        "lens_transmittance": via_rate,
+        "field_angle_deg": via_rate * field_angle_rate_log_slope(q["field_angle_deg"]),
+        "fill_factor": 0.5 * g_p + via_rate,
+        "electrons_per_lux_s_m2": via_rate,
+        "read_noise_e": mu * t["read"],
+        "dark_current_e_per_s": mu * t["dark"],
+        "prnu": mu * t["prnu"],
+        "full_well_e": zero,
+        "snr_db": mu * t["target"] * snr_scale,
+        "shake_deg_per_s": mu,
+        "stabilization": -mu,
+        "jitter_um": 2.0 * log_j,
+        "wavelength_nm": g_d,
+        "mtf_threshold": zero - 1.0,
+    }
+    area = {"size": 1.0, "pixel_pitch_um": 2.0 if size_is_pixel_count else 0.0}
+    return {name: area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope
+            for name in ELASTICITY_PARAMETERS}
+
+
+def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, shares=True,
+                       elasticities=True):
+    """The shares and elasticities of 1-D points, from their :func:`epc_fast.reference.
+    evaluate_points` ``result``: ``share_diffraction``, ``share_pixel``, ``share_motion``,
+    ``share_jitter`` (each 1-D) and ``elasticities`` (one row per
+    :data:`ELASTICITY_PARAMETERS` entry), as asked for.
+
+    Only OK points have them; elsewhere they are NaN, but where the blur is unbounded (f50 = 0,
+    EPC = 0: motion takes all of the loss) the shares are 0, 0, 1, 0. ``p``, ``wavelengths_nm``
+    and ``weights`` as :func:`epc_fast.reference.evaluate_points` takes them.
+    """
+    from .status import Status
+
+    status = result["status"]
+    ok = status == Status.OK
+    # non-OK points compute on the first OK point's values (or stand-ins), then masked
+    stand = {name: np.where(ok, v, 1.0 if name != "mtf_threshold" else 0.5)
+             for name, v in p.items()}
+    f50 = np.where(ok, result["f50_cyc_per_mm"], 1.0)
+    blur = np.where(ok, result["blur_mm"], 0.0)
+    electrons = np.where(ok, result["electrons"], 1.0)
+    t_mpe = np.where(ok, result["t_mpe_s"], 1.0)
+    if wavelengths_nm is None:
+        wavelengths, spectral_weights = [stand["wavelength_nm"]], [1.0]
+    else:
+        wavelengths, spectral_weights = list(wavelengths_nm), list(weights)
+    out = {}
+    with np.errstate(all="ignore"):
+        if shares:
+            logs, _ = mtf_log_factors(f50, stand["f_number"], stand["pixel_pitch_um"],
+                                      stand["fill_factor"], blur, stand["jitter_um"],
+                                      wavelengths, spectral_weights)
+            unbounded = status == Status.BLUR_UNBOUNDED
+            for name, share in zip(SHARE_NAMES, mtf_loss_shares(logs)):
+                limit = 1.0 if name == "motion" else 0.0
+                out[f"share_{name}"] = np.where(ok, share, np.where(unbounded, limit, np.nan))
+        if elasticities:
+            values = epc_elasticities(stand, size_is_pixel_count, f50, electrons, t_mpe, blur,
+                                      wavelengths, spectral_weights)
+            out["elasticities"] = np.stack(
+                [np.where(ok, np.broadcast_to(values[name], ok.shape), np.nan)
+                 for name in ELASTICITY_PARAMETERS])
+    return out
