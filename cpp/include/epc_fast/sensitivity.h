@@ -165,76 +165,234 @@ inline double field_angle_rate_log_slope(double field_angle_deg) {
 
 namespace detail {
 
+// d ln MTF / d ln theta of every parameter at one lane, from the factors' log-slopes there (m),
+// T_MPE's log-slopes (t), mu = d ln M / d ln alpha, the field angle's rate log-slope and the
+// SNR target's d ln s / d ln snr_db; written as elasticities 2 slope / A plus the area's part,
+// A = -d ln MTF / d ln f, into row j of `out` at lane i.
+EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope_pixel,
+                                          double slope_motion, double log_jitter,
+                                          const TMpeLogSlopes& t, double mu, double field_slope,
+                                          double snr_scale, bool size_is_pixel_count,
+                                          double (&out)[n_params][block_size], std::size_t i) {
+    const double a_slope = -(((slope_diffraction + slope_pixel) + slope_motion) + 2.0 * log_jitter);
+    const double two_over_a = 2.0 / a_slope;
+    const double via_rate = mu * t.rate;
+    out[illuminance_lux][i] = via_rate * two_over_a;
+    out[pixel_pitch_um][i] = (size_is_pixel_count ? 2.0 : 0.0) + (slope_pixel + 2.0 * via_rate) * two_over_a;
+    out[f_number][i] = (slope_diffraction - 2.0 * via_rate) * two_over_a;
+    out[focal_length_mm][i] = slope_motion * two_over_a;
+    out[size][i] = 1.0;
+    out[reflectance][i] = via_rate * two_over_a;
+    out[lens_transmittance][i] = via_rate * two_over_a;
+    out[field_angle_deg][i] = via_rate * field_slope * two_over_a;
+    out[fill_factor][i] = (0.5 * slope_pixel + via_rate) * two_over_a;
+    out[electrons_per_lux_s_m2][i] = via_rate * two_over_a;
+    out[read_noise_e][i] = mu * t.read * two_over_a;
+    out[dark_current_e_per_s][i] = mu * t.dark * two_over_a;
+    out[prnu][i] = mu * t.prnu * two_over_a;
+    out[full_well_e][i] = 0.0;
+    out[snr_db][i] = mu * t.target * snr_scale * two_over_a;
+    out[shake_deg_per_s][i] = mu * two_over_a;
+    out[stabilization][i] = -mu * two_over_a;
+    out[jitter_um][i] = 2.0 * log_jitter * two_over_a;
+    out[wavelength_nm][i] = slope_diffraction * two_over_a;
+    out[mtf_threshold][i] = -two_over_a;
+}
+
+// One OK lane's shares and elasticities by the scalar formulas (mtf_log_factors,
+// t_mpe_log_slopes, blur_angle_log_slope): for the lanes whose shared divisions in
+// `sensitivity` could leave the normal range.
+template <class T>
+void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double field_slope,
+                      double (&share_out)[n_shares][block_size],
+                      double (&elasticity_out)[n_params][block_size]) {
+    const auto& x = b.x;
+    const MtfLogFactors m = mtf_log_factors(
+        static_cast<double>(b.f50[i]), x[f_number][i], x[wavelength_nm][i],
+        pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]), b.blur[i],
+        x[jitter_um][i] * um_to_mm, in.spectrum);
+    const double total = (m.log[0] + m.log[1]) + (m.log[2] + m.log[3]);
+    for (int s = 0; s < n_shares; ++s) share_out[s][i] = m.log[s] / total;
+    const TMpeLogSlopes t = t_mpe_log_slopes(b.electrons[i], b.t_mpe[i], x[read_noise_e][i],
+                                             x[dark_current_e_per_s][i], x[prnu][i]);
+    const double beta = blur_angle_log_slope(b.blur[i], x[focal_length_mm][i], x[shake_deg_per_s][i],
+                                             x[stabilization][i], b.t_mpe[i]);
+    elasticities_of_lane(m.slope_diffraction, m.slope_pixel, m.slope_motion, m.log[share_jitter], t,
+                         m.slope_motion * beta, field_slope, x[snr_db][i] * (ln10 / 10.0),
+                         in.size_is_pixel_count, elasticity_out, i);
+}
+
+// ln sinc(y) and y d ln sinc / dy from s = sin(pi y) and inv = 1 / (y s) (1 where the series
+// serves): log_sinc and sinc_log_slope with their divisions shared (1/y = s inv, 1/s = y inv).
+struct LogSinc {
+    double log, slope;
+};
+
+EPC_FAST_INLINE LogSinc log_sinc_given(double y, double sin_py, double inv_y_sin) {
+    const bool small = y < detail::series_below;
+    const double direct_log = log_any(sin_py * (sin_py * inv_y_sin) * (1.0 / pi));
+    const double direct_slope = pi * y * cospi_small(y) * (y * inv_y_sin) - 1.0;
+    return {small ? -detail::zeta_series<true>(y) : direct_log,
+            small ? -2.0 * detail::zeta_series<false>(y) : direct_slope};
+}
+
 // The shares and elasticities of the block's lanes into share_out and elasticity_out (rows of
 // block_size): OK lanes from their f50, NaN on the others, but where the blur is unbounded
-// (f50 = 0, EPC = 0: motion takes all of the loss) the shares 0, 0, 1, 0.
+// (f50 = 0, EPC = 0: motion takes all of the loss) the shares 0, 0, 1, 0. Each stage is a loop
+// over the lanes that vectorises, with the divisions of a lane shared where one product serves
+// them (the slowest vector instructions here); the other lanes compute on f = 0 (every factor
+// 1) and are masked at the end. A lane whose shared products leave the normal range is redone
+// by sensitivity_lane. `Exposure` = false when the block has no read noise, dark current or
+// PRNU (broadcast 0): T_MPE's log-slopes are then -1 for the rate, 1 for the target, 0 else.
+template <bool Exposure, class T>
+void sensitivity_as(const Inputs& in, const Block<T>& b, bool shares, bool elasticities,
+                    double (&share_out)[n_shares][block_size],
+                    double (&elasticity_out)[n_params][block_size]) {
+    constexpr std::size_t n = block_size;
+    const auto& x = b.x;
+    alignas(64) double f[n], loss[n], slope_numerator[n], value[n];
+    alignas(64) double logs[n_shares][n], slope_pixel[n], slope_motion[n];
+    unsigned char ok[n], slow[n];
+    const unsigned char* __restrict status = b.status;
+    for (std::size_t i = 0; i < n; ++i) {
+        ok[i] = status[i] == static_cast<unsigned char>(Status::ok);
+        f[i] = ok[i] ? static_cast<double>(b.f50[i]) : 0.0;
+    }
+    // diffraction's loss, log-slope numerator and value, over the spectrum's lines
+    const double* __restrict f_num = x[f_number];
+    if (in.spectrum.polychromatic()) {
+        for (std::size_t i = 0; i < n; ++i) loss[i] = slope_numerator[i] = value[i] = 0.0;
+        for (std::size_t k = 0; k < in.spectrum.wavelengths_nm.size(); ++k) {
+            const double w = in.spectrum.weights[k];
+            const double lambda_mm = in.spectrum.wavelengths_nm[k] * nm_to_mm;
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                const double nu = f[i] * lambda_mm * f_num[i];
+                loss[i] += w * diffraction_loss(nu);
+                slope_numerator[i] += w * diffraction_log_slope_numerator(nu);
+                value[i] += w * mtf_diffraction(nu);
+            }
+        }
+    } else {
+        const double* __restrict lambda = x[wavelength_nm];
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const double nu = f[i] * (lambda[i] * nm_to_mm) * f_num[i];
+            loss[i] = diffraction_loss(nu);
+            slope_numerator[i] = diffraction_log_slope_numerator(nu);
+            value[i] = mtf_diffraction(nu);
+        }
+    }
+    // every factor's log and log-slope (mtf_log_factors), the sincs' and diffraction's
+    // divisions in one
+    const double* __restrict pitch = x[pixel_pitch_um];
+    const double* __restrict fill = x[fill_factor];
+    const double* __restrict jitter = x[jitter_um];
+    const double* __restrict blur = b.blur;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double y_pixel = pixel_aperture_mm(pitch[i], fill[i]) * f[i];
+        const double y_motion = blur[i] * f[i];
+        const double sigma_f = (jitter[i] * um_to_mm) * f[i];
+        const double sin_pixel = sinpi_unit(y_pixel), sin_motion = sinpi_unit(y_motion);
+        const double d_pixel = y_pixel < detail::series_below ? 1.0 : y_pixel * sin_pixel;
+        const double d_motion = y_motion < detail::series_below ? 1.0 : y_motion * sin_motion;
+        const double d_sincs = d_pixel * d_motion, product = d_sincs * value[i];
+        const double inverse = 1.0 / product;
+        slow[i] = ok[i] & !((product >= 0x1p-900) & (product <= 0x1p900));
+        const LogSinc pixel = log_sinc_given(y_pixel, sin_pixel, d_motion * value[i] * inverse);
+        const LogSinc motion = log_sinc_given(y_motion, sin_motion, d_pixel * value[i] * inverse);
+        logs[share_diffraction][i] = log_mtf_diffraction(value[i], loss[i]);
+        logs[share_pixel][i] = pixel.log;
+        logs[share_motion][i] = motion.log;
+        logs[share_jitter][i] = -2.0 * pi * pi * sigma_f * sigma_f;
+        slope_numerator[i] *= d_sincs * inverse;  // now nu dD/dnu / D
+        slope_pixel[i] = pixel.slope;
+        slope_motion[i] = motion.slope;
+    }
+    if (shares) {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const double inverse_total = 1.0 / ((logs[0][i] + logs[1][i]) + (logs[2][i] + logs[3][i]));
+            const bool unbounded = status[i] == static_cast<unsigned char>(Status::blur_unbounded);
+            for (int s = 0; s < n_shares; ++s) {
+                const double other = unbounded ? (s == share_motion ? 1.0 : 0.0) : nan;
+                share_out[s][i] = ok[i] ? logs[s][i] * inverse_total : other;
+            }
+        }
+    }
+    alignas(64) double field_slope[n];
+    if (elasticities) {
+        if (b.is_broadcast(field_angle_deg)) {
+            const double v = field_angle_rate_log_slope(b.broadcast[field_angle_deg]);
+            for (std::size_t i = 0; i < n; ++i) field_slope[i] = v;
+        } else {
+            for (std::size_t i = 0; i < n; ++i)
+                field_slope[i] = field_angle_rate_log_slope(x[field_angle_deg][i]);
+        }
+        const double* __restrict focal = x[focal_length_mm];
+        const double* __restrict shake = x[shake_deg_per_s];
+        const double* __restrict stab = x[stabilization];
+        const double* __restrict snr = x[snr_db];
+        const double* __restrict read = x[read_noise_e];
+        const double* __restrict dark = x[dark_current_e_per_s];
+        const double* __restrict u = x[prnu];
+        const double* __restrict electrons = b.electrons;
+        const double* __restrict t_mpe = b.t_mpe;
+        const bool count = in.size_is_pixel_count;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            // OK lanes' exposure; the others compute on 1 e- over 1 s and are masked below
+            const double t_s = ok[i] ? t_mpe[i] : 1.0;
+            TMpeLogSlopes t{-1.0, 0.0, 0.0, 1.0, 0.0};
+            bool exposure_ok = true;
+            if (Exposure) {
+                // t_mpe_log_slopes with one division by e and one by 1 + q + v
+                const double inverse_e = 1.0 / (ok[i] ? electrons[i] : 1.0);
+                const double e = ok[i] ? electrons[i] : 1.0;
+                const double q = dark[i] * t_s * inverse_e;
+                const double v = 2.0 * read[i] * read[i] * inverse_e;
+                const double ue = u[i] * u[i] * e;
+                const double inverse = 1.0 / (1.0 + q + v);
+                const double dark_part = q * inverse;
+                t = {-1.0 - dark_part, dark_part, v * inverse, 1.0 - 0.5 * v * inverse + ue * inverse,
+                     2.0 * ue * inverse};
+                exposure_ok = (q <= 0x1p900) & (v <= 0x1p900) & (ue <= 0x1p900);
+            }
+            // blur_angle_log_slope as one quotient: alpha (f_L^2 + b^2) / (b f_L), alpha =
+            // omega T / k
+            const double numerator = shake[i] * deg_to_rad * t_s * (focal[i] * focal[i] + blur[i] * blur[i]);
+            const double denominator = stab[i] * blur[i] * focal[i];
+            const double beta = blur[i] > 0.0 ? numerator / denominator : 1.0;
+            slow[i] |= ok[i] & ((blur[i] > 0.0) & !((numerator >= 0x1p-900) & (numerator <= 0x1p900) &
+                                                    (denominator >= 0x1p-900) & (denominator <= 0x1p900)));
+            slow[i] |= ok[i] & !exposure_ok;
+            elasticities_of_lane(slope_numerator[i], slope_pixel[i], slope_motion[i],
+                                 logs[share_jitter][i], t, slope_motion[i] * beta, field_slope[i],
+                                 snr[i] * (ln10 / 10.0), count, elasticity_out, i);
+        }
+        for (int j = 0; j < n_params; ++j) {
+            double* __restrict row = elasticity_out[j];
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) row[i] = ok[i] ? row[i] : nan;
+        }
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!slow[i]) continue;
+        double lane_shares[n_shares][block_size];
+        sensitivity_lane(in, b, i, elasticities ? field_slope[i] : 0.0, shares ? share_out : lane_shares,
+                         elasticity_out);
+    }
+}
+
 template <class T>
 void sensitivity(const Inputs& in, const Block<T>& b, bool shares, bool elasticities,
                  double (&share_out)[n_shares][block_size],
                  double (&elasticity_out)[n_params][block_size]) {
-    const auto& x = b.x;
-    const double field_slope_broadcast =
-        b.is_broadcast(field_angle_deg) ? field_angle_rate_log_slope(b.broadcast[field_angle_deg]) : 0.0;
-    for (std::size_t i = 0; i < block_size; ++i) {
-        const unsigned char st = b.status[i];
-        const bool ok = st == static_cast<unsigned char>(Status::ok);
-        const bool unbounded = st == static_cast<unsigned char>(Status::blur_unbounded);
-        if (!ok) {
-            for (int s = 0; s < n_shares; ++s)
-                share_out[s][i] = unbounded ? (s == share_motion ? 1.0 : 0.0) : nan;
-            for (int j = 0; j < n_params; ++j) elasticity_out[j][i] = nan;
-            continue;
-        }
-        const double f = static_cast<double>(b.f50[i]);
-        const double aperture = pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]);
-        const double blur = b.blur[i];
-        const MtfLogFactors m =
-            mtf_log_factors(f, x[f_number][i], x[wavelength_nm][i], aperture, blur,
-                            x[jitter_um][i] * um_to_mm, in.spectrum);
-        if (shares) {
-            const double total = (m.log[0] + m.log[1]) + (m.log[2] + m.log[3]);
-            for (int s = 0; s < n_shares; ++s) share_out[s][i] = m.log[s] / total;
-        }
-        if (!elasticities) continue;
-        const double log_j = m.log[share_jitter];
-        const double a_slope = -(((m.slope_diffraction + m.slope_pixel) + m.slope_motion) + 2.0 * log_j);
-        const TMpeLogSlopes t = t_mpe_log_slopes(b.electrons[i], b.t_mpe[i], x[read_noise_e][i],
-                                                 x[dark_current_e_per_s][i], x[prnu][i]);
-        const double mu = m.slope_motion * blur_angle_log_slope(blur, x[focal_length_mm][i],
-                                                                x[shake_deg_per_s][i],
-                                                                x[stabilization][i], b.t_mpe[i]);
-        const double via_rate = mu * t.rate;
-        const double field_slope = b.is_broadcast(field_angle_deg)
-                                       ? field_slope_broadcast
-                                       : field_angle_rate_log_slope(x[field_angle_deg][i]);
-        const double snr_scale = x[snr_db][i] * (ln10 / 10.0);  // d ln s / d ln snr_db
-        double mtf_slope[n_params];
-        mtf_slope[illuminance_lux] = via_rate;
-        mtf_slope[pixel_pitch_um] = m.slope_pixel + 2.0 * via_rate;
-        mtf_slope[f_number] = m.slope_diffraction - 2.0 * via_rate;
-        mtf_slope[focal_length_mm] = m.slope_motion;
-        mtf_slope[size] = 0.0;
-        mtf_slope[reflectance] = via_rate;
-        mtf_slope[lens_transmittance] = via_rate;
-        mtf_slope[field_angle_deg] = via_rate * field_slope;
-        mtf_slope[fill_factor] = 0.5 * m.slope_pixel + via_rate;
-        mtf_slope[electrons_per_lux_s_m2] = via_rate;
-        mtf_slope[read_noise_e] = mu * t.read;
-        mtf_slope[dark_current_e_per_s] = mu * t.dark;
-        mtf_slope[prnu] = mu * t.prnu;
-        mtf_slope[full_well_e] = 0.0;
-        mtf_slope[snr_db] = mu * t.target * snr_scale;
-        mtf_slope[shake_deg_per_s] = mu;
-        mtf_slope[stabilization] = -mu;
-        mtf_slope[jitter_um] = 2.0 * log_j;
-        mtf_slope[wavelength_nm] = m.slope_diffraction;
-        mtf_slope[mtf_threshold] = -1.0;
-        const double inverse_a = 1.0 / a_slope;
-        for (int j = 0; j < n_params; ++j) {
-            const double area = j == size ? 1.0 : j == pixel_pitch_um && in.size_is_pixel_count ? 2.0 : 0.0;
-            elasticity_out[j][i] = area + 2.0 * mtf_slope[j] * inverse_a;
-        }
-    }
+    const bool exposure = !(b.broadcast_is(read_noise_e, 0.0) && b.broadcast_is(dark_current_e_per_s, 0.0) &&
+                            b.broadcast_is(prnu, 0.0));
+    if (exposure) sensitivity_as<true>(in, b, shares, elasticities, share_out, elasticity_out);
+    else sensitivity_as<false>(in, b, shares, elasticities, share_out, elasticity_out);
 }
 
 }  // namespace detail
