@@ -350,7 +350,8 @@ def test_sobol_indices_without_salib_name_the_extra(monkeypatch):
 
 
 def test_importing_the_scan_package_does_not_import_salib():
-    code = ("import sys, epc_fast.scan, epc_fast.scan.config; "
+    code = ("import sys, epc_fast.scan, epc_fast.scan.sobol, epc_fast.scan.config, "
+            "epc_fast.commands.sobol; "
             "sys.exit(1 if any(m.split('.')[0] == 'SALib' for m in sys.modules) else 0)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=60)

@@ -225,10 +225,12 @@ def sobol_indices(space: Space, points: int = 4096, *, seed: int = 0, of="epc",
     ``space``, per design, with bootstrap confidence intervals (needs SALib: the
     ``sensitivity`` extra).
 
-    S1 is the fraction of the output's variance a parameter explains alone, ST the fraction it
-    explains with all its interactions (1 - ST is what would be left if it were fixed). The
-    module docstring says how coordinates become values, what a design and a discrete
-    parameter mean, and what happens at points that are not OK.
+    S1 is the fraction of the output's variance a parameter explains alone (by which the
+    variance drops, on average, once it is known), ST the fraction it explains with all its
+    interactions (the variance left, on average, once every other parameter is known): one with
+    ST near 0 can be fixed at any of its values without changing the spread. The module
+    docstring (:mod:`epc_fast.scan.sobol`) says how coordinates become values, what a design and
+    a discrete parameter mean, and what happens at points that are not OK.
 
     Parameters
     ----------
