@@ -19,7 +19,7 @@ HELP = ("apportion the variance of EPC among a scan config's random parameters: 
 
 
 def _power_of_two(text: str) -> int:
-    """An argparse type: a power of 2 in [16, 2^23] (``4096`` or ``2**12`` written out)."""
+    """An argparse type: a power of 2 in [16, 2^23], in digits (``4096``)."""
     from ..scan.sobol import MAX_BOOTSTRAP_VALUES, MIN_POINTS
 
     value = int(text) if text.isdigit() else 0
