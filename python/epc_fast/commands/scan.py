@@ -1,4 +1,6 @@
-"""``epc-fast scan [CONFIG.toml]``: a design-space scan, its summary table and plots.
+"""``epc-fast scan [CONFIG.toml]``: a design-space scan, its summary table and plots, and
+the Sobol' indices of its space when the config has a ``[sobol]`` table (computed first, on
+their own points: :mod:`epc_fast.commands.sobol`).
 
 Everything the scan writes goes into ``--out`` under the policy of
 :class:`epc_fast.scan.output.OutputDirectory` (checked before the first point, every file
@@ -14,7 +16,7 @@ import sys
 
 NAME = "scan"
 HELP = ("scan a design space from a TOML config (default: the built-in one) and write its "
-        "summary table (CSV, markdown) and plots")
+        "summary table (CSV, markdown), plots and, with a [sobol] table, its Sobol' indices")
 
 #: Tables with more rows than this are written to files only.
 MAX_PRINTED_ROWS = 24
@@ -160,7 +162,8 @@ def _planned(config, plots: bool) -> dict:
     from ..scan.manifest import MANIFEST_NAME
     from ..scan.output_plan import plan_outputs
 
-    planned = plan_outputs(config.space, config.reductions, plots, config.parquet)
+    planned = plan_outputs(config.space, config.reductions, plots, config.parquet,
+                           sobol=config.sobol is not None)
     if set(planned) == {MANIFEST_NAME}:
         raise OutputError("this scan writes no result: its reductions have no table, and "
                           + ("--no-plots drops their plots" if not plots else "no plot")
@@ -196,6 +199,7 @@ def run(args) -> int:
     from ..scan.manifest import new_manifest, write_manifest
     from ..scan.output import OutputDirectory
     from ..scan.signals import StopSignals
+    from .sobol import compute, report, write_indices
 
     if args.show_config:
         print(DEFAULT_CONFIG, end="")
@@ -216,8 +220,10 @@ def run(args) -> int:
         write_manifest(out.path, manifest)
 
     client = _client(args.scheduler)
-    failure = None
+    failure = sobol = None
     try:
+        if config.sobol is not None:
+            sobol = compute(config, config.sobol, config.threads)
         with StopSignals() as stops:
             result = run_scan(config.space, **config.run_kwargs(),
                               progress=False if args.no_progress else None,
@@ -241,10 +247,14 @@ def run(args) -> int:
         if len(next(iter(columns.values()))) <= MAX_PRINTED_ROWS:
             unit = f" ({units[grouping]})" if grouping in units else ""
             print(f"\nby {grouping}{unit}:\n{tables.markdown(columns)}")
+    if sobol is not None:
+        print(f"\n{report(*sobol)}")
     print()
     for note in _quantile_notes(result):
         print(note)
     _write_outputs(result, out, plots=plots)
+    if sobol is not None:
+        write_indices(out, sobol[0])
     stopped_by = (str(failure) if failure is not None
                   else stops.name if result.partial else None)
     state = ("failed" if failure is not None else "interrupted" if result.partial

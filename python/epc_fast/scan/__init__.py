@@ -13,6 +13,8 @@ A space gives each parameter of :func:`epc_fast.evaluate` as a number, a :class:
 chunk by chunk and keeps only the reductions: :class:`Summary`, :class:`Histogram`,
 :class:`Quantiles`, :class:`FractionBelow` and :class:`TopK`, each per group (``by=``).
 The same seed gives the same numbers for any chunk size, thread count or Dask cluster.
+:func:`sobol_indices` apportions the variance of EPC (or log EPC) among the random parameters
+(the ``sensitivity`` extra).
 """
 
 from .best import TopK, TopKResult
@@ -21,6 +23,8 @@ from .distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Norm
 from .groups import Binned
 from .histograms import Histogram, HistogramResult, Quantiles, QuantilesResult
 from .runner import DEFAULT_CHUNK_POINTS, ScanResult, Timing, default_reductions, run
+from .sobol import sobol_indices
+from .sobol_result import SobolResult
 from .space import BLOCK_POINTS, Space
 from .summaries import FractionBelow, FractionBelowResult, Summary, SummaryResult
 
@@ -29,5 +33,5 @@ __all__ = [
     "Empirical", "Binned", "Summary", "Histogram", "Quantiles", "FractionBelow", "TopK", "run",
     "default_reductions", "ScanResult", "Timing", "SummaryResult", "HistogramResult",
     "QuantilesResult", "FractionBelowResult", "TopKResult", "BLOCK_POINTS",
-    "DEFAULT_CHUNK_POINTS",
+    "DEFAULT_CHUNK_POINTS", "sobol_indices", "SobolResult",
 ]

@@ -25,6 +25,9 @@ The format, section by section (every value in the unit of the parameter it sets
                                  #   {parameter = "illuminance_lux", log_bins = [low, high, n]}
                                  #   or {parameter = ..., edges = [...]}
     [output]                     # parquet = "directory" (a name inside the output directory)
+    [sobol]                      # points, seed, of = "epc" | "log_epc" | [...], confidence,
+                                 #   resamples, not_ok = "raise" | "zero": Sobol' indices of
+                                 #   the space (config_sobol.py)
 
 Every key is checked before any work (its type, its range, and every size it controls, against
 the bounds in :mod:`epc_fast.scan.schema`); a mistake raises
@@ -42,6 +45,7 @@ from .. import presets
 from ..api import F50_SOLVERS, MAX_THREADS, PRECISIONS, T_MPE_SOLVERS
 from .config_files import read_samples, read_text
 from .config_reductions import check_reductions, parse_reductions
+from .config_sobol import SobolConfig, parse_sobol
 from .distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
                             Uniform)
 from .errors import ConfigError
@@ -124,6 +128,7 @@ class ScanConfig:
     parquet : str or None, a directory name inside the output directory.
     source : str, the file it came from ("built-in default" for :data:`DEFAULT_CONFIG`).
     text : str, the TOML it was read from (recorded in the output's manifest).
+    sobol : SobolConfig or None, the ``[sobol]`` table: Sobol' indices of the space.
     """
 
     space: Space
@@ -135,6 +140,7 @@ class ScanConfig:
     parquet: str | None
     source: str
     text: str = ""
+    sobol: SobolConfig | None = None
 
     def run_kwargs(self) -> dict:
         """Keyword arguments for :func:`epc_fast.scan.run` (all but ``parquet``)."""
@@ -305,7 +311,7 @@ def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfi
     except _toml().TOMLDecodeError as error:
         raise ConfigError(f"scan config {source}: not valid TOML: {error}") from None
     take(document, "top level", required=("scan",),
-         optional=("design", "parameters", "evaluate", "reductions", "output"))
+         optional=("design", "parameters", "evaluate", "reductions", "output", "sobol"))
     counts = _scan_table(document["scan"])
     output = take(table_of("output", document.get("output", {})), "output",
                   optional=("parquet",))
@@ -320,8 +326,10 @@ def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfi
     space = wrapped("parameters", lambda: Space(design=design, evaluate_options=options,
                                                 **parameters))
     check_reductions(reductions, space)
+    sobol = (parse_sobol(document["sobol"], counts["seed"], space) if "sobol" in document
+             else None)
     return ScanConfig(space, counts["points"], counts["seed"], reductions or None,
-                      counts["chunk_points"], counts["threads"], parquet, source, text)
+                      counts["chunk_points"], counts["threads"], parquet, source, text, sobol)
 
 
 def load_config(path) -> ScanConfig:

@@ -1,5 +1,5 @@
 """The files a scan will write, named before its first point: tables, top-k lists, plots, the
-Parquet directory and the manifest.
+Sobol' indices, the Parquet directory and the manifest.
 
 Names come from the reductions' names and groupings, the same functions the writers use, so a
 collision (a top-k reduction named ``summary_by_design`` beside the summary table by design) is
@@ -8,6 +8,7 @@ refused before any work rather than one file silently replacing the other.
 
 from __future__ import annotations
 
+from .config_sobol import SOBOL_FILES
 from .errors import OutputError
 from .groups import group_key
 from .histograms import Histogram, Quantiles
@@ -22,8 +23,10 @@ __all__ = ["plan_outputs", "TABLE_KINDS"]
 TABLE_KINDS = ("Summary", "Quantiles", "FractionBelow")
 
 
-def plan_outputs(space, reductions: dict | None, plots: bool, parquet: str | None) -> dict:
-    """{file name: what writes it}, in the order they are written, the manifest last."""
+def plan_outputs(space, reductions: dict | None, plots: bool, parquet: str | None,
+                 sobol: bool = False) -> dict:
+    """{file name: what writes it}, in the order they are written, the manifest last;
+    ``sobol``: the config's ``[sobol]`` indices too (sobol.csv, sobol.md)."""
     reductions = default_reductions(space) if reductions is None else reductions
     labels = {name: group_key(space, r.by).columns for name, r in reductions.items()
               if type(r).__name__ in TABLE_KINDS}
@@ -47,6 +50,9 @@ def plan_outputs(space, reductions: dict | None, plots: bool, parquet: str | Non
                 isinstance(reduction, Quantiles) and bands_parameter_of(labels.get(name, {})))
             if plotted:
                 add(f"{name}.png", f"reduction {name!r}'s plot")
+    if sobol:
+        for file in SOBOL_FILES:
+            add(file, "the [sobol] indices")
     if parquet is not None:
         add(parquet, "[output] parquet")
     add(MANIFEST_NAME, "the manifest")
