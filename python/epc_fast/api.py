@@ -29,7 +29,7 @@ PRECISIONS = ("float64", "float32")
 INVALID_POLICIES = ("status", "raise")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class Result:
     """The model's outputs, each shaped like the broadcast inputs (scalars for scalar input).
 
@@ -75,6 +75,10 @@ class Result:
         """The outputs by name: the default ones, and the others that were computed."""
         return {f.name: getattr(self, f.name) for f in fields(self)
                 if f.name in OUTPUT_DTYPES or getattr(self, f.name) is not None}
+
+    def __repr__(self) -> str:
+        items = ", ".join(f"{name}={value!r}" for name, value in self.as_dict().items())
+        return f"Result({items})"
 
 
 #: The shares of the loss at f50, one output each (``outputs=`` names them).
