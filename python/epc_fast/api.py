@@ -81,7 +81,7 @@ class Result:
         return f"Result({items})"
 
 
-#: The shares of the loss at f50, one output each (``outputs=`` names them).
+#: The shares of the loss at f50, one output each (``outputs=`` names them; docs/limits.md).
 SHARE_OUTPUTS = tuple(f"share_{name}" for name in SHARE_NAMES)
 #: The outputs computed only when ``outputs=`` names them.
 SENSITIVITY_OUTPUTS = SHARE_OUTPUTS + ("elasticities",)

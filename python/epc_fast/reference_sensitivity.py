@@ -60,8 +60,9 @@ __all__ = [
     "SHARE_NAMES",
 ]
 
-#: The parameters an elasticity is given for, in the core's order (every model parameter; the
-#: size is the sensor's area or pixel count, whichever the caller gave).
+#: The parameters an elasticity is given for, in the core's order: every model parameter, with
+#: ``"size"`` for the sensor's size (``Result.elasticities`` names it ``pixel_count`` or
+#: ``sensor_area_mm2``, as the caller gave it).
 ELASTICITY_PARAMETERS = params.PARAMETER_NAMES
 #: The MTF factors, in the order of the share outputs.
 SHARE_NAMES = ("diffraction", "pixel", "motion", "jitter")
