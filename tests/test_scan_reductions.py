@@ -71,6 +71,23 @@ def test_summary_matches_numpy_per_design(backend, full):
         assert summary.min[g] == epc.min() and summary.max[g] == epc.max()
 
 
+@pytest.mark.parametrize("share", ["share_diffraction", "share_pixel", "share_motion"])
+def test_summaries_and_quantiles_of_a_share_match_numpy_per_design(backend, full, share):
+    """A reduction of= an MTF-loss share reads evaluate's share at each point (docs/limits.md):
+    its finite values are the OK points' and those whose blur is unbounded (share 0 or 1)."""
+    points, _ = full
+    values = getattr(evaluate(**points.parameters, outputs=(share,)), share)
+    summary = _scan(backend, Summary(of=share, by="design"))
+    median = _scan(backend, Quantiles((0.5,), of=share, by="design"))
+    for g in DESIGNS:
+        v = values[(points.indices["design"] == g) & np.isfinite(values)]
+        assert summary.count[g] == v.size
+        # the same rounding budget as the EPC summary above
+        assert summary.mean[g] == pytest.approx(v.mean(), rel=1e-12)
+        assert summary.min[g] == v.min() and summary.max[g] == v.max()
+        assert median.exact and median.estimate[g, 0] == np.quantile(v, 0.5)
+
+
 def test_histogram_matches_numpy_histogram_per_design(backend, full):
     points, result = full
     histogram = _scan(backend, Histogram(1e3, 1e7, 80, by="design"))

@@ -269,4 +269,9 @@ def test_a_chunk_asks_for_each_output_its_reductions_summarise():
         "c": TopK(3)}.items())
     assert epc_fast.scan.tasks.chunk_outputs(plan, parquet=False) == (
         "status", "blur_mm", "epc", "t_mpe_s")
-    assert epc_fast.scan.tasks.chunk_outputs(plan, parquet=True) is None
+    assert epc_fast.scan.tasks.chunk_outputs(plan, parquet=True) == tuple(
+        epc_fast.api.OUTPUT_DTYPES)
+    shares = tuple(epc_fast.scan.tasks.PlanItem(name, Summary(of=name), None)
+                   for name in ("share_pixel", "epc"))
+    assert epc_fast.scan.tasks.chunk_outputs(shares, parquet=True) == tuple(
+        epc_fast.api.OUTPUT_DTYPES) + ("share_pixel",)

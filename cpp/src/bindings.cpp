@@ -533,7 +533,7 @@ std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<Gr
         Reduction r;
         r.kind = static_cast<ReductionKind>(at - std::begin(kinds));
         r.of = item<int>(d, "of");
-        if (r.of < 0 || r.of >= 6) throw std::invalid_argument("scan spec: a reduction's output");
+        if (r.of < 0 || r.of >= n_scan_outputs) throw std::invalid_argument("scan spec: a reduction's output");
         if (r.kind == ReductionKind::top_k) {
             r.k = item<std::int64_t>(d, "k");
             r.largest = item<bool>(d, "largest");

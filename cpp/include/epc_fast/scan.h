@@ -41,8 +41,8 @@ struct ScanThread {
     ScanLanes lanes;
     Inputs inputs;
     Workspace workspace;
-    alignas(64) double outputs[6][block_size];
-    alignas(64) double log10_outputs[6][block_size];
+    alignas(64) double outputs[n_scan_outputs][block_size];
+    alignas(64) double log10_outputs[n_scan_outputs][block_size];
     alignas(64) unsigned char status[block_size];
     std::vector<std::vector<std::int32_t>> groups;  // per key, block_size each
     std::vector<std::int32_t> scratch;
@@ -57,7 +57,7 @@ struct ScanThread {
         for (const Reduction& r : reductions) states.emplace_back(r);
         fold.index = lanes.index;
         fold.status = status;
-        for (int o = 0; o < 6; ++o) {
+        for (int o = 0; o < n_scan_outputs; ++o) {
             fold.outputs[o] = outputs[o];
             fold.log10_outputs[o] = log10_outputs[o];
         }
@@ -71,8 +71,8 @@ struct ScanThread {
 
 // The outputs (Outputs order) that the reductions read, and which of them they read as log10.
 struct ScanNeeds {
-    bool output[6] = {};
-    bool log10[6] = {};
+    bool output[n_scan_outputs] = {};
+    bool log10[n_scan_outputs] = {};
 
     explicit ScanNeeds(const std::vector<Reduction>& reductions) {
         for (const Reduction& r : reductions) {
@@ -122,17 +122,19 @@ inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
             std::fill(s.block_mean.begin(), s.block_mean.end(), 0.0);
             std::fill(s.block_m2.begin(), s.block_m2.end(), 0.0);
         }
-        const Outputs out{needs.output[0] ? w.outputs[0] : nullptr, needs.output[1] ? w.outputs[1] : nullptr,
-                          needs.output[2] ? w.outputs[2] : nullptr, needs.output[3] ? w.outputs[3] : nullptr,
-                          needs.output[4] ? w.outputs[4] : nullptr, needs.output[5] ? w.outputs[5] : nullptr,
-                          w.status, nullptr};
+        Outputs out{needs.output[0] ? w.outputs[0] : nullptr, needs.output[1] ? w.outputs[1] : nullptr,
+                    needs.output[2] ? w.outputs[2] : nullptr, needs.output[3] ? w.outputs[3] : nullptr,
+                    needs.output[4] ? w.outputs[4] : nullptr, needs.output[5] ? w.outputs[5] : nullptr,
+                    w.status, nullptr};
+        for (int s = 0; s < n_shares; ++s)
+            out.sensitivity.share[s] = needs.output[6 + s] ? w.outputs[6 + s] : nullptr;
         for (std::uint64_t first = block_first; first < block_end; first += block_size) {
             const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(block_size, block_end - first));
             w.lanes.n = n;
             for (std::size_t i = 0; i < n; ++i) w.lanes.index[i] = first + i;
             form_points(space, true, w.lanes, w.inputs);
             evaluate_block(w.inputs, opt, out, 0, n, nullptr, w.workspace);
-            for (int o = 0; o < 6; ++o) {
+            for (int o = 0; o < n_scan_outputs; ++o) {
                 if (!needs.log10[o]) continue;
                 const double* __restrict v = w.outputs[o];
                 double* __restrict t = w.log10_outputs[o];

@@ -262,13 +262,17 @@ struct ReductionState {
 
 // What one kernel block gives the reductions: each lane's point index, status, group under
 // each key, the outputs and, where a log-binned histogram needs it, log10 of an output.
+// The outputs a reduction can read, by its `of`: the kernel's six float64 outputs (Outputs
+// order) and the four MTF-loss shares (Share order, sensitivity.h).
+constexpr int n_scan_outputs = 6 + n_shares;
+
 struct FoldLanes {
     std::size_t n = 0;
     std::uint64_t first = 0;  // lane 0's point index, a multiple of block_size
     const std::uint64_t* index = nullptr;
     const unsigned char* status = nullptr;
-    const double* outputs[6] = {};
-    const double* log10_outputs[6] = {};
+    const double* outputs[n_scan_outputs] = {};
+    const double* log10_outputs[n_scan_outputs] = {};
     std::vector<const std::int32_t*> groups;  // per key
 };
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from ..api import evaluate
+from ..api import OUTPUT_DTYPES, evaluate
 from .chunk import Chunk
 from .core_plan import CorePlan
 from .groups import GroupKey
@@ -60,14 +60,15 @@ class ChunkOutcome:
     reduction_s: float
 
 
-def chunk_outputs(plan: tuple, parquet: bool) -> tuple | None:
+def chunk_outputs(plan: tuple, parquet: bool) -> tuple:
     """The :class:`~epc_fast.Result` fields a chunk needs: the output of each reduction and the
-    status (summaries count statuses), or every field (None) when the points go to Parquet.
-    The core computes only these (``evaluate(outputs=...)``): without f50 or EPC among them it
-    does not solve f50 at all."""
+    status (summaries count statuses), and every default field when the points go to Parquet.
+    The core computes only these (``evaluate(outputs=...)``): without f50, EPC or a share among
+    them it does not solve f50 at all."""
+    reduced = tuple(sorted({item.reduction.of for item in plan}))
     if parquet:
-        return None
-    return ("status",) + tuple(sorted({item.reduction.of for item in plan}))
+        return tuple(OUTPUT_DTYPES) + tuple(name for name in reduced if name not in OUTPUT_DTYPES)
+    return ("status",) + reduced
 
 
 def _per_point(item: PlanItem, points_total: int) -> bool:
