@@ -3,10 +3,12 @@
 The function is evaluated on a grid of ``grid`` values per coordinate (the cube's corners
 included), so that the search starts in the basin of the grid's best point rather than in
 whichever basin a bracket happens to hold; then
+
 - one coordinate: :func:`scipy.optimize.minimize_scalar` (``method="bounded"``, Brent's method
   on the interval between the best grid point's two neighbours, to ``xtol``);
 - several: :func:`scipy.optimize.minimize` (``method="Powell"``, bounded to the cube, from
   the best grid point).
+
 The best of the grid's best point, SciPy's answer and SciPy's answer with each coordinate
 within ``xtol`` of a bound put on it is the maximum: a maximum on the cube's boundary is found
 exactly, though SciPy's bounded line searches never evaluate an interval's ends.
