@@ -4,6 +4,7 @@ refusals (a config mistake named in one line, a non-empty --out)."""
 
 import csv
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -134,3 +135,13 @@ def test_the_example_runs_on_fewer_points(tmp_path, capsys):
     # the median light's best pitch, about 3.06 um (docs/optimize.md), within the ~0.01 um
     # Monte Carlo error of 2 x 10^4 draws several times over
     assert 2.95 < document["x"]["pixel_pitch_um"] < 3.17
+
+
+def test_without_matplotlib_the_command_stops_before_any_work(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
+    code, out, err = _optimize(tmp_path, capsys)
+    assert code == 1 and out == ""
+    assert "pip install 'epc-fast[plot]' (or --no-plot on the command line)" in err
+    assert not (tmp_path / "out").exists()
+    assert _optimize(tmp_path, capsys, CONFIG, "--no-plot")[0] == 0

@@ -20,6 +20,7 @@ estimate of the same number over the scene's distribution:
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -98,7 +99,7 @@ class Quantile:
     unit: ClassVar[str] = "pixels"
 
     def __post_init__(self):
-        if (isinstance(self.q, bool) or not isinstance(self.q, (int, float, np.floating))
+        if (isinstance(self.q, bool) or not isinstance(self.q, numbers.Real)
                 or not 0.0 <= self.q <= 1.0):
             raise ValueError(f"Quantile: q={self.q!r} must be a number in [0, 1]")
         object.__setattr__(self, "q", float(self.q))
@@ -145,7 +146,7 @@ class ProbabilityAtLeast:
 
     def __post_init__(self):
         value = self.target_pixels
-        if (isinstance(value, bool) or not isinstance(value, (int, float, np.floating))
+        if (isinstance(value, bool) or not isinstance(value, numbers.Real)
                 or not math.isfinite(value) or value < 0):
             raise ValueError(f"ProbabilityAtLeast: target_pixels={value!r} must be a finite "
                              "number >= 0 (pixels)")

@@ -18,7 +18,7 @@ from .optimize_result import Optimum
 from .plot_text import output_scale, quantity_label, quantity_unit, unit_text
 from .scan.atomic import atomic_write
 
-__all__ = ["curve_figure", "plot_curves", "BAND_ERRORS"]
+__all__ = ["figure_class", "curve_figure", "plot_curves", "BAND_ERRORS"]
 
 #: Standard errors either side of the objective's band and of the optimum's bar.
 BAND_ERRORS = 2.0
@@ -32,14 +32,19 @@ def _objective_axis(optimum: Optimum) -> tuple[float, str]:
     return 1.0, label
 
 
-def curve_figure(curves, optimum: Optimum):
-    """A matplotlib Figure: one panel per :class:`~epc_fast.optimize.Curve` in ``curves``."""
+def figure_class():
+    """matplotlib's Figure, or an ImportError that says which extra to install."""
     try:
         from matplotlib.figure import Figure
     except ImportError:
-        raise ImportError("the curve plot needs matplotlib: pip install 'epc-fast[plot]'"
-                          ) from None
-    figure = Figure(figsize=(7.5, 4.8 * len(curves)), layout="constrained")
+        raise ImportError("the curve plot needs matplotlib: pip install 'epc-fast[plot]' (or "
+                          "--no-plot on the command line)") from None
+    return Figure
+
+
+def curve_figure(curves, optimum: Optimum):
+    """A matplotlib Figure: one panel per :class:`~epc_fast.optimize.Curve` in ``curves``."""
+    figure = figure_class()(figsize=(7.5, 4.8 * len(curves)), layout="constrained")
     scale, ylabel = _objective_axis(optimum)
     for axes, curve in zip(figure.subplots(len(curves), 1, squeeze=False)[:, 0], curves):
         y = curve.objective / scale

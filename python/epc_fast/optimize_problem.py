@@ -35,8 +35,8 @@ MIN_BATCH_POINTS = 100
 DEFAULT_BATCHES = 10
 #: 1: the tolerance on the optimum's location by default, a fraction of each bound's range.
 DEFAULT_XTOL = 1e-4
-#: Bytes per draw besides the random parameters' columns: EPC (8), status (1) and the index and
-#: uniforms the draw makes on the way (16).
+#: Bytes per draw besides the varying parameters' columns (8 each): EPC (8), status (1), and the
+#: point index and one parameter's uniforms that drawing makes on the way (16).
 BYTES_PER_DRAW = 25
 
 
@@ -89,8 +89,7 @@ class Problem:
         self._status = np.empty(self.points, dtype=np.uint8)
 
     def _check_memory(self) -> None:
-        columns = sum(1 for name in self.space.varying_parameters) + 1
-        needed = self.points * (8 * columns + BYTES_PER_DRAW)
+        needed = self.points * (8 * len(self.space.varying_parameters) + BYTES_PER_DRAW)
         limit = memory_limit_bytes()
         if limit is not None and needed > limit:
             raise MemoryError(f"points={self.points:,} draws of this space need about "

@@ -86,7 +86,9 @@ def run(args) -> int:
         _core.checked_default_threads()  # OMP_NUM_THREADS, before anything is written
     plot = not args.no_plot
     if plot:
-        from ..optimize_plot import curve_figure  # matplotlib missing: an error before any work
+        from ..optimize_plot import curve_figure, figure_class
+
+        figure_class()  # without matplotlib, an error before any work
     out = OutputDirectory(args.out, overwrite=args.overwrite)
     out.prepare({name: what for name, what in FILES.items() if plot or name != "curve.png"})
     problem = Problem(**config.problem_kwargs())
