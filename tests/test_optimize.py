@@ -278,6 +278,8 @@ def test_a_pitch_that_the_designs_vary_is_refused():
     (lambda: optimize.Problem(scene(), PITCH, points=0), ValueError, "points must be >= 1, got 0"),
     (lambda: optimize.Problem(scene(), PITCH, points=2.5), TypeError, "got 2.5"),
     (lambda: optimize.Problem(scene(), PITCH), TypeError, "needs points="),
+    (lambda: optimize.Problem(scene(), PITCH, points=10, threads=0), ValueError,
+     "threads must be between 1 and"),
     (lambda: optimize.maximize(scene(), PITCH, points=1000, batches=1), ValueError,
      "batches=1"),
     (lambda: optimize.maximize(scene(), PITCH, points=1000, batches=20), ValueError,

@@ -10,8 +10,8 @@ from .optimize_objectives import Mean, ProbabilityAtLeast, Quantile
 from .params import PARAMETERS, SIZE_PARAMETERS, in_domain
 from .scan.space import POINT_PARAMETERS, Space
 
-__all__ = ["checked_bounds", "checked_objective", "checked_points", "checked_search", "integer",
-           "unit_of", "size_name"]
+__all__ = ["checked_bounds", "checked_objective", "checked_points", "checked_search",
+           "checked_threads", "integer", "unit_of", "size_name"]
 
 
 def _param(name: str):
@@ -104,6 +104,18 @@ def checked_points(space: Space, points) -> int:
     count = integer("points", points)
     if count < 1:
         raise ValueError(f"points must be >= 1, got {points!r}")
+    return count
+
+
+def checked_threads(threads):
+    """``threads`` (None: the core's default), or an error naming it, before any draw."""
+    from .api import MAX_THREADS
+
+    if threads is None:
+        return None
+    count = integer("threads", threads)
+    if not 1 <= count <= MAX_THREADS:
+        raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")
     return count
 
 

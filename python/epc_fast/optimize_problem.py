@@ -20,7 +20,7 @@ import numpy as np
 from .api import evaluate
 from .memory import memory_limit_bytes
 from .optimize_checks import (checked_bounds, checked_objective, checked_points,
-                              checked_search, size_name, unit_of)
+                              checked_search, checked_threads, size_name, unit_of)
 from .optimize_result import Curve, Estimate, Optimum
 from .optimize_search import maximize_on_cube
 from .scan.core_plan import checked_seed
@@ -77,7 +77,7 @@ class Problem:
         self.objective = checked_objective(objective)
         self.points = checked_points(space, points)
         self.seed = checked_seed(seed)
-        self.threads = threads
+        self.threads = checked_threads(threads)
         self._check_memory()
         started = time.perf_counter()
         drawn = space.points(self.seed, 0, self.points).parameters
