@@ -12,6 +12,7 @@ True
 
 from __future__ import annotations
 
+from . import optimize
 from .api import Result, evaluate
 from .inverse import InverseStatus, crossover_lux, lux_for_epc
 from .memory import output_cache
@@ -37,5 +38,6 @@ __all__ = [
     "Spectrum",
     "PARAMETERS",
     "DEFAULT_ELECTRONS_PER_LUX_S_M2",
+    "optimize",
     "__version__",
 ]

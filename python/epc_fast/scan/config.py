@@ -56,7 +56,8 @@ from .schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, M
 from ..sensor import SHAPE_KEYWORDS, design_parameters
 from .space import BLOCK_POINTS, POINT_PARAMETERS, Space
 
-__all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG"]
+__all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG",
+           "toml_document", "parse_space"]
 
 #: The built-in scan: the paper's 1/3.2" designs over a log-uniform illuminance and a
 #: log-normal hand shake (median 4.39 degree/s, the paper's value).
@@ -300,16 +301,40 @@ def _scan_table(scan) -> dict:
                                                             MAX_THREADS)}
 
 
+def toml_document(text: str, source: str) -> dict:
+    """The TOML document of a config's ``text``; a ConfigError naming ``source`` when it is
+    not TOML."""
+    try:
+        return _toml().loads(text)
+    except _toml().TOMLDecodeError as error:
+        raise ConfigError(f"scan config {source}: not valid TOML: {error}") from None
+
+
+def _space_builder(document: dict, base_dir):
+    """A function that builds the :class:`Space` of a config's ``[design]``, ``[parameters]``
+    and ``[evaluate]`` tables, every key of which is checked here, before it is called."""
+    design = _designs(table_of("design", document["design"])) if "design" in document else None
+    parameters = {name: _parameter(name, value, Path(base_dir)) for name, value
+                  in table_of("parameters", document.get("parameters", {})).items()}
+    options = _evaluate_options(document.get("evaluate", {}))
+    return lambda: wrapped("parameters", lambda: Space(design=design, evaluate_options=options,
+                                                       **parameters))
+
+
+def parse_space(document: dict, base_dir=".") -> Space:
+    """The :class:`Space` of a config's ``[design]``, ``[parameters]`` and ``[evaluate]``
+    tables (``document``, a parsed TOML document), every key checked; files it names are
+    relative to ``base_dir``. Shared by the scan's and the optimiser's configs."""
+    return _space_builder(document, base_dir)()
+
+
 def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfig:
     """A :class:`ScanConfig` from TOML text; files it names are relative to ``base_dir``.
 
     Every key is checked (type, range, size) before anything is evaluated; a mistake raises
     :class:`~epc_fast.scan.errors.ConfigError` (a ValueError) naming table, key and value.
     """
-    try:
-        document = _toml().loads(text)
-    except _toml().TOMLDecodeError as error:
-        raise ConfigError(f"scan config {source}: not valid TOML: {error}") from None
+    document = toml_document(text, source)
     take(document, "top level", required=("scan",),
          optional=("design", "parameters", "evaluate", "reductions", "output", "sobol"))
     counts = _scan_table(document["scan"])
@@ -318,13 +343,9 @@ def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfi
     parquet = output.get("parquet")
     if parquet is not None:
         parquet = file_name("output", "parquet", parquet)
-    design = _designs(table_of("design", document["design"])) if "design" in document else None
-    parameters = {name: _parameter(name, value, Path(base_dir)) for name, value
-                  in table_of("parameters", document.get("parameters", {})).items()}
-    options = _evaluate_options(document.get("evaluate", {}))
+    build_space = _space_builder(document, base_dir)
     reductions = parse_reductions(table_of("reductions", document.get("reductions", {})))
-    space = wrapped("parameters", lambda: Space(design=design, evaluate_options=options,
-                                                **parameters))
+    space = build_space()
     check_reductions(reductions, space)
     sobol = (parse_sobol(document["sobol"], counts["seed"], space) if "sobol" in document
              else None)
