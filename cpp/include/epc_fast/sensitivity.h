@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 
 #include "block.h"
 #include "constants.h"
@@ -45,14 +46,6 @@ EPC_FAST_INLINE double zeta_series(double y) {
     return total;
 }
 
-// ln(1 + x) for x > -1, from log_any: ln(u) x / (u - 1) with u = 1 + x rounded corrects u's
-// rounding (Goldberg, ACM Computing Surveys 23(1), 1991, Theorem 4); x itself where u = 1.
-EPC_FAST_INLINE double log1p_any(double x) {
-    const double u = 1.0 + x;
-    const double scaled = log_any(u) * (x / (u - 1.0));
-    return u == 1.0 ? x : scaled;
-}
-
 }  // namespace detail
 
 // 1: ln sinc(y) for 0 <= y < 1; -sum_k zeta(2k) y^(2k) / k below series_below.
@@ -83,10 +76,15 @@ EPC_FAST_INLINE double diffraction_log_slope_numerator(double nu) {
 }
 
 // 1: ln D, from D and its loss 1 - D: log1p(-loss) where the loss is below 1/2 (it keeps a
-// small loss's digits), ln D elsewhere (D's own digits, down to the cut-off).
+// small loss's digits), ln D elsewhere (D's own digits, down to the cut-off); one log either
+// way, log1p(x) as ln(u) x / (u - 1) with u = 1 + x rounded, which corrects u's rounding
+// (Goldberg, ACM Computing Surveys 23(1), 1991, Theorem 4), x itself where u = 1.
 EPC_FAST_INLINE double log_mtf_diffraction(double value, double loss) {
-    const double near_one = detail::log1p_any(-(loss < 0.5 ? loss : 0.5));
-    return loss < 0.5 ? near_one : log_any(value);
+    const bool near_one = loss < 0.5;
+    const double u = near_one ? 1.0 - loss : value;
+    const double log_u = log_any(u);
+    const double log1p = u == 1.0 ? -loss : log_u * (-loss / (u - 1.0));
+    return near_one ? log1p : log_u;
 }
 
 // Each factor's log at f, and the log-slopes of diffraction (nu dD/dnu / D), the pixel and the
@@ -244,10 +242,12 @@ EPC_FAST_INLINE LogSinc log_sinc_given(double y, double sin_py, double inv_y_sin
 // 1) and are masked at the end. A lane whose shared products leave the normal range is redone
 // by sensitivity_lane. `Exposure` = false when the block has no read noise, dark current or
 // PRNU (broadcast 0): T_MPE's log-slopes are then -1 for the rate, 1 for the target, 0 else.
-template <bool Exposure, class T>
-void sensitivity_as(const Inputs& in, const Block<T>& b, bool shares, bool elasticities,
-                    double (&share_out)[n_shares][block_size],
+// `Shares` and `Elasticities` say which are asked for: the logs are formed only for the
+// shares, the slopes only for the elasticities.
+template <bool Exposure, bool Shares, bool Elasticities, class T>
+void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_shares][block_size],
                     double (&elasticity_out)[n_params][block_size]) {
+    constexpr bool shares = Shares, elasticities = Elasticities;
     constexpr std::size_t n = block_size;
     const auto& x = b.x;
     alignas(64) double f[n], loss[n], slope_numerator[n], value[n];
@@ -278,7 +278,7 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, bool shares, bool elast
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
             const double nu = f[i] * (lambda[i] * nm_to_mm) * f_num[i];
-            loss[i] = diffraction_loss(nu);
+            if (Shares) loss[i] = diffraction_loss(nu);
             slope_numerator[i] = diffraction_log_slope_numerator(nu);
             value[i] = mtf_diffraction(nu);
         }
@@ -302,13 +302,17 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, bool shares, bool elast
         slow[i] = ok[i] & !((product >= 0x1p-900) & (product <= 0x1p900));
         const LogSinc pixel = log_sinc_given(y_pixel, sin_pixel, d_motion * value[i] * inverse);
         const LogSinc motion = log_sinc_given(y_motion, sin_motion, d_pixel * value[i] * inverse);
-        logs[share_diffraction][i] = log_mtf_diffraction(value[i], loss[i]);
-        logs[share_pixel][i] = pixel.log;
-        logs[share_motion][i] = motion.log;
+        if (Shares) {
+            logs[share_diffraction][i] = log_mtf_diffraction(value[i], loss[i]);
+            logs[share_pixel][i] = pixel.log;
+            logs[share_motion][i] = motion.log;
+        }
         logs[share_jitter][i] = -2.0 * pi * pi * sigma_f * sigma_f;
-        slope_numerator[i] *= d_sincs * inverse;  // now nu dD/dnu / D
-        slope_pixel[i] = pixel.slope;
-        slope_motion[i] = motion.slope;
+        if (Elasticities) {
+            slope_numerator[i] *= d_sincs * inverse;  // now nu dD/dnu / D
+            slope_pixel[i] = pixel.slope;
+            slope_motion[i] = motion.slope;
+        }
     }
     if (shares) {
         EPC_FAST_SIMD
@@ -391,8 +395,14 @@ void sensitivity(const Inputs& in, const Block<T>& b, bool shares, bool elastici
                  double (&elasticity_out)[n_params][block_size]) {
     const bool exposure = !(b.broadcast_is(read_noise_e, 0.0) && b.broadcast_is(dark_current_e_per_s, 0.0) &&
                             b.broadcast_is(prnu, 0.0));
-    if (exposure) sensitivity_as<true>(in, b, shares, elasticities, share_out, elasticity_out);
-    else sensitivity_as<false>(in, b, shares, elasticities, share_out, elasticity_out);
+    auto run = [&](auto exposure_terms) {
+        constexpr bool E = decltype(exposure_terms)::value;
+        if (shares && elasticities) sensitivity_as<E, true, true>(in, b, share_out, elasticity_out);
+        else if (shares) sensitivity_as<E, true, false>(in, b, share_out, elasticity_out);
+        else if (elasticities) sensitivity_as<E, false, true>(in, b, share_out, elasticity_out);
+    };
+    if (exposure) run(std::true_type{});
+    else run(std::false_type{});
 }
 
 }  // namespace detail
