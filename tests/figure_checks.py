@@ -43,3 +43,32 @@ def labels_outside(boxes: dict, figure, ax) -> list:
     return [name for name, box in boxes.items()
             if box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0
             or box.y1 > frame.y1]
+
+
+def text_boxes(figure) -> dict:
+    """{where: display box} of every text drawn on ``figure``: its title, each axes' title,
+    axis labels and the tick labels inside its view, and the legends' entries."""
+    renderer = figure.canvas.get_renderer()
+    texts = {"suptitle": figure._suptitle} if figure._suptitle is not None else {}
+    for n, ax in enumerate(figure.axes):
+        texts[f"axes {n} title"] = ax.title
+        for axis in (ax.xaxis, ax.yaxis):
+            texts[f"axes {n} {axis.axis_name} label"] = axis.label
+            lo, hi = sorted(axis.get_view_interval())
+            span = hi - lo
+            for tick in axis.get_major_ticks():
+                if lo - 1e-9 * span <= tick.get_loc() <= hi + 1e-9 * span:
+                    texts[f"axes {n} {axis.axis_name} tick {tick.get_loc():g}"] = tick.label1
+    for n, legend in enumerate(figure.legends):
+        for text in legend.get_texts():
+            texts[f"legend {n} {text.get_text()}"] = text
+    return {where: text.get_window_extent(renderer) for where, text in texts.items()
+            if text.get_visible() and text.get_text()}
+
+
+def boxes_outside(boxes: dict, figure) -> list:
+    """Texts not wholly inside ``figure``."""
+    frame = figure.bbox
+    return [name for name, box in boxes.items()
+            if box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0
+            or box.y1 > frame.y1]

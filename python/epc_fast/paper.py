@@ -41,11 +41,22 @@ _READING_ORDER = ("corner_30db", "on_axis_30db", "on_axis_33db")
 
 @dataclass(frozen=True)
 class Figure:
-    """One of the paper's figures: EPC of some designs over illuminance."""
+    """One of the paper's figures: EPC of some designs over illuminance; and its companion,
+    what limits each of them (:func:`epc_fast.limits_plot.plot_limits_over_illuminance`)."""
 
     name: str
     title: str
     designs: tuple
+
+    @property
+    def limits_name(self) -> str:
+        """The companion's name, the figure's with ``_limits`` (``fig1_limits``)."""
+        return f"{self.name}_limits"
+
+    @property
+    def limits_title(self) -> str:
+        """The companion's title, the figure's with what it shows."""
+        return f"{self.title}: what limits each design"
 
 
 FIGURES = (

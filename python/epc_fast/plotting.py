@@ -51,13 +51,10 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     -------
     matplotlib.figure.Figure
     """
-    readings = {d.reading for d in designs}
-    if len(readings) != 1:
-        raise ValueError(f"the designs of one figure share one reading, got {sorted(readings)}")
+    reading = _shared_reading(designs)
     figure = _figure_class()(figsize=(7.0, 5.2), layout="constrained")
     ax = figure.subplots()
-    lo, hi = np.log10(lux_range[0]), np.log10(lux_range[1])
-    lux = np.logspace(lo, hi, int(round((hi - lo) * POINTS_PER_DECADE)) + 1)
+    lux = _illuminance_lux(lux_range)
     result = evaluate_over_illuminance(designs, lux, backend=backend, threads=threads)
     curves = [ax.plot(lux, epc / 1e6, color=f"C{index}", lw=2, label=unit_text(design.name))[0]
               for index, (design, epc) in enumerate(zip(designs, result.epc))]
@@ -67,7 +64,7 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     ax.set_ylim(0.0, 1.08 * max(d.pixel_count for d in designs) / 1e6)
     ax.set_xlabel(quantity_label("illuminance_lux"))
     ax.set_ylabel("Effective pixel count, EPC (Mpixel)")
-    ax.set_title(unit_text(f"{title}\n{READINGS[readings.pop()].meaning}"), fontsize=10)
+    ax.set_title(unit_text(f"{title}\n{READINGS[reading].meaning}"), fontsize=10)
     ax.grid(which="major", alpha=0.4)
     ax.grid(which="minor", alpha=0.15)
     figure.legend(loc="outside lower center", ncols=3, fontsize=9, frameon=False)
@@ -75,6 +72,22 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     place_line_labels(ax, levels, [f"{level:.2f} Mpixel" for level in levels],
                       renderer=renderer, fontsize=8, colors=colors, lines=curves)
     return figure
+
+
+def _shared_reading(designs) -> str:
+    """The reading (:data:`epc_fast.presets.READINGS`) all ``designs`` share; a ValueError
+    when they do not, since a figure names one in its title."""
+    readings = {d.reading for d in designs}
+    if len(readings) != 1:
+        raise ValueError(f"the designs of one figure share one reading, got {sorted(readings)}")
+    return readings.pop()
+
+
+def _illuminance_lux(lux_range) -> np.ndarray:
+    """lux: :data:`POINTS_PER_DECADE` log-spaced points a decade over ``lux_range`` (lux),
+    both ends included."""
+    lo, hi = np.log10(lux_range[0]), np.log10(lux_range[1])
+    return np.logspace(lo, hi, int(round((hi - lo) * POINTS_PER_DECADE)) + 1)
 
 
 def _pixel_count_lines(ax, designs) -> tuple[list, list]:

@@ -1,4 +1,5 @@
-"""``epc-fast paper --out DIR``: the paper's three figures and its statements table."""
+"""``epc-fast paper --out DIR``: the paper's three figures, what limits each of their designs,
+and the paper's statements table."""
 
 from __future__ import annotations
 
@@ -6,8 +7,8 @@ import sys
 from pathlib import Path
 
 NAME = "paper"
-HELP = ("reproduce the paper (Xiao et al., SPIE 7250, 2009): fig1-3.png, statements.csv and "
-        "statements.md")
+HELP = ("reproduce the paper (Xiao et al., SPIE 7250, 2009): fig1-3.png, what limits each "
+        "design in fig1-3_limits.png, statements.csv and statements.md")
 
 
 def add_arguments(parser) -> None:
@@ -38,14 +39,18 @@ def run(args) -> int:
             print(f"  does not hold: {s.id} ({s.kind}), deviation {s.deviation:+.1%}")
 
     try:
+        from ..limits_plot import plot_limits_over_illuminance
         from ..plotting import plot_epc_over_illuminance, save_figure
 
+        options = dict(backend=args.backend, threads=args.threads)
         for figure in FIGURES:
-            path = args.out / f"{figure.name}.png"
-            save_figure(plot_epc_over_illuminance(figure.designs, title=figure.title,
-                                                  backend=args.backend, threads=args.threads),
-                        path)
-            print(path)
+            epc = plot_epc_over_illuminance(figure.designs, title=figure.title, **options)
+            limits = plot_limits_over_illuminance(figure.designs, title=figure.limits_title,
+                                                  **options)
+            for name, drawn in ((figure.name, epc), (figure.limits_name, limits)):
+                path = args.out / f"{name}.png"
+                save_figure(drawn, path)
+                print(path)
     except ImportError as exc:
         print(f"epc-fast paper: {exc}", file=sys.stderr)
         return 1
