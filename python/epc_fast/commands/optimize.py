@@ -14,7 +14,8 @@ import argparse
 import csv
 import json
 
-from .scan import _whole, duration
+from . import add_output_arguments, whole
+from .scan import duration
 
 NAME = "optimize"
 HELP = ("maximise an objective of EPC (mean, quantile, probability) over design parameters "
@@ -32,15 +33,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from ..optimize_config import MAX_OPTIMIZE_POINTS
 
     parser.add_argument("config", help="TOML file (see examples/optimize_pitch.toml)")
-    parser.add_argument("--out", default="epc-optimize", help="output directory (default: "
-                        "%(default)s); refused when not empty, unless --overwrite")
-    parser.add_argument("--overwrite", action="store_true", help="write into a --out that is not "
-                        "empty, replacing only the files this command writes")
-    parser.add_argument("--points", type=_whole("--points", 1, MAX_OPTIMIZE_POINTS),
+    add_output_arguments(parser, "epc-optimize", "the files this command writes")
+    parser.add_argument("--points", type=whole("--points", 1, MAX_OPTIMIZE_POINTS),
                         help="override [optimize] points (1e7 is accepted)")
-    parser.add_argument("--seed", type=_whole("--seed", 0, 2**64 - 1),
+    parser.add_argument("--seed", type=whole("--seed", 0, 2**64 - 1),
                         help="override [optimize] seed")
-    parser.add_argument("--threads", type=_whole("--threads", 1, MAX_THREADS),
+    parser.add_argument("--threads", type=whole("--threads", 1, MAX_THREADS),
                         help="core threads")
     parser.add_argument("--no-plot", action="store_true", help="skip curve.png")
     parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,

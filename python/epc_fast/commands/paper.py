@@ -17,9 +17,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--backend", choices=("core", "reference"), default="core",
                         help="the compiled core or the NumPy reference (default: core)")
     from ..api import MAX_THREADS
-    from .scan import _whole
+    from . import whole
 
-    parser.add_argument("--threads", type=_whole("--threads", 1, MAX_THREADS), default=None,
+    parser.add_argument("--threads", type=whole("--threads", 1, MAX_THREADS), default=None,
                         help="core threads (default: OMP_NUM_THREADS or every core)")
 
 

@@ -11,8 +11,9 @@ SIGTERM stop the scan between chunks; the prefix done is written everywhere, mar
 from __future__ import annotations
 
 import argparse
-import math
 import sys
+
+from . import add_output_arguments, whole
 
 NAME = "scan"
 HELP = ("scan a design space from a TOML config (default: the built-in one) and write its "
@@ -31,23 +32,6 @@ EXIT_INTERRUPTED = {"SIGINT": 130, "SIGTERM": 143}
 EXIT_ABORTED = 1
 
 
-def _whole(name: str, low: int, high: int, multiple: int = 1):
-    """An argparse type: an integer in [low, high] (``1e9`` accepted, ``70000.9`` refused)."""
-    def parse(text: str) -> int:
-        try:
-            value = float(text) if any(c in text for c in ".eE") else int(text)
-        except ValueError:
-            value = math.nan
-        if isinstance(value, float):
-            value = int(value) if math.isfinite(value) and value.is_integer() else None
-        if value is None or not low <= value <= high or value % multiple:
-            extra = f", a multiple of {multiple}" if multiple > 1 else ""
-            raise argparse.ArgumentTypeError(
-                f"{name} {text!r}: expected an integer between {low:,} and {high:,}{extra}")
-        return value
-    return parse
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from ..api import MAX_THREADS
     from ..scan.schema import MAX_CHUNK_POINTS, MAX_POINTS
@@ -55,16 +39,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
     parser.add_argument("config", nargs="?", help="TOML file (see examples/scan_designs.toml); "
                         "default: the built-in config (--show-config prints it)")
-    parser.add_argument("--out", default="epc-scan", help="output directory (default: "
-                        "%(default)s); refused when not empty, unless --overwrite")
-    parser.add_argument("--overwrite", action="store_true", help="write into a --out that is not "
-                        "empty, replacing only the files this scan writes")
-    parser.add_argument("--points", type=_whole("--points", 1, MAX_POINTS),
+    add_output_arguments(parser, "epc-scan", "the files this scan writes")
+    parser.add_argument("--points", type=whole("--points", 1, MAX_POINTS),
                         help="override [scan] points (1e9 is accepted)")
-    parser.add_argument("--seed", type=_whole("--seed", 0, 2**64 - 1), help="override [scan] seed")
-    parser.add_argument("--threads", type=_whole("--threads", 1, MAX_THREADS),
+    parser.add_argument("--seed", type=whole("--seed", 0, 2**64 - 1), help="override [scan] seed")
+    parser.add_argument("--threads", type=whole("--threads", 1, MAX_THREADS),
                         help="core threads per chunk")
-    parser.add_argument("--chunk-points", type=_whole("--chunk-points", BLOCK_POINTS,
+    parser.add_argument("--chunk-points", type=whole("--chunk-points", BLOCK_POINTS,
                                                       MAX_CHUNK_POINTS, BLOCK_POINTS),
                         help="points per chunk (a multiple of 65536)")
     parser.add_argument("--scheduler", help="address of a Dask scheduler (tcp://host:8786): run "

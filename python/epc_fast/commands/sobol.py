@@ -13,6 +13,8 @@ import argparse
 import dataclasses
 import time
 
+from . import add_output_arguments, whole
+
 NAME = "sobol"
 HELP = ("apportion the variance of EPC among a scan config's random parameters: Sobol' "
         "indices (its [sobol] table; the sensitivity extra) in sobol.csv and sobol.md")
@@ -31,19 +33,15 @@ def _power_of_two(text: str) -> int:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from ..api import MAX_THREADS
-    from .scan import _whole
 
     parser.add_argument("config", nargs="?", help="TOML scan config (see "
                         "examples/scan_designs.toml); default: the built-in one")
-    parser.add_argument("--out", default="epc-sobol", help="output directory (default: "
-                        "%(default)s); refused when not empty, unless --overwrite")
-    parser.add_argument("--overwrite", action="store_true", help="write into a --out that is not "
-                        "empty, replacing only sobol.csv and sobol.md")
+    add_output_arguments(parser, "epc-sobol", "sobol.csv and sobol.md")
     parser.add_argument("--points", type=_power_of_two,
                         help="override [sobol] points: base points of Saltelli's design")
-    parser.add_argument("--seed", type=_whole("--seed", 0, 2**64 - 1),
+    parser.add_argument("--seed", type=whole("--seed", 0, 2**64 - 1),
                         help="override [sobol] seed")
-    parser.add_argument("--threads", type=_whole("--threads", 1, MAX_THREADS),
+    parser.add_argument("--threads", type=whole("--threads", 1, MAX_THREADS),
                         help="core threads (default: [scan] threads, OMP_NUM_THREADS or every "
                         "core)")
     parser.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
