@@ -48,17 +48,31 @@ EPC_FAST_INLINE double zeta_series(double y) {
 
 }  // namespace detail
 
+// ln sinc(y) and y d ln sinc / dy from s = sin(pi y) and inv = 1 / (y s) (1 where the series
+// serves): log_sinc and sinc_log_slope with their divisions shared (1/y = s inv, 1/s = y inv).
+struct LogSinc {
+    double log, slope;
+};
+
+EPC_FAST_INLINE LogSinc log_sinc_given(double y, double sin_py, double inv_y_sin) {
+    const bool small = y < detail::series_below;
+    const double direct_log = log_any(sin_py * (sin_py * inv_y_sin) * (1.0 / pi));
+    const double direct_slope = pi * y * cospi_small(y) * (y * inv_y_sin) - 1.0;
+    return {small ? -detail::zeta_series<true>(y) : direct_log,
+            small ? -2.0 * detail::zeta_series<false>(y) : direct_slope};
+}
+
 // 1: ln sinc(y) for 0 <= y < 1; -sum_k zeta(2k) y^(2k) / k below series_below.
 EPC_FAST_INLINE double log_sinc(double y) {
-    const double direct = log_any(sinpi_unit(y) / (pi * y));
-    return y < detail::series_below ? -detail::zeta_series<true>(y) : direct;
+    const double s = sinpi_unit(y);
+    return log_sinc_given(y, s, y < detail::series_below ? 1.0 : 1.0 / (y * s)).log;
 }
 
 // 1: y d ln sinc(y) / dy = pi y cot(pi y) - 1 for 0 <= y < 1; -2 sum_k zeta(2k) y^(2k) below
 // series_below, where the two terms cancel.
 EPC_FAST_INLINE double sinc_log_slope(double y) {
-    const double direct = pi * y * cospi_small(y) / sinpi_unit(y) - 1.0;
-    return y < detail::series_below ? -2.0 * detail::zeta_series<false>(y) : direct;
+    const double s = sinpi_unit(y);
+    return log_sinc_given(y, s, y < detail::series_below ? 1.0 : 1.0 / (y * s)).slope;
 }
 
 // 1: 1 - D(nu); (2/pi) (asin nu + nu sqrt(1 - nu^2)) up to nu = 1/2 (nothing cancels where D is
@@ -218,20 +232,6 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
     elasticities_of_lane(m.slope_diffraction, m.slope_pixel, m.slope_motion, m.log[share_jitter], t,
                          m.slope_motion * beta, field_slope, x[snr_db][i] * (ln10 / 10.0),
                          in.size_is_pixel_count, elasticity_out, i);
-}
-
-// ln sinc(y) and y d ln sinc / dy from s = sin(pi y) and inv = 1 / (y s) (1 where the series
-// serves): log_sinc and sinc_log_slope with their divisions shared (1/y = s inv, 1/s = y inv).
-struct LogSinc {
-    double log, slope;
-};
-
-EPC_FAST_INLINE LogSinc log_sinc_given(double y, double sin_py, double inv_y_sin) {
-    const bool small = y < detail::series_below;
-    const double direct_log = log_any(sin_py * (sin_py * inv_y_sin) * (1.0 / pi));
-    const double direct_slope = pi * y * cospi_small(y) * (y * inv_y_sin) - 1.0;
-    return {small ? -detail::zeta_series<true>(y) : direct_log,
-            small ? -2.0 * detail::zeta_series<false>(y) : direct_slope};
 }
 
 // The shares and elasticities of the block's lanes into share_out and elasticity_out (rows of
