@@ -113,7 +113,7 @@ def _public_call(fdp):
         precision=["float64", "float32"][fdp.ConsumeIntInRange(0, 1)])
     selected = tuple(api.OUTPUT_DTYPES)
     if fdp.ConsumeIntInRange(0, 3) == 0:
-        selected = tuple(name for name in api.OUTPUT_DTYPES if fdp.ConsumeBool()) or ("epc",)
+        selected = tuple(name for name in api.ALL_OUTPUT_DTYPES if fdp.ConsumeBool()) or ("epc",)
         options["outputs"] = selected
     if fdp.ConsumeIntInRange(0, 5) == 0:
         n = fdp.ConsumeIntInRange(0, 6)
@@ -121,7 +121,8 @@ def _public_call(fdp):
                               np.array([fdp.ConsumeFloat() for _ in range(n)]))
     if fdp.ConsumeIntInRange(0, 5) == 0:
         out_shape = shape if fdp.ConsumeIntInRange(0, 3) else (fdp.ConsumeIntInRange(0, 5),)
-        options["out"] = {name: np.zeros(out_shape, dtype=api.OUTPUT_DTYPES[name])
+        options["out"] = {name: np.zeros(api._output_shape(name, out_shape),
+                                         dtype=api.ALL_OUTPUT_DTYPES[name])
                           for name in selected}
     try:
         result = epc_fast.evaluate(**kwargs, backend=backend, **options)
@@ -171,6 +172,24 @@ def _check(result):
     for name in ("f50_cyc_per_mm", "epc"):
         if name in values:
             assert np.all(values[name][unbounded] == 0.0), name
+    _check_sensitivity(result, ok, unbounded)
+
+
+def _check_sensitivity(result, ok, unbounded):
+    """OK points have shares in [0, 1] that sum to 1 and finite elasticities; the others NaN,
+    but where the blur is unbounded the shares 0, 0, 1, 0 (docs/limits.md)."""
+    shares = [np.asarray(getattr(result, name), dtype=np.float64).reshape(-1)
+              for name in api.SHARE_OUTPUTS if getattr(result, name) is not None]
+    for name, v in zip(api.SHARE_OUTPUTS, shares):
+        assert np.all((v[ok] >= 0.0) & (v[ok] <= 1.0)), name
+        assert np.all(np.isnan(v[~ok & ~unbounded])), name
+        assert np.all(v[unbounded] == (1.0 if name == "share_motion" else 0.0)), name
+    if len(shares) == len(api.SHARE_OUTPUTS) and ok.any():
+        assert np.allclose(sum(v[ok] for v in shares), 1.0, rtol=0, atol=1e-14)
+    for name, v in (result.elasticities or {}).items():
+        v = np.asarray(v, dtype=np.float64).reshape(-1)
+        assert np.all(np.isfinite(v[ok])), name
+        assert np.all(np.isnan(v[~ok])), name
 
 
 def _array(fdp, n):

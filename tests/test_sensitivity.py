@@ -407,3 +407,86 @@ def test_out_arrays_take_the_sensitivities():
 def test_unknown_outputs_are_named():
     with pytest.raises(ValueError, match="share_lens"):
         epc_fast.evaluate(300.0, **BASE, outputs=("share_lens",))
+
+
+# --- A threshold so small that f50 is a factor's zero ------------------------------------------
+
+#: Scenes whose smallest first zero is each factor's: motion (the paper's shake at 1000 lux), the
+#: pixel (no shake, a 1e-6 nm wavelength) and diffraction (no shake, a 1e-6 um pixel).
+PINNING = {
+    "motion": (dict(BASE), "share_motion"),
+    "pixel": ({**BASE, "shake_deg_per_s": 0.0, "wavelength_nm": 1e-6}, "share_pixel"),
+    "diffraction": ({**BASE, "shake_deg_per_s": 0.0, "pixel_pitch_um": 1e-6},
+                    "share_diffraction"),
+}
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+@pytest.mark.parametrize("threshold", [1e-300, 1e-30, 1e-12])
+@pytest.mark.parametrize("factor", PINNING)
+def test_a_tiny_threshold_pins_f50_to_a_factors_zero(factor, threshold, backend):
+    """As c -> 0, f50 goes to the smallest first zero of the factors (1/b, 1/(sqrt(a) p) or
+    1/(lambda F)); below about 1e-16 it is that zero to rounding, where the factor's log-slope
+    is infinite. The elasticities are then their limits: EPC ~ zero^2, and the shares give the
+    factor at its zero all of ln c but what the others take."""
+    inputs, share = PINNING[factor]
+    r = epc_fast.evaluate(1000.0, **inputs, mtf_threshold=threshold, backend=backend,
+                          outputs=SENSITIVITY + ("status", "t_mpe_s", "blur_mm"))
+    assert r.status == Status.OK
+    e = r.elasticities
+    shares = [getattr(r, name) for name in SHARE_OUTPUTS]
+    assert sum(shares) == pytest.approx(1.0, abs=1e-15)
+    others = [getattr(r, name) for name in SHARE_OUTPUTS if name != share]
+    # the others' logs are a few units at most against ln c = -27.6 .. -690.8
+    assert getattr(r, share) >= 0.9 and all(0.0 <= v <= 0.1 for v in others)
+    # the limits hold up to the factor's relative distance from its zero at the root: c for
+    # the sincs, c^(2/3) for diffraction (D ~ (1 - nu)^(3/2)), 1e-8 at c = 1e-12
+    tol = 1e-9 if threshold < 1e-20 else 1e-7
+    if factor == "motion":
+        angle = 4.39 * math.pi / 180 * r.t_mpe_s
+        tan = r.blur_mm / 5.6
+        beta = angle * (1 + tan * tan) / tan  # d ln b / d ln angle
+        expected = {"illuminance_lux": 2 * beta, "f_number": -4 * beta,
+                    "shake_deg_per_s": -2 * beta, "focal_length_mm": -2.0,
+                    "pixel_pitch_um": 4 * beta, "wavelength_nm": 0.0}
+    elif factor == "pixel":
+        expected = {"pixel_pitch_um": -2.0, "fill_factor": -1.0, "f_number": 0.0,
+                    "illuminance_lux": 0.0}
+    else:
+        expected = {"f_number": -2.0, "wavelength_nm": -2.0, "pixel_pitch_um": 0.0}
+    expected["mtf_threshold"] = 0.0
+    for name, value in expected.items():
+        assert e[name] == pytest.approx(value, abs=tol), name
+
+
+def _sweep(low, high):
+    return np.geomspace(low, high, 300)
+
+
+#: Each parameter across its domain, the others at BASE (1000 lux): the extremes of every formula.
+SWEEPS = {
+    "illuminance_lux": _sweep(1e-300, 9e29), "pixel_pitch_um": _sweep(1e-29, 9e29),
+    "f_number": _sweep(1e-29, 9e29), "focal_length_mm": _sweep(1e-29, 9e29),
+    "sensor_area_mm2": _sweep(1e-29, 9e29), "shake_deg_per_s": _sweep(1e-29, 9e29),
+    "stabilization": _sweep(1e-29, 9e29), "jitter_um": _sweep(1e-29, 9e29),
+    "read_noise_e": _sweep(1e-29, 9e29), "dark_current_e_per_s": _sweep(1e-29, 9e29),
+    "prnu": _sweep(1e-29, 0.0316), "snr_db": np.linspace(-3000.0, 1000.0, 300),
+    "mtf_threshold": _sweep(1e-300, 0.999999), "wavelength_nm": _sweep(1e-29, 9e29),
+    "fill_factor": _sweep(1e-300, 1.0), "field_angle_deg": np.linspace(-89.999999, 89.999999, 300),
+}
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+@pytest.mark.parametrize("shake", [4.39, 0.0])
+@pytest.mark.parametrize("name", SWEEPS)
+def test_every_ok_point_across_the_domain_has_finite_sensitivities(name, shake, backend):
+    r = epc_fast.evaluate(**{**BASE, "illuminance_lux": 1000.0, "shake_deg_per_s": shake,
+                             name: SWEEPS[name]},
+                          outputs=SENSITIVITY + ("status",), backend=backend)
+    ok = r.status == Status.OK
+    assert ok.any()
+    shares = np.stack([getattr(r, n) for n in SHARE_OUTPUTS])[:, ok]
+    assert np.all((shares >= 0.0) & (shares <= 1.0))
+    np.testing.assert_allclose(shares.sum(axis=0), 1.0, rtol=0, atol=1e-15)
+    for key, values in r.elasticities.items():
+        assert np.isfinite(values[ok]).all(), (key, SWEEPS[name][ok & ~np.isfinite(values)][:3])

@@ -161,11 +161,31 @@ def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm
     return logs, slopes
 
 
-def mtf_loss_shares(log_factors):
+#: The relative distance of sum_i ln MTF_i(f50) from ln c beyond which f50 is a factor's zero to
+#: within rounding (a threshold of 1e-6 and less): that factor is "pinned".
+PINNED_RTOL = 1e-3
+
+
+def mtf_loss_shares(log_factors, mtf_threshold):
     """1: each factor's share ln MTF_i / sum_i ln MTF_i of the loss at f50 (diffraction, pixel,
-    motion, jitter); the sum is ln MTF_sys(f50) = ln c at the root, so the shares sum to 1."""
-    total = sum(log_factors)
-    return tuple(v / total for v in log_factors)
+    motion, jitter); the sum is ln MTF_sys(f50) = ln c at the root, so the shares sum to 1.
+
+    With a threshold so small that f50 is a factor's zero to within rounding, the logs at the
+    computed f50 do not add up to ln c (one may be -inf or NaN): the factor with the least log
+    takes ln c less the others', and the shares divide by ln c.
+    """
+    logs = np.stack(np.broadcast_arrays(*log_factors)).astype(np.float64)
+    ln_c = np.log(np.asarray(mtf_threshold, dtype=np.float64))
+    total = logs.sum(axis=0)
+    with np.errstate(invalid="ignore"):
+        pinned = ~(np.abs(total - ln_c) <= PINNED_RTOL * np.abs(ln_c))
+    least = np.argmin(np.where(np.isnan(logs), -np.inf, logs), axis=0)
+    rows = np.arange(logs.shape[0])[:, None]
+    is_least = rows == least
+    others = np.where(is_least, 0.0, logs).sum(axis=0)
+    logs = np.where(pinned & is_least, ln_c - others, logs)
+    total = np.where(pinned, ln_c, total)
+    return tuple(logs / total)
 
 
 def t_mpe_log_slopes(electrons, t_mpe_s, read_noise_e, dark_current_e_per_s, prnu):
@@ -208,10 +228,20 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     of arrays, at points whose status is OK (f50 > 0); ``q`` holds the parameters by name (as
     :func:`epc_fast.reference.evaluate_points` does), the rest are the model's outputs there.
     """
-    logs, (g_d, g_p, g_m) = mtf_log_factors(
+    logs, slopes = mtf_log_factors(
         f50_cyc_per_mm, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_mm,
         q["jitter_um"], wavelengths_nm, weights)
-    log_j = logs[3]
+    # where f50 is a factor's zero to within rounding (a tiny threshold), its log-slope is not
+    # finite: every slope over |that slope|, the limit as it goes to -infinity (f50 follows the
+    # zero); the threshold's own term, -1, goes to 0 with the others
+    slopes = np.stack(np.broadcast_arrays(*slopes)).astype(np.float64)
+    infinite = ~np.isfinite(slopes)
+    limit = infinite.any(axis=0)
+    k = np.argmax(infinite, axis=0)
+    scaled = np.where(np.arange(3)[:, None] == k, -1.0, 0.0)
+    g_d, g_p, g_m = np.where(limit, scaled, slopes)
+    log_j = np.where(limit, 0.0, logs[3])
+    threshold_term = np.where(limit, 0.0, 1.0)
     a_slope = -(g_d + g_p + g_m + 2.0 * log_j)  # -d ln MTF / d ln f, > 0
     t = t_mpe_log_slopes(electrons, t_mpe_s, q["read_noise_e"], q["dark_current_e_per_s"],
                          q["prnu"])
@@ -241,7 +271,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         "stabilization": -mu,
         "jitter_um": 2.0 * log_j,
         "wavelength_nm": g_d,
-        "mtf_threshold": zero - 1.0,
+        "mtf_threshold": zero - threshold_term,
     }
     area = {"size": 1.0, "pixel_pitch_um": 2.0 if size_is_pixel_count else 0.0}
     return {name: area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope
@@ -281,7 +311,7 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
                                       stand["fill_factor"], blur, stand["jitter_um"],
                                       wavelengths, spectral_weights)
             unbounded = status == Status.BLUR_UNBOUNDED
-            for name, share in zip(SHARE_NAMES, mtf_loss_shares(logs)):
+            for name, share in zip(SHARE_NAMES, mtf_loss_shares(logs, stand["mtf_threshold"])):
                 limit = 1.0 if name == "motion" else 0.0
                 out[f"share_{name}"] = np.where(ok, share, np.where(unbounded, limit, np.nan))
         if elasticities:

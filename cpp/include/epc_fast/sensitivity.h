@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <type_traits>
 
 #include "block.h"
@@ -185,7 +186,8 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
                                           double slope_motion, double log_jitter,
                                           const TMpeLogSlopes& t, double mu, double field_slope,
                                           double snr_scale, bool size_is_pixel_count,
-                                          double (&out)[n_params][block_size], std::size_t i) {
+                                          double (&out)[n_params][block_size], std::size_t i,
+                                          double threshold_term = 1.0) {
     const double a_slope = -(((slope_diffraction + slope_pixel) + slope_motion) + 2.0 * log_jitter);
     const double two_over_a = 2.0 / a_slope;
     const double via_rate = mu * t.rate;
@@ -208,31 +210,67 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[stabilization][i] = -mu * two_over_a;
     out[jitter_um][i] = 2.0 * log_jitter * two_over_a;
     out[wavelength_nm][i] = slope_diffraction * two_over_a;
-    out[mtf_threshold][i] = -two_over_a;
+    out[mtf_threshold][i] = -threshold_term * two_over_a;
 }
+
+// Above this a sinc's argument, or below this the diffraction MTF, is near the factor's zero:
+// the vector path leaves such lanes (thresholds of 1e-6 and less) to sensitivity_lane.
+constexpr double near_zero_argument = 1.0 - 0x1p-20;
+constexpr double near_zero_diffraction = 0x1p-30;
 
 // One OK lane's shares and elasticities by the scalar formulas (mtf_log_factors,
 // t_mpe_log_slopes, blur_angle_log_slope): for the lanes whose shared divisions in
-// `sensitivity` could leave the normal range.
+// `sensitivity` could leave the normal range, and those near a factor's zero.
+//
+// With a threshold c so small that f50 is a factor's zero to within rounding, that factor's
+// log and log-slope at the computed f50 are not the root's (or not finite): the factors' logs
+// then do not add up to ln c. That factor (the one with the least log, "pinned") takes ln c
+// less the others' logs, the shares divide by ln c, and the elasticities take their limit as
+// its log-slope goes to -infinity where it is not finite: f50 follows the factor's zero.
 template <class T>
 void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double field_slope,
                       double (&share_out)[n_shares][block_size],
                       double (&elasticity_out)[n_params][block_size]) {
     const auto& x = b.x;
-    const MtfLogFactors m = mtf_log_factors(
+    MtfLogFactors m = mtf_log_factors(
         static_cast<double>(b.f50[i]), x[f_number][i], x[wavelength_nm][i],
         pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]), b.blur[i],
         x[jitter_um][i] * um_to_mm, in.spectrum);
-    const double total = (m.log[0] + m.log[1]) + (m.log[2] + m.log[3]);
+    const double ln_c = std::log(x[mtf_threshold][i]);
+    double total = (m.log[0] + m.log[1]) + (m.log[2] + m.log[3]);
+    const bool pinned = !(std::fabs(total - ln_c) <= 1e-3 * std::fabs(ln_c));
+    if (pinned) {
+        auto least = [&m](int s) {  // a NaN log (a sinc past its zero) counts as -inf
+            return std::isnan(m.log[s]) ? -std::numeric_limits<double>::infinity() : m.log[s];
+        };
+        int k = 0;
+        for (int s = 1; s < n_shares; ++s)
+            if (least(s) < least(k)) k = s;
+        double others = 0.0;
+        for (int s = 0; s < n_shares; ++s) others += s == k ? 0.0 : m.log[s];
+        m.log[k] = ln_c - others;
+        total = ln_c;
+    }
     for (int s = 0; s < n_shares; ++s) share_out[s][i] = m.log[s] / total;
     const TMpeLogSlopes t = t_mpe_log_slopes(b.electrons[i], b.t_mpe[i], x[read_noise_e][i],
                                              x[dark_current_e_per_s][i], x[prnu][i]);
     const double beta = blur_angle_log_slope(b.blur[i], x[focal_length_mm][i], x[shake_deg_per_s][i],
                                              x[stabilization][i], b.t_mpe[i]);
-    elasticities_of_lane(m.slope_diffraction, m.slope_pixel, m.slope_motion, m.log[share_jitter], t,
-                         m.slope_motion * beta, field_slope, x[snr_db][i] * (ln10 / 10.0),
-                         in.size_is_pixel_count, elasticity_out, i);
+    double slopes[3] = {m.slope_diffraction, m.slope_pixel, m.slope_motion};
+    double log_jitter = m.log[share_jitter], threshold_term = 1.0;
+    int infinite = -1;
+    for (int s = 0; s < 3; ++s)
+        if (!(std::fabs(slopes[s]) <= std::numeric_limits<double>::max())) infinite = s;
+    if (infinite >= 0) {  // the limit: every slope over |slope_k|, which goes to infinity
+        for (int s = 0; s < 3; ++s) slopes[s] = s == infinite ? -1.0 : 0.0;
+        log_jitter = 0.0;
+        threshold_term = 0.0;
+    }
+    elasticities_of_lane(slopes[0], slopes[1], slopes[2], log_jitter, t, slopes[2] * beta,
+                         field_slope, x[snr_db][i] * (ln10 / 10.0), in.size_is_pixel_count,
+                         elasticity_out, i, threshold_term);
 }
+
 
 // The shares and elasticities of the block's lanes into share_out and elasticity_out (rows of
 // block_size): OK lanes from their f50, NaN on the others, but where the blur is unbounded
@@ -299,7 +337,9 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
         const double d_motion = y_motion < detail::series_below ? 1.0 : y_motion * sin_motion;
         const double d_sincs = d_pixel * d_motion, product = d_sincs * value[i];
         const double inverse = 1.0 / product;
-        slow[i] = ok[i] & !((product >= 0x1p-900) & (product <= 0x1p900));
+        slow[i] = ok[i] & (!((product >= 0x1p-900) & (product <= 0x1p900)) |
+                           (y_pixel > near_zero_argument) | (y_motion > near_zero_argument) |
+                           (value[i] < near_zero_diffraction));
         const LogSinc pixel = log_sinc_given(y_pixel, sin_pixel, d_motion * value[i] * inverse);
         const LogSinc motion = log_sinc_given(y_motion, sin_motion, d_pixel * value[i] * inverse);
         if (Shares) {
