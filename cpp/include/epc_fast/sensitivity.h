@@ -181,36 +181,37 @@ namespace detail {
 // d ln MTF / d ln theta of every parameter at one lane, from the factors' log-slopes there (m),
 // T_MPE's log-slopes (t), mu = d ln M / d ln alpha, the field angle's rate log-slope and the
 // SNR target's d ln s / d ln snr_db; written as elasticities 2 slope / A plus the area's part,
-// A = -d ln MTF / d ln f, into row j of `out` at lane i.
+// A = -d ln MTF / d ln f, into row j of `out` at lane i, each times `mask` (1, or NaN for a
+// lane that has none).
 EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope_pixel,
                                           double slope_motion, double log_jitter,
                                           const TMpeLogSlopes& t, double mu, double field_slope,
                                           double snr_scale, bool size_is_pixel_count,
                                           double (&out)[n_params][block_size], std::size_t i,
-                                          double threshold_term = 1.0) {
+                                          double threshold_term = 1.0, double mask = 1.0) {
     const double a_slope = -(((slope_diffraction + slope_pixel) + slope_motion) + 2.0 * log_jitter);
     const double two_over_a = 2.0 / a_slope;
     const double via_rate = mu * t.rate;
-    out[illuminance_lux][i] = via_rate * two_over_a;
-    out[pixel_pitch_um][i] = (size_is_pixel_count ? 2.0 : 0.0) + (slope_pixel + 2.0 * via_rate) * two_over_a;
-    out[f_number][i] = (slope_diffraction - 2.0 * via_rate) * two_over_a;
-    out[focal_length_mm][i] = slope_motion * two_over_a;
-    out[size][i] = 1.0;
-    out[reflectance][i] = via_rate * two_over_a;
-    out[lens_transmittance][i] = via_rate * two_over_a;
-    out[field_angle_deg][i] = via_rate * field_slope * two_over_a;
-    out[fill_factor][i] = (0.5 * slope_pixel + via_rate) * two_over_a;
+    out[illuminance_lux][i] = (via_rate * two_over_a) * mask;
+    out[pixel_pitch_um][i] = ((size_is_pixel_count ? 2.0 : 0.0) + (slope_pixel + 2.0 * via_rate) * two_over_a) * mask;
+    out[f_number][i] = ((slope_diffraction - 2.0 * via_rate) * two_over_a) * mask;
+    out[focal_length_mm][i] = (slope_motion * two_over_a) * mask;
+    out[size][i] = (1.0) * mask;
+    out[reflectance][i] = (via_rate * two_over_a) * mask;
+    out[lens_transmittance][i] = (via_rate * two_over_a) * mask;
+    out[field_angle_deg][i] = (via_rate * field_slope * two_over_a) * mask;
+    out[fill_factor][i] = ((0.5 * slope_pixel + via_rate) * two_over_a) * mask;
     out[electrons_per_lux_s_m2][i] = via_rate * two_over_a;
-    out[read_noise_e][i] = mu * t.read * two_over_a;
-    out[dark_current_e_per_s][i] = mu * t.dark * two_over_a;
-    out[prnu][i] = mu * t.prnu * two_over_a;
-    out[full_well_e][i] = 0.0;
-    out[snr_db][i] = mu * t.target * snr_scale * two_over_a;
-    out[shake_deg_per_s][i] = mu * two_over_a;
-    out[stabilization][i] = -mu * two_over_a;
-    out[jitter_um][i] = 2.0 * log_jitter * two_over_a;
-    out[wavelength_nm][i] = slope_diffraction * two_over_a;
-    out[mtf_threshold][i] = -threshold_term * two_over_a;
+    out[read_noise_e][i] = (mu * t.read * two_over_a) * mask;
+    out[dark_current_e_per_s][i] = (mu * t.dark * two_over_a) * mask;
+    out[prnu][i] = (mu * t.prnu * two_over_a) * mask;
+    out[full_well_e][i] = (0.0) * mask;
+    out[snr_db][i] = (mu * t.target * snr_scale * two_over_a) * mask;
+    out[shake_deg_per_s][i] = (mu * two_over_a) * mask;
+    out[stabilization][i] = (-mu * two_over_a) * mask;
+    out[jitter_um][i] = (2.0 * log_jitter * two_over_a) * mask;
+    out[wavelength_nm][i] = (slope_diffraction * two_over_a) * mask;
+    out[mtf_threshold][i] = (-threshold_term * two_over_a) * mask;
 }
 
 // Above this a sinc's argument, or below this the diffraction MTF, is near the factor's zero:
@@ -413,12 +414,8 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
             slow[i] |= ok[i] & !exposure_ok;
             elasticities_of_lane(slope_numerator[i], slope_pixel[i], slope_motion[i],
                                  logs[share_jitter][i], t, slope_motion[i] * beta, field_slope[i],
-                                 snr[i] * (ln10 / 10.0), count, elasticity_out, i);
-        }
-        for (int j = 0; j < n_params; ++j) {
-            double* __restrict row = elasticity_out[j];
-            EPC_FAST_SIMD
-            for (std::size_t i = 0; i < n; ++i) row[i] = ok[i] ? row[i] : nan;
+                                 snr[i] * (ln10 / 10.0), count, elasticity_out, i, 1.0,
+                                 ok[i] ? 1.0 : nan);
         }
     }
     for (std::size_t i = 0; i < n; ++i) {
