@@ -35,8 +35,10 @@ def evaluate(
     out: dict[str, np.ndarray] | None = None,
     allocate: Sequence[str] | None = None,
 ) -> dict[str, np.ndarray]:
-    """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: all of them
-    when ``out`` is None, else none), written; the outputs in neither are not computed."""
+    """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: the eight
+    default ones when ``out`` is None, else none), written; the outputs in neither are not
+    computed. The shares (``share_diffraction`` ...) are 1-D of ``n``; ``elasticities`` holds
+    ``n_params`` rows of ``n`` values, flat."""
 def output_cache(limit_bytes: int | None = None) -> dict[str, int]:
     """Sets the output cache's limit (bytes) when given; {"limit_bytes", "retained_bytes"}."""
 def lux_for_epc(

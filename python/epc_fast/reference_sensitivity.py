@@ -42,6 +42,7 @@ import numpy as np
 
 from . import params
 from .reference import mtf_diffraction, scaled_product, sinpi
+from .status import Status
 
 __all__ = [
     "ZETA_EVEN",
@@ -289,8 +290,6 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
     EPC = 0: motion takes all of the loss) the shares are 0, 0, 1, 0. ``p``, ``wavelengths_nm``
     and ``weights`` as :func:`epc_fast.reference.evaluate_points` takes them.
     """
-    from .status import Status
-
     status = result["status"]
     ok = status == Status.OK
     # non-OK points compute on the first OK point's values (or stand-ins), then masked
