@@ -178,14 +178,14 @@ def _check(result):
 def _check_sensitivity(result, ok, unbounded):
     """OK points have shares in [0, 1] that sum to 1 and finite elasticities; the others NaN,
     but where the blur is unbounded the shares 0, 0, 1, 0 (docs/limits.md)."""
-    shares = [np.asarray(getattr(result, name), dtype=np.float64).reshape(-1)
-              for name in api.SHARE_OUTPUTS if getattr(result, name) is not None]
-    for name, v in zip(api.SHARE_OUTPUTS, shares):
+    shares = {name: np.asarray(getattr(result, name), dtype=np.float64).reshape(-1)
+              for name in api.SHARE_OUTPUTS if getattr(result, name) is not None}
+    for name, v in shares.items():
         assert np.all((v[ok] >= 0.0) & (v[ok] <= 1.0)), name
         assert np.all(np.isnan(v[~ok & ~unbounded])), name
         assert np.all(v[unbounded] == (1.0 if name == "share_motion" else 0.0)), name
     if len(shares) == len(api.SHARE_OUTPUTS) and ok.any():
-        assert np.allclose(sum(v[ok] for v in shares), 1.0, rtol=0, atol=1e-14)
+        assert np.allclose(sum(v[ok] for v in shares.values()), 1.0, rtol=0, atol=1e-14)
     for name, v in (result.elasticities or {}).items():
         v = np.asarray(v, dtype=np.float64).reshape(-1)
         assert np.all(np.isfinite(v[ok])), name
