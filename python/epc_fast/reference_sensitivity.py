@@ -57,8 +57,10 @@ __all__ = [
     "blur_angle_log_slope",
     "field_angle_rate_log_slope",
     "epc_elasticities",
+    "sensitivity_points",
     "ELASTICITY_PARAMETERS",
     "SHARE_NAMES",
+    "PINNED_RTOL",
 ]
 
 #: The parameters an elasticity is given for, in the core's order: every model parameter, with
