@@ -4,8 +4,8 @@ the point count and the search's settings; each error names the argument and its
 from __future__ import annotations
 
 import math
-import operator
 
+from . import api
 from .optimize_objectives import Mean, ProbabilityAtLeast, Quantile
 from .params import PARAMETERS, SIZE_PARAMETERS, in_domain
 from .scan.space import POINT_PARAMETERS, Space
@@ -84,16 +84,6 @@ def _check_fixed(space: Space, name: str) -> None:
                          "snr_at='axis' to optimise the focal length")
 
 
-def integer(name: str, value) -> int:
-    """``value`` as an int (bools and floats refused), or a TypeError naming ``name``."""
-    if isinstance(value, bool):
-        raise TypeError(f"{name} must be an integer, got {value!r}")
-    try:
-        return operator.index(value)
-    except TypeError:
-        raise TypeError(f"{name} must be an integer, got {value!r}") from None
-
-
 def checked_points(space: Space, points) -> int:
     """Draws of the scene: ``points`` (>= 1), or one pass over the grid of a space without
     random parameters when None."""
@@ -101,7 +91,7 @@ def checked_points(space: Space, points) -> int:
         if space.is_random:
             raise TypeError("a space with random parameters needs points= (draws of the scene)")
         return space.grid_size
-    count = integer("points", points)
+    count = api._integer("points", points)
     if count < 1:
         raise ValueError(f"points must be >= 1, got {points!r}")
     return count
@@ -109,14 +99,7 @@ def checked_points(space: Space, points) -> int:
 
 def checked_threads(threads):
     """``threads`` (None: the core's default), or an error naming it, before any draw."""
-    from .api import MAX_THREADS
-
-    if threads is None:
-        return None
-    count = integer("threads", threads)
-    if not 1 <= count <= MAX_THREADS:
-        raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")
-    return count
+    return None if threads is None else api._threads_of(threads)
 
 
 def checked_objective(objective):
@@ -135,13 +118,14 @@ def checked_search(batches, start_grid, xtol, dimensions: int, points: int,
     runs no batch (it has no Monte Carlo error)."""
     from .optimize_search import default_grid
 
-    batches = integer("batches", batches)
+    batches = api._integer("batches", batches)
     if not is_random:
         batches = 0
     elif batches == 1 or batches < 0 or (batches and points // batches < min_batch_points):
         raise ValueError(f"batches={batches}: expected 0 or 2 and more, each of at least "
                          f"{min_batch_points} of the {points:,} draws")
-    grid = default_grid(dimensions) if start_grid is None else integer("start_grid", start_grid)
+    grid = (default_grid(dimensions) if start_grid is None
+            else api._integer("start_grid", start_grid))
     if grid < 2:
         raise ValueError(f"start_grid={start_grid!r}: expected an integer >= 2")
     if isinstance(xtol, bool) or not isinstance(xtol, (int, float)) or not 0 < xtol <= 0.1:
