@@ -59,6 +59,12 @@ KEYWORDS = [p.name for p in params.PARAMETERS if p.name != "size"]
 EXPECTED_ERRORS = (TypeError, ValueError, MemoryError)
 FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
                 "epc")
+#: The elasticities one output each, the size's by both of its names (one of them the call's).
+SINGLE_ELASTICITIES = [f"elasticity_{name}" for name in params.PARAMETER_NAMES if name != "size"]
+SINGLE_ELASTICITIES += ["elasticity_sensor_area_mm2", "elasticity_pixel_count"]
+#: The outputs the core itself knows: the defaults, the shares and one per elasticity.
+CORE_OUTPUTS = list(api.OUTPUT_DTYPES) + list(api.SHARE_OUTPUTS) + [
+    f"elasticity_{name}" for name in params.PARAMETER_NAMES]
 
 
 def _edges():
@@ -113,7 +119,10 @@ def _public_call(fdp):
         precision=["float64", "float32"][fdp.ConsumeIntInRange(0, 1)])
     selected = tuple(api.OUTPUT_DTYPES)
     if fdp.ConsumeIntInRange(0, 3) == 0:
-        selected = tuple(name for name in api.ALL_OUTPUT_DTYPES if fdp.ConsumeBool()) or ("epc",)
+        names = list(api.ALL_OUTPUT_DTYPES)
+        if fdp.ConsumeBool():  # some elasticities one by one (either size's name), not all
+            names = [n for n in names if n != "elasticities"] + SINGLE_ELASTICITIES
+        selected = tuple(name for name in names if fdp.ConsumeBool()) or ("epc",)
         options["outputs"] = selected
     if fdp.ConsumeIntInRange(0, 5) == 0:
         n = fdp.ConsumeIntInRange(0, 6)
@@ -122,7 +131,7 @@ def _public_call(fdp):
     if fdp.ConsumeIntInRange(0, 5) == 0:
         out_shape = shape if fdp.ConsumeIntInRange(0, 3) else (fdp.ConsumeIntInRange(0, 5),)
         options["out"] = {name: np.zeros(api._output_shape(name, out_shape),
-                                         dtype=api.ALL_OUTPUT_DTYPES[name])
+                                         dtype=api._dtype(name))
                           for name in selected}
     try:
         result = epc_fast.evaluate(**kwargs, backend=backend, **options)
@@ -232,8 +241,7 @@ def _core_call(fdp):
                for name, dtype in api.OUTPUT_DTYPES.items() if fdp.ConsumeBool()}
     allocate = None
     if fdp.ConsumeBool():
-        allocate = [name for name in api.OUTPUT_DTYPES
-                    if name not in (out or {}) and fdp.ConsumeBool()]
+        allocate = [name for name in CORE_OUTPUTS if name not in (out or {}) and fdp.ConsumeBool()]
         if flaw == 6:
             allocate.append(["f50", 3, *(out or {})][fdp.ConsumeIntInRange(0, len(out or {}) + 1)])
     try:

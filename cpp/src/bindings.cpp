@@ -48,22 +48,20 @@ constexpr std::size_t first_touch_points = std::size_t{1} << 16;
 
 constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t_mpe_s",
                                         "blur_mm", "f50_cyc_per_mm", "epc", "status", "cause"};
-// The outputs computed only when named (sensitivity.h): the shares, in Share's order, and the
-// elasticities, n_params rows of n points in one array.
+// The outputs computed only when named (sensitivity.h): the shares, in Share's order, and
+// parameter j's elasticity as "elasticity_" + param_names[j].
 constexpr const char* share_names[] = {"share_diffraction", "share_pixel", "share_motion",
                                        "share_jitter"};
-constexpr const char* elasticities_name = "elasticities";
 
-// How many values output `name` holds for n points.
-py::ssize_t output_size(const std::string& name, py::ssize_t n) {
-    return name == elasticities_name ? n * n_params : n;
-}
+std::string elasticity_name(int j) { return std::string("elasticity_") + param_names[j]; }
 
 bool is_output_name(const std::string& name) {
     auto in = [&](const auto& names) {
         return std::find(std::begin(names), std::end(names), name) != std::end(names);
     };
-    return in(output_names) || in(share_names) || name == elasticities_name;
+    for (int j = 0; j < n_params; ++j)
+        if (name == elasticity_name(j)) return true;
+    return in(output_names) || in(share_names);
 }
 
 // The cache of output memory (output_cache.h) that evaluate's new arrays come from. Never
@@ -249,7 +247,7 @@ py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize
         bool is_fresh = false;
         py::array array = name == "status" || name == "cause"
                               ? new_column<std::uint8_t>(n, is_fresh)
-                              : new_column<double>(output_size(name, n), is_fresh);
+                              : new_column<double>(n, is_fresh);
         result[name.c_str()] = array;
         if (is_fresh) fresh[name.c_str()] = array;
     }
@@ -268,9 +266,8 @@ Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
                 output_column<std::uint8_t>(arrays, "cause", n)};
     for (int k = 0; k < n_shares; ++k)
         out.sensitivity.share[k] = output_column<double>(arrays, share_names[k], n);
-    out.sensitivity.elasticities =
-        output_column<double>(arrays, elasticities_name, output_size(elasticities_name, n));
-    out.sensitivity.stride = static_cast<std::size_t>(n);
+    for (int j = 0; j < n_params; ++j)
+        out.sensitivity.elasticity[j] = output_column<double>(arrays, elasticity_name(j).c_str(), n);
     return out;
 }
 
@@ -695,6 +692,9 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     m.attr("module_name") = EPC_FAST_STRINGIFY(EPC_FAST_MODULE);
     m.def("cpu_levels", &cpu_levels, "The x86-64 levels this CPU supports.");
     m.attr("n_params") = static_cast<int>(n_params);
+    py::tuple parameter_names(static_cast<std::size_t>(n_params));
+    for (int j = 0; j < n_params; ++j) parameter_names[j] = param_names[j];
+    m.attr("parameter_names") = parameter_names;
     m.attr("block_size") = block_size;
     m.attr("stream_min_bytes") = stream_min_bytes;
     m.attr("streaming_stores") = streaming_stores;

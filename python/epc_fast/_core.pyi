@@ -6,6 +6,7 @@ import numpy as np
 import numpy.typing as npt
 
 n_params: int
+parameter_names: tuple[str, ...]  # the model parameters, in the core's order (params.PARAMETER_NAMES)
 block_size: int
 stream_min_bytes: int
 streaming_stores: bool
@@ -37,8 +38,8 @@ def evaluate(
 ) -> dict[str, np.ndarray]:
     """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: the eight
     default ones when ``out`` is None, else none), written; the outputs in neither are not
-    computed. The shares (``share_diffraction`` ...) are 1-D of ``n``; ``elasticities`` holds
-    ``n_params`` rows of ``n`` values, flat."""
+    computed. The shares (``share_diffraction`` ...) and the elasticities (``"elasticity_"`` and
+    a name of ``parameter_names``) are 1-D of ``n``, as the others are."""
 def output_cache(limit_bytes: int | None = None) -> dict[str, int]:
     """Sets the output cache's limit (bytes) when given; {"limit_bytes", "retained_bytes"}."""
 def lux_for_epc(

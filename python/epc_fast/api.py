@@ -9,7 +9,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from . import params, reference, reference_sensitivity
+from . import elasticity_outputs, params, reference, reference_sensitivity
 from ._threads import MAX_THREADS
 from .memory import memory_limit_bytes as _memory_limit_bytes
 from .reference_sensitivity import ELASTICITY_PARAMETERS, SHARE_NAMES
@@ -54,7 +54,9 @@ class Result:
         model parameter (:data:`ELASTICITY_PARAMETERS`; the sensor's size under the keyword
         that gave it, ``sensor_area_mm2`` for a width and a height or a diagonal), each the
         broadcast shape; NaN where the status is not OK. Computed only when ``outputs=``
-        names ``"elasticities"``.
+        names ``"elasticities"`` (all of them) or some of them one by one
+        (``"elasticity_f_number"`` ..., :mod:`epc_fast.elasticity_outputs`): the dict holds
+        those.
     """
 
     electron_rate_e_per_s: np.ndarray | float | None
@@ -309,7 +311,7 @@ class _Options:
 
 
 def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
-                outputs) -> _Options:
+                outputs, is_pixel_count=False) -> _Options:
     _choice("backend", backend, BACKENDS)
     _choice("invalid", invalid, INVALID_POLICIES)
     _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
@@ -317,27 +319,45 @@ def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol
     _choice("precision", precision, PRECISIONS)
     return _Options(backend, invalid, f50_solver, _tolerance("f50_rtol", f50_rtol),
                     t_mpe_solver, _tolerance("t_mpe_rtol", t_mpe_rtol), precision,
-                    _outputs_of(outputs))
+                    _outputs_of(outputs, is_pixel_count))
 
 
 def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, given) -> dict:
     """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
     if options.backend == "core":
         threads = _threads_of(threads)
-        # the core writes the caller's arrays and allocates the others it computes
-        flat = {} if given is None else {k: v.reshape(-1).view(ALL_OUTPUT_DTYPES[k])
-                                         for k, v in given.items()}
+        # the core writes the caller's arrays and allocates the others it computes; it knows
+        # the elasticities row by row
+        flat = {} if given is None else {k: v.reshape(-1).view(_dtype(k))
+                                         for k, v in _as_rows(given, shape).items()}
+        wanted = [k for k in options.computed if k != elasticity_outputs.ALL]
+        wanted += [row for row in elasticity_outputs.rows_in(options.computed) if row not in wanted]
         return _run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
                          options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
                          out=flat, precision=options.precision,
-                         allocate=[k for k in options.computed if k not in flat])
+                         allocate=[k for k in wanted if k not in flat])
     if threads is not None:
         _threads_of(threads)
     result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed)
     if given is not None:
-        for name, array in given.items():
+        for name, array in _as_rows(given, shape).items():
             np.copyto(array, result[name].reshape(array.shape))
     return result
+
+
+def _dtype(name) -> np.dtype:
+    """Output ``name``'s dtype: a Result field's, float64 for one elasticity."""
+    return ALL_OUTPUT_DTYPES.get(name, np.dtype(np.float64))
+
+
+def _as_rows(outputs: dict, shape) -> dict:
+    """``outputs`` with the array of every elasticity, if there, as one view per row (its
+    name in elasticity_outputs.ROWS)."""
+    rows = {k: v for k, v in outputs.items() if k != elasticity_outputs.ALL}
+    if elasticity_outputs.ALL in outputs:
+        every = outputs[elasticity_outputs.ALL].reshape((len(ELASTICITY_PARAMETERS),) + tuple(shape))
+        rows.update((row, every[j, ...]) for j, row in enumerate(elasticity_outputs.ROWS))
+    return rows
 
 
 def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Options,
@@ -348,10 +368,13 @@ def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Op
         _raise_first_invalid(arrays, names, status, shape, sensor.parts)
     if given is not None:
         kept = {name: given.get(name) for name in ALL_OUTPUT_DTYPES}
-        if kept["elasticities"] is not None:
-            kept["elasticities"] = _by_parameter(kept["elasticities"], sensor, shape, arrays=True)
+        rows = _as_rows(given, shape)
+        if elasticity_outputs.rows_in(rows):
+            kept["elasticities"] = elasticity_outputs.by_key(rows, sensor.is_pixel_count)
         return Result(**kept)
-    return _result({k: v for k, v in result.items() if k in options.selected}, shape, sensor)
+    rows = elasticity_outputs.rows_in(options.selected)
+    return _result({k: v for k, v in result.items() if k in options.selected or k in rows},
+                   shape, sensor)
 
 
 def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
@@ -491,15 +514,17 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     names, arrays, shape = _broadcast_inputs(values, sensor.name)
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                          precision, outputs)
-    given = None if out is None else _out_arrays(out, shape, options.selected)
+                          precision, outputs, sensor.is_pixel_count)
+    given = (None if out is None
+             else _out_arrays(out, shape, options.selected, sensor.is_pixel_count))
     _check_memory(shape, arrays, options.backend, given is not None, options.computed)
     result = _compute(arrays, shape, sensor, spec, options, threads, given)
     return _assembled(result, shape, names, arrays, sensor, options, given)
 
 
-def _outputs_of(outputs) -> tuple:
-    """The Result fields ``outputs=`` asks for, in Result's order; the default ones for None."""
+def _outputs_of(outputs, is_pixel_count=False) -> tuple:
+    """The outputs ``outputs=`` asks for, in Result's order (then the single elasticities',
+    by their names in elasticity_outputs.ROWS); the default ones for None."""
     if outputs is None:
         return tuple(OUTPUT_DTYPES)
     if isinstance(outputs, str):
@@ -509,28 +534,42 @@ def _outputs_of(outputs) -> tuple:
     except TypeError:
         raise TypeError(f"outputs must be a field name or an iterable of them, got "
                         f"{_short(outputs)}") from None
-    unknown = [name for name in names if name not in ALL_OUTPUT_DTYPES]
+    inside = [name if name in ALL_OUTPUT_DTYPES else elasticity_outputs.row_of(name, is_pixel_count)
+              for name in names]
+    unknown = [name for name, row in zip(names, inside) if row is None]
     if unknown or not names:
         what = f"unknown field(s) {unknown}" if unknown else "none"
-        raise ValueError(f"outputs must name at least one of {', '.join(ALL_OUTPUT_DTYPES)}; "
-                         f"got {what}")
-    return tuple(name for name in ALL_OUTPUT_DTYPES if name in names)
+        raise ValueError(f"outputs must name at least one of {', '.join(ALL_OUTPUT_DTYPES)}, "
+                         f"or elasticity_ and a parameter's name; got {what}")
+    single = [name for name, row in zip(names, inside) if row in elasticity_outputs.ROWS]
+    if elasticity_outputs.ALL in inside and single:
+        raise ValueError(f"outputs names 'elasticities', every elasticity, and also {single}")
+    return tuple(name for name in tuple(ALL_OUTPUT_DTYPES) + elasticity_outputs.ROWS
+                 if name in inside)
 
 
-def _out_arrays(out, shape, selected) -> dict:
-    """The caller's ``out=`` arrays by field name, each checked, or an error naming it."""
+def _out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
+    """The caller's ``out=`` arrays by output name (a single elasticity's as in
+    elasticity_outputs.ROWS), each checked, or an error naming it."""
     if isinstance(out, Result):
-        out = {k: v for k, v in out.as_dict().items() if v is not None}
+        out = _result_arrays(out, is_pixel_count)
     if not isinstance(out, Mapping):
         raise TypeError(f"out must be a Result or a mapping of its field names to arrays, "
                         f"got {_short(out)}")
-    unknown = sorted(set(out) - set(selected), key=str)
-    missing = [name for name in selected if name not in out]
+    shown = {row: elasticity_outputs.output_name(row, is_pixel_count)
+             for row in elasticity_outputs.ROWS}
+    known = {shown.get(name, name): name for name in selected}
+    if elasticity_outputs.ALL in selected and elasticity_outputs.ALL not in out:
+        # every elasticity, one array per row (a Result's, as out=)
+        known.update({shown[row]: row for row in elasticity_outputs.ROWS})
+        del known[elasticity_outputs.ALL]
+    unknown = sorted(set(out) - set(known), key=str)
+    missing = [name for name in known if name not in out]
     if unknown or missing:
-        raise ValueError(f"out must have exactly the fields {', '.join(selected)}; "
+        raise ValueError(f"out must have exactly the fields {', '.join(known)}; "
                          f"missing: {missing}, unknown: {unknown}")
-    for name in selected:
-        dtype = ALL_OUTPUT_DTYPES[name]
+    for name in known:
+        dtype = _dtype(known[name])
         array = out[name]
         where = f"out[{name!r}]"
         if not isinstance(array, np.ndarray):
@@ -538,21 +577,28 @@ def _out_arrays(out, shape, selected) -> dict:
         if array.dtype != dtype:
             raise TypeError(f"{where} has dtype {array.dtype.str}, expected {dtype.str} "
                             f"({dtype.name}, native byte order)")
-        expected = _output_shape(name, shape)
+        expected = _output_shape(known[name], shape)
         if array.shape != expected:
             what = ("(one row per parameter of ELASTICITY_PARAMETERS, then the broadcast shape)"
-                    if name == "elasticities" else "the broadcast shape")
+                    if known[name] == elasticity_outputs.ALL else "the broadcast shape")
             raise ValueError(f"{where} has shape {array.shape}, expected {what} {expected}")
         if not array.flags.c_contiguous:
             raise ValueError(f"{where} must be C-contiguous")
         if not array.flags.writeable:
             raise ValueError(f"{where} is read-only")
-    names = list(selected)
+    names = list(known)
     for i, a in enumerate(names):
         for b in names[i + 1:]:
             if np.may_share_memory(out[a], out[b]):
                 raise ValueError(f"out[{a!r}] and out[{b!r}] share memory")
-    return {name: out[name] for name in names}
+    return {known[name]: out[name] for name in names}
+
+
+def _result_arrays(result: Result, is_pixel_count: bool) -> dict:
+    """A Result's arrays by output name, its elasticities one output each."""
+    arrays = {k: v for k, v in result.as_dict().items() if v is not None and k != "elasticities"}
+    arrays.update({f"elasticity_{key}": array for key, array in (result.elasticities or {}).items()})
+    return arrays
 
 
 #: Bytes a backend allocates per point besides the inputs: the core its eight output columns
@@ -572,7 +618,7 @@ def _output_shape(name, shape) -> tuple:
 def _output_bytes(name) -> int:
     """Bytes output ``name`` takes per point."""
     rows = len(ELASTICITY_PARAMETERS) if name == "elasticities" else 1
-    return rows * ALL_OUTPUT_DTYPES[name].itemsize
+    return rows * _dtype(name).itemsize
 
 
 def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES)):
@@ -587,9 +633,11 @@ def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPE
     columns = sum(1 for a in arrays if a.size > 1)
     if backend == "core":  # the outputs it computes, unless the caller gave them
         own = 0 if out_given else sum(_output_bytes(k) for k in computed)
-    else:
+    else:  # the reference forms every elasticity for any of them
+        every = ("elasticities",) if elasticity_outputs.rows_in(computed) else ()
         own = BYTES_PER_POINT[backend] + sum(_output_bytes(k) * SENSITIVITY_BYTES_FACTOR
-                                             for k in computed if k in SENSITIVITY_OUTPUTS)
+                                             for k in SHARE_OUTPUTS + every
+                                             if k in computed or k in every)
     per_point = 8 * columns + own
     needed = n * per_point
     if limit is not None and needed > limit:
@@ -637,34 +685,28 @@ def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=()):
         wavelengths, weights = spec.wavelengths_nm, spec.weights
     result = reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid)
     shares = any(name in computed for name in SHARE_OUTPUTS)
-    if shares or "elasticities" in computed:
+    rows = elasticity_outputs.rows_in(computed)
+    if shares or rows:
         result.update(reference_sensitivity.sensitivity_points(
             p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
-            elasticities="elasticities" in computed))
+            elasticities=bool(rows)))
+    if rows:  # the rows asked for, one output each
+        every = dict(zip(elasticity_outputs.ROWS, result.pop("elasticities")))
+        result.update({row: every[row] for row in rows})
     return result
 
 
-def _by_parameter(rows, sensor: _Sensor, shape, arrays=False) -> dict:
-    """The elasticities' rows (one per parameter) as a dict by the caller's parameter names,
-    each of the broadcast shape: floats for scalar input, unless ``arrays`` (views of the rows,
-    0-d for scalar input, as for ``out=``)."""
-    size_name = "pixel_count" if sensor.is_pixel_count else "sensor_area_mm2"
-    rows = rows.reshape((len(ELASTICITY_PARAMETERS),) + tuple(shape))
-    names = [size_name if name == "size" else name for name in ELASTICITY_PARAMETERS]
-    if shape == () and not arrays:
-        return {name: float(row) for name, row in zip(names, rows)}
-    return {name: rows[j, ...] for j, name in enumerate(names)}
-
-
 def _result(out, shape, sensor: _Sensor) -> Result:
-    """A Result of the flat arrays in ``out``; a field ``out`` lacks is None."""
+    """A Result of the flat arrays in ``out`` (the elasticities one row each, by their names in
+    elasticity_outputs.ROWS); a field ``out`` lacks is None."""
     def value(name, v):
         if v is None:
             return None
-        if name == "elasticities":
-            return _by_parameter(v, sensor, shape)
         if shape != ():
             return v.reshape(shape)
         return (Status(int(v[0])) if name == "status" else
                 Cause(int(v[0])) if name == "cause" else float(v[0]))
-    return Result(**{name: value(name, out.get(name)) for name in ALL_OUTPUT_DTYPES})
+    rows = {row: value(row, out[row]) for row in elasticity_outputs.ROWS if row in out}
+    return Result(**{name: value(name, out.get(name)) for name in ALL_OUTPUT_DTYPES
+                     if name != "elasticities"},
+                  elasticities=elasticity_outputs.by_key(rows, sensor.is_pixel_count) or None)

@@ -570,9 +570,7 @@ void scatter_sensitivity(const Inputs& in, const Block<T>& b, const Outputs& out
     const SensitivityOutputs& to = out.sensitivity;
     alignas(64) double shares[n_shares][block_size];
     alignas(64) double elasticities[n_params][block_size];
-    bool any_share = false;
-    for (double* s : to.share) any_share |= s != nullptr;
-    sensitivity(in, b, any_share, to.elasticities != nullptr, shares, elasticities);
+    sensitivity(in, b, to.any_share(), to.any_elasticity(), shares, elasticities);
     const std::size_t n = b.n;
     const bool stream = out.stream && n == block_size;
     auto copy = [n, stream](double* dst, const double* from) {
@@ -581,8 +579,8 @@ void scatter_sensitivity(const Inputs& in, const Block<T>& b, const Outputs& out
     };
     for (int s = 0; s < n_shares; ++s)
         if (to.share[s] != nullptr) copy(to.share[s], shares[s]);
-    if (to.elasticities != nullptr)
-        for (int j = 0; j < n_params; ++j) copy(to.elasticities + j * to.stride, elasticities[j]);
+    for (int j = 0; j < n_params; ++j)
+        if (to.elasticity[j] != nullptr) copy(to.elasticity[j], elasticities[j]);
 }
 
 // Evaluates points [begin, begin + n) with f50 solved in T (block.h).
@@ -645,10 +643,9 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     double elasticities[n_params][block_size];
     for (int s = 0; s < n_shares; ++s)
         wide_out.sensitivity.share[s] = out.sensitivity.share[s] != nullptr ? shares[s] : nullptr;
-    if (out.sensitivity.elasticities != nullptr) {
-        wide_out.sensitivity.elasticities = elasticities[0];
-        wide_out.sensitivity.stride = block_size;
-    }
+    for (int j = 0; j < n_params; ++j)
+        wide_out.sensitivity.elasticity[j] =
+            out.sensitivity.elasticity[j] != nullptr ? elasticities[j] : nullptr;
     detail::evaluate_block_as(in, opt, wide_out, begin, n, illuminance_lux, ws.block64);
     stream_fence();  // the block's streamed lines land before these lanes overwrite them
     auto take = [&](auto* to, const auto* from) {
@@ -665,9 +662,7 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     take(out.status, codes[0]);
     take(out.cause, codes[1]);
     for (int s = 0; s < n_shares; ++s) take(out.sensitivity.share[s], shares[s]);
-    if (out.sensitivity.elasticities != nullptr)
-        for (int j = 0; j < n_params; ++j)
-            take(out.sensitivity.elasticities + j * out.sensitivity.stride, elasticities[j]);
+    for (int j = 0; j < n_params; ++j) take(out.sensitivity.elasticity[j], elasticities[j]);
 }
 
 // first_touch (parallel.h) over the pages of the outputs' points [begin, end): for output arrays
@@ -687,7 +682,7 @@ inline void first_touch(const Outputs& out, std::size_t begin, std::size_t end,
     Region more[n_shares + n_params];
     for (int k = 0; k < n_shares; ++k) more[k] = of(s.share[k]);
     for (int j = 0; j < n_params; ++j)
-        more[n_shares + j] = of(s.elasticities != nullptr ? s.elasticities + j * s.stride : nullptr);
+        more[n_shares + j] = of(s.elasticity[j]);
     first_touch(more, threads);
 }
 

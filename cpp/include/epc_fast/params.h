@@ -36,6 +36,13 @@ enum Param : int {
     n_params
 };
 
+// The parameters' names, in Param's order, as the Python API spells them (params.py).
+constexpr const char* param_names[n_params] = {
+    "illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm", "size", "reflectance",
+    "lens_transmittance", "field_angle_deg", "fill_factor", "electrons_per_lux_s_m2",
+    "read_noise_e", "dark_current_e_per_s", "prnu", "full_well_e", "snr_db", "shake_deg_per_s",
+    "stabilization", "jitter_um", "wavelength_nm", "mtf_threshold"};
+
 // A value lies in [lo, hi] with each end open or closed; NaN lies in no domain.
 struct Domain {
     double lo, hi;
@@ -116,18 +123,23 @@ struct Options {
 enum Share : int { share_diffraction, share_pixel, share_motion, share_jitter, n_shares };
 
 // The outputs of what limits a design and how sensitive it is (sensitivity.h); null: not
-// computed. Each share has a column; the elasticities are n_params rows of `stride` points,
-// row j parameter j's, point i at index i of its row.
+// computed. Each share has a column, and so has each parameter's elasticity (elasticity[j]:
+// d ln EPC / d ln parameter j), point i at index i.
 struct SensitivityOutputs {
     double* share[n_shares] = {};
-    double* elasticities = nullptr;
-    std::size_t stride = 0;
+    double* elasticity[n_params] = {};
 
-    bool any() const {
+    bool any_share() const {
         for (double* s : share)
             if (s != nullptr) return true;
-        return elasticities != nullptr;
+        return false;
     }
+    bool any_elasticity() const {
+        for (double* e : elasticity)
+            if (e != nullptr) return true;
+        return false;
+    }
+    bool any() const { return any_share() || any_elasticity(); }
 };
 
 // Output columns, contiguous. Point i of a call to evaluate_block is written at index i: the
@@ -155,7 +167,7 @@ struct Outputs {
         auto shift = [offset](auto* p) { return p != nullptr ? p + offset : p; };
         SensitivityOutputs moved = sensitivity;
         for (double*& s : moved.share) s = shift(s);
-        moved.elasticities = shift(moved.elasticities);
+        for (double*& e : moved.elasticity) e = shift(e);
         return Outputs{shift(electron_rate_e_per_s), shift(electrons), shift(t_mpe_s),
                        shift(blur_mm), shift(f50_cyc_per_mm), shift(epc), shift(status),
                        shift(cause), stream, moved};
@@ -168,7 +180,7 @@ struct Outputs {
         std::size_t bytes = (status != nullptr ? 1 : 0) + (cause != nullptr ? 1 : 0);
         for (const double* v : values) bytes += v != nullptr ? sizeof(double) : 0;
         for (const double* v : sensitivity.share) bytes += v != nullptr ? sizeof(double) : 0;
-        if (sensitivity.elasticities != nullptr) bytes += n_params * sizeof(double);
+        for (const double* v : sensitivity.elasticity) bytes += v != nullptr ? sizeof(double) : 0;
         return bytes;
     }
 };
