@@ -597,7 +597,8 @@ def _out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
 def _result_arrays(result: Result, is_pixel_count: bool) -> dict:
     """A Result's arrays by output name, its elasticities one output each."""
     arrays = {k: v for k, v in result.as_dict().items() if v is not None and k != "elasticities"}
-    arrays.update({f"elasticity_{key}": array for key, array in (result.elasticities or {}).items()})
+    arrays.update({elasticity_outputs.output_of_key(key): array
+                   for key, array in (result.elasticities or {}).items()})
     return arrays
 
 
@@ -634,10 +635,10 @@ def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPE
     if backend == "core":  # the outputs it computes, unless the caller gave them
         own = 0 if out_given else sum(_output_bytes(k) for k in computed)
     else:  # the reference forms every elasticity for any of them
-        every = ("elasticities",) if elasticity_outputs.rows_in(computed) else ()
+        formed = [k for k in SHARE_OUTPUTS if k in computed]
+        formed += ["elasticities"] if elasticity_outputs.rows_in(computed) else []
         own = BYTES_PER_POINT[backend] + sum(_output_bytes(k) * SENSITIVITY_BYTES_FACTOR
-                                             for k in SHARE_OUTPUTS + every
-                                             if k in computed or k in every)
+                                             for k in formed)
     per_point = 8 * columns + own
     needed = n * per_point
     if limit is not None and needed > limit:

@@ -27,9 +27,14 @@ def key(parameter: str, is_pixel_count: bool) -> str:
     return _SIZE_KEYS[is_pixel_count] if parameter == "size" else parameter
 
 
+def output_of_key(parameter_key: str) -> str:
+    """The output that holds the elasticity of Result.elasticities' ``parameter_key``."""
+    return _PREFIX + parameter_key
+
+
 def output_name(row: str, is_pixel_count: bool) -> str:
     """The name ``outputs=`` and ``out=`` know the row (a name in ROWS) by."""
-    return _PREFIX + key(row[len(_PREFIX):], is_pixel_count)
+    return output_of_key(key(row[len(_PREFIX):], is_pixel_count))
 
 
 def row_of(name, is_pixel_count: bool) -> str | None:
