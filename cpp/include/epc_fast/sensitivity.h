@@ -328,9 +328,18 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     const double* __restrict fill = x[fill_factor];
     const double* __restrict jitter = x[jitter_um];
     const double* __restrict blur = b.blur;
+    alignas(64) double aperture[n];
+    if (b.is_broadcast(fill_factor)) {  // pixel_aperture_mm, one sqrt
+        const double root_fill = std::sqrt(b.broadcast[fill_factor]);
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) aperture[i] = root_fill * (pitch[i] * um_to_mm);
+    } else {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) aperture[i] = pixel_aperture_mm(pitch[i], fill[i]);
+    }
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        const double y_pixel = pixel_aperture_mm(pitch[i], fill[i]) * f[i];
+        const double y_pixel = aperture[i] * f[i];
         const double y_motion = blur[i] * f[i];
         const double sigma_f = (jitter[i] * um_to_mm) * f[i];
         const double sin_pixel = sinpi_unit(y_pixel), sin_motion = sinpi_unit(y_motion);
@@ -369,7 +378,14 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     alignas(64) double field_slope[n];
     if (elasticities) {
         if (b.is_broadcast(field_angle_deg)) {
-            const double v = field_angle_rate_log_slope(b.broadcast[field_angle_deg]);
+            // the last broadcast angle's slope, kept per thread: two sin calls per block else
+            thread_local double memo_angle = nan, memo_slope = 0.0;
+            const double angle = b.broadcast[field_angle_deg];
+            if (!(angle == memo_angle)) {
+                memo_slope = field_angle_rate_log_slope(angle);
+                memo_angle = angle;
+            }
+            const double v = memo_slope;
             for (std::size_t i = 0; i < n; ++i) field_slope[i] = v;
         } else {
             for (std::size_t i = 0; i < n; ++i)
