@@ -314,12 +314,30 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
         }
     } else {
         const double* __restrict lambda = x[wavelength_nm];
+        alignas(64) double nu[n];
+        unsigned char high = 0;  // a lane past nu = 1/2 (or NaN): its near-cut-off forms
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
-            const double nu = f[i] * (lambda[i] * nm_to_mm) * f_num[i];
-            if (Shares) loss[i] = diffraction_loss(nu);
-            slope_numerator[i] = diffraction_log_slope_numerator(nu);
-            value[i] = mtf_diffraction(nu);
+            nu[i] = f[i] * (lambda[i] * nm_to_mm) * f_num[i];
+            high |= !(nu[i] <= 0.5);
+        }
+        if (high) {
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                if (Shares) loss[i] = diffraction_loss(nu[i]);
+                slope_numerator[i] = diffraction_log_slope_numerator(nu[i]);
+                value[i] = mtf_diffraction(nu[i]);
+            }
+        } else {  // the three for nu <= 1/2, on one square root and one asin
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                const double v = nu[i];
+                const double root = std::sqrt((1.0 - v) * (1.0 + v));
+                const double asin_v = asin_small(v);
+                if (Shares) loss[i] = (2.0 / pi) * (asin_v + v * root);
+                slope_numerator[i] = -(4.0 / pi) * v * root;
+                value[i] = (2.0 / pi) * ((half_pi - asin_v) - v * root);
+            }
         }
     }
     // every factor's log and log-slope (mtf_log_factors), the sincs' and diffraction's
