@@ -178,40 +178,45 @@ inline double field_angle_rate_log_slope(double field_angle_deg) {
 
 namespace detail {
 
+// -d ln MTF / d ln f at one lane, A, from the factors' log-slopes there.
+EPC_FAST_INLINE double area_slope(double slope_diffraction, double slope_pixel, double slope_motion,
+                                  double log_jitter) {
+    return -(((slope_diffraction + slope_pixel) + slope_motion) + 2.0 * log_jitter);
+}
+
 // d ln MTF / d ln theta of every parameter at one lane, from the factors' log-slopes there (m),
 // T_MPE's log-slopes (t), mu = d ln M / d ln alpha, the field angle's rate log-slope and the
-// SNR target's d ln s / d ln snr_db; written as elasticities 2 slope / A plus the area's part,
-// A = -d ln MTF / d ln f, into row j of `out` at lane i, each times `mask` (1, or NaN for a
-// lane that has none).
+// SNR target's d ln s / d ln snr_db; written as elasticities 2 slope / A plus the area's part
+// (two_over_a = 2 / area_slope), into row j of `out` at lane i. A lane that has none passes
+// mask = NaN and a NaN two_over_a; mask = 1 otherwise.
 EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope_pixel,
                                           double slope_motion, double log_jitter,
                                           const TMpeLogSlopes& t, double mu, double field_slope,
                                           double snr_scale, bool size_is_pixel_count,
                                           double (&out)[n_params][block_size], std::size_t i,
-                                          double threshold_term = 1.0, double mask = 1.0) {
-    const double a_slope = -(((slope_diffraction + slope_pixel) + slope_motion) + 2.0 * log_jitter);
-    const double two_over_a = 2.0 / a_slope;
+                                          double two_over_a, double threshold_term = 1.0,
+                                          double mask = 1.0) {
     const double via_rate = mu * t.rate;
-    out[illuminance_lux][i] = (via_rate * two_over_a) * mask;
-    out[pixel_pitch_um][i] = ((size_is_pixel_count ? 2.0 : 0.0) + (slope_pixel + 2.0 * via_rate) * two_over_a) * mask;
-    out[f_number][i] = ((slope_diffraction - 2.0 * via_rate) * two_over_a) * mask;
-    out[focal_length_mm][i] = (slope_motion * two_over_a) * mask;
-    out[size][i] = (1.0) * mask;
-    out[reflectance][i] = (via_rate * two_over_a) * mask;
-    out[lens_transmittance][i] = (via_rate * two_over_a) * mask;
-    out[field_angle_deg][i] = (via_rate * field_slope * two_over_a) * mask;
-    out[fill_factor][i] = ((0.5 * slope_pixel + via_rate) * two_over_a) * mask;
+    out[illuminance_lux][i] = via_rate * two_over_a;
+    out[pixel_pitch_um][i] = ((size_is_pixel_count ? 2.0 : 0.0) * mask) + (slope_pixel + 2.0 * via_rate) * two_over_a;
+    out[f_number][i] = (slope_diffraction - 2.0 * via_rate) * two_over_a;
+    out[focal_length_mm][i] = slope_motion * two_over_a;
+    out[size][i] = mask;
+    out[reflectance][i] = via_rate * two_over_a;
+    out[lens_transmittance][i] = via_rate * two_over_a;
+    out[field_angle_deg][i] = via_rate * field_slope * two_over_a;
+    out[fill_factor][i] = (0.5 * slope_pixel + via_rate) * two_over_a;
     out[electrons_per_lux_s_m2][i] = via_rate * two_over_a;
-    out[read_noise_e][i] = (mu * t.read * two_over_a) * mask;
-    out[dark_current_e_per_s][i] = (mu * t.dark * two_over_a) * mask;
-    out[prnu][i] = (mu * t.prnu * two_over_a) * mask;
-    out[full_well_e][i] = (0.0) * mask;
-    out[snr_db][i] = (mu * t.target * snr_scale * two_over_a) * mask;
-    out[shake_deg_per_s][i] = (mu * two_over_a) * mask;
-    out[stabilization][i] = (-mu * two_over_a) * mask;
-    out[jitter_um][i] = (2.0 * log_jitter * two_over_a) * mask;
-    out[wavelength_nm][i] = (slope_diffraction * two_over_a) * mask;
-    out[mtf_threshold][i] = (-threshold_term * two_over_a) * mask;
+    out[read_noise_e][i] = mu * t.read * two_over_a;
+    out[dark_current_e_per_s][i] = mu * t.dark * two_over_a;
+    out[prnu][i] = mu * t.prnu * two_over_a;
+    out[full_well_e][i] = 0.0 * mask;
+    out[snr_db][i] = mu * t.target * snr_scale * two_over_a;
+    out[shake_deg_per_s][i] = mu * two_over_a;
+    out[stabilization][i] = -mu * two_over_a;
+    out[jitter_um][i] = 2.0 * log_jitter * two_over_a;
+    out[wavelength_nm][i] = slope_diffraction * two_over_a;
+    out[mtf_threshold][i] = -threshold_term * two_over_a;
 }
 
 // Above this a sinc's argument, or below this the diffraction MTF, is near the factor's zero:
@@ -269,7 +274,9 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
     }
     elasticities_of_lane(slopes[0], slopes[1], slopes[2], log_jitter, t, slopes[2] * beta,
                          field_slope, x[snr_db][i] * (ln10 / 10.0), in.size_is_pixel_count,
-                         elasticity_out, i, threshold_term);
+                         elasticity_out, i,
+                         2.0 / area_slope(slopes[0], slopes[1], slopes[2], log_jitter),
+                         threshold_term);
 }
 
 
@@ -446,10 +453,13 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
             slow[i] |= ok[i] & ((blur[i] > 0.0) & !((numerator >= 0x1p-900) & (numerator <= 0x1p900) &
                                                     (denominator >= 0x1p-900) & (denominator <= 0x1p900)));
             slow[i] |= ok[i] & !exposure_ok;
+            const double mask = ok[i] ? 1.0 : nan;
+            const double two_over_a =
+                (2.0 / area_slope(slope_numerator[i], slope_pixel[i], slope_motion[i], logs[share_jitter][i])) * mask;
             elasticities_of_lane(slope_numerator[i], slope_pixel[i], slope_motion[i],
                                  logs[share_jitter][i], t, slope_motion[i] * beta, field_slope[i],
-                                 snr[i] * (ln10 / 10.0), count, elasticity_out, i, 1.0,
-                                 ok[i] ? 1.0 : nan);
+                                 snr[i] * (ln10 / 10.0), count, elasticity_out, i, two_over_a, 1.0,
+                                 mask);
         }
     }
     for (std::size_t i = 0; i < n; ++i) {
