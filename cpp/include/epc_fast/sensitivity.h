@@ -221,6 +221,41 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[mtf_threshold][i] = -threshold_term * two_over_a;
 }
 
+// diffraction_loss, diffraction_log_slope_numerator and mtf_diffraction at nu. `High` = false
+// when the caller knows nu <= 1/2: the three then share one square root and one asin, without
+// the near-cut-off form.
+struct DiffractionTerms {
+    double loss, slope_numerator, value;
+};
+
+template <bool High>
+EPC_FAST_INLINE DiffractionTerms diffraction_terms(double nu) {
+    if (High) return {diffraction_loss(nu), diffraction_log_slope_numerator(nu), mtf_diffraction(nu)};
+    const double root = std::sqrt((1.0 - nu) * (1.0 + nu));
+    const double asin_nu = asin_small(nu);
+    return {(2.0 / pi) * (asin_nu + nu * root), -(4.0 / pi) * nu * root,
+            (2.0 / pi) * ((half_pi - asin_nu) - nu * root)};
+}
+
+// diffraction_terms at the lanes' nu into loss (`Shares` only), slope_numerator and value, or
+// (`Add`) w times them added to those; `high`: some lane's nu is past 1/2 (or NaN).
+template <bool Shares, bool Add>
+EPC_FAST_INLINE void diffraction_of_lanes(const double* __restrict nu, double w, bool high,
+                                          double* __restrict loss, double* __restrict slope_numerator,
+                                          double* __restrict value) {
+    auto lanes = [&](auto high_tag) EPC_FAST_LAMBDA_INLINE {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const DiffractionTerms d = diffraction_terms<decltype(high_tag)::value>(nu[i]);
+            if (Shares) loss[i] = Add ? loss[i] + w * d.loss : d.loss;
+            slope_numerator[i] = Add ? slope_numerator[i] + w * d.slope_numerator : d.slope_numerator;
+            value[i] = Add ? value[i] + w * d.value : d.value;
+        }
+    };
+    if (high) lanes(std::true_type{});
+    else lanes(std::false_type{});
+}
+
 // Above this a sinc's argument, or below this the diffraction MTF, is near the factor's zero:
 // the vector path leaves such lanes (thresholds of 1e-6 and less) to sensitivity_lane.
 constexpr double near_zero_argument = 1.0 - 0x1p-20;
@@ -308,46 +343,28 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     }
     // diffraction's loss, log-slope numerator and value, over the spectrum's lines
     const double* __restrict f_num = x[f_number];
+    alignas(64) double nu[n];
     if (in.spectrum.polychromatic()) {
         for (std::size_t i = 0; i < n; ++i) loss[i] = slope_numerator[i] = value[i] = 0.0;
         for (std::size_t k = 0; k < in.spectrum.wavelengths_nm.size(); ++k) {
-            const double w = in.spectrum.weights[k];
             const double lambda_mm = in.spectrum.wavelengths_nm[k] * nm_to_mm;
+            unsigned char high = 0;
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < n; ++i) {
-                const double nu = f[i] * lambda_mm * f_num[i];
-                loss[i] += w * diffraction_loss(nu);
-                slope_numerator[i] += w * diffraction_log_slope_numerator(nu);
-                value[i] += w * mtf_diffraction(nu);
+                nu[i] = f[i] * lambda_mm * f_num[i];
+                high |= !(nu[i] <= 0.5);
             }
+            diffraction_of_lanes<Shares, true>(nu, in.spectrum.weights[k], high, loss, slope_numerator, value);
         }
     } else {
         const double* __restrict lambda = x[wavelength_nm];
-        alignas(64) double nu[n];
-        unsigned char high = 0;  // a lane past nu = 1/2 (or NaN): its near-cut-off forms
+        unsigned char high = 0;
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
             nu[i] = f[i] * (lambda[i] * nm_to_mm) * f_num[i];
             high |= !(nu[i] <= 0.5);
         }
-        if (high) {
-            EPC_FAST_SIMD
-            for (std::size_t i = 0; i < n; ++i) {
-                if (Shares) loss[i] = diffraction_loss(nu[i]);
-                slope_numerator[i] = diffraction_log_slope_numerator(nu[i]);
-                value[i] = mtf_diffraction(nu[i]);
-            }
-        } else {  // the three for nu <= 1/2, on one square root and one asin
-            EPC_FAST_SIMD
-            for (std::size_t i = 0; i < n; ++i) {
-                const double v = nu[i];
-                const double root = std::sqrt((1.0 - v) * (1.0 + v));
-                const double asin_v = asin_small(v);
-                if (Shares) loss[i] = (2.0 / pi) * (asin_v + v * root);
-                slope_numerator[i] = -(4.0 / pi) * v * root;
-                value[i] = (2.0 / pi) * ((half_pi - asin_v) - v * root);
-            }
-        }
+        diffraction_of_lanes<Shares, false>(nu, 1.0, high, loss, slope_numerator, value);
     }
     // every factor's log and log-slope (mtf_log_factors), the sincs' and diffraction's
     // divisions in one
