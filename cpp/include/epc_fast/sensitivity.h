@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -178,40 +180,80 @@ inline double field_angle_rate_log_slope(double field_angle_deg) {
 
 namespace detail {
 
+// -d ln MTF / d ln f at one lane, A, from the factors' log-slopes there.
+EPC_FAST_INLINE double area_slope(double slope_diffraction, double slope_pixel, double slope_motion,
+                                  double log_jitter) {
+    return -(((slope_diffraction + slope_pixel) + slope_motion) + 2.0 * log_jitter);
+}
+
 // d ln MTF / d ln theta of every parameter at one lane, from the factors' log-slopes there (m),
 // T_MPE's log-slopes (t), mu = d ln M / d ln alpha, the field angle's rate log-slope and the
-// SNR target's d ln s / d ln snr_db; written as elasticities 2 slope / A plus the area's part,
-// A = -d ln MTF / d ln f, into row j of `out` at lane i, each times `mask` (1, or NaN for a
-// lane that has none).
+// SNR target's d ln s / d ln snr_db; written as elasticities 2 slope / A plus the area's part
+// (two_over_a = 2 / area_slope), into row j of `out` at lane i. A lane that has none passes
+// mask = NaN and a NaN two_over_a; mask = 1 otherwise.
 EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope_pixel,
                                           double slope_motion, double log_jitter,
                                           const TMpeLogSlopes& t, double mu, double field_slope,
                                           double snr_scale, bool size_is_pixel_count,
                                           double (&out)[n_params][block_size], std::size_t i,
-                                          double threshold_term = 1.0, double mask = 1.0) {
-    const double a_slope = -(((slope_diffraction + slope_pixel) + slope_motion) + 2.0 * log_jitter);
-    const double two_over_a = 2.0 / a_slope;
+                                          double two_over_a, double threshold_term = 1.0,
+                                          double mask = 1.0) {
     const double via_rate = mu * t.rate;
-    out[illuminance_lux][i] = (via_rate * two_over_a) * mask;
-    out[pixel_pitch_um][i] = ((size_is_pixel_count ? 2.0 : 0.0) + (slope_pixel + 2.0 * via_rate) * two_over_a) * mask;
-    out[f_number][i] = ((slope_diffraction - 2.0 * via_rate) * two_over_a) * mask;
-    out[focal_length_mm][i] = (slope_motion * two_over_a) * mask;
-    out[size][i] = (1.0) * mask;
-    out[reflectance][i] = (via_rate * two_over_a) * mask;
-    out[lens_transmittance][i] = (via_rate * two_over_a) * mask;
-    out[field_angle_deg][i] = (via_rate * field_slope * two_over_a) * mask;
-    out[fill_factor][i] = ((0.5 * slope_pixel + via_rate) * two_over_a) * mask;
+    out[illuminance_lux][i] = via_rate * two_over_a;
+    out[pixel_pitch_um][i] = ((size_is_pixel_count ? 2.0 : 0.0) * mask) + (slope_pixel + 2.0 * via_rate) * two_over_a;
+    out[f_number][i] = (slope_diffraction - 2.0 * via_rate) * two_over_a;
+    out[focal_length_mm][i] = slope_motion * two_over_a;
+    out[size][i] = mask;
+    out[reflectance][i] = via_rate * two_over_a;
+    out[lens_transmittance][i] = via_rate * two_over_a;
+    out[field_angle_deg][i] = via_rate * field_slope * two_over_a;
+    out[fill_factor][i] = (0.5 * slope_pixel + via_rate) * two_over_a;
     out[electrons_per_lux_s_m2][i] = via_rate * two_over_a;
-    out[read_noise_e][i] = (mu * t.read * two_over_a) * mask;
-    out[dark_current_e_per_s][i] = (mu * t.dark * two_over_a) * mask;
-    out[prnu][i] = (mu * t.prnu * two_over_a) * mask;
-    out[full_well_e][i] = (0.0) * mask;
-    out[snr_db][i] = (mu * t.target * snr_scale * two_over_a) * mask;
-    out[shake_deg_per_s][i] = (mu * two_over_a) * mask;
-    out[stabilization][i] = (-mu * two_over_a) * mask;
-    out[jitter_um][i] = (2.0 * log_jitter * two_over_a) * mask;
-    out[wavelength_nm][i] = (slope_diffraction * two_over_a) * mask;
-    out[mtf_threshold][i] = (-threshold_term * two_over_a) * mask;
+    out[read_noise_e][i] = mu * t.read * two_over_a;
+    out[dark_current_e_per_s][i] = mu * t.dark * two_over_a;
+    out[prnu][i] = mu * t.prnu * two_over_a;
+    out[full_well_e][i] = 0.0 * mask;
+    out[snr_db][i] = mu * t.target * snr_scale * two_over_a;
+    out[shake_deg_per_s][i] = mu * two_over_a;
+    out[stabilization][i] = -mu * two_over_a;
+    out[jitter_um][i] = 2.0 * log_jitter * two_over_a;
+    out[wavelength_nm][i] = slope_diffraction * two_over_a;
+    out[mtf_threshold][i] = -threshold_term * two_over_a;
+}
+
+// diffraction_loss, diffraction_log_slope_numerator and mtf_diffraction at nu. `High` = false
+// when the caller knows nu <= 1/2: the three then share one square root and one asin, without
+// the near-cut-off form.
+struct DiffractionTerms {
+    double loss, slope_numerator, value;
+};
+
+template <bool High>
+EPC_FAST_INLINE DiffractionTerms diffraction_terms(double nu) {
+    if (High) return {diffraction_loss(nu), diffraction_log_slope_numerator(nu), mtf_diffraction(nu)};
+    const double root = std::sqrt((1.0 - nu) * (1.0 + nu));
+    const double asin_nu = asin_small(nu);
+    return {(2.0 / pi) * (asin_nu + nu * root), -(4.0 / pi) * nu * root,
+            (2.0 / pi) * ((half_pi - asin_nu) - nu * root)};
+}
+
+// diffraction_terms at the lanes' nu into loss (`Shares` only), slope_numerator and value, or
+// (`Add`) w times them added to those; `high`: some lane's nu is past 1/2 (or NaN).
+template <bool Shares, bool Add>
+EPC_FAST_INLINE void diffraction_of_lanes(const double* __restrict nu, double w, bool high,
+                                          double* __restrict loss, double* __restrict slope_numerator,
+                                          double* __restrict value) {
+    auto lanes = [&](auto high_tag) EPC_FAST_LAMBDA_INLINE {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const DiffractionTerms d = diffraction_terms<decltype(high_tag)::value>(nu[i]);
+            if (Shares) loss[i] = Add ? loss[i] + w * d.loss : d.loss;
+            slope_numerator[i] = Add ? slope_numerator[i] + w * d.slope_numerator : d.slope_numerator;
+            value[i] = Add ? value[i] + w * d.value : d.value;
+        }
+    };
+    if (high) lanes(std::true_type{});
+    else lanes(std::false_type{});
 }
 
 // Above this a sinc's argument, or below this the diffraction MTF, is near the factor's zero:
@@ -269,7 +311,9 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
     }
     elasticities_of_lane(slopes[0], slopes[1], slopes[2], log_jitter, t, slopes[2] * beta,
                          field_slope, x[snr_db][i] * (ln10 / 10.0), in.size_is_pixel_count,
-                         elasticity_out, i, threshold_term);
+                         elasticity_out, i,
+                         2.0 / area_slope(slopes[0], slopes[1], slopes[2], log_jitter),
+                         threshold_term);
 }
 
 
@@ -299,28 +343,28 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     }
     // diffraction's loss, log-slope numerator and value, over the spectrum's lines
     const double* __restrict f_num = x[f_number];
+    alignas(64) double nu[n];
     if (in.spectrum.polychromatic()) {
         for (std::size_t i = 0; i < n; ++i) loss[i] = slope_numerator[i] = value[i] = 0.0;
         for (std::size_t k = 0; k < in.spectrum.wavelengths_nm.size(); ++k) {
-            const double w = in.spectrum.weights[k];
             const double lambda_mm = in.spectrum.wavelengths_nm[k] * nm_to_mm;
+            unsigned char high = 0;
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < n; ++i) {
-                const double nu = f[i] * lambda_mm * f_num[i];
-                loss[i] += w * diffraction_loss(nu);
-                slope_numerator[i] += w * diffraction_log_slope_numerator(nu);
-                value[i] += w * mtf_diffraction(nu);
+                nu[i] = f[i] * lambda_mm * f_num[i];
+                high |= !(nu[i] <= 0.5);
             }
+            diffraction_of_lanes<Shares, true>(nu, in.spectrum.weights[k], high, loss, slope_numerator, value);
         }
     } else {
         const double* __restrict lambda = x[wavelength_nm];
+        unsigned char high = 0;
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
-            const double nu = f[i] * (lambda[i] * nm_to_mm) * f_num[i];
-            if (Shares) loss[i] = diffraction_loss(nu);
-            slope_numerator[i] = diffraction_log_slope_numerator(nu);
-            value[i] = mtf_diffraction(nu);
+            nu[i] = f[i] * (lambda[i] * nm_to_mm) * f_num[i];
+            high |= !(nu[i] <= 0.5);
         }
+        diffraction_of_lanes<Shares, false>(nu, 1.0, high, loss, slope_numerator, value);
     }
     // every factor's log and log-slope (mtf_log_factors), the sincs' and diffraction's
     // divisions in one
@@ -328,9 +372,18 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     const double* __restrict fill = x[fill_factor];
     const double* __restrict jitter = x[jitter_um];
     const double* __restrict blur = b.blur;
+    alignas(64) double aperture[n];
+    if (b.is_broadcast(fill_factor)) {  // pixel_aperture_mm, one sqrt
+        const double root_fill = std::sqrt(b.broadcast[fill_factor]);
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) aperture[i] = root_fill * (pitch[i] * um_to_mm);
+    } else {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) aperture[i] = pixel_aperture_mm(pitch[i], fill[i]);
+    }
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        const double y_pixel = pixel_aperture_mm(pitch[i], fill[i]) * f[i];
+        const double y_pixel = aperture[i] * f[i];
         const double y_motion = blur[i] * f[i];
         const double sigma_f = (jitter[i] * um_to_mm) * f[i];
         const double sin_pixel = sinpi_unit(y_pixel), sin_motion = sinpi_unit(y_motion);
@@ -369,7 +422,14 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     alignas(64) double field_slope[n];
     if (elasticities) {
         if (b.is_broadcast(field_angle_deg)) {
-            const double v = field_angle_rate_log_slope(b.broadcast[field_angle_deg]);
+            // the last broadcast angle's slope, kept per thread: two sin calls per block else
+            thread_local double memo_angle = nan, memo_slope = 0.0;
+            const double angle = b.broadcast[field_angle_deg];
+            if (!(angle == memo_angle)) {
+                memo_slope = field_angle_rate_log_slope(angle);
+                memo_angle = angle;
+            }
+            const double v = memo_slope;
             for (std::size_t i = 0; i < n; ++i) field_slope[i] = v;
         } else {
             for (std::size_t i = 0; i < n; ++i)
@@ -412,17 +472,26 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
             slow[i] |= ok[i] & ((blur[i] > 0.0) & !((numerator >= 0x1p-900) & (numerator <= 0x1p900) &
                                                     (denominator >= 0x1p-900) & (denominator <= 0x1p900)));
             slow[i] |= ok[i] & !exposure_ok;
+            const double mask = ok[i] ? 1.0 : nan;
+            const double two_over_a =
+                (2.0 / area_slope(slope_numerator[i], slope_pixel[i], slope_motion[i], logs[share_jitter][i])) * mask;
             elasticities_of_lane(slope_numerator[i], slope_pixel[i], slope_motion[i],
                                  logs[share_jitter][i], t, slope_motion[i] * beta, field_slope[i],
-                                 snr[i] * (ln10 / 10.0), count, elasticity_out, i, 1.0,
-                                 ok[i] ? 1.0 : nan);
+                                 snr[i] * (ln10 / 10.0), count, elasticity_out, i, two_over_a, 1.0,
+                                 mask);
         }
     }
-    for (std::size_t i = 0; i < n; ++i) {
-        if (!slow[i]) continue;
-        double lane_shares[n_shares][block_size];
-        sensitivity_lane(in, b, i, elasticities ? field_slope[i] : 0.0, shares ? share_out : lane_shares,
-                         elasticity_out);
+    // the slow lanes, eight flags at a time (most blocks have none)
+    for (std::size_t first = 0; first < n; first += 8) {
+        std::uint64_t eight;
+        std::memcpy(&eight, slow + first, sizeof eight);
+        if (eight == 0) continue;
+        for (std::size_t i = first; i < first + 8; ++i) {
+            if (!slow[i]) continue;
+            double lane_shares[n_shares][block_size];
+            sensitivity_lane(in, b, i, elasticities ? field_slope[i] : 0.0,
+                             shares ? share_out : lane_shares, elasticity_out);
+        }
     }
 }
 
