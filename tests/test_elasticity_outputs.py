@@ -125,11 +125,12 @@ def test_scalar_out_arrays_take_every_elasticity(size, backend):
     assert np.isnan(out["elasticities"]).all() == (size["pixel_count"] == 0.0)
 
 
+@pytest.mark.parametrize("backend", ["core", "reference"])
 @pytest.mark.parametrize("outputs", [("epc", "elasticities"), ("epc", "elasticity_prnu")])
-def test_a_result_serves_as_out(outputs):
-    first = epc_fast.evaluate(LUX, **BASE, outputs=outputs)
-    again = epc_fast.evaluate(LUX * 2, **BASE, outputs=outputs, out=first)
-    fresh = epc_fast.evaluate(LUX * 2, **BASE, outputs=outputs)
+def test_a_result_serves_as_out(outputs, backend):
+    first = epc_fast.evaluate(LUX, **BASE, outputs=outputs, backend=backend)
+    again = epc_fast.evaluate(LUX * 2, **BASE, outputs=outputs, out=first, backend=backend)
+    fresh = epc_fast.evaluate(LUX * 2, **BASE, outputs=outputs, backend=backend)
     assert again.epc is first.epc
     for key, array in first.elasticities.items():
         assert again.elasticities[key] is array

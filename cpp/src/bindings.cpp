@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -49,19 +50,33 @@ constexpr std::size_t first_touch_points = std::size_t{1} << 16;
 constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t_mpe_s",
                                         "blur_mm", "f50_cyc_per_mm", "epc", "status", "cause"};
 // The outputs computed only when named (sensitivity.h): the shares, in Share's order, and
-// parameter j's elasticity as "elasticity_" + param_names[j].
+// the elasticities: parameter j's as "elasticity_" + param_names[j], or all of them as
+// "elasticities", n_params rows of n points in one array (row j parameter j's).
 constexpr const char* share_names[] = {"share_diffraction", "share_pixel", "share_motion",
                                        "share_jitter"};
 
-std::string elasticity_name(int j) { return std::string("elasticity_") + param_names[j]; }
+constexpr const char* elasticity_prefix = "elasticity_";
+constexpr const char* elasticities_name = "elasticities";
+
+// How many values output `name` holds for n points.
+py::ssize_t output_size(const std::string& name, py::ssize_t n) {
+    return name == elasticities_name ? n * n_params : n;
+}
+
+// The parameter whose elasticity output `name` is, or -1.
+int elasticity_of(const std::string& name) {
+    const std::size_t length = std::strlen(elasticity_prefix);
+    if (name.compare(0, length, elasticity_prefix) != 0) return -1;
+    for (int j = 0; j < n_params; ++j)
+        if (name.compare(length, std::string::npos, param_names[j]) == 0) return j;
+    return -1;
+}
 
 bool is_output_name(const std::string& name) {
     auto in = [&](const auto& names) {
         return std::find(std::begin(names), std::end(names), name) != std::end(names);
     };
-    for (int j = 0; j < n_params; ++j)
-        if (name == elasticity_name(j)) return true;
-    return in(output_names) || in(share_names);
+    return in(output_names) || in(share_names) || name == elasticities_name || elasticity_of(name) >= 0;
 }
 
 // The cache of output memory (output_cache.h) that evaluate's new arrays come from. Never
@@ -247,7 +262,7 @@ py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize
         bool is_fresh = false;
         py::array array = name == "status" || name == "cause"
                               ? new_column<std::uint8_t>(n, is_fresh)
-                              : new_column<double>(n, is_fresh);
+                              : new_column<double>(output_size(name, n), is_fresh);
         result[name.c_str()] = array;
         if (is_fresh) fresh[name.c_str()] = array;
     }
@@ -266,8 +281,26 @@ Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
                 output_column<std::uint8_t>(arrays, "cause", n)};
     for (int k = 0; k < n_shares; ++k)
         out.sensitivity.share[k] = output_column<double>(arrays, share_names[k], n);
-    for (int j = 0; j < n_params; ++j)
-        out.sensitivity.elasticity[j] = output_column<double>(arrays, elasticity_name(j).c_str(), n);
+    // the elasticities asked for, by one pass over the names: when the dict holds more
+    // outputs than those found so far (most calls ask for none)
+    const double* values[] = {out.electron_rate_e_per_s, out.electrons, out.t_mpe_s, out.blur_mm,
+                              out.f50_cyc_per_mm, out.epc};
+    std::size_t found = (out.status != nullptr) + (out.cause != nullptr);
+    for (const double* v : values) found += v != nullptr;
+    for (const double* v : out.sensitivity.share) found += v != nullptr;
+    if (arrays.size() == found) return out;
+    double* every = output_column<double>(arrays, elasticities_name, output_size(elasticities_name, n));
+    for (auto item : arrays) {
+        if (!py::isinstance<py::str>(item.first)) continue;
+        const std::string name = py::cast<std::string>(item.first);
+        const int j = elasticity_of(name);
+        if (j < 0) continue;
+        if (every != nullptr)
+            throw std::invalid_argument("out has both 'elasticities' (every elasticity) and '" + name + "'");
+        out.sensitivity.elasticity[j] = output_column<double>(arrays, name.c_str(), n);
+    }
+    if (every != nullptr)
+        for (int j = 0; j < n_params; ++j) out.sensitivity.elasticity[j] = every + j * n;
     return out;
 }
 

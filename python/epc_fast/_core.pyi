@@ -38,8 +38,10 @@ def evaluate(
 ) -> dict[str, np.ndarray]:
     """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: the eight
     default ones when ``out`` is None, else none), written; the outputs in neither are not
-    computed. The shares (``share_diffraction`` ...) and the elasticities (``"elasticity_"`` and
-    a name of ``parameter_names``) are 1-D of ``n``, as the others are."""
+    computed. The shares (``share_diffraction`` ...) and the single elasticities
+    (``"elasticity_"`` and a name of ``parameter_names``) are 1-D of ``n``, as the others are;
+    ``elasticities`` (every elasticity, not with single ones) holds ``n_params`` rows of ``n``
+    values, flat."""
 def output_cache(limit_bytes: int | None = None) -> dict[str, int]:
     """Sets the output cache's limit (bytes) when given; {"limit_bytes", "retained_bytes"}."""
 def lux_for_epc(

@@ -326,38 +326,32 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
     """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
     if options.backend == "core":
         threads = _threads_of(threads)
-        # the core writes the caller's arrays and allocates the others it computes; it knows
-        # the elasticities row by row
-        flat = {} if given is None else {k: v.reshape(-1).view(_dtype(k))
-                                         for k, v in _as_rows(given, shape).items()}
-        wanted = [k for k in options.computed if k != elasticity_outputs.ALL]
-        wanted += [row for row in elasticity_outputs.rows_in(options.computed) if row not in wanted]
+        # the core writes the caller's arrays and allocates the others it computes
+        flat = {} if given is None else {k: v.reshape(-1).view(_DTYPES[k])
+                                         for k, v in given.items()}
         return _run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
                          options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
                          out=flat, precision=options.precision,
-                         allocate=[k for k in wanted if k not in flat])
+                         allocate=[k for k in options.computed if k not in flat and
+                                   not (k == elasticity_outputs.ALL and given is not None)],
+                         given=None if given is None else list(given.values()))
     if threads is not None:
         _threads_of(threads)
     result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed)
-    if given is not None:
-        for name, array in _as_rows(given, shape).items():
-            np.copyto(array, result[name].reshape(array.shape))
+    if given is not None:  # the caller's arrays: every elasticity in one, or one row each
+        rows = dict(zip(elasticity_outputs.ROWS, result.get(elasticity_outputs.ALL, ())))
+        for name, array in given.items():
+            np.copyto(array, rows.get(name, result.get(name)).reshape(array.shape))
     return result
+
+
+#: Every output's dtype by its name inside: the Result fields', and each single elasticity's.
+_DTYPES = {**ALL_OUTPUT_DTYPES, **dict.fromkeys(elasticity_outputs.ROWS, np.dtype(np.float64))}
 
 
 def _dtype(name) -> np.dtype:
     """Output ``name``'s dtype: a Result field's, float64 for one elasticity."""
-    return ALL_OUTPUT_DTYPES.get(name, np.dtype(np.float64))
-
-
-def _as_rows(outputs: dict, shape) -> dict:
-    """``outputs`` with the array of every elasticity, if there, as one view per row (its
-    name in elasticity_outputs.ROWS)."""
-    rows = {k: v for k, v in outputs.items() if k != elasticity_outputs.ALL}
-    if elasticity_outputs.ALL in outputs:
-        every = outputs[elasticity_outputs.ALL].reshape((len(ELASTICITY_PARAMETERS),) + tuple(shape))
-        rows.update((row, every[j, ...]) for j, row in enumerate(elasticity_outputs.ROWS))
-    return rows
+    return _DTYPES[name]
 
 
 def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Options,
@@ -368,9 +362,11 @@ def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Op
         _raise_first_invalid(arrays, names, status, shape, sensor.parts)
     if given is not None:
         kept = {name: given.get(name) for name in ALL_OUTPUT_DTYPES}
-        rows = _as_rows(given, shape)
-        if elasticity_outputs.rows_in(rows):
-            kept["elasticities"] = elasticity_outputs.by_key(rows, sensor.is_pixel_count)
+        if elasticity_outputs.ALL in given:
+            kept["elasticities"] = elasticity_outputs.every_by_key(
+                given[elasticity_outputs.ALL], shape, sensor.is_pixel_count, arrays=True)
+        elif elasticity_outputs.rows_in(given):
+            kept["elasticities"] = elasticity_outputs.by_key(given, sensor.is_pixel_count)
         return Result(**kept)
     rows = elasticity_outputs.rows_in(options.selected)
     return _result({k: v for k, v in result.items() if k in options.selected or k in rows},
@@ -534,18 +530,18 @@ def _outputs_of(outputs, is_pixel_count=False) -> tuple:
     except TypeError:
         raise TypeError(f"outputs must be a field name or an iterable of them, got "
                         f"{_short(outputs)}") from None
-    inside = [name if name in ALL_OUTPUT_DTYPES else elasticity_outputs.row_of(name, is_pixel_count)
-              for name in names]
-    unknown = [name for name, row in zip(names, inside) if row is None]
+    others = [name for name in names if name not in ALL_OUTPUT_DTYPES]
+    rows = [elasticity_outputs.row_of(name, is_pixel_count) for name in others]
+    unknown = [name for name, row in zip(others, rows) if row is None]
     if unknown or not names:
         what = f"unknown field(s) {unknown}" if unknown else "none"
         raise ValueError(f"outputs must name at least one of {', '.join(ALL_OUTPUT_DTYPES)}, "
                          f"or elasticity_ and a parameter's name; got {what}")
-    single = [name for name, row in zip(names, inside) if row in elasticity_outputs.ROWS]
-    if elasticity_outputs.ALL in inside and single:
-        raise ValueError(f"outputs names 'elasticities', every elasticity, and also {single}")
-    return tuple(name for name in tuple(ALL_OUTPUT_DTYPES) + elasticity_outputs.ROWS
-                 if name in inside)
+    chosen = set(names)
+    if others and elasticity_outputs.ALL in chosen:
+        raise ValueError(f"outputs names 'elasticities', every elasticity, and also {others}")
+    selected = tuple(name for name in ALL_OUTPUT_DTYPES if name in chosen)
+    return selected + elasticity_outputs.rows_in(rows) if rows else selected
 
 
 def _out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
@@ -556,8 +552,7 @@ def _out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
     if not isinstance(out, Mapping):
         raise TypeError(f"out must be a Result or a mapping of its field names to arrays, "
                         f"got {_short(out)}")
-    shown = {row: elasticity_outputs.output_name(row, is_pixel_count)
-             for row in elasticity_outputs.ROWS}
+    shown = elasticity_outputs.output_names(is_pixel_count)
     known = {shown.get(name, name): name for name in selected}
     if elasticity_outputs.ALL in selected and elasticity_outputs.ALL not in out:
         # every elasticity, one array per row (a Result's, as out=)
@@ -569,7 +564,7 @@ def _out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
         raise ValueError(f"out must have exactly the fields {', '.join(known)}; "
                          f"missing: {missing}, unknown: {unknown}")
     for name in known:
-        dtype = _dtype(known[name])
+        dtype = _DTYPES[known[name]]
         array = out[name]
         where = f"out[{name!r}]"
         if not isinstance(array, np.ndarray):
@@ -619,7 +614,7 @@ def _output_shape(name, shape) -> tuple:
 def _output_bytes(name) -> int:
     """Bytes output ``name`` takes per point."""
     rows = len(ELASTICITY_PARAMETERS) if name == "elasticities" else 1
-    return rows * _dtype(name).itemsize
+    return rows * _DTYPES[name].itemsize
 
 
 def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES)):
@@ -655,13 +650,16 @@ def _column(arr: np.ndarray, shape) -> np.ndarray:
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
-              t_mpe_rtol, threads, out=None, precision="float64", allocate=None):
+              t_mpe_rtol, threads, out=None, precision="float64", allocate=None, given=None):
+    """The core's outputs; ``given``: the caller's arrays behind ``out`` (default: its
+    values), which an input column must not share memory with."""
     from . import _core
 
     n = math.prod(shape)
     columns = [_column(a, shape) for a in arrays]
     if out is not None:  # an input that is also an output would be overwritten while read
-        columns = [c.copy() if any(np.may_share_memory(c, o) for o in out.values()) else c
+        given = list(out.values()) if given is None else given
+        columns = [c.copy() if any(np.may_share_memory(c, o) for o in given) else c
                    for c in columns]
     if spec is None:
         wavelengths = weights = np.empty(0)
@@ -691,8 +689,8 @@ def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=()):
         result.update(reference_sensitivity.sensitivity_points(
             p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
             elasticities=bool(rows)))
-    if rows:  # the rows asked for, one output each
-        every = dict(zip(elasticity_outputs.ROWS, result.pop("elasticities")))
+    if rows and elasticity_outputs.ALL not in computed:  # the rows asked for, one output each
+        every = dict(zip(elasticity_outputs.ROWS, result.pop(elasticity_outputs.ALL)))
         result.update({row: every[row] for row in rows})
     return result
 
@@ -707,7 +705,11 @@ def _result(out, shape, sensor: _Sensor) -> Result:
             return v.reshape(shape)
         return (Status(int(v[0])) if name == "status" else
                 Cause(int(v[0])) if name == "cause" else float(v[0]))
-    rows = {row: value(row, out[row]) for row in elasticity_outputs.ROWS if row in out}
+    if elasticity_outputs.ALL in out:
+        elasticities = elasticity_outputs.every_by_key(out[elasticity_outputs.ALL], shape,
+                                                       sensor.is_pixel_count)
+    else:
+        rows = {row: value(row, out[row]) for row in elasticity_outputs.rows_in(out)}
+        elasticities = elasticity_outputs.by_key(rows, sensor.is_pixel_count) if rows else None
     return Result(**{name: value(name, out.get(name)) for name in ALL_OUTPUT_DTYPES
-                     if name != "elasticities"},
-                  elasticities=elasticity_outputs.by_key(rows, sensor.is_pixel_count) or None)
+                     if name != "elasticities"}, elasticities=elasticities)

@@ -27,6 +27,11 @@ def key(parameter: str, is_pixel_count: bool) -> str:
     return _SIZE_KEYS[is_pixel_count] if parameter == "size" else parameter
 
 
+def output_names(is_pixel_count: bool) -> dict:
+    """Each row's name for ``outputs=`` and ``out=`` (output_name), by row."""
+    return _OUTPUT_NAMES[is_pixel_count]
+
+
 def output_of_key(parameter_key: str) -> str:
     """The output that holds the elasticity of Result.elasticities' ``parameter_key``."""
     return _PREFIX + parameter_key
@@ -58,10 +63,30 @@ def row_of(name, is_pixel_count: bool) -> str | None:
 def rows_in(names) -> tuple:
     """The rows that ``names`` (outputs inside: ALL, rows and others) hold, in ROWS' order."""
     wanted = set(names)
-    return tuple(row for row in ROWS if ALL in wanted or row in wanted)
+    if ALL in wanted:
+        return ROWS
+    return tuple(row for row in ROWS if row in wanted) if not _ROW_SET.isdisjoint(wanted) else ()
 
 
 def by_key(rows: dict, is_pixel_count: bool) -> dict:
     """``rows`` (row name to value) as Result.elasticities: by the parameters' keys, in ROWS'
     order."""
-    return {key(row[len(_PREFIX):], is_pixel_count): rows[row] for row in ROWS if row in rows}
+    keys = _KEYS[is_pixel_count]
+    return {keys[row]: rows[row] for row in ROWS if row in rows}
+
+
+def every_by_key(every, shape, is_pixel_count: bool, arrays: bool = False) -> dict:
+    """The array of every elasticity (a row per parameter, flat or not) as
+    Result.elasticities: each row of the broadcast ``shape``; floats for scalar input, unless
+    ``arrays`` (0-d views of the rows then, as for ``out=``)."""
+    every = every.reshape((len(ROWS),) + tuple(shape))
+    keys = _KEYS[is_pixel_count].values()
+    if shape == ():
+        return dict(zip(keys, [every[j, ...] for j in range(len(ROWS))] if arrays
+                        else every.tolist()))
+    return dict(zip(keys, every))
+
+
+_ROW_SET = frozenset(ROWS)
+_OUTPUT_NAMES = {flag: {row: output_name(row, flag) for row in ROWS} for flag in (False, True)}
+_KEYS = {flag: {row: key(row[len(_PREFIX):], flag) for row in ROWS} for flag in (False, True)}
