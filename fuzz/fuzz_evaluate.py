@@ -62,8 +62,9 @@ FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50
 #: The elasticities one output each, the size's by both of its names (one of them the call's).
 SINGLE_ELASTICITIES = [f"elasticity_{name}" for name in params.PARAMETER_NAMES if name != "size"]
 SINGLE_ELASTICITIES += ["elasticity_sensor_area_mm2", "elasticity_pixel_count"]
-#: The outputs the core itself knows: the defaults, the shares and one per elasticity.
-CORE_OUTPUTS = list(api.OUTPUT_DTYPES) + list(api.SHARE_OUTPUTS) + [
+#: The outputs the core itself knows: the defaults, the shares, every elasticity in one array
+#: and one per elasticity (the core refuses the first with any of the others).
+CORE_OUTPUTS = list(api.OUTPUT_DTYPES) + list(api.SHARE_OUTPUTS) + ["elasticities"] + [
     f"elasticity_{name}" for name in params.PARAMETER_NAMES]
 
 

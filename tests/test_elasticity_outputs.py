@@ -142,3 +142,27 @@ def test_rows_in_expands_every_elasticity():
     assert elasticity_outputs.rows_in(["elasticity_prnu", "elasticity_f_number", "epc"]) == (
         "elasticity_f_number", "elasticity_prnu")
     assert elasticity_outputs.rows_in(["epc"]) == ()
+
+
+def test_the_core_takes_every_elasticity_in_one_array_or_single_ones_not_both():
+    point = dict(illuminance_lux=300.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
+                 size=8e6, reflectance=0.4, lens_transmittance=1.0, field_angle_deg=0.0,
+                 fill_factor=1.0, electrons_per_lux_s_m2=2.56e15, read_noise_e=2.0,
+                 dark_current_e_per_s=0.0, prnu=0.0, full_well_e=np.inf, snr_db=30.0,
+                 shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0, wavelength_nm=550.0,
+                 mtf_threshold=0.5)
+    columns = [np.array([point[name]]) for name in params.PARAMETER_NAMES]
+    none = np.empty(0)
+    args = (columns, True, params.domain_table(), none, none, 3, "halley", 1e-14,
+            "closed_form", 1e-15, "float64", 1, 1 << 18)
+    every = _core.evaluate(*args, None, ["elasticities"])["elasticities"]
+    single = _core.evaluate(*args, None, ["elasticity_f_number", "elasticity_size"])
+    assert every.shape == (3 * len(ELASTICITY_PARAMETERS),)
+    j = ELASTICITY_PARAMETERS.index("f_number")
+    np.testing.assert_array_equal(single["elasticity_f_number"], every[3 * j:3 * j + 3])
+    np.testing.assert_array_equal(single["elasticity_size"], 1.0)
+    assert np.isfinite(every).all()
+    with pytest.raises(ValueError, match="both 'elasticities'.*'elasticity_f_number'"):
+        _core.evaluate(*args, None, ["elasticities", "elasticity_f_number"])
+    with pytest.raises(ValueError, match="allocate: 'elasticity_size_mm2' is not an output"):
+        _core.evaluate(*args, None, ["elasticity_size_mm2"])
