@@ -132,7 +132,7 @@ def _public_call(fdp):
     if fdp.ConsumeIntInRange(0, 5) == 0:
         out_shape = shape if fdp.ConsumeIntInRange(0, 3) else (fdp.ConsumeIntInRange(0, 5),)
         options["out"] = {name: np.zeros(api._output_shape(name, out_shape),
-                                         dtype=api._dtype(name))
+                                         dtype=api.ALL_OUTPUT_DTYPES.get(name, np.float64))
                           for name in selected}
     try:
         result = epc_fast.evaluate(**kwargs, backend=backend, **options)
@@ -242,7 +242,8 @@ def _core_call(fdp):
                for name, dtype in api.OUTPUT_DTYPES.items() if fdp.ConsumeBool()}
     allocate = None
     if fdp.ConsumeBool():
-        allocate = [name for name in CORE_OUTPUTS if name not in (out or {}) and fdp.ConsumeBool()]
+        allocate = [name for name in CORE_OUTPUTS
+                    if name not in (out or {}) and fdp.ConsumeBool()]
         if flaw == 6:
             allocate.append(["f50", 3, *(out or {})][fdp.ConsumeIntInRange(0, len(out or {}) + 1)])
     try:

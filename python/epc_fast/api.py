@@ -93,6 +93,8 @@ OUTPUT_DTYPES = {f.name: np.dtype(np.uint8 if f.name in ("status", "cause") else
 #: Every output's dtype (the elasticities: float64 rows), in Result's field order.
 ALL_OUTPUT_DTYPES = {**OUTPUT_DTYPES, **{name: np.dtype(np.float64)
                                          for name in SENSITIVITY_OUTPUTS}}
+#: Every output's dtype by its name inside: the Result fields', and each single elasticity's.
+_DTYPES = {**ALL_OUTPUT_DTYPES, **dict.fromkeys(elasticity_outputs.ROWS, np.dtype(np.float64))}
 
 
 def _as_float_array(name: str, value) -> np.ndarray:
@@ -345,13 +347,6 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
     return result
 
 
-#: Every output's dtype by its name inside: the Result fields', and each single elasticity's.
-_DTYPES = {**ALL_OUTPUT_DTYPES, **dict.fromkeys(elasticity_outputs.ROWS, np.dtype(np.float64))}
-
-
-def _dtype(name) -> np.dtype:
-    """Output ``name``'s dtype: a Result field's, float64 for one elasticity."""
-    return _DTYPES[name]
 
 
 def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Options,
