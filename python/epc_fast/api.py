@@ -335,8 +335,7 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
                          options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
                          out=flat, precision=options.precision,
                          allocate=[k for k in options.computed if k not in flat and
-                                   not (k == elasticity_outputs.ALL and given is not None)],
-                         given=None if given is None else list(given.values()))
+                                   not (k == elasticity_outputs.ALL and given is not None)])
     if threads is not None:
         _threads_of(threads)
     result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed)
@@ -345,8 +344,6 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
         for name, array in given.items():
             np.copyto(array, rows.get(name, result.get(name)).reshape(array.shape))
     return result
-
-
 
 
 def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Options,
@@ -645,16 +642,13 @@ def _column(arr: np.ndarray, shape) -> np.ndarray:
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
-              t_mpe_rtol, threads, out=None, precision="float64", allocate=None, given=None):
-    """The core's outputs; ``given``: the caller's arrays behind ``out`` (default: its
-    values), which an input column must not share memory with."""
+              t_mpe_rtol, threads, out=None, precision="float64", allocate=None):
     from . import _core
 
     n = math.prod(shape)
     columns = [_column(a, shape) for a in arrays]
     if out is not None:  # an input that is also an output would be overwritten while read
-        given = list(out.values()) if given is None else given
-        columns = [c.copy() if any(np.may_share_memory(c, o) for o in given) else c
+        columns = [c.copy() if any(np.may_share_memory(c, o) for o in out.values()) else c
                    for c in columns]
     if spec is None:
         wavelengths = weights = np.empty(0)
