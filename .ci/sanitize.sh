@@ -34,7 +34,7 @@ LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
     tests/test_extremes.py tests/test_bad_input.py tests/test_concurrency.py \
     tests/test_spectrum_start.py tests/test_memory.py tests/test_f50_start.py \
     tests/test_precision.py tests/test_stream.py tests/test_scan_core.py \
-    tests/test_sensitivity.py "$@"
+    tests/test_sensitivity.py tests/test_elasticity_outputs.py "$@"
 
 levels="$(python -c 'import epc_fast._core as c
 print(" ".join(level for level, ok in c._module.cpu_levels().items() if ok))')"
@@ -46,5 +46,6 @@ for level in x86-64-v3 x86-64-v4; do
     echo "sanitize.sh: $level"
     EPC_FAST_ISA="$level" LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
         tests/test_stream.py tests/test_scan_core.py tests/test_scan_streams.py \
-        tests/test_scan_reductions.py tests/test_scan_runner.py tests/test_sensitivity.py "$@"
+        tests/test_scan_reductions.py tests/test_scan_runner.py tests/test_sensitivity.py \
+        tests/test_elasticity_outputs.py "$@"
 done
