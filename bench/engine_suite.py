@@ -30,7 +30,6 @@ reference) and the rounds, for a correctness pass over every benchmark body:
 from __future__ import annotations
 
 import dataclasses
-import inspect
 import itertools
 import os
 import time
@@ -85,12 +84,11 @@ REFERENCE_RTOL = 0.0
 
 #: Result fields every benchmark compares.
 COMPARED = ("f50_cyc_per_mm", "epc")
-#: The lean call's outputs, when evaluate has ``outputs=``.
+#: The lean call's outputs.
 LEAN_OUTPUTS = ("f50_cyc_per_mm", "epc", "status")
 #: The outputs the Numba and SciPy peers return (T_MPE, f50, EPC, status): the core asked for
 #: the same writes the same bytes a point.
 PEER_OUTPUTS = ("t_mpe_s", "f50_cyc_per_mm", "epc", "status")
-HAS_OUTPUTS = "outputs" in inspect.signature(epc_fast.evaluate).parameters
 
 
 def _label(n: int) -> str:
@@ -285,8 +283,6 @@ def bench_core_into_outputs(benchmark, data: Data, size: Size, outputs: dict) ->
 
 def bench_core_outputs(benchmark, data: Data, size: Size, outputs: tuple = LEAN_OUTPUTS) -> None:
     """Only ``outputs`` computed (``outputs=``): f50, EPC and status unless told."""
-    if not HAS_OUTPUTS:
-        pytest.skip("epc_fast.evaluate has no outputs= parameter")
     designs = data.designs(size.points)
     record(benchmark, "core", size.points, THREADS, variant="outputs=" + ",".join(outputs))
     result = benchmark.pedantic(epc_fast.evaluate,

@@ -31,13 +31,11 @@ def test_core_2_threads_out_preallocated(benchmark, data, out_1e7):
     suite.bench_core_into_outputs(benchmark, data, SIZE, out_1e7)
 
 
-@pytest.mark.skipif(not suite.HAS_OUTPUTS, reason="epc_fast.evaluate has no outputs= parameter")
 def test_core_2_threads_lean_outputs(benchmark, data):
     """Only f50, EPC and status computed."""
     suite.bench_core_outputs(benchmark, data, SIZE)
 
 
-@pytest.mark.skipif(not suite.HAS_OUTPUTS, reason="epc_fast.evaluate has no outputs= parameter")
 def test_core_2_threads_peer_outputs(benchmark, data):
     """The outputs the peers return (T_MPE, f50, EPC, status): the same bytes written."""
     suite.bench_core_outputs(benchmark, data, SIZE, outputs=suite.PEER_OUTPUTS)
