@@ -11,7 +11,7 @@ lacks it).
 ``OMP_NUM_THREADS`` sets the default thread count of every call; it is checked as ``threads=``
 is (:func:`checked_default_threads`): the OpenMP runtime itself takes any count and crashes
 creating, e.g., 100000 threads. ``EPC_FAST_OUTPUT_CACHE_MB`` (:mod:`epc_fast.memory`) is checked
-when the module loads; its limits come from :mod:`epc_fast._memory_limits`, which imports
+when the module loads; its limits come from :mod:`epc_fast._limits`, which imports
 nothing of the package, so that the loader and :mod:`epc_fast.memory` do not import each other.
 """
 
@@ -20,10 +20,9 @@ from __future__ import annotations
 import importlib
 import os
 
-from ._memory_limits import CACHE_ENV as _CACHE_ENV
-from ._memory_limits import MAX_CACHE_BYTES
-from ._memory_limits import default_cache_bytes as _default_cache_bytes
-from ._threads import MAX_THREADS
+from ._limits import CACHE_ENV as _CACHE_ENV
+from ._limits import MAX_CACHE_BYTES, MAX_THREADS
+from ._limits import default_cache_bytes as _default_cache_bytes
 
 #: Level name -> extension module, widest first.
 MODULES = {

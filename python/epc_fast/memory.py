@@ -1,8 +1,8 @@
 """Memory: how much there is, and the output memory the core keeps between calls.
 
 ``evaluate`` writes its outputs into new arrays. A new array's pages are mapped on first write
-and zeroed by the operating system first; for 10^7 points' default outputs (500 MB) that cost a
-fifth of the call's time on this project's 2-core VM. So the core keeps the memory of output
+and zeroed by the operating system first: for 10^7 points' default outputs, 500 MB zeroed
+before a byte of them is written, a sizeable part of the call's time. So the core keeps the memory of output
 arrays (of 1 MiB and more) once they are freed, up to a limit, and hands it to a later call of
 about the same size: a scan's next chunk, a benchmark's next round. ``output_cache`` reads and
 sets the limit; ``output_cache(0)`` frees what is kept and keeps nothing from then on.
@@ -17,8 +17,8 @@ from __future__ import annotations
 import numbers
 from typing import NamedTuple
 
-from ._memory_limits import (CACHE_ENV, MAX_CACHE_BYTES, MAX_DEFAULT_CACHE_BYTES,
-                             default_cache_bytes, memory_limit_bytes)
+from ._limits import (CACHE_ENV, MAX_CACHE_BYTES, MAX_DEFAULT_CACHE_BYTES, default_cache_bytes,
+                      memory_limit_bytes)
 
 __all__ = ["CACHE_ENV", "MAX_CACHE_BYTES", "MAX_DEFAULT_CACHE_BYTES", "OutputCacheState",
            "default_cache_bytes", "memory_limit_bytes", "output_cache"]

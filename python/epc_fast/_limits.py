@@ -1,8 +1,10 @@
-"""How much memory there is, and the output cache's limits.
+"""The bounds a call is checked against: the most threads, how much memory there is, and the
+output cache's limits.
 
-A leaf module (no import of the core): the core's loader (:mod:`epc_fast._core`) reads the
-cache's default limit from it when the compiled module loads, and :mod:`epc_fast.memory`, which
-calls the loaded core, re-exports it.
+A leaf module (no import of the package, nor of the compiled core): the core's loader
+(:mod:`epc_fast._core`) checks ``OMP_NUM_THREADS`` and reads the cache's default limit from it
+when the compiled module loads; :mod:`epc_fast._validation` checks ``threads=`` and
+:mod:`epc_fast.memory` the cache's limit against it, without loading the core first.
 """
 
 from __future__ import annotations
@@ -10,6 +12,9 @@ from __future__ import annotations
 import functools
 import math
 import os
+
+#: Upper bound on ``threads=`` and ``OMP_NUM_THREADS``: more is a mistake, not a faster run.
+MAX_THREADS = 1024
 
 #: The environment variable that sets the output cache's limit, in MiB.
 CACHE_ENV = "EPC_FAST_OUTPUT_CACHE_MB"
