@@ -32,7 +32,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import conftest  # noqa: E402, F401  (loads EPC_FAST_CORE_DIR's core before epc_fast does)
 
 import epc_fast  # noqa: E402
-from epc_fast import Status, _core, api, params  # noqa: E402
+from epc_fast import Status, _core, api, outputs, params  # noqa: E402
 
 
 def instrument_package(package, skip=()):
@@ -131,7 +131,7 @@ def _public_call(fdp):
                               np.array([fdp.ConsumeFloat() for _ in range(n)]))
     if fdp.ConsumeIntInRange(0, 5) == 0:
         out_shape = shape if fdp.ConsumeIntInRange(0, 3) else (fdp.ConsumeIntInRange(0, 5),)
-        options["out"] = {name: np.zeros(api._output_shape(name, out_shape),
+        options["out"] = {name: np.zeros(outputs.output_shape(name, out_shape),
                                          dtype=api.ALL_OUTPUT_DTYPES.get(name, np.float64))
                           for name in selected}
     try:

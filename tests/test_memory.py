@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast import _core, _memory_limits, _threads, api, memory, params
+from epc_fast import _core, _limits, _validation, api, memory, params
 from test_core_vs_reference import random_design_points
 
 MIB = 2**20
@@ -194,7 +194,7 @@ def test_a_bad_environment_limit_is_an_error_naming_the_variable_and_value(monke
 def test_the_default_limit_is_a_sixteenth_of_memory_up_to_1_gib(monkeypatch):
     monkeypatch.delenv(memory.CACHE_ENV, raising=False)
     for total, expected in [(4 * 2**30, 2**28), (64 * 2**30, 2**30), (None, 2**30)]:
-        monkeypatch.setattr(_memory_limits, "memory_limit_bytes", lambda total=total: total)
+        monkeypatch.setattr(_limits, "memory_limit_bytes", lambda total=total: total)
         assert memory.default_cache_bytes() == expected
 
 
@@ -231,14 +231,14 @@ def _package_imports(module) -> set[str]:
 
 def test_the_core_s_loader_and_memory_do_not_import_each_other():
     # the limits the loader needs at load time live in a leaf module that both import
-    assert _package_imports(_memory_limits) == set()
+    assert _package_imports(_limits) == set()
     assert "memory" not in _package_imports(_core)
-    assert _package_imports(memory) == {"_core", "_memory_limits"}
+    assert _package_imports(memory) == {"_core", "_limits"}
 
 
 def test_the_core_s_loader_imports_leaf_modules_only():
-    # the thread bound lives in a leaf that the loader and api both import, so that importing
-    # api does not load the compiled core (the reference backend runs without it)
-    assert _package_imports(_core) == {"_memory_limits", "_threads"}
-    assert _package_imports(_threads) == set()
-    assert api.MAX_THREADS is _core.MAX_THREADS is _threads.MAX_THREADS
+    # the thread bound lives in a leaf that the loader and the argument checks both import, so
+    # that importing api does not load the compiled core (the reference backend runs without it)
+    assert _package_imports(_core) == {"_limits"}
+    assert _package_imports(_validation) == {"_limits", "_core"}  # the core only for a default
+    assert api.MAX_THREADS is _core.MAX_THREADS is _limits.MAX_THREADS

@@ -1,5 +1,5 @@
 """What limits a design and how sensitive it is: the MTF-loss shares and the elasticities
-d ln EPC / d ln theta (python/epc_fast/reference_sensitivity.py, cpp/include/epc_fast/
+d ln EPC / d ln theta (python/epc_fast/reference/sensitivity.py, cpp/include/epc_fast/
 sensitivity.h), against 40-digit mpmath central differences, the golden set, closed forms and
 each other."""
 
@@ -18,8 +18,9 @@ from test_core_vs_reference import random_design_points
 
 import epc_fast
 from epc_fast import Status, params
-from epc_fast import reference_sensitivity as rs
+from epc_fast.reference import sensitivity as rs
 from epc_fast.api import ELASTICITY_PARAMETERS, SHARE_OUTPUTS
+from epc_fast.outputs import SHARE_NAMES
 
 GOLDEN = json.loads((Path(__file__).parent / "data" / "golden_public.json").read_text())
 OK_GOLDEN = [p for p in GOLDEN["points"] if p["outputs"]["status"] == "ok"]
@@ -226,7 +227,7 @@ def test_shares_match_the_golden_factors(point, backend):
                           **BACKENDS[backend])
     outputs = point["outputs"]
     with mpmath.workdps(30):
-        logs = [mpmath.log(mpmath.mpf(outputs[f"mtf_{name}_at_f50"])) for name in rs.SHARE_NAMES]
+        logs = [mpmath.log(mpmath.mpf(outputs[f"mtf_{name}_at_f50"])) for name in SHARE_NAMES]
         total = sum(logs)
         expected = [float(v / total) for v in logs]
     got = [getattr(r, name) for name in SHARE_OUTPUTS]

@@ -3,21 +3,24 @@
 from __future__ import annotations
 
 import math
-import operator
-from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
-from . import elasticity_outputs, params, reference, reference_sensitivity
-from ._threads import MAX_THREADS
+from . import elasticity_outputs, params
+from ._limits import MAX_THREADS
+from ._validation import as_float_array, choice, column, short, threads_of, tolerance
+from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .memory import memory_limit_bytes as _memory_limit_bytes
-from .reference_sensitivity import ELASTICITY_PARAMETERS, SHARE_NAMES
+from .outputs import (ALL_OUTPUT_DTYPES, DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
+                      SHARE_OUTPUTS, Result, out_arrays, output_bytes, result_of,
+                      selected_outputs)
 from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
-from .status import Cause, Status
+from .status import Status
 
-__all__ = ["evaluate", "Result", "MAX_THREADS", "ELASTICITY_PARAMETERS"]
+__all__ = ["evaluate", "Result", "MAX_THREADS", "ELASTICITY_PARAMETERS", "OUTPUT_DTYPES",
+           "ALL_OUTPUT_DTYPES", "SHARE_OUTPUTS", "SENSITIVITY_OUTPUTS"]
 
 #: Points per call into the core between two checks for Ctrl-C (the GIL is released inside).
 CHUNK_POINTS = 1 << 18
@@ -27,107 +30,6 @@ F50_SOLVERS = ("halley", "newton", "brent", "bisection")
 #: The floating-point types f50 can be solved in (``precision=``).
 PRECISIONS = ("float64", "float32")
 INVALID_POLICIES = ("status", "raise")
-
-
-@dataclass(frozen=True, repr=False)
-class Result:
-    """The model's outputs, each shaped like the broadcast inputs (scalars for scalar input).
-
-    A field left out of ``evaluate(outputs=...)`` is None.
-
-    Attributes
-    ----------
-    electron_rate_e_per_s : e-/s, photo-electron rate of one pixel.
-    electrons : e-, photo-electrons collected during T_MPE (r T_MPE); NaN where no light or
-        PRNU makes the target unreachable, the electrons needed where the full well does.
-    t_mpe_s : s, minimum photometric exposure; +inf where the target is unreachable.
-    blur_mm : mm, blur length on the sensor; +inf where the blur is unbounded.
-    f50_cyc_per_mm : cycles/mm, where the system MTF falls to ``mtf_threshold``.
-    epc : pixels, effective pixel count 4 S f50^2.
-    status : :class:`Status` codes (uint8 array).
-    cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
-    share_diffraction, share_pixel, share_motion, share_jitter : 1, each MTF factor's share
-        ln MTF_i(f50) / ln MTF_sys(f50) of the loss at f50 (the denominator is ln c at the
-        root); the four sum to 1. NaN where the status is not OK, except where the blur is
-        unbounded: 0, 0, 1, 0. Computed only when ``outputs=`` names them.
-    elasticities : dict of parameter name to 1, the elasticity d ln EPC / d ln theta of every
-        model parameter (:data:`ELASTICITY_PARAMETERS`; the sensor's size under the keyword
-        that gave it, ``sensor_area_mm2`` for a width and a height or a diagonal), each the
-        broadcast shape; NaN where the status is not OK. Computed only when ``outputs=``
-        names ``"elasticities"`` (all of them) or some of them one by one
-        (``"elasticity_f_number"`` ..., :mod:`epc_fast.elasticity_outputs`): the dict holds
-        those.
-    """
-
-    electron_rate_e_per_s: np.ndarray | float | None
-    electrons: np.ndarray | float | None
-    t_mpe_s: np.ndarray | float | None
-    blur_mm: np.ndarray | float | None
-    f50_cyc_per_mm: np.ndarray | float | None
-    epc: np.ndarray | float | None
-    status: np.ndarray | Status | None
-    cause: np.ndarray | Cause | None
-    share_diffraction: np.ndarray | float | None = None
-    share_pixel: np.ndarray | float | None = None
-    share_motion: np.ndarray | float | None = None
-    share_jitter: np.ndarray | float | None = None
-    elasticities: dict | None = None
-
-    def as_dict(self) -> dict:
-        """The outputs by name: the default ones, and the others that were computed."""
-        return {f.name: getattr(self, f.name) for f in fields(self)
-                if f.name in OUTPUT_DTYPES or getattr(self, f.name) is not None}
-
-    def __repr__(self) -> str:
-        items = ", ".join(f"{name}={value!r}" for name, value in self.as_dict().items())
-        return f"Result({items})"
-
-
-#: The shares of the loss at f50, one output each (``outputs=`` names them; docs/limits.md).
-SHARE_OUTPUTS = tuple(f"share_{name}" for name in SHARE_NAMES)
-#: The outputs computed only when ``outputs=`` names them.
-SENSITIVITY_OUTPUTS = SHARE_OUTPUTS + ("elasticities",)
-#: Each default output's dtype, in Result's field order.
-OUTPUT_DTYPES = {f.name: np.dtype(np.uint8 if f.name in ("status", "cause") else np.float64)
-                 for f in fields(Result) if f.name not in SENSITIVITY_OUTPUTS}
-#: Every output's dtype (the elasticities: float64 rows), in Result's field order.
-ALL_OUTPUT_DTYPES = {**OUTPUT_DTYPES, **{name: np.dtype(np.float64)
-                                         for name in SENSITIVITY_OUTPUTS}}
-#: Every output's dtype by its name inside: the Result fields', and each single elasticity's.
-_DTYPES = {**ALL_OUTPUT_DTYPES, **dict.fromkeys(elasticity_outputs.ROWS, np.dtype(np.float64))}
-
-
-def _as_float_array(name: str, value) -> np.ndarray:
-    """``value`` as a native-endian float64 array; a TypeError naming ``name`` for anything but
-    real numbers, a ValueError for an integer no float64 holds."""
-    if value is None:
-        raise TypeError(f"{name} must be a number or an array of numbers, got None")
-    if isinstance(value, np.ma.MaskedArray):
-        raise TypeError(f"{name} is a masked array: its mask would be ignored; pass "
-                        "plain values (e.g. .filled(np.nan) to make masked points INVALID)")
-    if isinstance(value, (str, bytes)):
-        raise TypeError(f"{name} must be a number or an array of numbers, got {value!r}")
-    if isinstance(value, int) and not isinstance(value, bool):  # beyond int64 NumPy says object
-        if abs(value) > _LARGEST_INT:
-            raise ValueError(f"{name}={_short(value)} does not fit a float64 (|x| > 1.8e308)")
-        value = float(value)
-    try:
-        arr = np.asarray(value)
-    except Exception as exc:  # ragged lists and the like
-        raise TypeError(f"{name} could not be read as an array: {exc}") from None
-    if arr.dtype.kind not in "iuf":
-        raise TypeError(
-            f"{name} must hold real numbers, got dtype {arr.dtype} ({_short(value)})")
-    return arr.astype(np.float64, copy=False)
-
-
-#: The largest integer a float64 holds (its largest finite value).
-_LARGEST_INT = int(np.finfo(np.float64).max)
-
-
-def _short(value) -> str:
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _one_wavelength(spec: Spectrum | None, arrays: list) -> tuple:
@@ -155,49 +57,12 @@ def _spectrum_of(spectrum, wavelength_nm) -> Spectrum | None:
             wavelengths, weights = spectrum
         except (TypeError, ValueError):
             raise TypeError("spectrum must be an epc_fast.Spectrum or a pair "
-                            f"(wavelengths_nm, weights), got {_short(spectrum)}") from None
+                            f"(wavelengths_nm, weights), got {short(spectrum)}") from None
         spectrum = Spectrum(wavelengths, weights)
     if not np.all(np.asarray(wavelength_nm) == 550.0):
         raise ValueError("pass either wavelength_nm or spectrum, not both "
-                         f"(wavelength_nm={_short(wavelength_nm)})")
+                         f"(wavelength_nm={short(wavelength_nm)})")
     return spectrum
-
-
-def _integer(name: str, value) -> int:
-    """``value`` as an int (bools and floats refused), or a TypeError naming ``name``."""
-    if isinstance(value, bool):
-        raise TypeError(f"{name} must be an integer, got {value!r}")
-    try:
-        return operator.index(value)
-    except TypeError:
-        raise TypeError(f"{name} must be an integer, got {_short(value)}") from None
-
-
-def _threads_of(threads) -> int:
-    from . import _core
-
-    if threads is None:
-        return _core.checked_default_threads()
-    count = _integer("threads", threads)
-    if not 1 <= count <= MAX_THREADS:
-        raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")
-    return count
-
-
-def _tolerance(name: str, value) -> float:
-    try:
-        tol = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a number, got {_short(value)}") from None
-    if not 0.0 <= tol < 1.0:
-        raise ValueError(f"{name} must be in [0, 1), got {value!r}")
-    return tol
-
-
-def _choice(name: str, value, allowed) -> str:
-    if value not in allowed:
-        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
-    return value
 
 
 def _raise_first_invalid(arrays, names, status, shape, size_parts=None):
@@ -241,7 +106,7 @@ def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
     NaN where a length is outside (0, BIG) so that the point is INVALID. ``snr_at="corner"``
     is atan(half-diagonal / focal length), which needs the sensor's shape.
     """
-    lengths = [None if v is None else _as_float_array(k, v) for k, v in (
+    lengths = [None if v is None else as_float_array(k, v) for k, v in (
         ("sensor_width_mm", sensor_width_mm), ("sensor_height_mm", sensor_height_mm),
         ("sensor_diagonal_mm", sensor_diagonal_mm))]
     shape = sensor_shape(sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect,
@@ -267,14 +132,14 @@ def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
     check_snr_at(snr_at)
     if np.any(np.asarray(field_angle_deg) != 0.0):
         raise TypeError(f"give snr_at or field_angle_deg, not both (snr_at={snr_at!r}, "
-                        f"field_angle_deg={_short(field_angle_deg)})")
+                        f"field_angle_deg={short(field_angle_deg)})")
     if snr_at == "axis":
         return sensor, 0.0
     if shape is None:
         raise TypeError("snr_at='corner' needs the sensor's diagonal: give sensor_width_mm and "
                         "sensor_height_mm, or sensor_diagonal_mm and aspect (not "
                         f"{sensor.name}), or field_angle_deg")
-    focal = _as_float_array("focal_length_mm", focal_length_mm)
+    focal = as_float_array("focal_length_mm", focal_length_mm)
     return sensor, corner_field_angle_deg(shape[0], shape[1], focal)
 
 
@@ -282,7 +147,7 @@ def _broadcast_inputs(values: dict, size_name: str) -> tuple:
     """(names, float64 arrays, broadcast shape) of the model parameters in the core's order;
     ``values`` holds them by parameter name, ``size_name`` is how the caller named the size."""
     names = [size_name if n == "size" else n for n in params.PARAMETER_NAMES]
-    arrays = [_as_float_array(name, values[key])
+    arrays = [as_float_array(name, values[key])
               for name, key in zip(names, params.PARAMETER_NAMES)]
     try:
         shape = np.broadcast_shapes(*(a.shape for a in arrays))
@@ -314,22 +179,22 @@ class _Options:
 
 def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
                 outputs, is_pixel_count=False) -> _Options:
-    _choice("backend", backend, BACKENDS)
-    _choice("invalid", invalid, INVALID_POLICIES)
-    _choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
-    _choice("f50_solver", f50_solver, F50_SOLVERS)
-    _choice("precision", precision, PRECISIONS)
-    return _Options(backend, invalid, f50_solver, _tolerance("f50_rtol", f50_rtol),
-                    t_mpe_solver, _tolerance("t_mpe_rtol", t_mpe_rtol), precision,
-                    _outputs_of(outputs, is_pixel_count))
+    choice("backend", backend, BACKENDS)
+    choice("invalid", invalid, INVALID_POLICIES)
+    choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
+    choice("f50_solver", f50_solver, F50_SOLVERS)
+    choice("precision", precision, PRECISIONS)
+    return _Options(backend, invalid, f50_solver, tolerance("f50_rtol", f50_rtol),
+                    t_mpe_solver, tolerance("t_mpe_rtol", t_mpe_rtol), precision,
+                    selected_outputs(outputs, is_pixel_count))
 
 
 def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, given) -> dict:
     """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
     if options.backend == "core":
-        threads = _threads_of(threads)
+        threads = threads_of(threads)
         # the core writes the caller's arrays and allocates the others it computes
-        flat = {} if given is None else {k: v.reshape(-1).view(_DTYPES[k])
+        flat = {} if given is None else {k: v.reshape(-1).view(DTYPES[k])
                                          for k, v in given.items()}
         return _run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
                          options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
@@ -337,7 +202,7 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
                          allocate=[k for k in options.computed if k not in flat and
                                    not (k == elasticity_outputs.ALL and given is not None)])
     if threads is not None:
-        _threads_of(threads)
+        threads_of(threads)
     result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed)
     if given is not None:  # the caller's arrays: every elasticity in one, or one row each
         rows = dict(zip(elasticity_outputs.ROWS, result.get(elasticity_outputs.ALL, ())))
@@ -361,8 +226,8 @@ def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Op
             kept["elasticities"] = elasticity_outputs.by_key(given, sensor.is_pixel_count)
         return Result(**kept)
     rows = elasticity_outputs.rows_in(options.selected)
-    return _result({k: v for k, v in result.items() if k in options.selected or k in rows},
-                   shape, sensor)
+    return result_of({k: v for k, v in result.items() if k in options.selected or k in rows},
+                     shape, sensor.is_pixel_count)
 
 
 def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
@@ -504,89 +369,10 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
                           precision, outputs, sensor.is_pixel_count)
     given = (None if out is None
-             else _out_arrays(out, shape, options.selected, sensor.is_pixel_count))
+             else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
     _check_memory(shape, arrays, options.backend, given is not None, options.computed)
     result = _compute(arrays, shape, sensor, spec, options, threads, given)
     return _assembled(result, shape, names, arrays, sensor, options, given)
-
-
-def _outputs_of(outputs, is_pixel_count=False) -> tuple:
-    """The outputs ``outputs=`` asks for, in Result's order (then the single elasticities',
-    by their names in elasticity_outputs.ROWS); the default ones for None."""
-    if outputs is None:
-        return tuple(OUTPUT_DTYPES)
-    if isinstance(outputs, str):
-        outputs = (outputs,)
-    try:
-        names = list(outputs)
-    except TypeError:
-        raise TypeError(f"outputs must be a field name or an iterable of them, got "
-                        f"{_short(outputs)}") from None
-    others = [name for name in names if name not in ALL_OUTPUT_DTYPES]
-    rows = [elasticity_outputs.row_of(name, is_pixel_count) for name in others]
-    unknown = [name for name, row in zip(others, rows) if row is None]
-    if unknown or not names:
-        what = f"unknown field(s) {unknown}" if unknown else "none"
-        raise ValueError(f"outputs must name at least one of {', '.join(ALL_OUTPUT_DTYPES)}, "
-                         f"or elasticity_ and a parameter's name; got {what}")
-    chosen = set(names)
-    if others and elasticity_outputs.ALL in chosen:
-        raise ValueError(f"outputs names 'elasticities', every elasticity, and also {others}")
-    selected = tuple(name for name in ALL_OUTPUT_DTYPES if name in chosen)
-    return selected + elasticity_outputs.rows_in(rows) if rows else selected
-
-
-def _out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
-    """The caller's ``out=`` arrays by output name (a single elasticity's as in
-    elasticity_outputs.ROWS), each checked, or an error naming it."""
-    if isinstance(out, Result):
-        out = _result_arrays(out, is_pixel_count)
-    if not isinstance(out, Mapping):
-        raise TypeError(f"out must be a Result or a mapping of its field names to arrays, "
-                        f"got {_short(out)}")
-    shown = elasticity_outputs.output_names(is_pixel_count)
-    known = {shown.get(name, name): name for name in selected}
-    if elasticity_outputs.ALL in selected and elasticity_outputs.ALL not in out:
-        # every elasticity, one array per row (a Result's, as out=)
-        known.update({shown[row]: row for row in elasticity_outputs.ROWS})
-        del known[elasticity_outputs.ALL]
-    unknown = sorted(set(out) - set(known), key=str)
-    missing = [name for name in known if name not in out]
-    if unknown or missing:
-        raise ValueError(f"out must have exactly the fields {', '.join(known)}; "
-                         f"missing: {missing}, unknown: {unknown}")
-    for name in known:
-        dtype = _DTYPES[known[name]]
-        array = out[name]
-        where = f"out[{name!r}]"
-        if not isinstance(array, np.ndarray):
-            raise TypeError(f"{where} must be a NumPy array, got {_short(array)}")
-        if array.dtype != dtype:
-            raise TypeError(f"{where} has dtype {array.dtype.str}, expected {dtype.str} "
-                            f"({dtype.name}, native byte order)")
-        expected = _output_shape(known[name], shape)
-        if array.shape != expected:
-            what = ("(one row per parameter of ELASTICITY_PARAMETERS, then the broadcast shape)"
-                    if known[name] == elasticity_outputs.ALL else "the broadcast shape")
-            raise ValueError(f"{where} has shape {array.shape}, expected {what} {expected}")
-        if not array.flags.c_contiguous:
-            raise ValueError(f"{where} must be C-contiguous")
-        if not array.flags.writeable:
-            raise ValueError(f"{where} is read-only")
-    names = list(known)
-    for i, a in enumerate(names):
-        for b in names[i + 1:]:
-            if np.may_share_memory(out[a], out[b]):
-                raise ValueError(f"out[{a!r}] and out[{b!r}] share memory")
-    return {known[name]: out[name] for name in names}
-
-
-def _result_arrays(result: Result, is_pixel_count: bool) -> dict:
-    """A Result's arrays by output name, its elasticities one output each."""
-    arrays = {k: v for k, v in result.as_dict().items() if v is not None and k != "elasticities"}
-    arrays.update({elasticity_outputs.output_of_key(key): array
-                   for key, array in (result.elasticities or {}).items()})
-    return arrays
 
 
 #: Bytes a backend allocates per point besides the inputs: the core its eight output columns
@@ -596,17 +382,6 @@ BYTES_PER_POINT = {"core": 6 * 8 + 2, "reference": 640}
 #: The reference's peak per byte of a sensitivity output it returns: its temporaries hold a few
 #: copies of each (tracemalloc on 2e5 random designs stays below 4).
 SENSITIVITY_BYTES_FACTOR = 4
-
-
-def _output_shape(name, shape) -> tuple:
-    """The shape of output ``name`` for the broadcast ``shape``."""
-    return (len(ELASTICITY_PARAMETERS),) + tuple(shape) if name == "elasticities" else shape
-
-
-def _output_bytes(name) -> int:
-    """Bytes output ``name`` takes per point."""
-    rows = len(ELASTICITY_PARAMETERS) if name == "elasticities" else 1
-    return rows * _DTYPES[name].itemsize
 
 
 def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES)):
@@ -620,11 +395,11 @@ def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPE
     n = math.prod(shape)
     columns = sum(1 for a in arrays if a.size > 1)
     if backend == "core":  # the outputs it computes, unless the caller gave them
-        own = 0 if out_given else sum(_output_bytes(k) for k in computed)
+        own = 0 if out_given else sum(output_bytes(k) for k in computed)
     else:  # the reference forms every elasticity for any of them
         formed = [k for k in SHARE_OUTPUTS if k in computed]
         formed += ["elasticities"] if elasticity_outputs.rows_in(computed) else []
-        own = BYTES_PER_POINT[backend] + sum(_output_bytes(k) * SENSITIVITY_BYTES_FACTOR
+        own = BYTES_PER_POINT[backend] + sum(output_bytes(k) * SENSITIVITY_BYTES_FACTOR
                                              for k in formed)
     per_point = 8 * columns + own
     needed = n * per_point
@@ -634,19 +409,12 @@ def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPE
                           f"{limit / 2**30:,.1f} GiB of memory here; evaluate it in pieces")
 
 
-def _column(arr: np.ndarray, shape) -> np.ndarray:
-    """A contiguous 1-D view or copy: size 1 for a broadcast scalar, else every point."""
-    if arr.size == 1:
-        return np.ascontiguousarray(arr.reshape(1))
-    return np.ascontiguousarray(np.broadcast_to(arr, shape)).reshape(-1)
-
-
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
               t_mpe_rtol, threads, out=None, precision="float64", allocate=None):
     from . import _core
 
     n = math.prod(shape)
-    columns = [_column(a, shape) for a in arrays]
+    columns = [column(a, shape) for a in arrays]
     if out is not None:  # an input that is also an output would be overwritten while read
         columns = [c.copy() if any(np.may_share_memory(c, o) for o in out.values()) else c
                    for c in columns]
@@ -662,6 +430,9 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=()):
+    from . import reference  # the NumPy reference, loaded only by calls that ask for it
+    from .reference import sensitivity
+
     n = math.prod(shape)
     p = {name: np.broadcast_to(a, shape).reshape(n)
          for name, a in zip(params.PARAMETER_NAMES, arrays)}
@@ -675,30 +446,10 @@ def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=()):
     shares = any(name in computed for name in SHARE_OUTPUTS)
     rows = elasticity_outputs.rows_in(computed)
     if shares or rows:
-        result.update(reference_sensitivity.sensitivity_points(
+        result.update(sensitivity.sensitivity_points(
             p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
             elasticities=bool(rows)))
     if rows and elasticity_outputs.ALL not in computed:  # the rows asked for, one output each
         every = dict(zip(elasticity_outputs.ROWS, result.pop(elasticity_outputs.ALL)))
         result.update({row: every[row] for row in rows})
     return result
-
-
-def _result(out, shape, sensor: _Sensor) -> Result:
-    """A Result of the flat arrays in ``out`` (the elasticities one row each, by their names in
-    elasticity_outputs.ROWS); a field ``out`` lacks is None."""
-    def value(name, v):
-        if v is None:
-            return None
-        if shape != ():
-            return v.reshape(shape)
-        return (Status(int(v[0])) if name == "status" else
-                Cause(int(v[0])) if name == "cause" else float(v[0]))
-    if elasticity_outputs.ALL in out:
-        elasticities = elasticity_outputs.every_by_key(out[elasticity_outputs.ALL], shape,
-                                                       sensor.is_pixel_count)
-    else:
-        rows = {row: value(row, out[row]) for row in elasticity_outputs.rows_in(out)}
-        elasticities = elasticity_outputs.by_key(rows, sensor.is_pixel_count) if rows else None
-    return Result(**{name: value(name, out.get(name)) for name in ALL_OUTPUT_DTYPES
-                     if name != "elasticities"}, elasticities=elasticities)

@@ -11,7 +11,12 @@ parameters' names. Inside, and in the core, each parameter's row goes by its nam
 
 from __future__ import annotations
 
-from .reference_sensitivity import ELASTICITY_PARAMETERS
+from .params import PARAMETER_NAMES
+
+#: The parameters an elasticity is given for, in the core's order: every model parameter, with
+#: ``"size"`` for the sensor's size (``Result.elasticities`` names it ``pixel_count`` or
+#: ``sensor_area_mm2``, as the caller gave it).
+ELASTICITY_PARAMETERS = PARAMETER_NAMES
 
 #: The output that holds every elasticity.
 ALL = "elasticities"

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import api, params
+from ._validation import as_float_array, choice, column, integer, short, threads_of, tolerance
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from .status import Status
 
@@ -95,21 +96,21 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
         NO_SOLUTION where the design already reaches the target at ``lo`` or not yet at ``hi``.
     """
     inputs = model_inputs(design)
-    target = api._as_float_array("target_epc", target_epc)
+    target = as_float_array("target_epc", target_epc)
     shape = _broadcast_shape({"design": inputs.shape, "target_epc": target.shape})
     lux_lo, lux_hi = _lux_range(lux_range)
-    api._choice("backend", backend, api.BACKENDS)
-    rtol = api._tolerance("rtol", rtol)
-    f50_rtol = api._tolerance("f50_rtol", f50_rtol)
+    choice("backend", backend, api.BACKENDS)
+    rtol = tolerance("rtol", rtol)
+    f50_rtol = tolerance("f50_rtol", f50_rtol)
     columns = inputs.columns(shape)
-    targets = api._column(target, shape)
+    targets = column(target, shape)
     n = math.prod(shape)
     if backend == "core":
         from . import _core
 
         out = _core.lux_for_epc(columns, inputs.size_is_pixel_count, params.domain_table(),
                                 *inputs.spectrum_arrays(), n, targets, lux_lo, lux_hi, rtol,
-                                f50_rtol, api._threads_of(threads))
+                                f50_rtol, threads_of(threads))
     else:
         _check_threads(threads)
         out = _reference_lux_for_epc(_Model(inputs, columns), np.broadcast_to(targets, (n,)),
@@ -148,9 +149,9 @@ def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE
     shape = _broadcast_shape({"design_a": a.shape, "design_b": b.shape})
     lux_lo, lux_hi = _lux_range(lux_range)
     grid_points = _grid_points(grid_points)
-    api._choice("backend", backend, api.BACKENDS)
-    rtol = api._tolerance("rtol", rtol)
-    f50_rtol = api._tolerance("f50_rtol", f50_rtol)
+    choice("backend", backend, api.BACKENDS)
+    rtol = tolerance("rtol", rtol)
+    f50_rtol = tolerance("f50_rtol", f50_rtol)
     columns_a, columns_b = a.columns(shape), b.columns(shape)
     n = math.prod(shape)
     if backend == "core":
@@ -159,7 +160,7 @@ def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE
         out = _core.crossover_lux(columns_a, columns_b, a.size_is_pixel_count,
                                   b.size_is_pixel_count, params.domain_table(),
                                   *a.spectrum_arrays(), n, lux_lo, lux_hi, grid_points, rtol,
-                                  f50_rtol, api._threads_of(threads))
+                                  f50_rtol, threads_of(threads))
     else:
         _check_threads(threads)
         out = _reference_crossover_lux(_Model(a, columns_a), _Model(b, columns_b), n, lux_lo,
@@ -176,14 +177,14 @@ def _lux_range(lux_range) -> tuple[float, float]:
         lo, hi = (float(x) for x in lux_range)
     except (TypeError, ValueError):
         raise TypeError(f"lux_range must be a pair of numbers (lo, hi), got "
-                        f"{api._short(lux_range)}") from None
+                        f"{short(lux_range)}") from None
     if not 0.0 < lo < hi < math.inf:
         raise ValueError(f"lux_range must satisfy 0 < lo < hi < inf, got {lux_range!r}")
     return lo, hi
 
 
 def _grid_points(value) -> int:
-    count = api._integer("grid_points", value)
+    count = integer("grid_points", value)
     if count < 2:
         raise ValueError(f"grid_points must be at least 2, got {count}")
     return count
@@ -192,7 +193,7 @@ def _grid_points(value) -> int:
 def _check_threads(threads) -> None:
     """The reference runs on one thread but validates ``threads=`` like the core."""
     if threads is not None:
-        api._threads_of(threads)
+        threads_of(threads)
 
 
 def _broadcast_shape(shapes: dict) -> tuple:
@@ -228,7 +229,7 @@ class ModelInputs:
 
     def columns(self, shape) -> list:
         """Contiguous 1-D columns of size 1 or prod(shape), as the core takes them."""
-        return [api._column(a, shape) for a in self.arrays]
+        return [column(a, shape) for a in self.arrays]
 
     def same_spectrum(self, other: "ModelInputs") -> bool:
         """Whether both are monochromatic, or share the same wavelengths and weights."""
@@ -269,7 +270,7 @@ def model_inputs(design: dict) -> ModelInputs:
     values["size"] = sensor.value
     if values["electrons_per_lux_s_m2"] is None:
         values["electrons_per_lux_s_m2"] = DEFAULT_ELECTRONS_PER_LUX_S_M2
-    arrays = tuple(api._as_float_array(name, values[name]) for name in params.PARAMETER_NAMES)
+    arrays = tuple(as_float_array(name, values[name]) for name in params.PARAMETER_NAMES)
     shape = _broadcast_shape({name: a.shape for name, a in
                               zip(params.PARAMETER_NAMES[1:], arrays[1:])})
     # a spectrum with all its weight on one wavelength becomes the monochromatic model at it

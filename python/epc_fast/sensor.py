@@ -29,6 +29,8 @@ import numbers
 
 import numpy as np
 
+from ._validation import short
+
 __all__ = ["SNR_AT", "SHAPE_KEYWORDS", "aspect_ratio", "sensor_shape",
            "corner_field_angle_deg", "check_snr_at", "snr_at_text", "design_parameters"]
 
@@ -39,11 +41,6 @@ SHAPE_KEYWORDS = ("sensor_width_mm", "sensor_height_mm", "sensor_diagonal_mm", "
 #: How a sensor's size can be given, for error messages.
 SIZE_WAYS = ("pixel_count, or sensor_area_mm2, or sensor_width_mm and sensor_height_mm, "
              "or sensor_diagonal_mm and aspect")
-
-
-def _short(value) -> str:
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def aspect_ratio(aspect) -> float:
@@ -73,7 +70,7 @@ def aspect_ratio(aspect) -> float:
     elif isinstance(aspect, numbers.Real) and not isinstance(aspect, bool):
         ratio = float(aspect)
     if not (math.isfinite(ratio) and ratio > 0):
-        raise ValueError(f"aspect={_short(aspect)}: expected width:height as \"4:3\", (4, 3) "
+        raise ValueError(f"aspect={short(aspect)}: expected width:height as \"4:3\", (4, 3) "
                          "or a positive number (width / height)")
     return ratio
 
@@ -93,7 +90,7 @@ def sensor_shape(sensor_width_mm=None, sensor_height_mm=None, sensor_diagonal_mm
     ways = [{"sensor_width_mm", "sensor_height_mm"}, {"sensor_diagonal_mm", "aspect"},
             *({k} for k in others)]
     if set(given) not in ways:
-        got = ", ".join(f"{k}={_short(v)}" for k, v in given.items()) or "none of them"
+        got = ", ".join(f"{k}={short(v)}" for k, v in given.items()) or "none of them"
         raise TypeError(f"give the sensor's size one way: {SIZE_WAYS}; got {got}")
     if "sensor_width_mm" in given:
         return (np.asarray(sensor_width_mm, dtype=np.float64),
@@ -118,7 +115,7 @@ def corner_field_angle_deg(width_mm, height_mm, focal_length_mm):
 def check_snr_at(snr_at) -> str:
     """``snr_at`` when it is one of :data:`SNR_AT`, else a ValueError naming its value."""
     if not isinstance(snr_at, str) or snr_at not in SNR_AT:
-        raise ValueError(f"snr_at={_short(snr_at)}: expected one of "
+        raise ValueError(f"snr_at={short(snr_at)}: expected one of "
                          f"{', '.join(map(repr, SNR_AT))} (or give field_angle_deg)")
     return snr_at
 
@@ -156,7 +153,7 @@ def design_parameters(entry) -> tuple[dict, str]:
         check_snr_at(snr_at)
         if "field_angle_deg" in kwargs:
             raise TypeError(f"give snr_at or field_angle_deg, not both (snr_at={snr_at!r}, "
-                            f"field_angle_deg={_short(kwargs['field_angle_deg'])})")
+                            f"field_angle_deg={short(kwargs['field_angle_deg'])})")
         if snr_at == "axis":
             kwargs["field_angle_deg"] = 0.0
             return kwargs, snr_at_text("axis", 0.0)

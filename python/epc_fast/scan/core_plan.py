@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import api, params
+from .._validation import choice, integer, tolerance
 from ..spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from .best import TopK
 from .chunk import OUTPUTS
@@ -140,11 +141,11 @@ class CorePlan:
     def _options(self) -> tuple:
         given = {k: v for k, v in self.space.evaluate_options.items() if k != "spectrum"}
         options = {**OPTION_DEFAULTS, **given}
-        api._choice("f50_solver", options["f50_solver"], api.F50_SOLVERS)
-        api._choice("t_mpe_solver", options["t_mpe_solver"], api.T_MPE_SOLVERS)
-        api._choice("precision", options["precision"], api.PRECISIONS)
-        return (options["f50_solver"], api._tolerance("f50_rtol", options["f50_rtol"]),
-                options["t_mpe_solver"], api._tolerance("t_mpe_rtol", options["t_mpe_rtol"]),
+        choice("f50_solver", options["f50_solver"], api.F50_SOLVERS)
+        choice("t_mpe_solver", options["t_mpe_solver"], api.T_MPE_SOLVERS)
+        choice("precision", options["precision"], api.PRECISIONS)
+        return (options["f50_solver"], tolerance("f50_rtol", options["f50_rtol"]),
+                options["t_mpe_solver"], tolerance("t_mpe_rtol", options["t_mpe_rtol"]),
                 options["precision"])
 
     # -- keys and reductions -----------------------------------------------------------------
@@ -247,7 +248,7 @@ def checked_seed(seed) -> int:
     """A scan's seed: an integer in [0, 2**64), or a ValueError naming it; None draws one."""
     if seed is None:
         return int(np.random.SeedSequence().generate_state(1, np.uint64)[0])
-    value = api._integer("seed", seed)
+    value = integer("seed", seed)
     if not 0 <= value < 2**64:
         raise ValueError(f"seed must be an integer in [0, 2**64), got {seed!r}")
     return value

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 import re
 
+from .._validation import short
 from .errors import ConfigError, TooLargeError
 
 __all__ = ["MAX_POINTS", "MAX_CHUNK_POINTS", "MAX_TOP_K", "MAX_GROUPS", "MAX_CELLS",
@@ -44,12 +45,6 @@ _FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")
 
 def where_prefix(where: str) -> str:
     return f"scan config [{where}]"
-
-
-def short(value) -> str:
-    """``repr(value)``, cut to 60 characters so an error stays one readable line."""
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _fail(where: str, key: str, value, expected: str, cls=ConfigError):

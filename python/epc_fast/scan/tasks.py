@@ -16,6 +16,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+from .._validation import threads_of
 from ..api import OUTPUT_DTYPES, evaluate
 from .chunk import Chunk
 from .core_plan import CorePlan
@@ -129,10 +130,8 @@ def _core_plan(space, plan, seed, points_total) -> tuple:
 def _core_chunk(space, plan, seed, start, stop, points_total, threads, parquet_dir):
     """The fused pass for every reduction it folds; the chunk's points as arrays, formed by
     the core, for exact quantiles and Parquet."""
-    from ..api import _threads_of
-
     t0 = time.perf_counter()
-    threads = _threads_of(threads)
+    threads = threads_of(threads)
     core, arrays = _core_plan(space, plan, seed, points_total)
     fused = core.plan
     partials = core.reduce(start, stop, threads) if fused else {}

@@ -40,9 +40,10 @@ import math
 
 import numpy as np
 
-from . import params
-from .reference import mtf_diffraction, scaled_product, sinpi
-from .status import Status
+from ..elasticity_outputs import ELASTICITY_PARAMETERS
+from ..outputs import SHARE_NAMES
+from ..status import Status
+from .model import mtf_diffraction, scaled_product, sinpi
 
 __all__ = [
     "ZETA_EVEN",
@@ -58,17 +59,9 @@ __all__ = [
     "field_angle_rate_log_slope",
     "epc_elasticities",
     "sensitivity_points",
-    "ELASTICITY_PARAMETERS",
-    "SHARE_NAMES",
     "PINNED_RTOL",
 ]
 
-#: The parameters an elasticity is given for, in the core's order: every model parameter, with
-#: ``"size"`` for the sensor's size (``Result.elasticities`` names it ``pixel_count`` or
-#: ``sensor_area_mm2``, as the caller gave it).
-ELASTICITY_PARAMETERS = params.PARAMETER_NAMES
-#: The MTF factors, in the order of the share outputs.
-SHARE_NAMES = ("diffraction", "pixel", "motion", "jitter")
 
 
 #: zeta(2), zeta(4), ..., zeta(30), rounded to float64 (tests/test_sensitivity.py checks them

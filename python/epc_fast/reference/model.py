@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from .status import Cause, Status
+from ..status import Cause, Status
 
 __all__ = [
     "scaled_product",

@@ -1,0 +1,99 @@
+"""The checks every entry point applies to its arguments, each naming the argument and its
+value in the error it raises: ``evaluate``, the inverse solvers, the optimiser and the scan's
+tasks take them from here.
+
+A leaf of the package but for :mod:`epc_fast._limits` (and the compiled core, loaded only when
+a default thread count is asked for).
+"""
+
+from __future__ import annotations
+
+import operator
+
+import numpy as np
+
+from ._limits import MAX_THREADS
+
+__all__ = ["short", "as_float_array", "integer", "threads_of", "tolerance", "choice", "column"]
+
+#: The largest integer a float64 holds (its largest finite value).
+_LARGEST_INT = int(np.finfo(np.float64).max)
+
+
+def short(value) -> str:
+    """``repr(value)``, cut to 60 characters so that an error stays one readable line."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def as_float_array(name: str, value) -> np.ndarray:
+    """``value`` as a native-endian float64 array; a TypeError naming ``name`` for anything but
+    real numbers, a ValueError for an integer no float64 holds."""
+    if value is None:
+        raise TypeError(f"{name} must be a number or an array of numbers, got None")
+    if isinstance(value, np.ma.MaskedArray):
+        raise TypeError(f"{name} is a masked array: its mask would be ignored; pass "
+                        "plain values (e.g. .filled(np.nan) to make masked points INVALID)")
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"{name} must be a number or an array of numbers, got {value!r}")
+    if isinstance(value, int) and not isinstance(value, bool):  # beyond int64 NumPy says object
+        if abs(value) > _LARGEST_INT:
+            raise ValueError(f"{name}={short(value)} does not fit a float64 (|x| > 1.8e308)")
+        value = float(value)
+    try:
+        arr = np.asarray(value)
+    except Exception as exc:  # ragged lists and the like
+        raise TypeError(f"{name} could not be read as an array: {exc}") from None
+    if arr.dtype.kind not in "iuf":
+        raise TypeError(
+            f"{name} must hold real numbers, got dtype {arr.dtype} ({short(value)})")
+    return arr.astype(np.float64, copy=False)
+
+
+def integer(name: str, value) -> int:
+    """``value`` as an int (bools and floats refused), or a TypeError naming ``name``."""
+    if isinstance(value, bool):
+        raise TypeError(f"{name} must be an integer, got {value!r}")
+    try:
+        return operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be an integer, got {short(value)}") from None
+
+
+def threads_of(threads) -> int:
+    """The core threads of a call: ``threads`` checked (an int in [1, MAX_THREADS]), or for None
+    the default (``OMP_NUM_THREADS`` or the cores, :func:`epc_fast._core.checked_default_threads`)."""
+    if threads is None:
+        from . import _core
+
+        return _core.checked_default_threads()
+    count = integer("threads", threads)
+    if not 1 <= count <= MAX_THREADS:
+        raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")
+    return count
+
+
+def tolerance(name: str, value) -> float:
+    """1: a relative tolerance in [0, 1), or an error naming ``name``."""
+    try:
+        tol = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a number, got {short(value)}") from None
+    if not 0.0 <= tol < 1.0:
+        raise ValueError(f"{name} must be in [0, 1), got {value!r}")
+    return tol
+
+
+def choice(name: str, value, allowed) -> str:
+    """``value`` if it is one of ``allowed``, else a ValueError naming ``name`` and them all."""
+    if value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
+    return value
+
+
+def column(arr: np.ndarray, shape) -> np.ndarray:
+    """A contiguous 1-D view or copy, as the core reads a column: size 1 for a broadcast scalar,
+    else every point of ``shape``."""
+    if arr.size == 1:
+        return np.ascontiguousarray(arr.reshape(1))
+    return np.ascontiguousarray(np.broadcast_to(arr, shape)).reshape(-1)

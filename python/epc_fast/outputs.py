@@ -1,0 +1,199 @@
+"""evaluate's outputs: the :class:`Result`, every output's name and dtype, which outputs a call
+asks for (``outputs=``), the caller's arrays for them (``out=``), checked, and the Result of the
+flat arrays the backends return."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from . import elasticity_outputs
+from ._validation import short
+from .elasticity_outputs import ELASTICITY_PARAMETERS
+from .status import Cause, Status
+
+__all__ = ["Result", "SHARE_NAMES", "SHARE_OUTPUTS", "SENSITIVITY_OUTPUTS", "OUTPUT_DTYPES",
+           "ALL_OUTPUT_DTYPES", "DTYPES", "selected_outputs", "out_arrays", "result_arrays",
+           "output_shape", "output_bytes", "result_of"]
+
+
+@dataclass(frozen=True, repr=False)
+class Result:
+    """The model's outputs, each shaped like the broadcast inputs (scalars for scalar input).
+
+    A field left out of ``evaluate(outputs=...)`` is None.
+
+    Attributes
+    ----------
+    electron_rate_e_per_s : e-/s, photo-electron rate of one pixel.
+    electrons : e-, photo-electrons collected during T_MPE (r T_MPE); NaN where no light or
+        PRNU makes the target unreachable, the electrons needed where the full well does.
+    t_mpe_s : s, minimum photometric exposure; +inf where the target is unreachable.
+    blur_mm : mm, blur length on the sensor; +inf where the blur is unbounded.
+    f50_cyc_per_mm : cycles/mm, where the system MTF falls to ``mtf_threshold``.
+    epc : pixels, effective pixel count 4 S f50^2.
+    status : :class:`Status` codes (uint8 array).
+    cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
+    share_diffraction, share_pixel, share_motion, share_jitter : 1, each MTF factor's share
+        ln MTF_i(f50) / ln MTF_sys(f50) of the loss at f50 (the denominator is ln c at the
+        root); the four sum to 1. NaN where the status is not OK, except where the blur is
+        unbounded: 0, 0, 1, 0. Computed only when ``outputs=`` names them.
+    elasticities : dict of parameter name to 1, the elasticity d ln EPC / d ln theta of every
+        model parameter (:data:`ELASTICITY_PARAMETERS`; the sensor's size under the keyword
+        that gave it, ``sensor_area_mm2`` for a width and a height or a diagonal), each the
+        broadcast shape; NaN where the status is not OK. Computed only when ``outputs=``
+        names ``"elasticities"`` (all of them) or some of them one by one
+        (``"elasticity_f_number"`` ..., :mod:`epc_fast.elasticity_outputs`): the dict holds
+        those.
+    """
+
+    electron_rate_e_per_s: np.ndarray | float | None
+    electrons: np.ndarray | float | None
+    t_mpe_s: np.ndarray | float | None
+    blur_mm: np.ndarray | float | None
+    f50_cyc_per_mm: np.ndarray | float | None
+    epc: np.ndarray | float | None
+    status: np.ndarray | Status | None
+    cause: np.ndarray | Cause | None
+    share_diffraction: np.ndarray | float | None = None
+    share_pixel: np.ndarray | float | None = None
+    share_motion: np.ndarray | float | None = None
+    share_jitter: np.ndarray | float | None = None
+    elasticities: dict | None = None
+
+    def as_dict(self) -> dict:
+        """The outputs by name: the default ones, and the others that were computed."""
+        return {f.name: getattr(self, f.name) for f in fields(self)
+                if f.name in OUTPUT_DTYPES or getattr(self, f.name) is not None}
+
+    def __repr__(self) -> str:
+        items = ", ".join(f"{name}={value!r}" for name, value in self.as_dict().items())
+        return f"Result({items})"
+
+
+#: The MTF factors whose shares of the loss at f50 evaluate gives, in the core's order.
+SHARE_NAMES = ("diffraction", "pixel", "motion", "jitter")
+#: The shares of the loss at f50, one output each (``outputs=`` names them; docs/limits.md).
+SHARE_OUTPUTS = tuple(f"share_{name}" for name in SHARE_NAMES)
+#: The outputs computed only when ``outputs=`` names them.
+SENSITIVITY_OUTPUTS = SHARE_OUTPUTS + ("elasticities",)
+#: Each default output's dtype, in Result's field order.
+OUTPUT_DTYPES = {f.name: np.dtype(np.uint8 if f.name in ("status", "cause") else np.float64)
+                 for f in fields(Result) if f.name not in SENSITIVITY_OUTPUTS}
+#: Every output's dtype (the elasticities: float64 rows), in Result's field order.
+ALL_OUTPUT_DTYPES = {**OUTPUT_DTYPES, **{name: np.dtype(np.float64)
+                                         for name in SENSITIVITY_OUTPUTS}}
+#: Every output's dtype by its name inside: the Result fields', and each single elasticity's.
+DTYPES = {**ALL_OUTPUT_DTYPES, **dict.fromkeys(elasticity_outputs.ROWS, np.dtype(np.float64))}
+
+
+def selected_outputs(outputs, is_pixel_count=False) -> tuple:
+    """The outputs ``outputs=`` asks for, in Result's order (then the single elasticities',
+    by their names in elasticity_outputs.ROWS); the default ones for None."""
+    if outputs is None:
+        return tuple(OUTPUT_DTYPES)
+    if isinstance(outputs, str):
+        outputs = (outputs,)
+    try:
+        names = list(outputs)
+    except TypeError:
+        raise TypeError(f"outputs must be a field name or an iterable of them, got "
+                        f"{short(outputs)}") from None
+    others = [name for name in names if name not in ALL_OUTPUT_DTYPES]
+    rows = [elasticity_outputs.row_of(name, is_pixel_count) for name in others]
+    unknown = [name for name, row in zip(others, rows) if row is None]
+    if unknown or not names:
+        what = f"unknown field(s) {unknown}" if unknown else "none"
+        raise ValueError(f"outputs must name at least one of {', '.join(ALL_OUTPUT_DTYPES)}, "
+                         f"or elasticity_ and a parameter's name; got {what}")
+    chosen = set(names)
+    if others and elasticity_outputs.ALL in chosen:
+        raise ValueError(f"outputs names 'elasticities', every elasticity, and also {others}")
+    selected = tuple(name for name in ALL_OUTPUT_DTYPES if name in chosen)
+    return selected + elasticity_outputs.rows_in(rows) if rows else selected
+
+
+def out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
+    """The caller's ``out=`` arrays by output name (a single elasticity's as in
+    elasticity_outputs.ROWS), each checked, or an error naming it."""
+    if isinstance(out, Result):
+        out = result_arrays(out, is_pixel_count)
+    if not isinstance(out, Mapping):
+        raise TypeError(f"out must be a Result or a mapping of its field names to arrays, "
+                        f"got {short(out)}")
+    shown = elasticity_outputs.output_names(is_pixel_count)
+    known = {shown.get(name, name): name for name in selected}
+    if elasticity_outputs.ALL in selected and elasticity_outputs.ALL not in out:
+        # every elasticity, one array per row (a Result's, as out=)
+        known.update({shown[row]: row for row in elasticity_outputs.ROWS})
+        del known[elasticity_outputs.ALL]
+    unknown = sorted(set(out) - set(known), key=str)
+    missing = [name for name in known if name not in out]
+    if unknown or missing:
+        raise ValueError(f"out must have exactly the fields {', '.join(known)}; "
+                         f"missing: {missing}, unknown: {unknown}")
+    for name in known:
+        dtype = DTYPES[known[name]]
+        array = out[name]
+        where = f"out[{name!r}]"
+        if not isinstance(array, np.ndarray):
+            raise TypeError(f"{where} must be a NumPy array, got {short(array)}")
+        if array.dtype != dtype:
+            raise TypeError(f"{where} has dtype {array.dtype.str}, expected {dtype.str} "
+                            f"({dtype.name}, native byte order)")
+        expected = output_shape(known[name], shape)
+        if array.shape != expected:
+            what = ("(one row per parameter of ELASTICITY_PARAMETERS, then the broadcast shape)"
+                    if known[name] == elasticity_outputs.ALL else "the broadcast shape")
+            raise ValueError(f"{where} has shape {array.shape}, expected {what} {expected}")
+        if not array.flags.c_contiguous:
+            raise ValueError(f"{where} must be C-contiguous")
+        if not array.flags.writeable:
+            raise ValueError(f"{where} is read-only")
+    names = list(known)
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            if np.may_share_memory(out[a], out[b]):
+                raise ValueError(f"out[{a!r}] and out[{b!r}] share memory")
+    return {known[name]: out[name] for name in names}
+
+
+def result_arrays(result: Result, is_pixel_count: bool) -> dict:
+    """A Result's arrays by output name, its elasticities one output each."""
+    arrays = {k: v for k, v in result.as_dict().items() if v is not None and k != "elasticities"}
+    arrays.update({elasticity_outputs.output_of_key(key): array
+                   for key, array in (result.elasticities or {}).items()})
+    return arrays
+
+
+def output_shape(name, shape) -> tuple:
+    """The shape of output ``name`` for the broadcast ``shape``."""
+    return (len(ELASTICITY_PARAMETERS),) + tuple(shape) if name == "elasticities" else shape
+
+
+def output_bytes(name) -> int:
+    """Bytes output ``name`` takes per point."""
+    rows = len(ELASTICITY_PARAMETERS) if name == "elasticities" else 1
+    return rows * DTYPES[name].itemsize
+
+
+def result_of(out, shape, is_pixel_count: bool) -> Result:
+    """A Result of the flat arrays in ``out`` (the elasticities one row each, by their names in
+    elasticity_outputs.ROWS); a field ``out`` lacks is None."""
+    def value(name, v):
+        if v is None:
+            return None
+        if shape != ():
+            return v.reshape(shape)
+        return (Status(int(v[0])) if name == "status" else
+                Cause(int(v[0])) if name == "cause" else float(v[0]))
+    if elasticity_outputs.ALL in out:
+        elasticities = elasticity_outputs.every_by_key(out[elasticity_outputs.ALL], shape,
+                                                       is_pixel_count)
+    else:
+        rows = {row: value(row, out[row]) for row in elasticity_outputs.rows_in(out)}
+        elasticities = elasticity_outputs.by_key(rows, is_pixel_count) if rows else None
+    return Result(**{name: value(name, out.get(name)) for name in ALL_OUTPUT_DTYPES
+                     if name != "elasticities"}, elasticities=elasticities)

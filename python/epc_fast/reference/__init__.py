@@ -1,0 +1,16 @@
+"""The NumPy reference implementation of the model, readable as the spec (docs/model.md).
+
+:mod:`~epc_fast.reference.model` is the model, one formula a function;
+:mod:`~epc_fast.reference.sensitivity` what limits a design and how sensitive it is (the
+shares and the elasticities). Every function carries the same name as its C++ counterpart in
+``cpp/include/epc_fast/``; the core is tested against them. The model's names are importable
+from here (``epc_fast.reference.mtf_diffraction``).
+"""
+
+from __future__ import annotations
+
+from . import model, sensitivity
+from .model import *  # noqa: F401,F403  (the model's names, as its __all__ lists them)
+from .model import __all__ as _model_names
+
+__all__ = ["model", "sensitivity", *_model_names]
