@@ -2,8 +2,8 @@
 
 A command module defines ``NAME`` (the sub-command), ``HELP`` (one line),
 ``add_arguments(parser)`` and ``run(args) -> int`` (the exit code). Adding a module here adds a
-sub-command; nothing else needs to change. The helpers below are the commands' shared
-arguments.
+sub-command; nothing else needs to change. The helpers below are what the commands share:
+their arguments and how they print a duration.
 """
 
 from __future__ import annotations
@@ -46,3 +46,16 @@ def add_output_arguments(parser: argparse.ArgumentParser, default: str, replaced
                         "%(default)s); refused when not empty, unless --overwrite")
     parser.add_argument("--overwrite", action="store_true", help="write into a --out that is not "
                         f"empty, replacing only {replaced}")
+
+
+def duration(seconds: float) -> str:
+    """A wall time with the digits that matter: ``"42 ms"``, ``"3.21 s"``, ``"24.8 s"``,
+    ``"2 min 05 s"``."""
+    if seconds < 1.0:
+        return f"{seconds * 1e3:.2g} ms" if seconds < 0.01 else f"{seconds * 1e3:.0f} ms"
+    if seconds < 10.0:
+        return f"{seconds:.2f} s"
+    if seconds < 60.0:
+        return f"{seconds:.1f} s"
+    minutes, rest = divmod(round(seconds), 60)
+    return f"{minutes} min {rest:02d} s"

@@ -14,8 +14,7 @@ import argparse
 import csv
 import json
 
-from . import add_output_arguments, whole
-from .scan import duration
+from . import add_output_arguments, duration, whole
 
 NAME = "optimize"
 HELP = ("maximise an objective of EPC (mean, quantile, probability) over design parameters "
@@ -30,7 +29,7 @@ FILES = {"optimum.json": "the optimum, its uncertainty and the config",
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from ..api import MAX_THREADS
-    from ..optimize_config import MAX_OPTIMIZE_POINTS
+    from ..optimize.config import MAX_OPTIMIZE_POINTS
 
     parser.add_argument("config", help="TOML file (see examples/optimize_pitch.toml)")
     add_output_arguments(parser, "epc-optimize", "the files this command writes")
@@ -46,7 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _config(args):
-    from ..optimize_config import load_optimize_config
+    from ..optimize.config import load_optimize_config
 
     config = load_optimize_config(args.config)
     for name in ("points", "seed", "threads"):
@@ -84,7 +83,7 @@ def run(args) -> int:
         _core.checked_default_threads()  # OMP_NUM_THREADS, before anything is written
     plot = not args.no_plot
     if plot:
-        from ..optimize_plot import curve_figure, figure_class
+        from ..optimize.plot import curve_figure, figure_class
 
         figure_class()  # without matplotlib, an error before any work
     out = OutputDirectory(args.out, overwrite=args.overwrite)

@@ -24,8 +24,7 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from ..paper import FIGURES, statements
-    from ..paper_table import markdown_table, write_csv
+    from ..paper import FIGURES, markdown_table, statements, write_csv
 
     args.out.mkdir(parents=True, exist_ok=True)
     table = statements(backend=args.backend, threads=args.threads)
@@ -39,8 +38,8 @@ def run(args) -> int:
             print(f"  does not hold: {s.id} ({s.kind}), deviation {s.deviation:+.1%}")
 
     try:
-        from ..limits_plot import plot_limits_over_illuminance
-        from ..plotting import plot_epc_over_illuminance, save_figure
+        from ..plotting import (plot_epc_over_illuminance, plot_limits_over_illuminance,
+                                save_figure)
 
         options = dict(backend=args.backend, threads=args.threads)
         for figure in FIGURES:

@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from . import add_output_arguments, whole
+from . import add_output_arguments, duration, whole
 
 NAME = "scan"
 HELP = ("scan a design space from a TOML config (default: the built-in one) and write its "
@@ -82,19 +82,6 @@ def _client(address):
         raise ImportError("--scheduler needs dask.distributed: pip install 'epc-fast[dask]'"
                           ) from None
     return Client(address)
-
-
-def duration(seconds: float) -> str:
-    """A wall time with the digits that matter: ``"42 ms"``, ``"3.21 s"``, ``"24.8 s"``,
-    ``"2 min 05 s"``."""
-    if seconds < 1.0:
-        return f"{seconds * 1e3:.2g} ms" if seconds < 0.01 else f"{seconds * 1e3:.0f} ms"
-    if seconds < 10.0:
-        return f"{seconds:.2f} s"
-    if seconds < 60.0:
-        return f"{seconds:.1f} s"
-    minutes, rest = divmod(round(seconds), 60)
-    return f"{minutes} min {rest:02d} s"
 
 
 def headline(result, source: str) -> str:

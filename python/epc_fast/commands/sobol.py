@@ -13,7 +13,7 @@ import argparse
 import dataclasses
 import time
 
-from . import add_output_arguments, whole
+from . import add_output_arguments, duration, whole
 
 NAME = "sobol"
 HELP = ("apportion the variance of EPC among a scan config's random parameters: Sobol' "
@@ -76,8 +76,6 @@ def compute(config, sobol, threads):
 
 def report(result, seconds: float) -> str:
     """The headline (with the wall time) and the table, as printed."""
-    from .scan import duration
-
     return f"{result.headline()}: {duration(seconds)}\n{result.markdown()}"
 
 
