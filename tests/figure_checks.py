@@ -8,7 +8,7 @@ import itertools
 import numpy as np
 from matplotlib.text import Text
 
-from epc_fast.plot_layout import line_points
+from epc_fast.plotting.layout import line_points
 
 
 def label_boxes(figure, ax) -> dict:

@@ -12,7 +12,7 @@ import pytest
 
 import epc_fast
 from epc_fast.__main__ import main
-from epc_fast.commands.scan import duration
+from epc_fast.commands import duration
 from epc_fast.presets import HIGH_TIER
 from epc_fast.selfcheck import self_check
 

@@ -10,7 +10,7 @@ import pytest
 
 import epc_fast
 from epc_fast.api import SHARE_OUTPUTS
-from epc_fast.limits_plot import FACTORS, SHARE_LABEL, plot_limits_over_illuminance
+from epc_fast.plotting.limits import FACTORS, SHARE_LABEL, plot_limits_over_illuminance
 from epc_fast.paper import FIGURES
 from epc_fast.presets import HIGH_TIER, LOW_TIER
 

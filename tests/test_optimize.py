@@ -10,7 +10,7 @@ import pytest
 
 import epc_fast
 from epc_fast import optimize, scan
-from epc_fast.optimize_objectives import order_statistics
+from epc_fast.optimize.objectives import order_statistics
 from epc_fast.presets import HIGH_TIER
 
 #: The paper's 1/3.2" 1.75 um design: its format, lens and corner SNR target; the pitch is what

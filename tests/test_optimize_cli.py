@@ -12,7 +12,7 @@ import pytest
 
 from epc_fast import optimize, scan
 from epc_fast.__main__ import main
-from epc_fast.optimize_config import load_optimize_config
+from epc_fast.optimize.config import load_optimize_config
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = """\

@@ -17,7 +17,7 @@ import pytest
 
 import epc_fast
 from epc_fast.paper import CLAIMS, KINDS, PAPER_LUX_RANGE, VGA_PIXELS, statements
-from epc_fast.paper_table import CSV_COLUMNS, markdown_table, write_csv
+from epc_fast.paper.table import CSV_COLUMNS, markdown_table, write_csv
 from epc_fast.presets import HIGH_TIER
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "paper.md"

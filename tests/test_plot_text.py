@@ -1,11 +1,11 @@
-"""Text on figures (epc_fast.plot_text): units as a reader writes them, labels from names."""
+"""Text on figures (epc_fast.plotting.text): units as a reader writes them, labels from names."""
 
 from __future__ import annotations
 
 import pytest
 
 from epc_fast.params import PARAMETER_NAMES
-from epc_fast.plot_text import output_scale, quantity_label, quantity_unit, unit_text
+from epc_fast.plotting.text import output_scale, quantity_label, quantity_unit, unit_text
 from epc_fast.scan.chunk import OUTPUTS
 
 

@@ -82,7 +82,7 @@ def test_paper_command_without_matplotlib_still_writes_the_table(tmp_path, monke
 
 
 def test_the_cli_and_the_plotting_module_import_without_matplotlib():
-    code = ("import sys, epc_fast.__main__, epc_fast.plotting, epc_fast.limits_plot,"
+    code = ("import sys, epc_fast.__main__, epc_fast.plotting, epc_fast.plotting.limits,"
             " epc_fast.paper;"
             "sys.exit('matplotlib' in sys.modules)")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

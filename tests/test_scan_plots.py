@@ -12,7 +12,7 @@ from epc_fast.presets import HIGH_TIER
 
 matplotlib = pytest.importorskip("matplotlib")
 
-from epc_fast.plot_layout import line_points  # noqa: E402
+from epc_fast.plotting.layout import line_points  # noqa: E402
 from epc_fast.scan.plots import (bands_figure, distribution_figure, plot_bands,  # noqa: E402
                                  plot_distributions)
 

@@ -148,7 +148,7 @@ def test_points_per_s_times_every_setting_on_every_thread_count():
 
 
 def test_points_per_s_writes_every_timed_call_into_the_same_arrays(monkeypatch):
-    from epc_fast import tradeoff
+    from epc_fast.tradeoff import measure as tradeoff
     from epc_fast.selfcheck import random_designs
 
     seen = []
@@ -250,7 +250,7 @@ def test_plot_legend_sits_below_the_axes_and_ticks_are_plain_numbers():
 def test_measuring_imports_no_matplotlib_and_keeps_the_plot_name():
     code = ("import sys, epc_fast.tradeoff as t;"
             "assert 'matplotlib' not in sys.modules;"
-            "import epc_fast.tradeoff_plot as p, epc_fast.tradeoff_tables as tt;"
+            "import epc_fast.tradeoff.plot as p, epc_fast.tradeoff.tables as tt;"
             "assert t.plot_tradeoff is p.plot_tradeoff and t.csv_columns is tt.csv_columns;"
             "assert 'matplotlib' not in sys.modules")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

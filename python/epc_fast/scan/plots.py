@@ -2,7 +2,7 @@
 quantile bands against a binned parameter, one panel per group.
 
 Axis labels come from the output's and the parameter's names, with units
-(:func:`epc_fast.plot_text.quantity_label`). A threshold of a ``fraction_below`` reduction of
+(:func:`epc_fast.plotting.text.quantity_label`). A threshold of a ``fraction_below`` reduction of
 the same output is drawn and labelled on both plots, and the distribution marks each group's
 fraction below it. The distribution's axis starts at the histogram's low edge; the figure says
 so and gives each group's share of points below it.
@@ -19,8 +19,9 @@ import math
 
 import numpy as np
 
-from ..plot_layout import freeze_layout, place_line_labels, place_vertical_line_label
-from ..plot_text import output_scale, quantity_label, quantity_unit, unit_text
+from ..plotting.common import figure_class, save_figure
+from ..plotting.layout import freeze_layout, place_line_labels, place_vertical_line_label
+from ..plotting.text import output_scale, quantity_label, quantity_unit, unit_text
 from .histograms import HistogramResult, QuantilesResult
 
 __all__ = ["plot_distributions", "plot_bands", "distribution_figure", "bands_figure",
@@ -38,17 +39,12 @@ def plain_text(text) -> str:
 
 
 def _save(figure, path) -> None:
-    from .atomic import atomic_write
-
-    atomic_write(path, lambda temporary: figure.savefig(temporary, dpi=120, format="png"))
+    save_figure(figure, path, dpi=120, file_format="png")  # path may be a temporary name
 
 
 def _figure(size=(7.5, 5.4)):
-    try:
-        from matplotlib.figure import Figure
-    except ImportError:
-        raise ImportError("plots need matplotlib: pip install 'epc-fast[plot]'") from None
-    return Figure(figsize=size, layout="constrained")
+    return figure_class("the scan's plots", without="--no-plots on the command line")(
+        figsize=size, layout="constrained")
 
 
 def _group_names(labels: dict, skip=()) -> list[str]:

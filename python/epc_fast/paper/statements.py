@@ -21,12 +21,13 @@ from typing import Callable
 
 import numpy as np
 
-from .api import evaluate
-from .inverse import InverseStatus, crossover_lux, lux_for_epc
-from .params import PARAMETERS
-from .presets import FIGURE_3, HIGH_TIER, LOW_TIER, READINGS, ZOOM_3X, Design, stack
+from ..api import evaluate
+from ..inverse import InverseStatus, crossover_lux, lux_for_epc
+from ..params import PARAMETERS
+from ..presets import FIGURE_3, HIGH_TIER, LOW_TIER, READINGS, ZOOM_3X, Design, stack
 
-__all__ = ["Statement", "Figure", "FIGURES", "PAPER_LUX_RANGE", "KINDS", "statements"]
+__all__ = ["Statement", "Figure", "FIGURES", "CLAIMS", "PAPER_LUX_RANGE", "KINDS", "VGA_PIXELS",
+           "RAYLEIGH_FACTOR", "statements"]
 
 #: lux, the illuminance range of the paper's figures and statements.
 PAPER_LUX_RANGE = (100.0, 100000.0)
@@ -42,7 +43,7 @@ _READING_ORDER = ("corner_30db", "on_axis_30db", "on_axis_33db")
 @dataclass(frozen=True)
 class Figure:
     """One of the paper's figures: EPC of some designs over illuminance; and its companion,
-    what limits each of them (:func:`epc_fast.limits_plot.plot_limits_over_illuminance`)."""
+    what limits each of them (:func:`epc_fast.plotting.limits.plot_limits_over_illuminance`)."""
 
     name: str
     title: str

@@ -20,16 +20,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from .api import MAX_THREADS
-from .optimize_objectives import OBJECTIVES
-from .optimize_checks import checked_bounds
-from .optimize_problem import DEFAULT_BATCHES, DEFAULT_XTOL, MIN_BATCH_POINTS
-from .scan.config import parse_space, toml_document
-from .scan.config_files import read_text
-from .scan.errors import ConfigError
-from .scan.schema import (MAX_CONFIG_BYTES, choice, integer, number, number_list, short,
+from ..api import MAX_THREADS
+from .objectives import OBJECTIVES
+from .checks import checked_bounds
+from .problem import DEFAULT_BATCHES, DEFAULT_XTOL, MIN_BATCH_POINTS
+from ..scan.config import parse_space, toml_document
+from ..scan.config_files import read_text
+from ..scan.errors import ConfigError
+from ..scan.schema import (MAX_CONFIG_BYTES, choice, integer, number, number_list, short,
                           table_of, take, wrapped)
-from .scan.space import POINT_PARAMETERS, Space
+from ..scan.space import POINT_PARAMETERS, Space
 
 __all__ = ["OptimizeConfig", "parse_optimize_config", "load_optimize_config",
            "MAX_OPTIMIZE_POINTS", "DEFAULT_CURVE_POINTS"]

@@ -13,10 +13,11 @@ from __future__ import annotations
 
 import math
 
-from .optimize_checks import unit_of
-from .optimize_result import Optimum
-from .plot_text import output_scale, quantity_label, quantity_unit, unit_text
-from .scan.atomic import atomic_write
+from .checks import unit_of
+from .result import Optimum
+from ..plotting import common
+from ..plotting.common import save_figure
+from ..plotting.text import output_scale, quantity_label, quantity_unit, unit_text
 
 __all__ = ["figure_class", "curve_figure", "plot_curves", "BAND_ERRORS"]
 
@@ -34,12 +35,7 @@ def _objective_axis(optimum: Optimum) -> tuple[float, str]:
 
 def figure_class():
     """matplotlib's Figure, or an ImportError that says which extra to install."""
-    try:
-        from matplotlib.figure import Figure
-    except ImportError:
-        raise ImportError("the curve plot needs matplotlib: pip install 'epc-fast[plot]' (or "
-                          "--no-plot on the command line)") from None
-    return Figure
+    return common.figure_class("the optimiser's curve plot", without="--no-plot on the command line")
 
 
 def curve_figure(curves, optimum: Optimum):
@@ -72,5 +68,4 @@ def curve_figure(curves, optimum: Optimum):
 
 def plot_curves(curves, optimum: Optimum, path) -> None:
     """Write :func:`curve_figure` as a PNG to ``path``, atomically."""
-    figure = curve_figure(curves, optimum)
-    atomic_write(path, lambda temporary: figure.savefig(temporary, dpi=120, format="png"))
+    save_figure(curve_figure(curves, optimum), path, dpi=120)

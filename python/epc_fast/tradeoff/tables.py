@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .tradeoff import THREADS, Measurement, _rtol_text, speedups
+from .measure import THREADS, Measurement, rtol_text, speedups
 
 __all__ = ["markdown_columns", "csv_columns"]
 
@@ -24,7 +24,7 @@ def markdown_columns(measurements: Sequence[Measurement], front: Sequence[int] =
         "setting": [m.setting.name + (" *" if i in front else "")
                     for i, m in enumerate(measurements)],
         "f50 solver": [str(m.f50_solver) for m in measurements],
-        "rtol": [_rtol_text(m.f50_rtol) for m in measurements],
+        "rtol": [rtol_text(m.f50_rtol) for m in measurements],
         "precision": [str(m.precision) for m in measurements],
         "max rel err": [_error_text(m.accuracy.max_rel_error) for m in measurements],
         "median rel err": [_error_text(m.accuracy.median_rel_error) for m in measurements],

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import math
 
-from .plot_layout import freeze_layout
-from .plot_text import quantity_label, unit_text
-from .plotting import _figure_class, _illuminance_lux, _shared_reading
-from .presets import READINGS, evaluate_over_illuminance
+from ..presets import READINGS, evaluate_over_illuminance
+from .common import figure_class, illuminance_lux, shared_reading
+from .layout import freeze_layout
+from .text import quantity_label, unit_text
 
 __all__ = ["plot_limits_over_illuminance", "FACTORS", "SHARE_LABEL"]
 
@@ -57,14 +57,14 @@ def plot_limits_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.
     matplotlib.figure.Figure
         Its axes in the order of ``designs``, each titled with its design's name.
     """
-    reading = _shared_reading(designs)
-    lux = _illuminance_lux(lux_range)
+    reading = shared_reading(designs)
+    lux = illuminance_lux(lux_range)
     outputs = [output for output, _, _ in FACTORS]
     result = evaluate_over_illuminance(designs, lux, outputs=outputs, backend=backend,
                                        threads=threads)
     rows = math.ceil(len(designs) / COLUMNS)
     columns = min(COLUMNS, len(designs))
-    figure = _figure_class()(figsize=(WIDTH_IN, rows * ROW_HEIGHT_IN + MARGINS_IN),
+    figure = figure_class()(figsize=(WIDTH_IN, rows * ROW_HEIGHT_IN + MARGINS_IN),
                              layout="constrained")
     axes = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False)
     for index, (design, ax) in enumerate(zip(designs, axes.flat)):

@@ -14,7 +14,7 @@ once (the scan's counter-based draws, so a seed gives the same scenes anywhere) 
 candidate design is evaluated on exactly these draws (common random numbers). The objective
 is then a deterministic, continuous function of the design parameters, which a bounded
 optimiser can maximise; the difference between two candidates carries far less noise than
-either value. Objectives (:mod:`epc_fast.optimize_objectives`): :class:`Mean`,
+either value. Objectives (:mod:`epc_fast.optimize.objectives`): :class:`Mean`,
 :class:`Quantile` (exact) and :class:`ProbabilityAtLeast`. A draw where the design's status is
 not OK (an unreachable SNR target) is worth 0 pixels: every scene counts, and a design that
 cannot take a picture of a scene gets nothing for it.
@@ -30,9 +30,9 @@ SciPy is needed (``pip install 'epc-fast[optimize]'``) and imported only when a 
 
 from __future__ import annotations
 
-from .optimize_objectives import Mean, ProbabilityAtLeast, Quantile
-from .optimize_problem import DEFAULT_BATCHES, DEFAULT_XTOL, Problem
-from .optimize_result import Curve, Estimate, Optimum
+from .objectives import Mean, ProbabilityAtLeast, Quantile
+from .problem import DEFAULT_BATCHES, DEFAULT_XTOL, Problem
+from .result import Curve, Estimate, Optimum
 
 __all__ = ["maximize", "Problem", "Mean", "Quantile", "ProbabilityAtLeast", "Optimum",
            "Estimate", "Curve"]

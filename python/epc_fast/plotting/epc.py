@@ -1,31 +1,14 @@
-"""Plots of EPC over illuminance. matplotlib (the ``plot`` extra) is imported inside functions.
-
-Figures are built on :class:`matplotlib.figure.Figure` directly, not through pyplot: no global
-state, no GUI backend, safe in threads and on headless machines.
-"""
+"""Plots of EPC over illuminance (:mod:`epc_fast.plotting.common`: matplotlib imported inside
+functions)."""
 
 from __future__ import annotations
 
-import numpy as np
+from .common import figure_class, illuminance_lux, shared_reading
+from .layout import freeze_layout, place_line_labels
+from .text import quantity_label, unit_text
+from ..presets import READINGS, evaluate_over_illuminance
 
-from .plot_layout import freeze_layout, place_line_labels
-from .plot_text import quantity_label, unit_text
-from .presets import READINGS, evaluate_over_illuminance
-
-__all__ = ["plot_epc_over_illuminance", "save_figure"]
-
-#: Curves per decade of illuminance: smooth at any zoom the paper's figures need.
-POINTS_PER_DECADE = 80
-
-
-def _figure_class():
-    try:
-        from matplotlib.figure import Figure
-    except ImportError as exc:
-        raise ImportError("plotting needs matplotlib: install the plot extra, "
-                          "pip install 'epc-fast[plot]'") from exc
-    return Figure
-
+__all__ = ["plot_epc_over_illuminance"]
 
 def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0), backend="core",
                               threads=None):
@@ -33,7 +16,7 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
 
     The x axis is illuminance in lux on a log scale, the y axis EPC in megapixels; each design's
     physical pixel count is marked by a dotted line in its curve's colour, labelled where no
-    curve passes (:func:`epc_fast.plot_layout.place_line_labels`). The legend sits below the
+    curve passes (:func:`epc_fast.plotting.layout.place_line_labels`). The legend sits below the
     axes, clear of the curves. The figure's layout is fixed when it is returned: add nothing
     that needs room.
 
@@ -51,10 +34,10 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     -------
     matplotlib.figure.Figure
     """
-    reading = _shared_reading(designs)
-    figure = _figure_class()(figsize=(7.0, 5.2), layout="constrained")
+    reading = shared_reading(designs)
+    figure = figure_class()(figsize=(7.0, 5.2), layout="constrained")
     ax = figure.subplots()
-    lux = _illuminance_lux(lux_range)
+    lux = illuminance_lux(lux_range)
     result = evaluate_over_illuminance(designs, lux, backend=backend, threads=threads)
     curves = [ax.plot(lux, epc / 1e6, color=f"C{index}", lw=2, label=unit_text(design.name))[0]
               for index, (design, epc) in enumerate(zip(designs, result.epc))]
@@ -72,22 +55,6 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     place_line_labels(ax, levels, [f"{level:.2f} Mpixel" for level in levels],
                       renderer=renderer, fontsize=8, colors=colors, lines=curves)
     return figure
-
-
-def _shared_reading(designs) -> str:
-    """The reading (:data:`epc_fast.presets.READINGS`) all ``designs`` share; a ValueError
-    when they do not, since a figure names one in its title."""
-    readings = {d.reading for d in designs}
-    if len(readings) != 1:
-        raise ValueError(f"the designs of one figure share one reading, got {sorted(readings)}")
-    return readings.pop()
-
-
-def _illuminance_lux(lux_range) -> np.ndarray:
-    """lux: :data:`POINTS_PER_DECADE` log-spaced points a decade over ``lux_range`` (lux),
-    both ends included."""
-    lo, hi = np.log10(lux_range[0]), np.log10(lux_range[1])
-    return np.logspace(lo, hi, int(round((hi - lo) * POINTS_PER_DECADE)) + 1)
 
 
 def _pixel_count_lines(ax, designs) -> tuple[list, list]:
@@ -110,8 +77,3 @@ def _pixel_count_lines(ax, designs) -> tuple[list, list]:
         colors.append(color)
     ax.plot([], [], color="0.4", ls=":", lw=1.2, label="physical pixel count")
     return levels, colors
-
-
-def save_figure(figure, path, dpi=110) -> None:
-    """Write ``figure`` to ``path`` (the format from its suffix, e.g. PNG)."""
-    figure.savefig(path, dpi=dpi)

@@ -1,33 +1,9 @@
-"""Speed against accuracy: the engine's knobs, each measured for error and throughput.
-
-A :class:`Setting` is a name and the keyword arguments it passes to :func:`epc_fast.evaluate`
-(the f50 solver and its tolerance, the T_MPE solver, the arithmetic precision, spectral samples
-for polychromatic diffraction). For each setting this module measures
-
-- **error**: the relative error of f50 against the NumPy reference (``backend="reference"``,
-  which bisects f50 to adjacent floats) on the same random designs, over the points where both
-  give status OK; polychromatic settings against the reference with the same spectrum. Status
-  mismatches are counted (there should be none: the knobs change how f50 is solved, not which
-  points have one);
-- **throughput**: points/s on 1 and 2 threads, the median of a few timed rounds after one
-  warm-up.
-
-:func:`pareto_front` picks the settings that no other setting beats on both at once.
-``epc-fast bench`` (:mod:`epc_fast.commands.bench`) is the command line. Settings whose knob
-the installed :func:`evaluate` does not take are skipped (:func:`split_by_knobs`), so the list
-may name knobs a build lacks.
-
-This module measures; it never imports matplotlib. The tables are
-:mod:`epc_fast.tradeoff_tables`, the plot :mod:`epc_fast.tradeoff_plot`, the check of the
-reference against mpmath :mod:`epc_fast.tradeoff_mpmath`; their public names are importable
-from here too (``from epc_fast.tradeoff import plot_tradeoff``), each module loaded on first
-use.
-"""
+"""The speed/accuracy measurements of :mod:`epc_fast.tradeoff`: the settings, each one's f50
+error against the NumPy reference and its throughput, and the Pareto front of the two."""
 
 from __future__ import annotations
 
 import functools
-import importlib
 import inspect
 import math
 import statistics
@@ -37,15 +13,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .api import evaluate
-from .selfcheck import random_designs
-from .status import Status
+from ..api import evaluate
+from ..selfcheck import random_designs
+from ..status import Status
 
 __all__ = [
-    "Setting", "Accuracy", "Measurement", "MpmathCheck", "default_settings", "split_by_knobs",
-    "rejection", "evaluate_parameters", "knob_value", "f50_accuracy", "call_time_s",
-    "points_per_s", "measure", "speedups", "pareto_front", "front_of", "markdown_columns",
-    "csv_columns", "plot_tradeoff", "mpmath_check",
+    "Setting", "Accuracy", "Measurement", "default_settings", "split_by_knobs", "rejection",
+    "evaluate_parameters", "knob_value", "f50_accuracy", "call_time_s", "points_per_s",
+    "measure", "speedups", "pareto_front", "front_of", "rtol_text", "THREADS", "F50_SOLVERS",
+    "F50_RTOLS", "SPECTRUM_SAMPLES", "BASELINE", "IMPLICIT_KNOB_VALUES", "PROBE_DESIGN",
 ]
 
 #: Thread counts the throughput is measured on; the last one is the plot's and the speed-up's.
@@ -102,12 +78,12 @@ class Setting:
 
 @functools.lru_cache(maxsize=None)
 def _spectrum(samples: int):
-    from .spectra import diffraction_spectrum
+    from ..spectra import diffraction_spectrum
 
     return diffraction_spectrum(samples)
 
 
-def _rtol_text(rtol: float) -> str:
+def rtol_text(rtol: float) -> str:
     """A tolerance as short as it goes: 1e-6, not 1e-06."""
     return f"{rtol:g}".replace("e-0", "e-")
 
@@ -117,7 +93,7 @@ def default_settings() -> list[Setting]:
     :data:`F50_RTOLS`; Brent's T_MPE; float32 (default tolerance and 1e-6); polychromatic
     diffraction with each of :data:`SPECTRUM_SAMPLES` wavelengths."""
     settings = [Setting(BASELINE)]
-    settings += [Setting(f"{solver} rtol={_rtol_text(rtol)}",
+    settings += [Setting(f"{solver} rtol={rtol_text(rtol)}",
                          {"f50_solver": solver, "f50_rtol": rtol})
                  for solver in F50_SOLVERS for rtol in F50_RTOLS]
     settings.append(Setting("T_MPE brent", {"t_mpe_solver": "brent"}))
@@ -366,18 +342,3 @@ def front_of(measurements: Sequence[Measurement], threads: int = THREADS[-1]) ->
               for m in measurements]
     return pareto_front(errors, [m.points_per_s[threads] for m in measurements])
 
-
-#: Names this module gives from the modules split out of it, and where each lives.
-_ELSEWHERE = {
-    "markdown_columns": "tradeoff_tables", "csv_columns": "tradeoff_tables",
-    "plot_tradeoff": "tradeoff_plot", "ZERO_ERROR_FLOOR": "tradeoff_plot",
-    "LABEL_FONTSIZE": "tradeoff_plot",
-    "MpmathCheck": "tradeoff_mpmath", "mpmath_check": "tradeoff_mpmath",
-}
-
-
-def __getattr__(name: str):
-    """The tables', the plot's and the mpmath check's names, imported on first use."""
-    if name in _ELSEWHERE:
-        return getattr(importlib.import_module(f".{_ELSEWHERE[name]}", __package__), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

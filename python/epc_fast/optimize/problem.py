@@ -17,15 +17,15 @@ import time
 
 import numpy as np
 
-from .api import evaluate
-from .memory import memory_limit_bytes
-from .optimize_checks import (checked_bounds, checked_objective, checked_points,
+from ..api import evaluate
+from ..memory import memory_limit_bytes
+from .checks import (checked_bounds, checked_objective, checked_points,
                               checked_search, checked_threads, size_name, unit_of)
-from .optimize_result import Curve, Estimate, Optimum
-from .optimize_search import maximize_on_cube
-from .scan.core_plan import checked_seed
-from .scan.space import Space
-from .status import Status
+from .result import Curve, Estimate, Optimum
+from .search import maximize_on_cube
+from ..scan.core_plan import checked_seed
+from ..scan.space import Space
+from ..status import Status
 
 __all__ = ["Problem", "MIN_BATCH_POINTS", "DEFAULT_BATCHES", "DEFAULT_XTOL"]
 
@@ -184,7 +184,7 @@ class Problem:
                  xtol: float = DEFAULT_XTOL) -> Optimum:
         """The candidate that maximises the objective over every draw, with its uncertainty.
 
-        The search (:mod:`epc_fast.optimize_search`) evaluates a start grid of
+        The search (:mod:`epc_fast.optimize.search`) evaluates a start grid of
         ``start_grid`` values per parameter, then refines the best grid point with SciPy:
         :func:`scipy.optimize.minimize_scalar` (bounded Brent) for one parameter, bounded
         Powell for several. The optimum's standard error comes from batch means: the same

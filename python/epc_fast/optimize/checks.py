@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import math
 
-from . import api
-from .optimize_objectives import Mean, ProbabilityAtLeast, Quantile
-from .params import PARAMETERS, SIZE_PARAMETERS, in_domain
-from .scan.space import POINT_PARAMETERS, Space
+from .._validation import integer, threads_of
+from ..params import PARAMETERS, SIZE_PARAMETERS, in_domain
+from ..scan.space import POINT_PARAMETERS, Space
+from .objectives import Mean, ProbabilityAtLeast, Quantile
 
 __all__ = ["checked_bounds", "checked_objective", "checked_points", "checked_search",
-           "checked_threads", "integer", "unit_of", "size_name"]
+           "checked_threads", "unit_of", "size_name"]
 
 
 def _param(name: str):
@@ -91,7 +91,7 @@ def checked_points(space: Space, points) -> int:
         if space.is_random:
             raise TypeError("a space with random parameters needs points= (draws of the scene)")
         return space.grid_size
-    count = api._integer("points", points)
+    count = integer("points", points)
     if count < 1:
         raise ValueError(f"points must be >= 1, got {points!r}")
     return count
@@ -99,7 +99,7 @@ def checked_points(space: Space, points) -> int:
 
 def checked_threads(threads):
     """``threads`` (None: the core's default), or an error naming it, before any draw."""
-    return None if threads is None else api._threads_of(threads)
+    return None if threads is None else threads_of(threads)
 
 
 def checked_objective(objective):
@@ -116,16 +116,16 @@ def checked_search(batches, start_grid, xtol, dimensions: int, points: int,
                    is_random: bool, min_batch_points: int) -> tuple[int, int, float]:
     """(batches, start grid, xtol) of a search, checked; a space without random parameters
     runs no batch (it has no Monte Carlo error)."""
-    from .optimize_search import default_grid
+    from .search import default_grid
 
-    batches = api._integer("batches", batches)
+    batches = integer("batches", batches)
     if not is_random:
         batches = 0
     elif batches == 1 or batches < 0 or (batches and points // batches < min_batch_points):
         raise ValueError(f"batches={batches}: expected 0 or 2 and more, each of at least "
                          f"{min_batch_points} of the {points:,} draws")
     grid = (default_grid(dimensions) if start_grid is None
-            else api._integer("start_grid", start_grid))
+            else integer("start_grid", start_grid))
     if grid < 2:
         raise ValueError(f"start_grid={start_grid!r}: expected an integer >= 2")
     if isinstance(xtol, bool) or not isinstance(xtol, (int, float)) or not 0 < xtol <= 0.1:

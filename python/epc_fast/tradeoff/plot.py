@@ -7,8 +7,9 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .plot_layout import freeze_layout, marker_boxes, place_point_labels
-from .tradeoff import THREADS, Measurement
+from ..plotting.common import figure_class
+from ..plotting.layout import freeze_layout, marker_boxes, place_point_labels
+from .measure import THREADS, Measurement
 
 __all__ = ["plot_tradeoff", "ZERO_ERROR_FLOOR", "LABEL_FONTSIZE"]
 
@@ -30,7 +31,7 @@ def plot_tradeoff(measurements: Sequence[Measurement], front: Sequence[int], *, 
 
     Polychromatic settings are squares. Errors of exactly 0 are drawn at
     :data:`ZERO_ERROR_FLOOR`, as hollow markers. Each label sits where it touches no other
-    label, marker or the front (:func:`epc_fast.plot_layout.place_point_labels`), joined to
+    label, marker or the front (:func:`epc_fast.plotting.layout.place_point_labels`), joined to
     its point by a thin line when it had to move away; the legend is below the axes. The
     figure's layout is fixed when it is returned. Needs matplotlib (ImportError otherwise).
 
@@ -38,9 +39,8 @@ def plot_tradeoff(measurements: Sequence[Measurement], front: Sequence[int], *, 
     -------
     matplotlib.figure.Figure
     """
-    from .plotting import _figure_class
 
-    figure = _figure_class()(figsize=(8.5, 6.4), layout="constrained")
+    figure = figure_class("the trade-off plot")(figsize=(8.5, 6.4), layout="constrained")
     ax = figure.subplots()
     shown = [i for i, m in enumerate(measurements) if not math.isnan(m.accuracy.max_rel_error)]
     x = {i: max(measurements[i].accuracy.max_rel_error, ZERO_ERROR_FLOOR) for i in shown}
