@@ -148,7 +148,7 @@ def test_points_per_s_times_every_setting_on_every_thread_count():
 
 
 def test_points_per_s_writes_every_timed_call_into_the_same_arrays(monkeypatch):
-    from epc_fast.tradeoff import measure as tradeoff
+    from epc_fast.tradeoff import measurements as tradeoff
     from epc_fast.selfcheck import random_designs
 
     seen = []

@@ -1,11 +1,11 @@
 """The paper's quantitative statements held against the model
-(:mod:`~epc_fast.paper.statements`), and their table as CSV and Markdown
+(:mod:`~epc_fast.paper.claims`), and their table as CSV and Markdown
 (:mod:`~epc_fast.paper.table`); ``epc-fast paper`` writes both with the figures.
 """
 
 from __future__ import annotations
 
-from .statements import (CLAIMS, FIGURES, KINDS, PAPER_LUX_RANGE, RAYLEIGH_FACTOR, VGA_PIXELS,
+from .claims import (CLAIMS, FIGURES, KINDS, PAPER_LUX_RANGE, RAYLEIGH_FACTOR, VGA_PIXELS,
                          Figure, Statement, statements)
 from .table import CSV_COLUMNS, markdown_table, write_csv
 

@@ -2,7 +2,7 @@
 
 A :class:`Setting` is a name and the keyword arguments it passes to :func:`epc_fast.evaluate`
 (the f50 solver and its tolerance, the T_MPE solver, the arithmetic precision, spectral samples
-for polychromatic diffraction). For each setting :mod:`epc_fast.tradeoff.measure` measures
+for polychromatic diffraction). For each setting :mod:`epc_fast.tradeoff.measurements` measures
 
 - **error**: the relative error of f50 against the NumPy reference (``backend="reference"``,
   which bisects f50 to adjacent floats) on the same random designs, over the points where both
@@ -17,14 +17,14 @@ for polychromatic diffraction). For each setting :mod:`epc_fast.tradeoff.measure
 the installed :func:`evaluate` does not take are skipped (:func:`split_by_knobs`), so the list
 may name knobs a build lacks.
 
-The rooms: :mod:`~epc_fast.tradeoff.measure` measures (it never imports matplotlib),
+The rooms: :mod:`~epc_fast.tradeoff.measurements` measures (it never imports matplotlib),
 :mod:`~epc_fast.tradeoff.tables` makes the table columns, :mod:`~epc_fast.tradeoff.plot` the
 figure (matplotlib, the ``plot`` extra, imported when it is drawn). Their public names are
 importable from here (``from epc_fast.tradeoff import plot_tradeoff``).
 """
 from __future__ import annotations
 
-from .measure import (BASELINE, F50_RTOLS, F50_SOLVERS, IMPLICIT_KNOB_VALUES, PROBE_DESIGN,
+from .measurements import (BASELINE, F50_RTOLS, F50_SOLVERS, IMPLICIT_KNOB_VALUES, PROBE_DESIGN,
                       SPECTRUM_SAMPLES, THREADS, Accuracy, Measurement, Setting, call_time_s,
                       default_settings, evaluate_parameters, f50_accuracy, front_of, knob_value,
                       measure, pareto_front, points_per_s, rejection, rtol_text, speedups,

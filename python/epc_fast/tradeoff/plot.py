@@ -9,7 +9,7 @@ from collections.abc import Sequence
 
 from ..plotting.common import figure_class
 from ..plotting.layout import freeze_layout, marker_boxes, place_point_labels
-from .measure import THREADS, Measurement
+from .measurements import THREADS, Measurement
 
 __all__ = ["plot_tradeoff", "ZERO_ERROR_FLOOR", "LABEL_FONTSIZE"]
 

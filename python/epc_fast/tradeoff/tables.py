@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from .measure import THREADS, Measurement, rtol_text, speedups
+from .measurements import THREADS, Measurement, rtol_text, speedups
 
 __all__ = ["markdown_columns", "csv_columns"]
 
