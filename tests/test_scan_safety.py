@@ -154,7 +154,7 @@ def test_a_parquet_directory_that_is_a_symlink_is_refused(tmp_path, capsys, chun
 def test_a_full_disk_is_found_before_the_first_point(tmp_path, capsys, monkeypatch, chunks):
     usage = types.SimpleNamespace(total=10**9, used=10**9 - 4096, free=4096)
     fake_shutil = types.SimpleNamespace(disk_usage=lambda path: usage)
-    monkeypatch.setattr(epc_fast.scan.output, "shutil", fake_shutil)
+    monkeypatch.setattr(epc_fast.scan.output.directory, "shutil", fake_shutil)
     code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
     assert code == 2 and chunks.calls == 0
     assert "4.1 KB free" in err and "this scan writes up to" in err
@@ -168,7 +168,7 @@ def test_a_read_only_directory_is_found_before_the_first_point(tmp_path, capsys,
         raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(path))
 
     fake_os = types.SimpleNamespace(**{**vars(os), "open": read_only_open})
-    monkeypatch.setattr(epc_fast.scan.output, "os", fake_os)
+    monkeypatch.setattr(epc_fast.scan.output.directory, "os", fake_os)
     code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
     assert code == 2 and chunks.calls == 0
     assert "is not writable: Read-only file system" in err
@@ -178,7 +178,7 @@ def test_a_parquet_scan_asking_more_than_the_free_space_is_refused(tmp_path, cap
                                                                    chunks):
     pytest.importorskip("pyarrow")
     usage = types.SimpleNamespace(total=10**12, used=0, free=10**9)
-    monkeypatch.setattr(epc_fast.scan.output, "shutil",
+    monkeypatch.setattr(epc_fast.scan.output.directory, "shutil",
                         types.SimpleNamespace(disk_usage=lambda path: usage))
     code, _, err = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'), "--out",
                         tmp_path / "out", "--points", "1e9")

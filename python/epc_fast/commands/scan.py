@@ -128,7 +128,7 @@ def _write_plots(result, out) -> None:
 def _planned(config, plots: bool) -> dict:
     from ..scan.errors import OutputError
     from ..scan.manifest import MANIFEST_NAME
-    from ..scan.output_plan import plan_outputs
+    from ..scan.output import plan_outputs
 
     planned = plan_outputs(config.space, config.reductions, plots, config.parquet,
                            sobol=config.sobol is not None)

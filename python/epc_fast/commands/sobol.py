@@ -1,6 +1,6 @@
 """``epc-fast sobol [CONFIG.toml]``: the Sobol' indices of a scan config's space alone.
 
-The config's ``[sobol]`` table (:mod:`epc_fast.scan.config_sobol`; its defaults when there is
+The config's ``[sobol]`` table (:mod:`epc_fast.scan.config.sobol`; its defaults when there is
 none) says how; its ``[reductions]`` are not run. The indices go into ``--out`` as sobol.csv
 and sobol.md under the scan's output policy (:class:`epc_fast.scan.output.OutputDirectory`):
 checked before any evaluation, every file written atomically. ``epc-fast scan`` writes the same
@@ -49,10 +49,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def settings(config, points=None, seed=None):
-    """The config's :class:`~epc_fast.scan.config_sobol.SobolConfig` (its defaults, seeded with
+    """The config's :class:`~epc_fast.scan.config.sobol.SobolConfig` (its defaults, seeded with
     the scan's seed, when it has no ``[sobol]`` table), with the command line's overrides,
     checked against its space."""
-    from ..scan.config_sobol import SobolConfig
+    from ..scan.config.sobol import SobolConfig
 
     sobol = config.sobol or SobolConfig(seed=config.seed)
     overrides = {k: v for k, v in (("points", points), ("seed", seed)) if v is not None}
@@ -91,7 +91,7 @@ def write_indices(out, result) -> None:
 
 def run(args) -> int:
     from ..scan.config import default_config, load_config
-    from ..scan.config_sobol import SOBOL_FILES
+    from ..scan.config.sobol import SOBOL_FILES
     from ..scan.output import OutputDirectory
 
     config = load_config(args.config) if args.config else default_config()

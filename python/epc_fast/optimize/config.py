@@ -25,7 +25,7 @@ from .objectives import OBJECTIVES
 from .checks import checked_bounds
 from .problem import DEFAULT_BATCHES, DEFAULT_XTOL, MIN_BATCH_POINTS
 from ..scan.config import parse_space, toml_document
-from ..scan.config_files import read_text
+from ..scan.config.files import read_text
 from ..scan.errors import ConfigError
 from ..scan.schema import (MAX_CONFIG_BYTES, choice, integer, number, number_list, short,
                           table_of, take, wrapped)

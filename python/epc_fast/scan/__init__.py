@@ -23,8 +23,8 @@ from .distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Norm
 from .groups import Binned
 from .histograms import Histogram, HistogramResult, Quantiles, QuantilesResult
 from .runner import DEFAULT_CHUNK_POINTS, ScanResult, Timing, default_reductions, run
-from .sobol import sobol_indices
-from .sobol_result import SobolResult
+from .sobol.indices import sobol_indices
+from .sobol.result import SobolResult
 from .space import BLOCK_POINTS, Space
 from .summaries import FractionBelow, FractionBelowResult, Summary, SummaryResult
 

@@ -41,20 +41,20 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from .. import presets
-from ..api import F50_SOLVERS, MAX_THREADS, PRECISIONS, T_MPE_SOLVERS
-from .config_files import read_samples, read_text
-from .config_reductions import check_reductions, parse_reductions
-from .config_sobol import SobolConfig, parse_sobol
-from .distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
+from ... import presets
+from ...api import F50_SOLVERS, MAX_THREADS, PRECISIONS, T_MPE_SOLVERS
+from .files import read_samples, read_text
+from .reductions import check_reductions, parse_reductions
+from .sobol import SobolConfig, parse_sobol
+from ..distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
                             Uniform)
-from .errors import ConfigError
-from .runner import DEFAULT_CHUNK_POINTS
-from .schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
+from ..errors import ConfigError
+from ..runner import DEFAULT_CHUNK_POINTS
+from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
                      check_size, choice, file_name, integer, number, number_list, short, string,
                      table_of, take, wrapped)
-from ..sensor import SHAPE_KEYWORDS, design_parameters
-from .space import BLOCK_POINTS, POINT_PARAMETERS, Space
+from ...sensor import SHAPE_KEYWORDS, design_parameters
+from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG",
            "toml_document", "parse_space"]

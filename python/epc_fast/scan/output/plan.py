@@ -8,14 +8,14 @@ refused before any work rather than one file silently replacing the other.
 
 from __future__ import annotations
 
-from .config_sobol import SOBOL_FILES
-from .errors import OutputError
-from .groups import group_key
-from .histograms import Histogram, Quantiles
-from .manifest import MANIFEST_NAME
-from .plots import bands_parameter_of
-from .runner import default_reductions
-from .tables import file_stem, table_groupings
+from ..config.sobol import SOBOL_FILES
+from ..errors import OutputError
+from ..groups import group_key
+from ..histograms import Histogram, Quantiles
+from ..manifest import MANIFEST_NAME
+from ..plots import bands_parameter_of
+from ..runner import default_reductions
+from ..tables import file_stem, table_groupings
 
 __all__ = ["plan_outputs", "TABLE_KINDS"]
 

@@ -17,9 +17,9 @@ import re
 import shutil
 from pathlib import Path
 
-from .atomic import TEMPORARY_SUFFIX, atomic_write
-from .errors import OutputError
-from .manifest import describe, read_manifest
+from ..atomic import TEMPORARY_SUFFIX, atomic_write
+from ..errors import OutputError
+from ..manifest import describe, read_manifest
 
 __all__ = ["OutputDirectory", "TABLE_BYTES", "PARQUET_BYTES_PER_VALUE"]
 

@@ -28,12 +28,12 @@ import warnings
 
 import numpy as np
 
-from ..api import evaluate
-from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
-from ..status import Cause, Status
-from .distributions import Choice, Grid
-from .sobol_result import SobolResult
-from .space import Space
+from ...api import evaluate
+from ...params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
+from ...status import Cause, Status
+from ..distributions import Choice, Grid
+from .result import SobolResult
+from ..space import Space
 
 __all__ = ["sobol_indices", "random_parameters", "unit_design", "design_inputs", "OUTPUTS",
            "NOT_OK_POLICIES", "MIN_POINTS", "MAX_BOOTSTRAP_VALUES", "MAX_DESIGN_VALUES",

@@ -11,8 +11,8 @@ import os
 import stat
 from pathlib import Path
 
-from .errors import ConfigError, TooLargeError
-from .schema import MAX_LIST, MAX_SAMPLE_FILE_BYTES, short, where_prefix
+from ..errors import ConfigError, TooLargeError
+from ..schema import MAX_LIST, MAX_SAMPLE_FILE_BYTES, short, where_prefix
 
 __all__ = ["read_text", "read_samples"]
 

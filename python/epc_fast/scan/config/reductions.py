@@ -11,15 +11,15 @@ import math
 
 import numpy as np
 
-from .best import TopK
-from .chunk import OUTPUTS
-from .errors import ConfigError
-from .groups import Binned, group_key
-from .histograms import Histogram, Quantiles
-from .schema import (MAX_CELLS, MAX_EXACT_QUANTILE_POINTS, MAX_GROUPS, MAX_TOP_K, boolean,
+from ..best import TopK
+from ..chunk import OUTPUTS
+from ..errors import ConfigError
+from ..groups import Binned, group_key
+from ..histograms import Histogram, Quantiles
+from ..schema import (MAX_CELLS, MAX_EXACT_QUANTILE_POINTS, MAX_GROUPS, MAX_TOP_K, boolean,
                      check_size, choice, file_name, integer, number, number_list, short,
                      table_of, take, where_prefix, wrapped)
-from .summaries import FractionBelow, Summary
+from ..summaries import FractionBelow, Summary
 
 __all__ = ["parse_reductions", "check_reductions", "REDUCTIONS"]
 
