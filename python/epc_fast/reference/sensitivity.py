@@ -213,7 +213,7 @@ def blur_angle_log_slope(blur_mm, focal_length_mm, shake_deg_per_s, stabilizatio
 
 def field_angle_rate_log_slope(field_angle_deg):
     """1: d ln r / d ln theta = -4 theta tan theta (the cos^4 falloff), theta in radians;
-    cos theta as sin(90 deg - |theta|), as :func:`epc_fast.reference.electron_rate` does."""
+    cos theta as sin(90 deg - abs(theta)), as :func:`epc_fast.reference.electron_rate` does."""
     theta = np.deg2rad(np.abs(field_angle_deg))
     return -4.0 * theta * np.sin(theta) / np.sin(np.deg2rad(90.0 - np.abs(field_angle_deg)))
 
