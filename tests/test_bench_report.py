@@ -2,7 +2,7 @@
 
 import pytest
 
-from conftest import load_script
+from helpers.scripts import load_script
 
 
 @pytest.fixture(scope="module")

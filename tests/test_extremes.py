@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import functools
 import math
-import warnings
 from fractions import Fraction
 
 import mpmath as mp
@@ -28,8 +27,8 @@ import pytest
 
 import epc_fast
 from epc_fast import Cause, Status, _core, params, reference
-from conftest import parameter_defaults
-from test_core_vs_reference import _box_corners
+from helpers.conditioning import OUTPUTS, condition_numbers, evaluate_quietly
+from helpers.designs import box_corners, parameter_defaults
 
 U = 2.0**-53  # unit roundoff
 SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
@@ -43,18 +42,11 @@ F50_RTOL = 1e-14
 BACKENDS = [pytest.param(dict(backend="core"), id="core"),
             pytest.param(dict(backend="core", t_mpe_solver="brent"), id="core-brent"),
             pytest.param(dict(backend="reference"), id="reference")]
-OUTPUTS = ("t_mpe_s", "f50_cyc_per_mm", "epc")
 
 #: An OK design with every term on (the paper's 1.4 um design at 1000 lux, on axis).
 DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
               sensor_area_mm2=15.6751, electrons_per_lux_s_m2=2.5577e15)
 DEFAULTS = parameter_defaults()
-
-
-def evaluate_quietly(**kwargs):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # the reference's overflow warnings
-        return epc_fast.evaluate(**kwargs)
 
 
 # --- An mpmath model of MODEL.md, statuses included (50 digits) --------------------------------
@@ -158,42 +150,6 @@ def expected_status(model):
     cause = {"no_light": Cause.NO_LIGHT, "prnu": Cause.PRNU,
              "full_well": Cause.FULL_WELL}.get(model.get("cause"), Cause.NONE)
     return status, cause
-
-
-def condition_numbers(points, h=1e-7):
-    """kappa of T_MPE, f50 and EPC at each point: sum over the inputs of |d ln out / d ln x|.
-
-    Differences of the reference over steps of h |x| either way, h times the distance to an
-    open end of the domain where that is nearer (where the model is singular: a threshold
-    near 1, a field angle near 90 deg) but never under 64 ulp of x, one way where the other
-    leaves the domain (reflectance 1): the estimate is good to ~10%, plenty for a tolerance.
-    inf where a step changes a status (the point sits on a boundary, where no tolerance is
-    meaningful).
-    """
-    table = {p.name: p for p in params.PARAMETERS}
-    base = evaluate_quietly(**points, backend="reference")
-    kappa = {name: np.zeros(base.status.shape) for name in OUTPUTS}
-    with np.errstate(all="ignore"):
-        for name, value in points.items():
-            if name == "full_well_e":  # only decides a status
-                continue
-            param = table["size" if name in params.SIZE_PARAMETERS else name]
-            scale = np.abs(value)
-            for end, closed in ((param.lo, param.lo_closed), (param.hi, param.hi_closed)):
-                if not closed and math.isfinite(end):
-                    scale = np.minimum(scale, np.abs(value - end))
-            delta = np.maximum(h * scale, 64 * np.spacing(np.abs(value)))  # >= 64 ulp of x
-            steps = [np.where(params.in_domain(param, value + sign * delta),
-                              value + sign * delta, value) for sign in (1.0, -1.0)]
-            up = evaluate_quietly(**{**points, name: steps[0]}, backend="reference")
-            down = evaluate_quietly(**{**points, name: steps[1]}, backend="reference")
-            flips = (up.status != base.status) | (down.status != base.status)
-            for out in OUTPUTS:
-                slope = (np.abs(np.log(getattr(up, out)) - np.log(getattr(down, out)))
-                         / np.abs(np.log(np.abs(steps[0])) - np.log(np.abs(steps[1]))))
-                slope = np.where(np.isfinite(slope), slope, 0.0)  # 0/0: an input at 0
-                kappa[out] += np.where(flips, np.inf, slope)
-    return kappa
 
 
 def allowed_error(output, kappa, f50_rtol):
@@ -559,8 +515,8 @@ def test_the_rate_keeps_its_digits_at_grazing_field_angles(options):
 def monte_carlo_corners(n, seed):
     """The corners a Monte Carlo scan samples: each parameter at an end of the physical box
     with probability 0.7 (1e-3 / 1e7 lux, 0.3 / 20 um, F/0.7 / F/64, 0 / 60 deg/s, 5 / 60 dB,
-    ...: test_core_vs_reference._box_corners)."""
-    return _box_corners(n, seed)
+    ...: helpers.designs.box_corners)."""
+    return box_corners(n, seed)
 
 
 def whole_domain(n, seed):
@@ -568,7 +524,7 @@ def whole_domain(n, seed):
     the caps of params.py, subnormals, exact ends), each parameter drawn from that spread or
     from the physical box with equal odds."""
     rng = np.random.default_rng(seed)
-    box = _box_corners(n, seed + 1)
+    box = box_corners(n, seed + 1)
 
     def spread(lo, hi):
         return np.exp(rng.uniform(np.log(lo), np.log(hi), n))

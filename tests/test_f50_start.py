@@ -7,8 +7,9 @@ import pytest
 import epc_fast
 from epc_fast import Status, _core
 from epc_fast.selfcheck import random_designs
-from conftest import load_script, parameter_defaults
-from f50_cases import exact_f50, lengths
+from helpers.designs import parameter_defaults
+from helpers.f50_cases import exact_f50, lengths
+from helpers.scripts import load_script
 
 DEFAULTS = parameter_defaults()
 

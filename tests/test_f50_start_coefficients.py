@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from epc_fast import _core
-from conftest import ROOT, load_script
+from helpers.scripts import ROOT, load_script
 
 HEADER = ROOT / "cpp" / "include" / "epc_fast" / "f50_start_coefficients.h"
 

@@ -115,7 +115,7 @@ def test_the_figure_names_the_designs_the_factors_and_the_quantities(figure1):
 @pytest.mark.parametrize("figure_spec", FIGURES, ids=lambda f: f.name)
 def test_no_text_touches_another_or_leaves_the_figure(figure_spec):
     pytest.importorskip("matplotlib")
-    from figure_checks import boxes_outside, overlapping_pairs, text_boxes
+    from helpers.figures import boxes_outside, overlapping_pairs, text_boxes
 
     figure = plot_limits_over_illuminance(figure_spec.designs, title=figure_spec.limits_title)
     boxes = text_boxes(figure)
@@ -131,7 +131,7 @@ def test_no_text_touches_another_or_leaves_the_figure(figure_spec):
 
 def test_an_odd_number_of_designs_leaves_no_empty_panel_and_labels_the_lowest():
     pytest.importorskip("matplotlib")
-    from figure_checks import overlapping_pairs, text_boxes
+    from helpers.figures import overlapping_pairs, text_boxes
 
     figure = plot_limits_over_illuminance(LOW_TIER[:3])
     assert len(figure.axes) == 3

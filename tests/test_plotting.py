@@ -93,7 +93,7 @@ def test_the_cli_and_the_plotting_module_import_without_matplotlib():
 @pytest.mark.parametrize("figure_spec", FIGURES, ids=lambda f: f.name)
 def test_no_pixel_count_label_touches_a_curve_or_another_label(figure_spec):
     pytest.importorskip("matplotlib")
-    from figure_checks import label_boxes, labels_on_lines, labels_outside, overlapping_pairs
+    from helpers.figures import label_boxes, labels_on_lines, labels_outside, overlapping_pairs
 
     figure = plot_epc_over_illuminance(figure_spec.designs, title=figure_spec.title)
     ax = figure.axes[0]
@@ -108,7 +108,7 @@ def test_no_pixel_count_label_touches_a_curve_or_another_label(figure_spec):
 
 def test_each_pixel_count_label_sits_beside_its_own_line():
     pytest.importorskip("matplotlib")
-    from figure_checks import label_boxes
+    from helpers.figures import label_boxes
 
     figure = plot_epc_over_illuminance(HIGH_TIER)
     ax = figure.axes[0]

@@ -18,9 +18,7 @@ from epc_fast.scan import BLOCK_POINTS, LogUniform, Space, Summary, run
 from epc_fast.scan.space import EVALUATE_OPTIONS
 from epc_fast.selfcheck import random_designs
 from epc_fast.spectra import Spectrum
-from conftest import parameter_defaults
-
-DEFAULTS = parameter_defaults()
+from helpers.designs import WIDE_POINTS, ordinary_points, with_extremes
 
 SOLVERS = ("halley", "newton", "brent", "bisection")
 N = 50_000
@@ -153,64 +151,16 @@ def test_a_tolerance_below_the_floor_is_raised_to_it_in_float32(solver):
         _assert_same_bits(below, floor, ("f50_cyc_per_mm", "epc") + FLOAT64_OUTPUTS)
 
 
-# Points whose lengths (lambda F, pixel aperture sqrt(fill) pitch, blur, jitter) float32 cannot
-# hold, each inside every parameter's domain. Illuminance 1e29 lux (and little or no shake)
-# where the extreme would otherwise leave too little light for a bounded blur, so that f50 is
-# solved; one point keeps its unbounded blur, a lane with no f50 to solve.
-WIDE_POINTS = {
-    "lambda F 5.5e12 mm": {"f_number": 1e16, "shake_deg_per_s": 0.0, "illuminance_lux": 1e29},
-    "lambda F 5.5e12 mm, blur unbounded": {"f_number": 1e16},
-    "lambda F 1e-18 mm": {"wavelength_nm": 1e-12},
-    "aperture 1e-15 mm": {"pixel_pitch_um": 1e-12, "illuminance_lux": 1e29},
-    "aperture 1e13 mm": {"pixel_pitch_um": 1e16},
-    "aperture 1e-18 mm by fill factor": {"fill_factor": 1e-30, "illuminance_lux": 1e29,
-                                         "shake_deg_per_s": 1e-10},
-    "jitter 1e17 mm": {"jitter_um": 1e20},
-    "jitter 1e-15 mm": {"jitter_um": 1e-12},
-    "blur 1e-33 mm": {"shake_deg_per_s": 1e-30},
-    "blur 3e-28 mm": {"stabilization": 1e25},
-}
-
-
-def _ordinary_points(n, seed):
-    """Random designs with jitter, fill factor and threshold varying too."""
-    rng = np.random.default_rng(seed)
-    kwargs = random_designs(n, seed=seed)
-    kwargs.update(jitter_um=rng.uniform(0.0, 2.0, n), fill_factor=rng.uniform(0.3, 1.0, n),
-                  mtf_threshold=rng.uniform(0.2, 0.8, n))
-    return kwargs
-
-
-def _with_extremes(ordinary, extremes, at):
-    """``ordinary``'s points with point ``at[k]`` of the result being extremes[k] (each a
-    modification of the ordinary point it is built from), the rest the ordinary ones in order."""
-    n = len(ordinary["illuminance_lux"]) + len(extremes)
-    mixed = {}
-    is_extreme = np.zeros(n, bool)
-    is_extreme[at] = True
-    for name, values in ordinary.items():
-        column = np.empty(n)
-        column[~is_extreme] = values
-        column[at] = values[:len(at)]
-        mixed[name] = column
-    for k, extreme in enumerate(extremes):
-        for name, value in extreme.items():
-            if name not in mixed:  # a parameter the ordinary points leave at its default
-                mixed[name] = np.full(n, DEFAULTS[name])
-            mixed[name][at[k]] = value
-    return mixed, is_extreme
-
-
 @pytest.mark.parametrize("spectrum", [None, Spectrum([450.0, 520.0, 580.0, 640.0], [1, 2, 2, 1])],
                          ids=["monochromatic", "4 wavelengths"])
 def test_lanes_float32_cannot_hold_are_float64_and_leave_their_neighbours_alone(spectrum):
     # a spectrum replaces wavelength_nm
     extremes = [p for p in WIDE_POINTS.values() if spectrum is None or "wavelength_nm" not in p]
-    ordinary = _ordinary_points(3 * 64, seed=8)
+    ordinary = ordinary_points(3 * 64, seed=8)
     # every extreme point in the middle 64-point block, among ordinary points
     at = 70 + 5 * np.arange(len(extremes))
     assert at[-1] < 128
-    mixed, is_extreme = _with_extremes(ordinary, extremes, at)
+    mixed, is_extreme = with_extremes(ordinary, extremes, at)
     options = {"spectrum": spectrum}
     double = _evaluate(mixed, **options)
     single = _evaluate(mixed, **options, precision="float32")
@@ -264,7 +214,7 @@ def test_float32_lengths_made_of_parameters_float32_cannot_hold_are_accurate(poi
 
 def test_float32_gives_the_same_bits_on_any_thread_count():
     n = 100_000  # 1563 blocks
-    kwargs = _ordinary_points(n, seed=9)
+    kwargs = ordinary_points(n, seed=9)
     # a lane float32 cannot hold every 997 points: blocks redone in float64 on both threads
     kwargs["jitter_um"][::997] = 1e20
     one = _evaluate(kwargs, precision="float32", threads=1)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from epc_fast.scan import BLOCK_POINTS, run
-from test_scan_runner import SPACE, assert_same_numbers, every_reduction
+from helpers.scan import SPACE, assert_same_numbers, every_reduction
 
 distributed = pytest.importorskip("distributed")
 

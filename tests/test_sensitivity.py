@@ -13,13 +13,13 @@ from pathlib import Path
 import mpmath
 import numpy as np
 import pytest
-from mp_model import MODEL_DEFAULTS, MP_DPS, OWN_CASES, mp_model
-from test_core_vs_reference import random_design_points
 
 import epc_fast
 from epc_fast import Status, params
 from epc_fast import reference_sensitivity as rs
 from epc_fast.api import ELASTICITY_PARAMETERS, SHARE_OUTPUTS
+from helpers.designs import random_design_points
+from helpers.mp_model import MODEL_DEFAULTS, MP_DPS, OWN_CASES, mp_model
 
 GOLDEN = json.loads((Path(__file__).parent / "data" / "golden_public.json").read_text())
 OK_GOLDEN = [p for p in GOLDEN["points"] if p["outputs"]["status"] == "ok"]

@@ -8,7 +8,7 @@ import epc_fast
 from epc_fast import Status, _core
 from epc_fast.selfcheck import random_designs
 from epc_fast.spectra import diffraction_spectrum
-from f50_cases import exact_f50, lengths
+from helpers.f50_cases import exact_f50, lengths
 
 THRESHOLDS = (0.5, 0.3, 0.2, 0.1)
 

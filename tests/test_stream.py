@@ -11,8 +11,7 @@ import pytest
 
 from epc_fast import _core, api, evaluate
 from epc_fast.selfcheck import random_designs
-from test_core_vs_reference import random_design_points
-from test_precision import WIDE_POINTS, _ordinary_points, _with_extremes
+from helpers.designs import WIDE_POINTS, ordinary_points, random_design_points, with_extremes
 
 ALL_FIELDS = tuple(api.OUTPUT_DTYPES)
 BYTES_PER_POINT = sum(d.itemsize for d in api.OUTPUT_DTYPES.values())  # every output: 50
@@ -85,10 +84,10 @@ def test_float32_lanes_redone_in_float64_overwrite_streamed_lines():
     """float32's wide lanes (lengths outside 2^-40..2^40 mm) are written over the block's
     streamed lines after a fence (kernel.h evaluate_block): the float64 values must win."""
     n_extreme = len(WIDE_POINTS)
-    ordinary = _ordinary_points(STREAMING_POINTS - n_extreme, seed=8)
+    ordinary = ordinary_points(STREAMING_POINTS - n_extreme, seed=8)
     # spread over the call, so that streamed full blocks hold them
     at = np.linspace(100, STREAMING_POINTS - 100, n_extreme).astype(int)
-    kwargs, is_extreme = _with_extremes(ordinary, list(WIDE_POINTS.values()), at)
+    kwargs, is_extreme = with_extremes(ordinary, list(WIDE_POINTS.values()), at)
     expected = _in_pieces(kwargs, STREAMING_POINTS, precision="float32")
     result = evaluate(**kwargs, precision="float32")
     _assert_same_bits(result, expected)

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 import epc_fast
-from conftest import load_script
+from helpers.scripts import load_script
 
 ROOT = Path(__file__).resolve().parents[1]
 TOOLS = ("kernel_speed", "stage_costs", "memory_floor")

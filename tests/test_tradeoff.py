@@ -209,7 +209,7 @@ def crowded_plot():
 
 def test_plot_labels_each_setting_once_and_no_label_touches_another():
     pytest.importorskip("matplotlib")
-    from figure_checks import label_boxes, labels_outside, overlapping_pairs
+    from helpers.figures import label_boxes, labels_outside, overlapping_pairs
 
     figure = crowded_plot()
     ax = figure.axes[0]
@@ -221,7 +221,7 @@ def test_plot_labels_each_setting_once_and_no_label_touches_another():
 
 def test_plot_labels_cover_no_marker_and_not_the_front():
     pytest.importorskip("matplotlib")
-    from figure_checks import label_boxes, labels_on_lines
+    from helpers.figures import label_boxes, labels_on_lines
 
     figure = crowded_plot()
     ax = figure.axes[0]
