@@ -4,6 +4,7 @@ import mpmath as mp
 import numpy as np
 
 from epc_fast import _core
+from helpers.mp_model import mp_diffraction
 
 ULP = 2.0**-53
 
@@ -26,8 +27,7 @@ def test_core_sinc_keeps_relative_accuracy_next_to_its_zeros():
 def test_core_diffraction_mtf_is_within_8_ulp_of_mpmath_up_to_the_cutoff():
     nu = np.linspace(0.0, 0.999999, 6001)
     with mp.workdps(40):  # acos(nu) - nu sqrt(1 - nu^2) cancels near 1: the reference needs digits
-        exact = np.array([float(2 / mp.pi * (mp.acos(v) - v * mp.sqrt(1 - v * v)))
-                          for v in map(mp.mpf, nu)])
+        exact = np.array([float(mp_diffraction(v)) for v in nu])
     # The core writes D in the half-angle form, which keeps relative accuracy up to nu -> 1;
     # its polynomial is <= 6 ulp (tools/fit_polynomials.py), 8 leaves room for the final rounding.
     assert np.max(np.abs(_core.mtf_diffraction(nu) / exact - 1.0)) <= 8 * ULP

@@ -13,23 +13,19 @@ import pytest
 
 import epc_fast
 from epc_fast import Cause, Status, _core, reference
+from helpers.mp_model import mp_diffraction, mp_signal_electrons
 
 ULP = 2.0**-52  # spacing of float64 just above 1; 2**-53 is the unit roundoff
 
 # --- Helpers ------------------------------------------------------------------------------------
 
+# Every mpf of this module at 50 digits, the model's formulas (mp_diffraction, the textbook root
+# r T_MPE of mp_signal_electrons) included: helpers/mp_model.py works at the caller's precision.
 mpmath.mp.dps = 50
 
 
 def mp_sinc(x):
     return mpmath.sincpi(x)  # sin(pi x) / (pi x), 1 at 0
-
-
-def mp_diffraction(nu):
-    nu = mpmath.mpf(nu)
-    if nu >= 1:
-        return mpmath.mpf(0)
-    return 2 / mpmath.pi * (mpmath.acos(nu) - nu * mpmath.sqrt(1 - nu * nu))
 
 
 #: The x with sinc(x) = 1/2 (0.6034...): f50 of a pixel aperture of side 1 is X50 / side.
@@ -66,18 +62,6 @@ def exposure_sample(n, seed):
     snr_db = rng.uniform(5, 60, n)
     prnu = rng.uniform(0, 0.9, n) * 10.0 ** (-snr_db / 20)
     return rate, snr_db, read, dark, prnu
-
-
-def mp_signal_electrons(rate, snr_db, read, dark, prnu):
-    """r T_MPE at 50 digits: the textbook root (b + sqrt(b^2 + 4ac)) / 2a of
-    a T^2 - b T - c = 0 (MODEL.md section 3), for the float64 inputs taken exactly."""
-    r, snr_db, read, dark, u = (mpmath.mpf(float(v)) for v in (rate, snr_db, read, dark, prnu))
-    s = mpmath.mpf(10) ** (snr_db / 10)
-    a = r * r * (1 - s * u * u)
-    b = s * (r + dark)
-    c = s * read * read
-    t = (b + mpmath.sqrt(b * b + 4 * a * c)) / (2 * a)
-    return r * t
 
 
 def root_s_amplification(electrons, snr_db, dark_per_signal, prnu):

@@ -1,7 +1,7 @@
 """What limits a design and how sensitive it is: the MTF-loss shares and the elasticities
 d ln EPC / d ln theta (python/epc_fast/reference_sensitivity.py, cpp/include/epc_fast/
-sensitivity.h), against 40-digit mpmath central differences, the golden set, closed forms and
-each other."""
+sensitivity.h), against 50-digit mpmath central differences (helpers/mp_model.py), the golden
+set, closed forms and each other."""
 
 from __future__ import annotations
 
@@ -19,12 +19,12 @@ from epc_fast import Status, params
 from epc_fast import reference_sensitivity as rs
 from epc_fast.api import ELASTICITY_PARAMETERS, SHARE_OUTPUTS
 from helpers.designs import random_design_points
-from helpers.mp_model import MODEL_DEFAULTS, MP_DPS, OWN_CASES, mp_model
+from helpers.mp_model import MODEL_DEFAULTS, MP_DPS, OWN_CASES, mp_diffraction, mp_model
 
 GOLDEN = json.loads((Path(__file__).parent / "data" / "golden_public.json").read_text())
 OK_GOLDEN = [p for p in GOLDEN["points"] if p["outputs"]["status"] == "ok"]
 
-#: The target of the issue: elasticities within 1e-8 relative of 40-digit central differences.
+#: The target of the issue: elasticities within 1e-8 relative of mpmath central differences.
 #: Both backends land near 1e-15 on these points; 1e-10 keeps the target with 100x to spare
 #: and still catches a wrong term (those are off by 1e-3 or more).
 RTOL = 1e-10
@@ -61,7 +61,7 @@ def _mp_log_epc(frozen, spectrum):
 
 def mp_elasticity(inputs, name, spectrum=None):
     """d ln EPC / d ln theta by a central difference of relative step 1e-12 at MP_DPS digits:
-    its truncation error is ~1e-24 and its rounding 1e-40 / 1e-12, both far below RTOL."""
+    its truncation error is ~1e-24 and its rounding 1e-50 / 1e-12, both far below RTOL."""
     frozen_spectrum = None if spectrum is None else (tuple(spectrum[0]), tuple(spectrum[1]))
     with mpmath.workdps(MP_DPS):
         h = mpmath.mpf(10) ** -12
@@ -135,8 +135,8 @@ def test_log_sinc_and_its_slope_match_mpmath(y):
 def test_diffraction_loss_and_slope_match_mpmath(nu):
     with mpmath.workdps(40):
         v = mpmath.mpf(nu)
-        d = 2 / mpmath.pi * (mpmath.acos(v) - v * mpmath.sqrt(1 - v * v))
-        slope = v * mpmath.diff(lambda t: 2 / mpmath.pi * (mpmath.acos(t) - t * mpmath.sqrt(1 - t * t)), v)
+        d = mp_diffraction(v)
+        slope = v * mpmath.diff(mp_diffraction, v)
     assert rs.diffraction_loss(nu) == pytest.approx(float(1 - d), rel=1e-14)
     value = epc_fast.reference.mtf_diffraction(nu, 1e6, 1.0)  # nu = f (1e6 nm) (F = 1)
     assert rs.log_mtf_diffraction(value, rs.diffraction_loss(nu)) == pytest.approx(
@@ -144,7 +144,7 @@ def test_diffraction_loss_and_slope_match_mpmath(nu):
     assert rs.diffraction_log_slope_numerator(nu) == pytest.approx(float(slope), rel=1e-13)
 
 
-# --- Against 40-digit central differences ------------------------------------------------------
+# --- Against 50-digit central differences ------------------------------------------------------
 
 
 @pytest.mark.parametrize("backend", BACKENDS)

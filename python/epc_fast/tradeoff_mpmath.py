@@ -1,4 +1,4 @@
-"""The NumPy reference against the 50-digit mpmath model of tests/test_extremes.py
+"""The NumPy reference against the 50-digit mpmath model of tests/helpers/mp_model.py
 (``epc-fast bench --mpmath K``)."""
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ __all__ = ["MpmathCheck", "mpmath_check"]
 
 @dataclass(frozen=True)
 class MpmathCheck:
-    """The reference against the 50-digit mpmath model of tests/test_extremes.py.
+    """The reference against the 50-digit mpmath model of tests/helpers/mp_model.py.
 
     Attributes
     ----------
@@ -39,24 +39,24 @@ class MpmathCheck:
 
 
 def _tests_folders() -> list[Path]:
-    """Where tests/test_extremes.py may be: in this module's source checkout (an editable
+    """Where tests/helpers/mp_model.py may be: in this module's source checkout (an editable
     install), or under the working folder."""
     return [Path(__file__).resolve().parents[2] / "tests", Path.cwd() / "tests"]
 
 
 @functools.lru_cache(maxsize=1)
 def _mpmath_model():
-    """tests/test_extremes.py, imported: its ``mp_model`` (MODEL.md at 50 digits, statuses
-    included), ``expected_status`` and ``relative_error``. Needs a source checkout, mpmath and
-    pytest (the test extra)."""
+    """tests/helpers/mp_model.py, imported: its ``mp_model`` (MODEL.md at 50 digits, statuses
+    included), ``expected_status`` and ``relative_error``. Needs a source checkout and mpmath
+    (the test extra)."""
     for folder in _tests_folders():
-        if (folder / "test_extremes.py").is_file():
-            sys.path.insert(0, str(folder))  # it imports test_core_vs_reference
+        if (folder / "helpers" / "mp_model.py").is_file():
+            sys.path.insert(0, str(folder))  # the tests' own name for it: helpers.mp_model
             try:
-                return importlib.import_module("test_extremes")
+                return importlib.import_module("helpers.mp_model")
             finally:
                 sys.path.remove(str(folder))
-    raise ImportError("the mpmath check uses tests/test_extremes.py from a source checkout: "
+    raise ImportError("the mpmath check uses tests/helpers/mp_model.py from a source checkout: "
                       "run from the repository's root (searched "
                       + ", ".join(str(f) for f in _tests_folders()) + ")")
 

@@ -1,86 +1,187 @@
-"""An independent mpmath model of MODEL.md at 40 digits, for the tests: every output of sections
-3-7 and the MTF's factors at f50, from inputs taken exactly (floats or mpf values)."""
+"""One independent model of the contract (docs/model.md) in mpmath, for every test that needs
+the exact answer: MP_DPS digits, from the float64 inputs taken exactly (floats or mpf values).
 
-import mpmath
+:func:`mp_model` gives every output of the model's sections Exposure to EPC with the per-point
+status and its cause, for a monochromatic design or a spectrum, and the MTF's four factors at
+f50; :func:`expected_status` is the (Status, Cause) the engine owes a point, with its documented
+conventions; :func:`relative_error` measures a float against the model. :func:`mp_diffraction`
+and :func:`mp_t_mpe` (:func:`mp_signal_electrons`) are two of its formulas alone, at the
+caller's working precision.
 
-MP_DPS = 40
+The model leans on the package for nothing but the codes of Status and Cause: the defaults are
+restated below, and every formula is written from docs/model.md.
+"""
 
-#: MODEL.md section 1's defaults, restated here so that the model does not lean on the package.
+import functools
+import math
+import sys
+
+import mpmath as mp
+
+from epc_fast import Cause, Status
+
+MP_DPS = 50
+
+#: docs/model.md's defaults, restated here so that the model does not lean on the package.
 MODEL_DEFAULTS = dict(reflectance=0.4, lens_transmittance=1.0, field_angle_deg=0.0,
                       fill_factor=1.0, read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0,
-                      snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
-                      wavelength_nm=550.0, mtf_threshold=0.5)
+                      full_well_e=math.inf, snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0,
+                      jitter_um=0.0, wavelength_nm=550.0, mtf_threshold=0.5)
+
+#: The smallest normal double and the largest double (the engine's conventions at its ends).
+SMALLEST_NORMAL = sys.float_info.min
+LARGEST = sys.float_info.max
+
+
+def mp_diffraction(nu):
+    """The diffraction MTF D(nu) of a circular pupil at nu = f lambda F, at the working
+    precision: (2/pi) (acos nu - nu sqrt(1 - nu^2)) below the cut-off nu = 1, 0 from it on."""
+    nu = mp.mpf(nu)
+    return 2 / mp.pi * (mp.acos(nu) - nu * mp.sqrt(1 - nu * nu)) if nu < 1 else mp.mpf(0)
+
+
+def mp_t_mpe(rate, snr_db, read_noise_e, dark_current_e_per_s, prnu):
+    """T_MPE, the positive root (b + sqrt(b^2 + 4ac)) / 2a of a T^2 - b T - c = 0 (docs/model.md,
+    Exposure), at the working precision, for inputs taken exactly."""
+    r, snr_db, read, dark, u = (mp.mpf(v) for v in (rate, snr_db, read_noise_e,
+                                                      dark_current_e_per_s, prnu))
+    s = mp.mpf(10) ** (snr_db / 10)
+    a = r * r * (1 - s * u * u)
+    b = s * (r + dark)
+    c = s * read * read
+    return (b + mp.sqrt(b * b + 4 * a * c)) / (2 * a)
+
+
+def mp_signal_electrons(rate, snr_db, read_noise_e, dark_current_e_per_s, prnu):
+    """The photo-electrons r T_MPE needed at the target, at the working precision."""
+    return mp.mpf(rate) * mp_t_mpe(rate, snr_db, read_noise_e, dark_current_e_per_s, prnu)
 
 
 def mp_model(inputs, spectrum=None):
-    """Every output of MODEL.md sections 3-7 at MP_DPS digits, from the float64 inputs taken
-    exactly; `spectrum` is (wavelengths_nm, weights) or None for inputs["wavelength_nm"]."""
-    with mpmath.workdps(MP_DPS):
-        x = {name: mpmath.mpf(value) for name, value in {**MODEL_DEFAULTS, **inputs}.items()
-             if name != "full_well_e"}
-        pi = mpmath.pi
-        um, nm = mpmath.mpf(10) ** -3, mpmath.mpf(10) ** -6  # in mm
+    """docs/model.md from Exposure to EPC at MP_DPS digits, from `inputs` (evaluate's keywords:
+    floats, or mpf values such as a central difference's steps) taken exactly; `spectrum` is
+    (wavelengths_nm, weights) or None for inputs["wavelength_nm"].
 
-        # Section 3: the electron rate and the positive root of a T^2 - b T - c = 0.
-        focal_plane_lux = (x["illuminance_lux"] * x["reflectance"] * x["lens_transmittance"]
-                           * mpmath.cos(x["field_angle_deg"] * pi / 180) ** 4
-                           / (4 * x["f_number"] ** 2))
-        rate = (focal_plane_lux * x["electrons_per_lux_s_m2"] * x["fill_factor"]
-                * (x["pixel_pitch_um"] * mpmath.mpf(10) ** -6) ** 2)
-        s = mpmath.mpf(10) ** (x["snr_db"] / 10)
-        a = rate**2 * (1 - s * x["prnu"] ** 2)
-        b = s * (rate + x["dark_current_e_per_s"])
-        c = s * x["read_noise_e"] ** 2
-        t_mpe = (b + mpmath.sqrt(b * b + 4 * a * c)) / (2 * a)
+    Returns a dict with "status" ("ok", "unreachable", "blur_unbounded"), "cause" for
+    unreachable points ("no_light", "prnu", "full_well"), and the mpf outputs as far as the
+    status defines them: "electron_rate_e_per_s", "electrons", "t_mpe_s", then for OK points
+    "blur_mm", "f50_cyc_per_mm", "epc" and "mtf_factors" (diffraction, pixel aperture, motion
+    and jitter at f50). Cached: the backends of a parametrised test share one evaluation.
+    """
+    items = tuple(sorted((name, value if isinstance(value, mp.mpf) else float(value))
+                         for name, value in inputs.items()))
+    lines = None if spectrum is None else (tuple(spectrum[0]), tuple(spectrum[1]))
+    return _mp_model(items, lines)
 
-        # Section 4: blur with tan (the cases below stay far below a quarter turn).
-        angle = x["shake_deg_per_s"] * pi / 180 / x["stabilization"] * t_mpe
-        assert angle < pi / 2
-        blur = x["focal_length_mm"] * mpmath.tan(angle)
 
-        # Section 5: the system MTF.
+@functools.lru_cache(maxsize=4096)
+def _mp_model(items, spectrum):
+    with mp.workdps(MP_DPS):
+        v = {**MODEL_DEFAULTS, **dict(items)}
+        x = {name: mp.mpf(value) for name, value in v.items() if name != "full_well_e"}
+        pi = mp.pi
+
+        # Exposure: the electron rate, the statuses that need no T_MPE, then T_MPE.
+        cos = mp.cos(x["field_angle_deg"] * pi / 180)
+        rate = (x["illuminance_lux"] * x["reflectance"] * x["lens_transmittance"] * cos**4
+                / (4 * x["f_number"] ** 2) * x["electrons_per_lux_s_m2"] * x["fill_factor"]
+                * (x["pixel_pitch_um"] / 10**6) ** 2)
+        out = {"electron_rate_e_per_s": rate}
+        s, u = mp.mpf(10) ** (x["snr_db"] / 10), x["prnu"]
+        if rate == 0:
+            return dict(out, status="unreachable", cause="no_light")
+        if u * mp.sqrt(s) >= 1:
+            return dict(out, status="unreachable", cause="prnu")
+        t = mp_t_mpe(rate, x["snr_db"], x["read_noise_e"], x["dark_current_e_per_s"], u)
+        out.update(t_mpe_s=t, electrons=rate * t)
+        if rate * t > v["full_well_e"]:
+            return dict(out, status="unreachable", cause="full_well")
+
+        # Blur during the exposure: the tangent, unbounded from a quarter turn on.
+        angle = x["shake_deg_per_s"] * pi / 180 / x["stabilization"] * t
+        if angle >= pi / 2:
+            return dict(out, status="blur_unbounded")
+        blur = x["focal_length_mm"] * mp.tan(angle)
+
+        # System MTF: lambda F in mm per wavelength, with its weight (normalised to sum 1).
         if spectrum is None:
-            lines = [(x["wavelength_nm"], mpmath.mpf(1))]
+            lines = [(x["wavelength_nm"] / 10**6 * x["f_number"], mp.mpf(1))]
         else:
-            total = sum(mpmath.mpf(w) for w in spectrum[1])
-            lines = [(mpmath.mpf(lam), mpmath.mpf(w) / total) for lam, w in zip(*spectrum)]
-        aperture = mpmath.sqrt(x["fill_factor"]) * x["pixel_pitch_um"] * um
-        sigma = x["jitter_um"] * um
+            total = sum(mp.mpf(w) for w in spectrum[1])
+            lines = [(mp.mpf(lam) / 10**6 * x["f_number"], mp.mpf(w) / total)
+                     for lam, w in zip(*spectrum)]
+        aperture = mp.sqrt(x["fill_factor"]) * x["pixel_pitch_um"] / 1000
+        sigma = x["jitter_um"] / 1000
 
-        def diffraction(f, lam):
-            nu = f * lam * nm * x["f_number"]
-            return 2 / pi * (mpmath.acos(nu) - nu * mpmath.sqrt(1 - nu * nu)) if nu < 1 else 0
+        def factors(f):
+            return (sum(w * mp_diffraction(f * lam_f) for lam_f, w in lines),
+                    abs(mp.sincpi(aperture * f)), abs(mp.sincpi(blur * f)),
+                    mp.exp(-2 * pi**2 * (sigma * f) ** 2))
 
-        def mtf(f):
-            return (sum(w * diffraction(f, lam) for lam, w in lines)
-                    * abs(mpmath.sincpi(aperture * f)) * abs(mpmath.sincpi(blur * f))
-                    * mpmath.exp(-2 * pi**2 * sigma**2 * f**2))
+        f50 = _mp_f50(factors, x["mtf_threshold"], lines, aperture, blur, sigma)
 
-        # Section 6: the first crossing, in (0, f_hi], f_hi the smallest first zero.
-        threshold = x["mtf_threshold"]
-        zeros = [1 / (min(lam for lam, w in lines if w > 0) * nm * x["f_number"]), 1 / aperture]
-        if blur > 0:
-            zeros.append(1 / blur)
-        if sigma > 0:
-            zeros.append(mpmath.sqrt(mpmath.log(1 / threshold) / (2 * pi**2)) / sigma)
-        f_hi = min(zeros)
-        f50 = mpmath.findroot(lambda f: mtf(f) - threshold, (f_hi * mpmath.mpf(10) ** -9, f_hi),
-                              solver="anderson")
-        # The root is the crossing: MTF - c changes sign across f50 (1 -+ 1e-30).
-        assert mtf(f50 * (1 - mpmath.mpf(10) ** -30)) > threshold > mtf(
-            f50 * (1 + mpmath.mpf(10) ** -30))
-
-        # Section 7.
+        # EPC.
         if "pixel_count" in x:
-            area = x["pixel_count"] * (x["pixel_pitch_um"] * um) ** 2
+            area = x["pixel_count"] * (x["pixel_pitch_um"] / 1000) ** 2
         else:
             area = x["sensor_area_mm2"]
-        epc = 4 * area * f50**2
-        factors = (sum(w * diffraction(f50, lam) for lam, w in lines),
-                   abs(mpmath.sincpi(aperture * f50)), abs(mpmath.sincpi(blur * f50)),
-                   mpmath.exp(-2 * pi**2 * sigma**2 * f50**2))
-        return {"electron_rate_e_per_s": rate, "electrons": rate * t_mpe, "t_mpe_s": t_mpe,
-                "blur_mm": blur, "f50_cyc_per_mm": f50, "epc": epc, "mtf_factors": factors}
+        return dict(out, status="ok", blur_mm=blur, f50_cyc_per_mm=f50, epc=4 * area * f50**2,
+                    mtf_factors=factors(f50))
+
+
+def _mp_f50(factors, threshold, lines, aperture, blur, sigma):
+    """The first f with MTF_sys(f) = c, bracketed as docs/model.md says (f_hi the smallest
+    first zero of the factors, or jitter's own crossing)."""
+    pi = mp.pi
+
+    def excess(f):
+        d, p, m, j = factors(f)
+        return d * p * m * j - threshold
+
+    zeros = [1 / min(lam_f for lam_f, w in lines if w > 0), 1 / aperture]
+    if blur > 0:
+        zeros.append(1 / blur)
+    if sigma > 0:
+        zeros.append(mp.sqrt(mp.log(1 / threshold) / (2 * pi**2)) / sigma)
+    lo, hi = min(zeros) / 2, min(zeros)
+    while excess(lo) <= 0:
+        lo /= 2
+    for _ in range(8):  # narrow the bracket before the secant-type solver
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if excess(mid) > 0 else (lo, mid)
+    try:
+        root = mp.findroot(excess, (lo, hi), solver="anderson")
+        if lo <= root <= hi and abs(excess(root)) <= threshold * mp.mpf(10) ** (15 - MP_DPS):
+            return root
+    except (ValueError, ZeroDivisionError):
+        pass
+    for _ in range(4 * MP_DPS):  # the slow, sure way
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if excess(mid) > 0 else (lo, mid)
+    return (lo + hi) / 2
+
+
+def expected_status(model):
+    """The (Status, Cause) the engine owes a point: mpmath's exact status with the engine's
+    documented conventions, a rate below the smallest normal double or a T_MPE beyond the
+    largest is no light (docs/numerics.md)."""
+    if (model["electron_rate_e_per_s"] < SMALLEST_NORMAL
+            or model.get("t_mpe_s", 0) > LARGEST):
+        return Status.UNREACHABLE, Cause.NO_LIGHT
+    status = {"ok": Status.OK, "unreachable": Status.UNREACHABLE,
+              "blur_unbounded": Status.BLUR_UNBOUNDED}[model["status"]]
+    cause = {"no_light": Cause.NO_LIGHT, "prnu": Cause.PRNU,
+             "full_well": Cause.FULL_WELL}.get(model.get("cause"), Cause.NONE)
+    return status, cause
+
+
+def relative_error(value, exact):
+    """|value / exact - 1| as a float, formed at MP_DPS digits; 0 for 0 against an exact 0, inf
+    for anything else against it."""
+    if exact == 0:
+        return 0.0 if value == 0 else math.inf
+    with mp.workdps(MP_DPS):
+        return float(abs(mp.mpf(value) / exact - 1))
 
 
 K = 2557705539053827.5  # e-/(lux s m^2): the golden set's K, passed explicitly
@@ -113,4 +214,3 @@ OWN_CASES = {
         field_angle_deg=9.651360532708715, electrons_per_lux_s_m2=K),
         ([450.0, 530.0, 610.0], [1.0, 3.0, 2.0])),
 }
-
