@@ -212,8 +212,8 @@ def test_t_mpe_near_the_prnu_cap_is_within_its_conditioning(options):
 
 def test_an_angle_of_exactly_fl_pi_over_2_is_unbounded_and_the_double_below_it_is_not():
     # fl(pi/2) is 6.1e-17 below pi/2, but "reaches pi/2" compares with fl(pi/2): documented.
-    # 90 deg/s for 1 s is exactly fl(pi/2) (test_reference); the double below gives tan of an
-    # angle 2.8e-16 short of pi/2: 3.6e15, times f_L.
+    # 90 deg/s for 1 s is exactly fl(pi/2) (reference/test_model.py); the double below gives tan
+    # of an angle 2.8e-16 short of pi/2: 3.6e15, times f_L.
     below = float(np.nextafter(1.0, 0.0))
     blur = reference.blur_length_mm(5.6, 90.0, 1.0, np.array([1.0, below]))
     assert blur[0] == math.inf

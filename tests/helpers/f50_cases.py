@@ -1,5 +1,5 @@
-"""Lengths and exact f50s shared by the tests of f50's starting guesses (test_f50_start.py,
-test_spectrum_start.py)."""
+"""Lengths and exact f50s shared by the tests of f50's starting guesses (core/test_f50_start.py,
+core/test_spectrum_start.py)."""
 
 import numpy as np
 

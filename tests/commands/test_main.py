@@ -6,7 +6,6 @@ import json
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 
@@ -15,6 +14,7 @@ from epc_fast.__main__ import main
 from epc_fast.commands.scan import duration
 from epc_fast.presets import HIGH_TIER
 from epc_fast.selfcheck import self_check
+from helpers.scripts import ROOT
 
 
 def test_main_job_prints_build_self_check_and_design_table(capsys):
@@ -44,7 +44,7 @@ def test_durations_keep_the_digits_that_matter(seconds, text):
 
 def test_the_version_is_pyprojects():
     tomllib = pytest.importorskip("tomllib")
-    pyproject = Path(__file__).parents[1] / "pyproject.toml"
+    pyproject = ROOT / "pyproject.toml"
     assert epc_fast.__version__ == tomllib.loads(pyproject.read_text())["project"]["version"]
 
 

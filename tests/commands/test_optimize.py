@@ -5,7 +5,6 @@ refusals (a config mistake named in one line, a non-empty --out)."""
 import csv
 import json
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,8 +12,8 @@ import pytest
 from epc_fast import optimize, scan
 from epc_fast.__main__ import main
 from epc_fast.optimize_config import load_optimize_config
+from helpers.scripts import ROOT
 
-ROOT = Path(__file__).resolve().parents[1]
 CONFIG = """\
 [optimize]
 points = 20_000

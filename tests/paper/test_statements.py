@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import csv
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -19,8 +18,9 @@ import epc_fast
 from epc_fast.paper import CLAIMS, KINDS, PAPER_LUX_RANGE, VGA_PIXELS, statements
 from epc_fast.paper_table import CSV_COLUMNS, markdown_table, write_csv
 from epc_fast.presets import HIGH_TIER
+from helpers.scripts import ROOT
 
-DOCS = Path(__file__).resolve().parents[1] / "docs" / "paper.md"
+DOCS = ROOT / "docs" / "paper.md"
 CROSSOVERS = {"crossover_1.4_1.75": (HIGH_TIER[3], HIGH_TIER[2], 7500.0),
               "crossover_1.4_2.2": (HIGH_TIER[3], HIGH_TIER[1], 5500.0),
               "crossover_1.4_2.8": (HIGH_TIER[3], HIGH_TIER[0], 4000.0)}

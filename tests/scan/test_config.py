@@ -2,7 +2,6 @@
 tables and plots it writes, and the main job's default scan."""
 
 import csv
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,8 +14,9 @@ from epc_fast.scan import (Binned, Choice, FractionBelow, Grid, LogNormal, LogUn
 from epc_fast.scan import tables
 from epc_fast.scan.config import DEFAULT_CONFIG, default_config, load_config, parse_config
 from epc_fast.scan.errors import ConfigError, TooLargeError
+from helpers.scripts import ROOT
 
-EXAMPLE = Path(__file__).parents[1] / "examples" / "scan_designs.toml"
+EXAMPLE = ROOT / "examples" / "scan_designs.toml"
 NAMES = [d.name for d in HIGH_TIER]
 
 

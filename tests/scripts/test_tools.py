@@ -11,14 +11,12 @@ from __future__ import annotations
 import re
 import shutil
 import subprocess
-from pathlib import Path
 
 import pytest
 
 import epc_fast
-from helpers.scripts import load_script
+from helpers.scripts import ROOT, load_script
 
-ROOT = Path(__file__).resolve().parents[1]
 TOOLS = ("kernel_speed", "stage_costs", "memory_floor")
 COMPILER = shutil.which("g++") or shutil.which("c++")
 
