@@ -1,8 +1,6 @@
-"""Speed against accuracy (epc_fast.tradeoff, ``epc-fast bench``): the Pareto front, the
-settings and their knobs, the error measure, and one quick run of the command."""
+"""Speed against accuracy (epc_fast.tradeoff): the Pareto front, the settings and their knobs,
+the error measure, the timing, and the reference against mpmath."""
 
-import csv
-import importlib.util
 import inspect
 import math
 import subprocess
@@ -14,9 +12,9 @@ import pytest
 
 import epc_fast
 from epc_fast import Status
-from epc_fast.tradeoff import (ZERO_ERROR_FLOOR, Accuracy, Measurement, Setting,
-                               default_settings, evaluate_parameters, f50_accuracy, front_of,
-                               knob_value, markdown_columns, pareto_front, split_by_knobs)
+from epc_fast.tradeoff import (Setting, default_settings, evaluate_parameters, f50_accuracy,
+                               front_of, knob_value, pareto_front, split_by_knobs)
+from helpers.tradeoff import measurement
 
 # --- The Pareto front ----------------------------------------------------------------------------
 
@@ -43,25 +41,11 @@ def test_pareto_front_of_a_single_point_and_of_none():
         pareto_front([1.0, 2.0], [1.0])
 
 
-def measurement(name, max_error, speed_2_threads, spectrum_samples=None):
-    return Measurement(Setting(name, {}, spectrum_samples), "halley", 1e-14, "float64",
-                       Accuracy(max_error, max_error / 10, 100, 0),
-                       {1: speed_2_threads / 2, 2: speed_2_threads})
-
-
 def test_front_of_measurements_leaves_out_the_polychromatic_settings():
     rows = [measurement("default", 5e-15, 2e6), measurement("fast", 1e-7, 4e6),
             measurement("poly 4", 4e-15, 1e6, spectrum_samples=4)]
     # "poly 4" has the smallest error, but solves another model.
     assert front_of(rows) == [0, 1]
-
-
-def test_markdown_marks_the_front_and_writes_zero_errors_as_0():
-    rows = [measurement("default", 0.0, 2e6), measurement("slow", 1e-9, 1e6)]
-    columns = markdown_columns(rows, front_of(rows))
-    assert columns["setting"] == ["default *", "slow"]
-    assert columns["max rel err"] == ["0", "1.0e-09"]
-    assert columns["speed-up vs default"] == ["1.00", "0.50"]
 
 
 # --- Settings and knobs --------------------------------------------------------------------------
@@ -165,86 +149,7 @@ def test_points_per_s_writes_every_timed_call_into_the_same_arrays(monkeypatch):
     assert all(out is not None and out.epc is seen[1].epc for out in seen[1:])
 
 
-# --- The plot and the mpmath check ---------------------------------------------------------------
-
-
-def test_plot_draws_zero_errors_at_the_floor():
-    pytest.importorskip("matplotlib")
-    from epc_fast.tradeoff import plot_tradeoff
-
-    rows = [measurement("default", 0.0, 2e6), measurement("fast", 1e-7, 4e6)]
-    figure = plot_tradeoff(rows, front_of(rows))
-    ax = figure.axes[0]
-    labels = [line.get_label() for line in ax.get_lines()]
-    assert any("exactly 0" in label for label in labels)
-    zero = next(line for line in ax.get_lines() if "exactly 0" in line.get_label())
-    assert list(zero.get_xdata()) == [ZERO_ERROR_FLOOR]
-    front = next(line for line in ax.get_lines() if line.get_label().startswith("Pareto"))
-    assert list(front.get_xdata()) == [ZERO_ERROR_FLOOR, 1e-7]
-
-
-#: (name, max relative error, M points/s on 2 threads, spectrum samples) of a full run: the
-#: settings crowd at 1e-14 and at 1e-7, where labels collide unless they are placed.
-CROWDED_RUN = [
-    ("default", 8.3e-15, 51.3, None), ("halley rtol=1e-14", 8.3e-15, 57.1, None),
-    ("halley rtol=1e-10", 8.3e-15, 56.4, None), ("halley rtol=1e-6", 4.2e-08, 74.8, None),
-    ("newton rtol=1e-14", 8.4e-15, 43.0, None), ("newton rtol=1e-10", 8.6e-15, 49.3, None),
-    ("newton rtol=1e-6", 4.2e-08, 75.4, None), ("bisection rtol=1e-14", 6.9e-15, 6.32, None),
-    ("bisection rtol=1e-10", 5.0e-11, 8.39, None), ("bisection rtol=1e-6", 4.9e-07, 12.4, None),
-    ("brent rtol=1e-14", 8.4e-15, 6.26, None), ("brent rtol=1e-10", 2.5e-11, 8.2, None),
-    ("brent rtol=1e-6", 2.5e-07, 9.45, None), ("T_MPE brent", 3.9e-13, 5.98, None),
-    ("float32", 9.9e-08, 76.7, None), ("float32 rtol=1e-6", 9.9e-08, 82.0, None),
-    ("poly 1", 8.3e-15, 55.7, 1), ("poly 4", 8.6e-15, 38.2, 4), ("poly 16", 8.8e-15, 20.5, 16),
-    ("poly 64", 8.6e-15, 7.73, 64),
-]
-
-
-def crowded_plot():
-    from epc_fast.tradeoff import plot_tradeoff
-
-    rows = [measurement(name, error, speed * 1e6, samples)
-            for name, error, speed, samples in CROWDED_RUN]
-    return plot_tradeoff(rows, front_of(rows))
-
-
-def test_plot_labels_each_setting_once_and_no_label_touches_another():
-    pytest.importorskip("matplotlib")
-    from helpers.figures import label_boxes, labels_outside, overlapping_pairs
-
-    figure = crowded_plot()
-    ax = figure.axes[0]
-    boxes = label_boxes(figure, ax)
-    assert sorted(boxes) == sorted(name for name, *_ in CROWDED_RUN)
-    assert overlapping_pairs(boxes) == []
-    assert labels_outside(boxes, figure, ax) == []
-
-
-def test_plot_labels_cover_no_marker_and_not_the_front():
-    pytest.importorskip("matplotlib")
-    from helpers.figures import label_boxes, labels_on_lines
-
-    figure = crowded_plot()
-    ax = figure.axes[0]
-    boxes = label_boxes(figure, ax)
-    front = next(line for line in ax.get_lines() if line.get_label().startswith("Pareto"))
-    assert labels_on_lines(boxes, [front]) == []
-    centres = ax.transData.transform([(error, speed) for _, error, speed, _ in CROWDED_RUN])
-    for name, box in boxes.items():
-        covered = [(x, y) for x, y in centres
-                   if box.x0 < x < box.x1 and box.y0 < y < box.y1]
-        assert covered == [], name
-
-
-def test_plot_legend_sits_below_the_axes_and_ticks_are_plain_numbers():
-    pytest.importorskip("matplotlib")
-    figure = crowded_plot()
-    renderer = figure.canvas.get_renderer()
-    ax = figure.axes[0]
-    assert figure.legends[0].get_window_extent(renderer).y1 <= ax.get_tightbbox(renderer).y0
-    figure.canvas.draw()
-    ticks = [t.get_text() for t in ax.get_yticklabels() if t.get_text()]
-    assert ticks and all("times" not in t and "^" not in t for t in ticks)
-    assert ax.get_ylabel() == "Throughput (M points/s, 2 threads)"
+# --- What measuring imports, and the mpmath check ------------------------------------------------
 
 
 def test_measuring_imports_no_matplotlib_and_keeps_the_plot_name():
@@ -268,23 +173,3 @@ def test_reference_agrees_with_mpmath_on_a_few_random_designs():
     assert check.points == 8 and check.status_mismatches == 0
     assert check.max_rel_error["f50_cyc_per_mm"] <= 1e-13
     assert "8 points" in check.summary()
-
-
-# --- The command ---------------------------------------------------------------------------------
-
-
-def test_quick_bench_writes_its_table_and_plot(tmp_path):
-    proc = subprocess.run([sys.executable, "-m", "epc_fast", "bench", "--quick", "--out",
-                           str(tmp_path)], capture_output=True, text=True, timeout=120)
-    assert proc.returncode == 0, proc.stderr
-    assert "| setting | f50 solver | rtol | precision | max rel err |" in proc.stdout
-    assert (tmp_path / "trade.md").is_file()
-    if importlib.util.find_spec("matplotlib") is not None:
-        assert (tmp_path / "trade.png").stat().st_size > 0
-    with open(tmp_path / "trade.csv", newline="") as handle:
-        rows = {row["setting"]: row for row in csv.DictReader(handle)}
-    default = rows["default"]
-    assert float(default["max_rel_error"]) <= 1e-12
-    assert int(default["status_mismatches"]) == 0
-    assert float(default["speedup_vs_default"]) == 1.0
-    assert float(default["points_per_s_2_threads"]) > 0
