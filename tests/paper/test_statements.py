@@ -1,35 +1,25 @@
-"""The paper's statements (MODEL.md section 9) held against the preset, and the table written
-from them.
+"""The paper's statements (MODEL.md section 9) held against the preset.
 
 Each statement is computed once per backend through epc_fast.paper (the inverse solvers for
-crossings and light levels, epc_fast.evaluate for kept fractions), and the crossings are checked
-a second time through epc_fast.evaluate alone.
+crossings and light levels, epc_fast.evaluate for kept fractions; the ``table`` fixture of
+conftest.py), and the crossings are checked a second time through epc_fast.evaluate alone.
 """
 
 from __future__ import annotations
 
-import csv
 import math
 
 import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast.paper import CLAIMS, KINDS, PAPER_LUX_RANGE, VGA_PIXELS, statements
-from epc_fast.paper_table import CSV_COLUMNS, markdown_table, write_csv
+from epc_fast.paper import CLAIMS, KINDS, PAPER_LUX_RANGE, VGA_PIXELS
 from epc_fast.presets import HIGH_TIER
-from helpers.scripts import ROOT
 
-DOCS = ROOT / "docs" / "paper.md"
 CROSSOVERS = {"crossover_1.4_1.75": (HIGH_TIER[3], HIGH_TIER[2], 7500.0),
               "crossover_1.4_2.2": (HIGH_TIER[3], HIGH_TIER[1], 5500.0),
               "crossover_1.4_2.8": (HIGH_TIER[3], HIGH_TIER[0], 4000.0)}
 SECTION_9 = ("rayleigh_f2.8", "rayleigh_f4.9", *CROSSOVERS, "fraction_1.4_100klux", "vga_1.4")
-
-
-@pytest.fixture(scope="module", params=("core", "reference"))
-def table(request):
-    return {s.id: s for s in statements(backend=request.param)}
 
 
 @pytest.mark.parametrize("statement_id", SECTION_9)
@@ -101,20 +91,3 @@ def test_every_model_only_value_exists_under_every_reading(table):
     for s in table.values():
         values = (s.preset_value, s.on_axis_30db_value, s.on_axis_33db_value)
         assert all(math.isfinite(v) and v > 0 for v in values), s.id
-
-
-def test_the_csv_holds_every_value_at_full_precision(table, tmp_path):
-    path = tmp_path / "statements.csv"
-    write_csv(table.values(), path)
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.DictReader(f))
-    assert tuple(rows[0]) == CSV_COLUMNS
-    for row in rows:
-        s = table[row["id"]]
-        for name in ("preset_value", "on_axis_30db_value", "on_axis_33db_value"):
-            assert float(row[name]) == getattr(s, name)  # repr round-trips a float exactly
-
-
-def test_the_table_in_the_docs_is_the_current_one(table):
-    # Values are printed to 4 digits and deviations to 0.01%: the two backends print the same.
-    assert markdown_table(table.values()) in DOCS.read_text(encoding="utf-8")
