@@ -34,7 +34,8 @@ LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
     tests/test_extremes.py tests/test_bad_input.py tests/test_concurrency.py \
     tests/core/test_spectrum_start.py tests/test_memory.py tests/core/test_f50_start.py \
     tests/core/test_precision.py tests/core/test_stream.py tests/scan/test_core_plan.py \
-    tests/test_sensitivity.py tests/test_elasticity_outputs.py "$@"
+    tests/test_sensitivity.py tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
+    "$@"
 
 levels="$(python -c 'import epc_fast._core as c
 print(" ".join(level for level, ok in c._module.cpu_levels().items() if ok))')"
@@ -47,5 +48,5 @@ for level in x86-64-v3 x86-64-v4; do
     EPC_FAST_ISA="$level" LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
         tests/core/test_stream.py tests/scan/test_core_plan.py tests/scan/test_streams.py \
         tests/scan/test_reductions.py tests/scan/test_runner.py tests/test_sensitivity.py \
-        tests/test_elasticity_outputs.py "$@"
+        tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py "$@"
 done
