@@ -32,9 +32,10 @@ export ASAN_OPTIONS="detect_leaks=0:abort_on_error=1:allocator_may_return_null=1
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
     tests/test_extremes.py tests/test_bad_input.py tests/test_concurrency.py \
-    tests/test_spectrum_start.py tests/test_memory.py tests/test_f50_start.py \
-    tests/test_precision.py tests/test_stream.py tests/test_scan_core.py \
-    tests/test_sensitivity.py tests/test_elasticity_outputs.py "$@"
+    tests/core/test_spectrum_start.py tests/test_memory.py tests/core/test_f50_start.py \
+    tests/core/test_precision.py tests/core/test_stream.py tests/scan/test_core_plan.py \
+    tests/test_sensitivity.py tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
+    "$@"
 
 levels="$(python -c 'import epc_fast._core as c
 print(" ".join(level for level, ok in c._module.cpu_levels().items() if ok))')"
@@ -45,7 +46,7 @@ for level in x86-64-v3 x86-64-v4; do
     fi
     echo "sanitize.sh: $level"
     EPC_FAST_ISA="$level" LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
-        tests/test_stream.py tests/test_scan_core.py tests/test_scan_streams.py \
-        tests/test_scan_reductions.py tests/test_scan_runner.py tests/test_sensitivity.py \
-        tests/test_elasticity_outputs.py "$@"
+        tests/core/test_stream.py tests/scan/test_core_plan.py tests/scan/test_streams.py \
+        tests/scan/test_reductions.py tests/scan/test_runner.py tests/test_sensitivity.py \
+        tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py "$@"
 done

@@ -29,7 +29,9 @@ import atheris
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
-import conftest  # noqa: E402, F401  (loads EPC_FAST_CORE_DIR's core before epc_fast does)
+from helpers.core_override import load_core_override  # noqa: E402
+
+load_core_override()  # EPC_FAST_CORE_DIR's core, loaded before epc_fast loads its own
 
 import epc_fast  # noqa: E402
 from epc_fast import Status, _core, api, outputs, params  # noqa: E402

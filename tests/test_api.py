@@ -17,7 +17,7 @@ import pytest
 import epc_fast
 from epc_fast import Cause, Result, Status, api
 from epc_fast.params import PARAMETERS, SIZE_PARAMETERS
-from test_core_vs_reference import random_design_points
+from helpers.designs import random_design_points
 
 BACKENDS = ("core", "reference")
 FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",

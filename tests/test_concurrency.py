@@ -19,7 +19,7 @@ import pytest
 
 import epc_fast
 from epc_fast import api
-from test_core_vs_reference import random_design_points
+from helpers.designs import random_design_points
 
 FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm", "epc",
           "status", "cause")
@@ -127,15 +127,15 @@ def test_threads_passing_kept_output_memory_between_them_get_the_serial_answers(
 
 #: The child: times one chunk, then starts a call twelve chunks long and reports how it ended.
 #: A 16-line spectrum and f50_rtol=0 make each chunk long enough (about a second here) for the
-#: signal to land inside one. conftest.load_core_override keeps a sanitizer run sanitized. The
+#: signal to land inside one. helpers.core_override keeps a sanitizer run sanitized. The
 #: child installs Python's SIGINT handler itself: a child inherits SIGINT ignored from a test run
 #: started as a background job, and Python then leaves it ignored.
 CHILD = """
 import signal, sys, time
 signal.signal(signal.SIGINT, signal.default_int_handler)
 sys.path.insert(0, {tests!r})
-import conftest
-conftest.load_core_override()
+from helpers.core_override import load_core_override
+load_core_override()
 import numpy as np, epc_fast
 from epc_fast import api
 

@@ -16,6 +16,7 @@ import pytest
 import epc_fast
 from epc_fast import Cause, Status
 from epc_fast.spectra import diffraction_spectrum
+from helpers.designs import box_corners, log_uniform, random_design_points
 
 # Relative agreement asked of the two backends on well-conditioned points. Each backend rounds
 # its own way (libm vs NumPy's SIMD cos/tan/pow/acos, (cos^2)^2 vs cos**4, a bisection to
@@ -30,90 +31,6 @@ RTOL_BRENT = 1e-13
 
 FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
                 "epc")
-
-# The fraction of points given an invalid value: enough for hundreds per 100,000.
-INVALID_FRACTION = 0.01
-
-
-def _log_uniform(rng, lo, hi, n):
-    return np.exp(rng.uniform(np.log(lo), np.log(hi), n))
-
-
-def _half_zero(rng, values, zero_fraction=0.5):
-    return np.where(rng.random(values.shape) < zero_fraction, 0.0, values)
-
-
-def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=INVALID_FRACTION):
-    """``n`` random design points spread over the whole domain, as keyword arrays for evaluate.
-
-    Illuminance is log-uniform on 1e-3..1e7 lux with a few exact zeros; the sensor terms (read
-    noise, dark current, PRNU) are zero on about half the points each, so the shot-noise-only
-    path is exercised as much as the general one. A fraction ``invalid_fraction`` of the points
-    gets one parameter replaced by a value outside its domain (NaN, a negative pitch,
-    reflectance 1.5, an infinite f-number, ...), so that every status occurs. ``size`` is
-    "sensor_area_mm2" or "pixel_count".
-    """
-    rng = np.random.default_rng(seed)
-    illuminance = _log_uniform(rng, 1e-3, 1e7, n)
-    illuminance[rng.random(n) < 0.002] = 0.0
-    p = {
-        "illuminance_lux": illuminance,
-        "pixel_pitch_um": rng.uniform(0.3, 20.0, n),
-        "f_number": rng.uniform(0.7, 64.0, n),
-        "focal_length_mm": rng.uniform(1.0, 100.0, n),
-        "reflectance": rng.uniform(0.0, 1.0, n),
-        "lens_transmittance": rng.uniform(0.0, 1.0, n),
-        "field_angle_deg": rng.uniform(-80.0, 80.0, n),
-        "fill_factor": rng.uniform(0.05, 1.0, n),
-        "electrons_per_lux_s_m2": 2.5e15 * _log_uniform(rng, 0.5, 2.0, n),
-        "read_noise_e": _half_zero(rng, rng.uniform(0.0, 50.0, n)),
-        "dark_current_e_per_s": _half_zero(rng, rng.uniform(0.0, 1e4, n)),
-        "prnu": _half_zero(rng, rng.uniform(0.0, 0.05, n)),
-        "full_well_e": np.where(rng.random(n) < 0.5, np.inf, _log_uniform(rng, 1e2, 1e6, n)),
-        "snr_db": rng.uniform(5.0, 60.0, n),
-        "shake_deg_per_s": _half_zero(rng, rng.uniform(0.0, 60.0, n), zero_fraction=0.2),
-        "stabilization": rng.uniform(1.0, 8.0, n),
-        "jitter_um": _half_zero(rng, rng.uniform(0.0, 5.0, n), zero_fraction=0.8),
-        "wavelength_nm": rng.uniform(400.0, 700.0, n),
-        "mtf_threshold": rng.uniform(0.1, 0.9, n),
-    }
-    if size == "sensor_area_mm2":
-        p["sensor_area_mm2"] = _log_uniform(rng, 0.1, 1e3, n)
-    elif size == "pixel_count":
-        p["pixel_count"] = np.round(_log_uniform(rng, 1e4, 1e9, n))
-    else:
-        raise ValueError(f"size must be sensor_area_mm2 or pixel_count, got {size!r}")
-
-    # One bad value per chosen point, in a parameter chosen at random.
-    bad_values = {
-        "illuminance_lux": [np.nan, -1.0, np.inf],
-        "pixel_pitch_um": [np.nan, -1.4, 0.0, np.inf],
-        "f_number": [np.nan, np.inf, 0.0, -2.8],
-        "focal_length_mm": [np.nan, -5.6, np.inf],
-        size: [np.nan, -1.0, 0.0, np.inf],
-        "reflectance": [np.nan, 1.5, -0.1],
-        "lens_transmittance": [np.nan, 1.5, -0.1],
-        "field_angle_deg": [np.nan, 90.0, -95.0],
-        "fill_factor": [np.nan, 0.0, 1.5],
-        "electrons_per_lux_s_m2": [np.nan, 0.0, np.inf],
-        "read_noise_e": [np.nan, -1.0, np.inf],
-        "dark_current_e_per_s": [np.nan, -1.0, np.inf],
-        "prnu": [np.nan, -0.01, np.inf],
-        "full_well_e": [np.nan, 0.0, -1.0],
-        "snr_db": [np.nan, np.inf, -np.inf],
-        "shake_deg_per_s": [np.nan, -1.0, np.inf],
-        "stabilization": [np.nan, 0.0, np.inf],
-        "jitter_um": [np.nan, -1.0, np.inf],
-        "wavelength_nm": [np.nan, 0.0, np.inf],
-        "mtf_threshold": [np.nan, 0.0, 1.0],
-    }
-    names = sorted(bad_values)
-    for i in np.flatnonzero(rng.random(n) < invalid_fraction):
-        name = names[rng.integers(len(names))]
-        choices = bad_values[name]
-        p[name][i] = choices[rng.integers(len(choices))]
-    return p
-
 
 def prnu_condition(p):
     """T_MPE's condition number from the PRNU term: 1/(1 - s u^2), s = 10^(snr_db/10).
@@ -276,7 +193,7 @@ def _points_inside_the_prnu_cap(n, seed):
     rng = np.random.default_rng(seed)
     p = random_design_points(n, seed, invalid_fraction=0.0)
     p["read_noise_e"] = rng.uniform(0.1, 50.0, n)
-    p["dark_current_e_per_s"] = _log_uniform(rng, 1e-2, 1e4, n)
+    p["dark_current_e_per_s"] = log_uniform(rng, 1e-2, 1e4, n)
     root_s = 10.0 ** (p["snr_db"] / 20.0)
     p["prnu"] = rng.uniform(0.0, 0.9, n) / root_s
     return p
@@ -299,32 +216,8 @@ def test_brent_agrees_with_the_closed_form_t_mpe():
                                rtol=RTOL_BRENT, atol=0)
 
 
-def _box_corners(n, seed):
-    """Random designs with each parameter, independently, at an end of the generator's range.
-
-    The extremes meet here: 1e7 lux through F/0.7 onto a 20 um pixel, 1e-3 lux through F/64
-    with 60 deg/s of shake, a 5 um jitter on a 0.3 um pixel, 60 dB with PRNU 0.05, ...
-    """
-    rng = np.random.default_rng(seed)
-    p = random_design_points(n, seed, invalid_fraction=0.0)
-    ends = {
-        "illuminance_lux": (1e-3, 1e7), "pixel_pitch_um": (0.3, 20.0), "f_number": (0.7, 64.0),
-        "focal_length_mm": (1.0, 100.0), "sensor_area_mm2": (0.1, 1e3),
-        "reflectance": (0.01, 1.0), "lens_transmittance": (0.01, 1.0),
-        "field_angle_deg": (-80.0, 80.0), "fill_factor": (0.05, 1.0),
-        "electrons_per_lux_s_m2": (1.25e15, 5e15), "read_noise_e": (0.0, 50.0),
-        "dark_current_e_per_s": (0.0, 1e4), "prnu": (0.0, 0.05), "full_well_e": (1e2, np.inf),
-        "snr_db": (5.0, 60.0), "shake_deg_per_s": (0.0, 60.0), "stabilization": (1.0, 8.0),
-        "jitter_um": (0.0, 5.0), "wavelength_nm": (400.0, 700.0), "mtf_threshold": (0.1, 0.9),
-    }
-    for name, (lo, hi) in ends.items():
-        at_end = rng.random(n) < 0.7
-        p[name] = np.where(at_end, np.where(rng.random(n) < 0.5, lo, hi), p[name])
-    return p
-
-
 def test_core_matches_reference_at_the_corners_of_the_range():
-    p = _box_corners(20_000, seed=4390)
+    p = box_corners(20_000, seed=4390)
     core, ref = _evaluate_both(p)
     stats = _assert_backends_agree(p, core, ref, "corners of the range")
     assert stats["ok"] > 1_000

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_core_vs_reference import random_design_points
+from helpers.designs import random_design_points
 
 import epc_fast
 from epc_fast import _core, elasticity_outputs, params

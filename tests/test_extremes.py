@@ -17,9 +17,7 @@ rounding of every input would allow, plus the bisection tolerance for f50 and EP
 
 from __future__ import annotations
 
-import functools
 import math
-import warnings
 from fractions import Fraction
 
 import mpmath as mp
@@ -28,12 +26,12 @@ import pytest
 
 import epc_fast
 from epc_fast import Cause, Status, _core, params, reference
-from conftest import parameter_defaults
-from test_core_vs_reference import _box_corners
+from helpers.conditioning import OUTPUTS, condition_numbers, evaluate_quietly
+from helpers.designs import box_corners, parameter_defaults
+from helpers.mp_model import (LARGEST, MP_DPS, SMALLEST_NORMAL, expected_status, mp_diffraction,
+                              mp_model, mp_signal_electrons, relative_error)
 
 U = 2.0**-53  # unit roundoff
-SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
-LARGEST = float(np.finfo(np.float64).max)
 #: C in C (kappa + 1) u: the measured worst is 1.4 (reference and f50_rtol=0 core, table below);
 #: 8 leaves room for the few roundings a formula may add without letting a lost digit through.
 C_ROUNDINGS = 8.0
@@ -43,157 +41,15 @@ F50_RTOL = 1e-14
 BACKENDS = [pytest.param(dict(backend="core"), id="core"),
             pytest.param(dict(backend="core", t_mpe_solver="brent"), id="core-brent"),
             pytest.param(dict(backend="reference"), id="reference")]
-OUTPUTS = ("t_mpe_s", "f50_cyc_per_mm", "epc")
 
 #: An OK design with every term on (the paper's 1.4 um design at 1000 lux, on axis).
 DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
               sensor_area_mm2=15.6751, electrons_per_lux_s_m2=2.5577e15)
 DEFAULTS = parameter_defaults()
 
-
-def evaluate_quietly(**kwargs):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)  # the reference's overflow warnings
-        return epc_fast.evaluate(**kwargs)
-
-
-# --- An mpmath model of MODEL.md, statuses included (50 digits) --------------------------------
-
-MP_DPS = 50
-mp.mp.dps = MP_DPS  # every mpf below, errors included, at 50 digits (as in test_reference)
-
-
-def mp_model(inputs):
-    """MODEL.md sections 3-7 in exact arithmetic from the float64 inputs taken exactly.
-
-    Returns a dict with "status" ("ok", "unreachable", "blur_unbounded"), "cause" for
-    unreachable points, and the mpf outputs "rate", "electrons", "t_mpe_s", "blur_mm",
-    "f50_cyc_per_mm", "epc" as far as the status defines them. Cached: the backends of a
-    parametrised test share one evaluation.
-    """
-    return _mp_model(tuple(sorted((k, float(v)) for k, v in inputs.items())))
-
-
-@functools.lru_cache(maxsize=4096)
-def _mp_model(items):
-    inputs = dict(items)
-    with mp.workdps(MP_DPS):
-        v = {**DEFAULTS, "full_well_e": math.inf, **inputs}
-        x = {k: mp.mpf(val) for k, val in v.items() if k != "full_well_e"}
-        pi = mp.pi
-        cos = mp.cos(x["field_angle_deg"] * pi / 180)
-        rate = (x["illuminance_lux"] * x["reflectance"] * x["lens_transmittance"] * cos**4
-                / (4 * x["f_number"] ** 2) * x["electrons_per_lux_s_m2"] * x["fill_factor"]
-                * (x["pixel_pitch_um"] / 10**6) ** 2)
-        out = {"rate": rate}
-        s, u = mp.mpf(10) ** (x["snr_db"] / 10), x["prnu"]
-        if rate == 0:
-            return dict(out, status="unreachable", cause="no_light")
-        if u * mp.sqrt(s) >= 1:
-            return dict(out, status="unreachable", cause="prnu")
-        a = rate**2 * (1 - s * u**2)
-        b = s * (rate + x["dark_current_e_per_s"])
-        c = s * x["read_noise_e"] ** 2
-        t = (b + mp.sqrt(b * b + 4 * a * c)) / (2 * a)
-        out.update(t_mpe_s=t, electrons=rate * t)
-        if rate * t > v["full_well_e"]:
-            return dict(out, status="unreachable", cause="full_well")
-        angle = x["shake_deg_per_s"] * pi / 180 / x["stabilization"] * t
-        if angle >= pi / 2:
-            return dict(out, status="blur_unbounded")
-        blur = x["focal_length_mm"] * mp.tan(angle)
-        f50 = _mp_f50(x, blur)
-        if "pixel_count" in x:
-            area = x["pixel_count"] * (x["pixel_pitch_um"] / 1000) ** 2
-        else:
-            area = x["sensor_area_mm2"]
-        return dict(out, status="ok", blur_mm=blur, f50_cyc_per_mm=f50, epc=4 * area * f50**2)
-
-
-def _mp_f50(x, blur):
-    """The first f with MTF_sys(f) = c, bracketed as MODEL.md section 6 says."""
-    pi = mp.pi
-    lam_f = x["wavelength_nm"] / 10**6 * x["f_number"]
-    aperture = mp.sqrt(x["fill_factor"]) * x["pixel_pitch_um"] / 1000
-    sigma = x["jitter_um"] / 1000
-    threshold = x["mtf_threshold"]
-
-    def excess(f):
-        nu = f * lam_f
-        diffraction = 2 / pi * (mp.acos(nu) - nu * mp.sqrt(1 - nu * nu)) if nu < 1 else 0
-        return (diffraction * abs(mp.sincpi(aperture * f)) * abs(mp.sincpi(blur * f))
-                * mp.exp(-2 * pi**2 * (sigma * f) ** 2) - threshold)
-
-    zeros = [1 / lam_f, 1 / aperture]
-    if blur > 0:
-        zeros.append(1 / blur)
-    if sigma > 0:
-        zeros.append(mp.sqrt(mp.log(1 / threshold) / (2 * pi**2)) / sigma)
-    lo, hi = min(zeros) / 2, min(zeros)
-    while excess(lo) <= 0:
-        lo /= 2
-    for _ in range(8):  # narrow the bracket before the secant-type solver
-        mid = (lo + hi) / 2
-        lo, hi = (mid, hi) if excess(mid) > 0 else (lo, mid)
-    try:
-        root = mp.findroot(excess, (lo, hi), solver="anderson")
-        if lo <= root <= hi and abs(excess(root)) <= threshold * mp.mpf(10) ** (15 - MP_DPS):
-            return root
-    except (ValueError, ZeroDivisionError):
-        pass
-    for _ in range(4 * MP_DPS):  # the slow, sure way
-        mid = (lo + hi) / 2
-        lo, hi = (mid, hi) if excess(mid) > 0 else (lo, mid)
-    return (lo + hi) / 2
-
-
-def expected_status(model):
-    """The (Status, Cause) the engine owes a point, mpmath's exact status with the engine's
-    documented conventions: a rate below the smallest normal double, or a T_MPE beyond the
-    largest, is no light (docs/numerics.md)."""
-    if model["rate"] < SMALLEST_NORMAL or model.get("t_mpe_s", 0) > LARGEST:
-        return Status.UNREACHABLE, Cause.NO_LIGHT
-    status = {"ok": Status.OK, "unreachable": Status.UNREACHABLE,
-              "blur_unbounded": Status.BLUR_UNBOUNDED}[model["status"]]
-    cause = {"no_light": Cause.NO_LIGHT, "prnu": Cause.PRNU,
-             "full_well": Cause.FULL_WELL}.get(model.get("cause"), Cause.NONE)
-    return status, cause
-
-
-def condition_numbers(points, h=1e-7):
-    """kappa of T_MPE, f50 and EPC at each point: sum over the inputs of |d ln out / d ln x|.
-
-    Differences of the reference over steps of h |x| either way, h times the distance to an
-    open end of the domain where that is nearer (where the model is singular: a threshold
-    near 1, a field angle near 90 deg) but never under 64 ulp of x, one way where the other
-    leaves the domain (reflectance 1): the estimate is good to ~10%, plenty for a tolerance.
-    inf where a step changes a status (the point sits on a boundary, where no tolerance is
-    meaningful).
-    """
-    table = {p.name: p for p in params.PARAMETERS}
-    base = evaluate_quietly(**points, backend="reference")
-    kappa = {name: np.zeros(base.status.shape) for name in OUTPUTS}
-    with np.errstate(all="ignore"):
-        for name, value in points.items():
-            if name == "full_well_e":  # only decides a status
-                continue
-            param = table["size" if name in params.SIZE_PARAMETERS else name]
-            scale = np.abs(value)
-            for end, closed in ((param.lo, param.lo_closed), (param.hi, param.hi_closed)):
-                if not closed and math.isfinite(end):
-                    scale = np.minimum(scale, np.abs(value - end))
-            delta = np.maximum(h * scale, 64 * np.spacing(np.abs(value)))  # >= 64 ulp of x
-            steps = [np.where(params.in_domain(param, value + sign * delta),
-                              value + sign * delta, value) for sign in (1.0, -1.0)]
-            up = evaluate_quietly(**{**points, name: steps[0]}, backend="reference")
-            down = evaluate_quietly(**{**points, name: steps[1]}, backend="reference")
-            flips = (up.status != base.status) | (down.status != base.status)
-            for out in OUTPUTS:
-                slope = (np.abs(np.log(getattr(up, out)) - np.log(getattr(down, out)))
-                         / np.abs(np.log(np.abs(steps[0])) - np.log(np.abs(steps[1]))))
-                slope = np.where(np.isfinite(slope), slope, 0.0)  # 0/0: an input at 0
-                kappa[out] += np.where(flips, np.inf, slope)
-    return kappa
+# The model of docs/model.md in mpmath, statuses included, is helpers/mp_model.py (50 digits);
+# the condition numbers kappa are helpers/conditioning.py's.
+mp.mp.dps = MP_DPS  # every mpf below, errors included, at 50 digits (as in the reference tests)
 
 
 def allowed_error(output, kappa, f50_rtol):
@@ -202,12 +58,6 @@ def allowed_error(output, kappa, f50_rtol):
     EPC (f50 squared)."""
     bisection = {"t_mpe_s": 0.0, "f50_cyc_per_mm": 0.5, "epc": 1.0}[output] * f50_rtol
     return C_ROUNDINGS * (kappa + 1.0) * U + bisection
-
-
-def relative_error(value, exact):
-    if exact == 0:
-        return 0.0 if value == 0 else math.inf
-    return float(abs(mp.mpf(value) / exact - 1))
 
 
 def points_of(designs):
@@ -259,11 +109,6 @@ DIFFRACTION = [pytest.param(_core.mtf_diffraction, id="core"),
                pytest.param(lambda nu: reference.mtf_diffraction(nu, 1e6, 1.0), id="reference")]
 
 
-def mp_diffraction(nu):
-    nu = mp.mpf(nu)
-    return 2 / mp.pi * (mp.acos(nu) - nu * mp.sqrt(1 - nu * nu)) if nu < 1 else mp.mpf(0)
-
-
 @pytest.mark.parametrize("mtf", DIFFRACTION)
 def test_diffraction_mtf_keeps_its_relative_precision_down_to_the_cut_off(mtf):
     # Before: acos(nu) - nu sqrt(1 - nu^2) cancelled, leaving ~1e-16 absolute (at 1 - nu = 1e-12
@@ -289,16 +134,9 @@ def test_diffraction_mtf_is_continuous_and_decreasing_where_its_two_forms_meet(m
 # --- T_MPE: the quadratic root for every sign pattern --------------------------------------------
 
 
-def mp_electrons(rate, snr_db, read, dark, prnu):
-    r, sd, sr, d, u = (mp.mpf(v) for v in (rate, snr_db, read, dark, prnu))
-    s = mp.mpf(10) ** (sd / 10)
-    a, b, c = r * r * (1 - s * u * u), s * (r + d), s * sr * sr
-    return r * (b + mp.sqrt(b * b + 4 * a * c)) / (2 * a)
-
-
 def mp_electrons_condition(args):
     """sum_x |d ln E / d ln x| over the five inputs, by exact central differences."""
-    base, h, total = mp_electrons(*args), mp.mpf(10) ** -25, mp.mpf(0)
+    base, h, total = mp_signal_electrons(*args), mp.mpf(10) ** -25, mp.mpf(0)
     for k, value in enumerate(args):
         if value == 0:
             continue
@@ -306,7 +144,7 @@ def mp_electrons_condition(args):
         down = list(args)
         up[k] = mp.mpf(value) * (1 + h)
         down[k] = mp.mpf(value) * (1 - h)
-        total += abs((mp_electrons(*up) - mp_electrons(*down)) / (2 * h * base))
+        total += abs((mp_signal_electrons(*up) - mp_signal_electrons(*down)) / (2 * h * base))
     return float(total)
 
 
@@ -326,7 +164,7 @@ def test_electrons_needed_match_the_mpmath_root_for_every_sign_pattern(read, dar
              for snr in (-3000.0, -300.0, 0.0, 30.0, 33.0, 300.0, 1000.0)]
     args = [np.array(column) for column in zip(*cases)]
     with mp.workdps(60):
-        exact = [mp_electrons(*case) for case in cases]
+        exact = [mp_signal_electrons(*case) for case in cases]
         kappa = [mp_electrons_condition(case) for case in cases]
     for name, values in [("core", _core.signal_electrons(*args)),
                          ("core-brent", _core.signal_electrons_brent(*args, 0.0)),
@@ -374,8 +212,8 @@ def test_t_mpe_near_the_prnu_cap_is_within_its_conditioning(options):
 
 def test_an_angle_of_exactly_fl_pi_over_2_is_unbounded_and_the_double_below_it_is_not():
     # fl(pi/2) is 6.1e-17 below pi/2, but "reaches pi/2" compares with fl(pi/2): documented.
-    # 90 deg/s for 1 s is exactly fl(pi/2) (test_reference); the double below gives tan of an
-    # angle 2.8e-16 short of pi/2: 3.6e15, times f_L.
+    # 90 deg/s for 1 s is exactly fl(pi/2) (reference/test_model.py); the double below gives tan
+    # of an angle 2.8e-16 short of pi/2: 3.6e15, times f_L.
     below = float(np.nextafter(1.0, 0.0))
     blur = reference.blur_length_mm(5.6, 90.0, 1.0, np.array([1.0, below]))
     assert blur[0] == math.inf
@@ -455,7 +293,7 @@ def test_the_brightest_corner_of_the_domain_has_a_finite_rate_and_exposure(optio
     r = evaluate_quietly(**design, **options)
     model = mp_model(design)
     assert 1e167 < r.electron_rate_e_per_s < 3e167
-    assert relative_error(r.electron_rate_e_per_s, model["rate"]) <= 16 * U  # 13 roundings
+    assert relative_error(r.electron_rate_e_per_s, model["electron_rate_e_per_s"]) <= 16 * U  # 13 roundings
     assert (r.status, r.cause) == expected_status(model)
     assert math.isfinite(r.t_mpe_s)
 
@@ -550,7 +388,7 @@ def test_the_rate_keeps_its_digits_at_grazing_field_angles(options):
     r = evaluate_quietly(**points_of(designs), **options)
     for i, design in enumerate(designs):
         # 16 u: a dozen roundings in the product and sin's own.
-        assert relative_error(r.electron_rate_e_per_s[i], mp_model(design)["rate"]) <= 16 * U
+        assert relative_error(r.electron_rate_e_per_s[i], mp_model(design)["electron_rate_e_per_s"]) <= 16 * U
 
 
 # --- The measurement quoted in docs/numerics.md -------------------------------------------------
@@ -559,8 +397,8 @@ def test_the_rate_keeps_its_digits_at_grazing_field_angles(options):
 def monte_carlo_corners(n, seed):
     """The corners a Monte Carlo scan samples: each parameter at an end of the physical box
     with probability 0.7 (1e-3 / 1e7 lux, 0.3 / 20 um, F/0.7 / F/64, 0 / 60 deg/s, 5 / 60 dB,
-    ...: test_core_vs_reference._box_corners)."""
-    return _box_corners(n, seed)
+    ...: helpers.designs.box_corners)."""
+    return box_corners(n, seed)
 
 
 def whole_domain(n, seed):
@@ -568,7 +406,7 @@ def whole_domain(n, seed):
     the caps of params.py, subnormals, exact ends), each parameter drawn from that spread or
     from the physical box with equal odds."""
     rng = np.random.default_rng(seed)
-    box = _box_corners(n, seed + 1)
+    box = box_corners(n, seed + 1)
 
     def spread(lo, hi):
         return np.exp(rng.uniform(np.log(lo), np.log(hi), n))

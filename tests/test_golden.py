@@ -1,6 +1,6 @@
 """The golden set (tests/data/golden_public.json, mpmath at 50 digits) and a few more cases from an
-independent mpmath model of MODEL.md (tests/mp_model.py), each run through epc_fast.evaluate on
-the core (closed-form and Brent T_MPE) and on the NumPy reference."""
+independent mpmath model of MODEL.md (tests/helpers/mp_model.py), each run through
+epc_fast.evaluate on the core (closed-form and Brent T_MPE) and on the NumPy reference."""
 
 import functools
 import json
@@ -9,10 +9,10 @@ from pathlib import Path
 
 import mpmath
 import pytest
-from mp_model import OWN_CASES, mp_model
 
 import epc_fast
 from epc_fast import Cause, Status
+from helpers.mp_model import OWN_CASES, mp_model
 
 # --- Helpers ------------------------------------------------------------------------------------
 
@@ -86,7 +86,7 @@ GOLDEN_CASES = [pytest.param(point_id, backend, id=f"{point_id}-{backend}")
                 for point_id in POINTS for backend in BACKENDS]
 
 
-# --- Cases of the independent mpmath model (tests/mp_model.py) --------------------------------
+# --- Cases of the independent mpmath model (helpers/mp_model.py) ------------------------------
 
 OWN_PARAMS = [pytest.param(case, backend, quantity, id=f"{case}-{backend}-{quantity}")
               for case in OWN_CASES for backend in BACKENDS

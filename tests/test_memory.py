@@ -15,7 +15,7 @@ import pytest
 
 import epc_fast
 from epc_fast import _core, _limits, _validation, api, memory, params
-from test_core_vs_reference import random_design_points
+from helpers.designs import random_design_points
 
 MIB = 2**20
 #: Enough points for every float64 output (8 B a point) to pass the cache's 1 MiB threshold;

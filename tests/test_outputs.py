@@ -11,7 +11,7 @@ import pytest
 
 import epc_fast
 from epc_fast import Result, Status, api
-from test_core_vs_reference import random_design_points
+from helpers.designs import random_design_points
 
 ALL_FIELDS = tuple(api.OUTPUT_DTYPES)
 #: Selections that exercise each kernel path: without f50 (exposure only), f50 without the

@@ -26,7 +26,7 @@ from hypothesis import strategies as st
 
 import epc_fast
 from epc_fast import Cause, Status, params, reference
-from test_extremes import condition_numbers
+from helpers.conditioning import condition_numbers
 
 EXAMPLES = 300
 #: Per parameter of the ten monotonicity tests.

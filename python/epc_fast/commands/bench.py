@@ -41,9 +41,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--only", action="append", metavar="PATTERN", default=None,
                         help="measure only settings whose name matches this shell pattern "
                         "(repeatable; 'default' is always measured, the speed-ups' base)")
-    parser.add_argument("--mpmath", type=int, default=0, metavar="K",
-                        help="also check K points of the reference against mpmath at 50 digits "
-                        "(needs mpmath, pytest and a source checkout's tests/)")
     parser.add_argument("--no-plot", action="store_true", help="skip trade.png")
 
 
@@ -135,21 +132,6 @@ def _front_note(measurements, front) -> str:
             f"(polychromatic settings solve another model and are left out)")
 
 
-def _mpmath_note(error_points: int, seed: int, count: int) -> str:
-    """The reference on the first ``count`` compared designs against mpmath, in one line."""
-    from ..api import evaluate
-    from ..selfcheck import random_designs
-    from ..tradeoff import mpmath_check
-
-    designs = {name: values[:count]
-               for name, values in random_designs(error_points, seed).items()}
-    try:
-        check = mpmath_check(designs, evaluate(**designs, backend="reference"), count)
-    except ImportError as exc:
-        return f"no mpmath check: {exc}"
-    return check.summary()
-
-
 def _progress(line: str) -> None:
     sys.stdout.flush()
     print(line, file=sys.stderr, flush=True)
@@ -185,8 +167,6 @@ def run(args) -> int:
     front = front_of(measurements)
     table = markdown(markdown_columns(measurements, front))
     footer = [_front_note(measurements, front), *_warnings(measurements, load_before)]
-    if args.mpmath > 0:
-        footer.append(_mpmath_note(error_points, args.seed, args.mpmath))
     print()
     print(table)
     print()

@@ -1,0 +1,56 @@
+"""``epc-fast paper``: the figures, their companions and the statements it writes, end to end;
+without matplotlib, the statements still."""
+
+from __future__ import annotations
+
+import csv
+import subprocess
+import sys
+
+from epc_fast.__main__ import main
+from epc_fast.paper import CLAIMS, FIGURES
+
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def png_size_px(data: bytes) -> tuple[int, int]:
+    """(width, height) of a PNG, from its header chunk (IHDR), which follows the signature."""
+    assert data.startswith(PNG_SIGNATURE) and data[12:16] == b"IHDR"
+    return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+
+
+def test_paper_command_writes_three_pngs_their_limits_and_the_statements(tmp_path, capsys):
+    out = tmp_path / "figures"
+    assert main(["paper", "--out", str(out), "--threads", "2"]) == 0
+    printed = capsys.readouterr().out
+    for figure in FIGURES:
+        data = (out / f"{figure.name}.png").read_bytes()
+        assert len(data) > 10_000 and png_size_px(data) == (770, 572), figure.name
+        # The companion: 7.0 x 6.2 inches (two rows of panels) at the 110 dpi of save_figure.
+        limits = out / f"{figure.limits_name}.png"
+        assert limits.name == f"{figure.name}_limits.png"
+        data = limits.read_bytes()
+        assert len(data) > 10_000 and png_size_px(data) == (770, 682), limits.name
+        assert f"{limits}\n" in printed
+    with open(out / "statements.csv", newline="", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    assert [row["id"] for row in rows] == [c.id for c in CLAIMS]
+    assert all(float(row["preset_value"]) > 0 for row in rows)
+    assert (out / "statements.md").read_text(encoding="utf-8").startswith("| id |")
+    assert "does not hold: fraction_2.8_100klux" in printed
+
+
+def test_python_dash_m_knows_the_paper_command():
+    proc = subprocess.run([sys.executable, "-m", "epc_fast", "paper", "--help"],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0 and "--out" in proc.stdout, proc.stderr
+
+
+def test_paper_command_without_matplotlib_still_writes_the_table(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
+    assert main(["paper", "--out", str(tmp_path)]) == 1
+    assert (tmp_path / "statements.csv").stat().st_size > 0
+    assert not (tmp_path / "fig1.png").exists()
+    assert not (tmp_path / "fig1_limits.png").exists()
+    assert "epc-fast[plot]" in capsys.readouterr().err

@@ -1,0 +1,166 @@
+"""``epc-fast scan``: every mistake one line naming what to fix (exit code 2 for a usage
+error, 1 for one that is not the user's), durations as printed, design names safe in every
+file it writes, OMP_NUM_THREADS past its bound an error."""
+
+import csv
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+from epc_fast.__main__ import main
+from epc_fast.commands import duration
+
+
+@pytest.mark.parametrize("seconds, text", [(0.0004, "0.4 ms"), (0.053, "53 ms"), (3.214, "3.21 s"),
+                                           (24.84, "24.8 s"), (125.2, "2 min 05 s")])
+def test_durations_keep_the_digits_that_matter(seconds, text):
+    assert duration(seconds) == text
+
+
+# --- epc-fast scan: every mistake is one line naming what to fix, exit code 2 ----------------
+
+SCAN_CONFIG = """\
+[scan]
+points = 100_000
+seed = 3
+
+[design]
+presets = ["HIGH_TIER"]
+
+[parameters]
+illuminance_lux = { distribution = "log_uniform", low = 10, high = 100_000 }
+"""
+CUSTOM_DESIGN = """
+[[design.custom]]
+name = {name}
+pixel_pitch_um = 1.4
+f_number = 2.8
+focal_length_mm = 5.6
+sensor_area_mm2 = 15.6751
+"""
+
+
+def _scan(tmp_path, capsys, text, *args, name="scan.toml"):
+    path = tmp_path / name
+    if isinstance(text, bytes):
+        path.write_bytes(text)
+    else:
+        path.write_text(text)
+    code = main(["scan", str(path), "--out", str(tmp_path / "out"), "--no-progress", *args])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+@pytest.mark.parametrize("text, key", [
+    # Unchecked, each would end in a traceback ('int' object is not iterable; cannot unpack
+    # non-iterable int object; must be real number, not str; Partition index must be integer;
+    # 'H' is not a preset) instead of one line naming the key and value.
+    ('[scan]\npoints = 10\n[design]\npresets = 5\n', "[design]: presets = 5"),
+    (SCAN_CONFIG.replace('high = 100_000 }', 'high = 100_000, truncate = 5 }'),
+     "[parameters.illuminance_lux]: truncate = 5"),
+    (SCAN_CONFIG + '[reductions.h]\nkind = "histogram"\nlow = "a"\nhigh = 1e7\n',
+     "[reductions.h]: low = 'a'"),
+    (SCAN_CONFIG + '[reductions.best]\nkind = "top_k"\nk = 2.5\n', "[reductions.best]: k = 2.5"),
+    ('[scan]\npoints = 10\n[design]\npresets = "HIGH_TIER"\n',
+     "[design]: presets = 'HIGH_TIER': expected a list of preset names"),
+    (SCAN_CONFIG.encode() + b"# caf\xe9\n", "is not UTF-8 text"),
+])
+def test_a_scan_config_error_is_one_line_naming_the_key_with_exit_code_2(tmp_path, capsys, text,
+                                                                          key):
+    code, out, err = _scan(tmp_path, capsys, text)
+    assert code == 2 and out == ""
+    assert err.startswith("epc-fast scan: error: scan config") and key in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_debug_shows_the_traceback(tmp_path, capsys):
+    from epc_fast.scan.errors import ConfigError
+
+    with pytest.raises(ConfigError, match="presets = 5"):
+        _scan(tmp_path, capsys, '[scan]\npoints = 10\n[design]\npresets = 5\n', "--debug")
+
+
+def test_an_error_that_is_not_the_users_is_one_line_with_exit_code_1(tmp_path, capsys,
+                                                                     monkeypatch):
+    import epc_fast.scan.runner
+
+    def broken(*args, **kwargs):
+        raise RuntimeError()
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", broken)
+    code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + '[reductions.s]\nkind = "summary"\n')
+    assert code == 1 and err == "epc-fast scan: error: RuntimeError\n"
+    manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    assert manifest["state"] == "failed" and manifest["stopped_by"] == "RuntimeError: "
+
+
+@pytest.mark.parametrize("option, value", [("--points", "70000.9"), ("--points", "1e30"),
+                                           ("--points", "nan"), ("--seed", "-1"),
+                                           ("--threads", "0"), ("--chunk-points", "1000")])
+def test_a_bad_command_line_number_is_refused_with_exit_code_2(tmp_path, capsys, option, value):
+    with pytest.raises(SystemExit) as exit_:
+        main(["scan", "--out", str(tmp_path / "out"), option, value])
+    assert exit_.value.code == 2
+    assert f"{option} {value!r}: expected an integer between" in capsys.readouterr().err
+
+
+def test_points_written_as_a_float_that_is_whole_are_accepted(tmp_path, capsys):
+    code, out, _ = _scan(tmp_path, capsys, SCAN_CONFIG + '[reductions.s]\nkind = "summary"\n',
+                         "--points", "1.31072e5")
+    assert code == 0 and "scan of 131,072 points" in out
+
+
+def test_a_scan_that_would_write_nothing_is_refused(tmp_path, capsys):
+    histogram_only = SCAN_CONFIG + '[reductions.h]\nkind = "histogram"\nlow = 1e3\nhigh = 1e7\n'
+    code, _, err = _scan(tmp_path, capsys, histogram_only, "--no-plots")
+    assert code == 2 and "this scan writes no result" in err and "drop --no-plots" in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_design_names_are_safe_in_plots_csv_and_markdown(tmp_path, capsys):
+    names = ['"$\\\\frac{1"', '"=HYPERLINK(\\"http://x\\")"', '"two\\nlines | piped"',
+             '"@SUM(A1)"']
+    text = SCAN_CONFIG.replace('[design]\npresets = ["HIGH_TIER"]\n', "")
+    text += "".join(CUSTOM_DESIGN.format(name=n) for n in names) + """
+[reductions.summary]
+kind = "summary"
+by = "design"
+
+[reductions.bands]
+kind = "quantiles"
+q = [0.1, 0.5, 0.9]
+by = ["design", { parameter = "illuminance_lux", log_bins = [10, 100_000, 4] }]
+
+[reductions.distribution]
+kind = "histogram"
+low = 1e3
+high = 1e7
+by = "design"
+"""
+    code, _, err = _scan(tmp_path, capsys, text)
+    assert code == 0, err
+    out = tmp_path / "out"
+    assert (out / "bands.png").stat().st_size > 0 and (out / "distribution.png").exists()
+    with open(out / "summary_by_design.csv", newline="") as handle:
+        designs = [row["design"] for row in csv.DictReader(handle)]
+    assert designs == ["$\\frac{1", "'=HYPERLINK(\"http://x\")", "two\nlines | piped",
+                       "'@SUM(A1)"]
+    table = (out / "summary_by_design.md").read_text().splitlines()
+    assert len(table) == 2 + 4
+    assert "| two lines \\| piped |" in table[4]
+
+
+def test_an_omp_num_threads_beyond_the_bound_is_an_error_not_a_crash(tmp_path):
+    env = dict(os.environ, OMP_NUM_THREADS="100000")
+    proc = subprocess.run([sys.executable, "-m", "epc_fast", "scan", "--points", "1e5", "--out",
+                           str(tmp_path / "out"), "--no-progress"], env=env, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode == 1, proc.stderr
+    assert proc.stderr == ("epc-fast scan: error: ValueError: OMP_NUM_THREADS='100000': "
+                           "expected a thread count between 1 and 1024 (as threads=), or "
+                           "comma-separated counts\n")
+    assert not (tmp_path / "out").exists()

@@ -1,0 +1,6 @@
+"""What the tests share: models, designs, checks and paths, each in a module by concept.
+
+No test functions live here, and no module here imports a test module or conftest.py. Test
+files import these as ``helpers.<module>`` (pyproject.toml puts tests/ on sys.path for pytest;
+a subprocess of a test puts it there itself).
+"""

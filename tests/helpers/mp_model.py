@@ -1,0 +1,216 @@
+"""One independent model of the contract (docs/model.md) in mpmath, for every test that needs
+the exact answer: MP_DPS digits, from the float64 inputs taken exactly (floats or mpf values).
+
+:func:`mp_model` gives every output of the model's sections Exposure to EPC with the per-point
+status and its cause, for a monochromatic design or a spectrum, and the MTF's four factors at
+f50; :func:`expected_status` is the (Status, Cause) the engine owes a point, with its documented
+conventions; :func:`relative_error` measures a float against the model. :func:`mp_diffraction`
+and :func:`mp_t_mpe` (:func:`mp_signal_electrons`) are two of its formulas alone, at the
+caller's working precision.
+
+The model leans on the package for nothing but the codes of Status and Cause: the defaults are
+restated below, and every formula is written from docs/model.md.
+"""
+
+import functools
+import math
+import sys
+
+import mpmath as mp
+
+from epc_fast import Cause, Status
+
+MP_DPS = 50
+
+#: docs/model.md's defaults, restated here so that the model does not lean on the package.
+MODEL_DEFAULTS = dict(reflectance=0.4, lens_transmittance=1.0, field_angle_deg=0.0,
+                      fill_factor=1.0, read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0,
+                      full_well_e=math.inf, snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0,
+                      jitter_um=0.0, wavelength_nm=550.0, mtf_threshold=0.5)
+
+#: The smallest normal double and the largest double (the engine's conventions at its ends).
+SMALLEST_NORMAL = sys.float_info.min
+LARGEST = sys.float_info.max
+
+
+def mp_diffraction(nu):
+    """The diffraction MTF D(nu) of a circular pupil at nu = f lambda F, at the working
+    precision: (2/pi) (acos nu - nu sqrt(1 - nu^2)) below the cut-off nu = 1, 0 from it on."""
+    nu = mp.mpf(nu)
+    return 2 / mp.pi * (mp.acos(nu) - nu * mp.sqrt(1 - nu * nu)) if nu < 1 else mp.mpf(0)
+
+
+def mp_t_mpe(rate, snr_db, read_noise_e, dark_current_e_per_s, prnu):
+    """T_MPE, the positive root (b + sqrt(b^2 + 4ac)) / 2a of a T^2 - b T - c = 0 (docs/model.md,
+    Exposure), at the working precision, for inputs taken exactly."""
+    r, snr_db, read, dark, u = (mp.mpf(v) for v in (rate, snr_db, read_noise_e,
+                                                      dark_current_e_per_s, prnu))
+    s = mp.mpf(10) ** (snr_db / 10)
+    a = r * r * (1 - s * u * u)
+    b = s * (r + dark)
+    c = s * read * read
+    return (b + mp.sqrt(b * b + 4 * a * c)) / (2 * a)
+
+
+def mp_signal_electrons(rate, snr_db, read_noise_e, dark_current_e_per_s, prnu):
+    """The photo-electrons r T_MPE needed at the target, at the working precision."""
+    return mp.mpf(rate) * mp_t_mpe(rate, snr_db, read_noise_e, dark_current_e_per_s, prnu)
+
+
+def mp_model(inputs, spectrum=None):
+    """docs/model.md from Exposure to EPC at MP_DPS digits, from `inputs` (evaluate's keywords:
+    floats, or mpf values such as a central difference's steps) taken exactly; `spectrum` is
+    (wavelengths_nm, weights) or None for inputs["wavelength_nm"].
+
+    Returns a dict with "status" ("ok", "unreachable", "blur_unbounded"), "cause" for
+    unreachable points ("no_light", "prnu", "full_well"), and the mpf outputs as far as the
+    status defines them: "electron_rate_e_per_s", "electrons", "t_mpe_s", then for OK points
+    "blur_mm", "f50_cyc_per_mm", "epc" and "mtf_factors" (diffraction, pixel aperture, motion
+    and jitter at f50). Cached: the backends of a parametrised test share one evaluation.
+    """
+    items = tuple(sorted((name, value if isinstance(value, mp.mpf) else float(value))
+                         for name, value in inputs.items()))
+    lines = None if spectrum is None else (tuple(spectrum[0]), tuple(spectrum[1]))
+    return _mp_model(items, lines)
+
+
+@functools.lru_cache(maxsize=4096)
+def _mp_model(items, spectrum):
+    with mp.workdps(MP_DPS):
+        v = {**MODEL_DEFAULTS, **dict(items)}
+        x = {name: mp.mpf(value) for name, value in v.items() if name != "full_well_e"}
+        pi = mp.pi
+
+        # Exposure: the electron rate, the statuses that need no T_MPE, then T_MPE.
+        cos = mp.cos(x["field_angle_deg"] * pi / 180)
+        rate = (x["illuminance_lux"] * x["reflectance"] * x["lens_transmittance"] * cos**4
+                / (4 * x["f_number"] ** 2) * x["electrons_per_lux_s_m2"] * x["fill_factor"]
+                * (x["pixel_pitch_um"] / 10**6) ** 2)
+        out = {"electron_rate_e_per_s": rate}
+        s, u = mp.mpf(10) ** (x["snr_db"] / 10), x["prnu"]
+        if rate == 0:
+            return dict(out, status="unreachable", cause="no_light")
+        if u * mp.sqrt(s) >= 1:
+            return dict(out, status="unreachable", cause="prnu")
+        t = mp_t_mpe(rate, x["snr_db"], x["read_noise_e"], x["dark_current_e_per_s"], u)
+        out.update(t_mpe_s=t, electrons=rate * t)
+        if rate * t > v["full_well_e"]:
+            return dict(out, status="unreachable", cause="full_well")
+
+        # Blur during the exposure: the tangent, unbounded from a quarter turn on.
+        angle = x["shake_deg_per_s"] * pi / 180 / x["stabilization"] * t
+        if angle >= pi / 2:
+            return dict(out, status="blur_unbounded")
+        blur = x["focal_length_mm"] * mp.tan(angle)
+
+        # System MTF: lambda F in mm per wavelength, with its weight (normalised to sum 1).
+        if spectrum is None:
+            lines = [(x["wavelength_nm"] / 10**6 * x["f_number"], mp.mpf(1))]
+        else:
+            total = sum(mp.mpf(w) for w in spectrum[1])
+            lines = [(mp.mpf(lam) / 10**6 * x["f_number"], mp.mpf(w) / total)
+                     for lam, w in zip(*spectrum)]
+        aperture = mp.sqrt(x["fill_factor"]) * x["pixel_pitch_um"] / 1000
+        sigma = x["jitter_um"] / 1000
+
+        def factors(f):
+            return (sum(w * mp_diffraction(f * lam_f) for lam_f, w in lines),
+                    abs(mp.sincpi(aperture * f)), abs(mp.sincpi(blur * f)),
+                    mp.exp(-2 * pi**2 * (sigma * f) ** 2))
+
+        f50 = _mp_f50(factors, x["mtf_threshold"], lines, aperture, blur, sigma)
+
+        # EPC.
+        if "pixel_count" in x:
+            area = x["pixel_count"] * (x["pixel_pitch_um"] / 1000) ** 2
+        else:
+            area = x["sensor_area_mm2"]
+        return dict(out, status="ok", blur_mm=blur, f50_cyc_per_mm=f50, epc=4 * area * f50**2,
+                    mtf_factors=factors(f50))
+
+
+def _mp_f50(factors, threshold, lines, aperture, blur, sigma):
+    """The first f with MTF_sys(f) = c, bracketed as docs/model.md says (f_hi the smallest
+    first zero of the factors, or jitter's own crossing)."""
+    pi = mp.pi
+
+    def excess(f):
+        d, p, m, j = factors(f)
+        return d * p * m * j - threshold
+
+    zeros = [1 / min(lam_f for lam_f, w in lines if w > 0), 1 / aperture]
+    if blur > 0:
+        zeros.append(1 / blur)
+    if sigma > 0:
+        zeros.append(mp.sqrt(mp.log(1 / threshold) / (2 * pi**2)) / sigma)
+    lo, hi = min(zeros) / 2, min(zeros)
+    while excess(lo) <= 0:
+        lo /= 2
+    for _ in range(8):  # narrow the bracket before the secant-type solver
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if excess(mid) > 0 else (lo, mid)
+    try:
+        root = mp.findroot(excess, (lo, hi), solver="anderson")
+        if lo <= root <= hi and abs(excess(root)) <= threshold * mp.mpf(10) ** (15 - MP_DPS):
+            return root
+    except (ValueError, ZeroDivisionError):
+        pass
+    for _ in range(4 * MP_DPS):  # the slow, sure way
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if excess(mid) > 0 else (lo, mid)
+    return (lo + hi) / 2
+
+
+def expected_status(model):
+    """The (Status, Cause) the engine owes a point: mpmath's exact status with the engine's
+    documented conventions, a rate below the smallest normal double or a T_MPE beyond the
+    largest is no light (docs/numerics.md)."""
+    if (model["electron_rate_e_per_s"] < SMALLEST_NORMAL
+            or model.get("t_mpe_s", 0) > LARGEST):
+        return Status.UNREACHABLE, Cause.NO_LIGHT
+    status = {"ok": Status.OK, "unreachable": Status.UNREACHABLE,
+              "blur_unbounded": Status.BLUR_UNBOUNDED}[model["status"]]
+    cause = {"no_light": Cause.NO_LIGHT, "prnu": Cause.PRNU,
+             "full_well": Cause.FULL_WELL}.get(model.get("cause"), Cause.NONE)
+    return status, cause
+
+
+def relative_error(value, exact):
+    """|value / exact - 1| as a float, formed at MP_DPS digits; 0 for 0 against an exact 0, inf
+    for anything else against it."""
+    if exact == 0:
+        return 0.0 if value == 0 else math.inf
+    with mp.workdps(MP_DPS):
+        return float(abs(mp.mpf(value) / exact - 1))
+
+
+K = 2557705539053827.5  # e-/(lux s m^2): the golden set's K, passed explicitly
+CORNER_DEG = 27.02970193087426  # half diagonal of the 1/3.2" format at f = 5.6 mm
+
+#: name -> (evaluate inputs, spectrum or None). Each exercises terms the golden set keeps apart.
+OWN_CASES = {
+    "read_dark_prnu_combined": (dict(
+        illuminance_lux=300.0, pixel_pitch_um=1.75, f_number=2.8, focal_length_mm=5.6,
+        sensor_area_mm2=15.6751, field_angle_deg=20.0, electrons_per_lux_s_m2=K,
+        read_noise_e=5.0, dark_current_e_per_s=200.0, prnu=0.02), None),
+    "fill_factor_0_3_with_jitter_and_motion": (dict(
+        illuminance_lux=2000.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
+        pixel_count=7680000.0, fill_factor=0.3, jitter_um=0.8, field_angle_deg=CORNER_DEG,
+        electrons_per_lux_s_m2=K), None),
+    "f_16_diffraction_dominated": (dict(
+        illuminance_lux=100000.0, pixel_pitch_um=2.2, f_number=16.0, focal_length_mm=20.0,
+        sensor_area_mm2=15.6751, electrons_per_lux_s_m2=K), None),
+    "mtf_threshold_0_1": (dict(
+        illuminance_lux=5000.0, pixel_pitch_um=1.75, f_number=2.8, focal_length_mm=5.6,
+        sensor_area_mm2=15.6751, field_angle_deg=CORNER_DEG, mtf_threshold=0.1,
+        electrons_per_lux_s_m2=K), None),
+    "stabilization_4_at_33_db": (dict(
+        illuminance_lux=50.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
+        sensor_area_mm2=15.6751, stabilization=4.0, snr_db=33.0,
+        electrons_per_lux_s_m2=K), None),
+    "polychromatic_unequal_weights_dim_lens": (dict(
+        illuminance_lux=800.0, pixel_pitch_um=1.75, f_number=4.9, focal_length_mm=16.8,
+        sensor_area_mm2=15.6751, reflectance=0.18, lens_transmittance=0.9,
+        field_angle_deg=9.651360532708715, electrons_per_lux_s_m2=K),
+        ([450.0, 530.0, 610.0], [1.0, 3.0, 2.0])),
+}

@@ -1,0 +1,1 @@
+"""The optimiser (epc_fast.optimize): a file per module."""

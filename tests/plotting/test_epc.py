@@ -1,0 +1,98 @@
+"""The paper's figures of EPC over illuminance (epc_fast.plotting.plot_epc_over_illuminance):
+the model's curves and pixel counts, labels that touch nothing, units and legend; without
+matplotlib, an error naming the plot extra."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from epc_fast.paper import FIGURES
+from epc_fast.plotting import plot_epc_over_illuminance
+from epc_fast.presets import HIGH_TIER, evaluate_over_illuminance
+
+
+def test_a_figure_draws_the_model_and_marks_each_pixel_count():
+    figure = plot_epc_over_illuminance(HIGH_TIER, title="Figure 1")
+    ax = figure.axes[0]
+    curves = [line for line in ax.lines if line.get_linestyle() == "-"]
+    marks = {line.get_ydata()[0] for line in ax.lines if line.get_linestyle() == ":"
+             and len(line.get_ydata())}
+    lux = curves[0].get_xdata()
+    assert lux[0] == pytest.approx(100.0) and lux[-1] == pytest.approx(1e5)
+    expected = evaluate_over_illuminance(HIGH_TIER, lux).epc / 1e6
+    np.testing.assert_array_equal(np.array([c.get_ydata() for c in curves]), expected)
+    assert marks == {d.pixel_count / 1e6 for d in HIGH_TIER}
+    assert ax.get_xscale() == "log"
+
+
+def test_plotting_without_matplotlib_names_the_plot_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
+    with pytest.raises(ImportError, match=r"epc-fast\[plot\]"):
+        plot_epc_over_illuminance(HIGH_TIER)
+
+
+def test_the_cli_and_the_plotting_module_import_without_matplotlib():
+    code = ("import sys, epc_fast.__main__, epc_fast.plotting, epc_fast.plotting.limits,"
+            " epc_fast.paper;"
+            "sys.exit('matplotlib' in sys.modules)")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 0, proc.stderr
+
+
+@pytest.mark.parametrize("figure_spec", FIGURES, ids=lambda f: f.name)
+def test_no_pixel_count_label_touches_a_curve_or_another_label(figure_spec):
+    pytest.importorskip("matplotlib")
+    from helpers.figures import label_boxes, labels_on_lines, labels_outside, overlapping_pairs
+
+    figure = plot_epc_over_illuminance(figure_spec.designs, title=figure_spec.title)
+    ax = figure.axes[0]
+    boxes = label_boxes(figure, ax)
+    assert len(boxes) == len({d.pixel_count for d in figure_spec.designs})
+    curves = [line for line in ax.lines if line.get_linestyle() == "-"]
+    dotted = [line for line in ax.lines if line.get_linestyle() == ":" and len(line.get_xdata())]
+    assert overlapping_pairs(boxes) == []
+    assert labels_on_lines(boxes, curves + dotted) == []
+    assert labels_outside(boxes, figure, ax) == []
+
+
+def test_each_pixel_count_label_sits_beside_its_own_line():
+    pytest.importorskip("matplotlib")
+    from helpers.figures import label_boxes
+
+    figure = plot_epc_over_illuminance(HIGH_TIER)
+    ax = figure.axes[0]
+    for design in HIGH_TIER:
+        text = f"{design.pixel_count / 1e6:.2f} Mpixel"
+        box = label_boxes(figure, ax)[text]
+        line_y = ax.transData.transform((1.0, design.pixel_count / 1e6))[1]
+        gap = min(abs(box.y0 - line_y), abs(box.y1 - line_y))
+        # 2 pt from the line, at 100 dpi 2.8 px; the renderer's text box may start a pixel
+        # off that.
+        assert gap == pytest.approx(2 * 100 / 72, abs=1.5), text
+
+
+def test_the_figure_writes_micrometres_and_human_axis_labels():
+    pytest.importorskip("matplotlib")
+    figure = plot_epc_over_illuminance(HIGH_TIER, title="Figure 1")
+    ax = figure.axes[0]
+    legend = [t.get_text() for t in figure.legends[0].get_texts()]
+    assert legend == ['1/3.2" 2.8 µm', '1/3.2" 2.2 µm', '1/3.2" 1.75 µm', '1/3.2" 1.4 µm',
+                      "physical pixel count"]
+    assert ax.get_xlabel() == "Illuminance (lux)"
+    assert ax.get_ylabel() == "Effective pixel count, EPC (Mpixel)"
+    assert "cos⁴" in ax.get_title() and "^" not in ax.get_title()
+
+
+def test_the_legend_sits_outside_the_axes():
+    pytest.importorskip("matplotlib")
+    figure = plot_epc_over_illuminance(HIGH_TIER)
+    renderer = figure.canvas.get_renderer()
+    legend = figure.legends[0].get_window_extent(renderer)
+    frame = figure.axes[0].get_tightbbox(renderer)
+    assert legend.y1 <= frame.y0  # below the axes, their tick labels and x label

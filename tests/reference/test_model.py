@@ -1,0 +1,455 @@
+"""Known values of each formula of MODEL.md, for the NumPy reference (epc_fast.reference) and for
+the C++ formulas exposed in epc_fast._core (sinc, mtf_diffraction, signal_electrons,
+signal_electrons_brent).
+
+Expected values are closed forms or mpmath at 50 digits; every tolerance says why it is that size.
+"""
+
+import math
+
+import mpmath
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast import Cause, Status, _core, reference
+from helpers.mp_model import mp_diffraction, mp_signal_electrons
+
+ULP = 2.0**-52  # spacing of float64 just above 1; 2**-53 is the unit roundoff
+
+# --- Helpers ------------------------------------------------------------------------------------
+
+# Every mpf of this module at 50 digits, the model's formulas (mp_diffraction, the textbook root
+# r T_MPE of mp_signal_electrons) included: helpers/mp_model.py works at the caller's precision.
+mpmath.mp.dps = 50
+
+
+def mp_sinc(x):
+    return mpmath.sincpi(x)  # sin(pi x) / (pi x), 1 at 0
+
+
+#: The x with sinc(x) = 1/2 (0.6034...): f50 of a pixel aperture of side 1 is X50 / side.
+X50 = mpmath.findroot(lambda x: mp_sinc(x) - mpmath.mpf(1) / 2, 0.6)
+#: The normalised frequency nu with D(nu) = 1/2 (0.4040...).
+NU50 = mpmath.findroot(lambda nu: mp_diffraction(nu) - mpmath.mpf(1) / 2, 0.4)
+
+
+def reference_diffraction_at_nu(nu):
+    """reference.mtf_diffraction as a function of nu alone: lambda = 1e6 nm = 1 mm and F = 1,
+    so nu = f lambda F = f (1e6 * 1e-6 is exactly 1.0 in float64)."""
+    return reference.mtf_diffraction(np.asarray(nu, dtype=np.float64), 1e6, 1.0)
+
+
+DIFFRACTION = [pytest.param(_core.mtf_diffraction, id="core"),
+               pytest.param(reference_diffraction_at_nu, id="reference")]
+SINC = [pytest.param(_core.sinc, id="core"), pytest.param(reference.sinc, id="reference")]
+SIGNAL_ELECTRONS = [pytest.param(_core.signal_electrons, id="core"),
+                    pytest.param(reference.signal_electrons, id="reference")]
+BACKENDS = [pytest.param(dict(backend="core"), id="core"),
+            pytest.param(dict(backend="core", t_mpe_solver="brent"), id="core-brent"),
+            pytest.param(dict(backend="reference"), id="reference")]
+
+
+def exposure_sample(n, seed):
+    """n random sensor/target combinations with read noise, dark current and PRNU: log-uniform
+    rate 1e-3..1e9 e-/s, read noise 0..50 e-, dark 0..1e4 e-/s, snr 5..60 dB and PRNU up to 0.9
+    of its cap 10^(-snr/20) (above that, w = 1 - s u^2 < 0.19 and the target is near-unreachable).
+    Returns (rate, snr_db, read, dark, prnu) as arrays."""
+    rng = np.random.default_rng(seed)
+    rate = 10.0 ** rng.uniform(-3, 9, n)
+    read = rng.uniform(0, 50, n)
+    dark = rng.uniform(0, 1e4, n)
+    snr_db = rng.uniform(5, 60, n)
+    prnu = rng.uniform(0, 0.9, n) * 10.0 ** (-snr_db / 20)
+    return rate, snr_db, read, dark, prnu
+
+
+def root_s_amplification(electrons, snr_db, dark_per_signal, prnu):
+    """|d ln E / d ln sqrt(s)| at the root E: how much a last-bit difference in 10^(snr/20)
+    moves E. Differentiating w E^2 - s (1 + D/r) E - s sigma^2 = 0 (w = 1 - s u^2) gives
+    d ln E / d ln s = E / (2 w E - s (1 + D/r)); sqrt(s) doubles it. 2 without PRNU."""
+    s = 10.0 ** (snr_db / 10)
+    w = 1.0 - s * prnu**2
+    return 2.0 * electrons / (2.0 * w * electrons - s * (1.0 + dark_per_signal))
+
+
+# --- Diffraction MTF (MODEL.md section 5) -------------------------------------------------------
+
+
+@pytest.mark.parametrize("mtf", DIFFRACTION)
+def test_diffraction_mtf_at_half_cutoff_is_0_3910(mtf):
+    # 4 digits: the value as quoted, 0.3910 +- half a unit in the 4th decimal.
+    assert abs(float(mtf(0.5)) - 0.3910) < 0.5e-4
+
+
+@pytest.mark.parametrize("mtf", DIFFRACTION)
+def test_diffraction_mtf_at_half_cutoff_is_the_exact_closed_form(mtf):
+    exact = float(2 / mpmath.pi * (mpmath.acos(0.5) - 0.5 * mpmath.sqrt(0.75)))
+    # 1e-15 relative: acos, sqrt and three products each round once (about 4 ulp in all).
+    assert float(mtf(0.5)) == pytest.approx(exact, rel=1e-15, abs=0)
+
+
+@pytest.mark.parametrize("mtf", DIFFRACTION)
+def test_diffraction_mtf_is_one_at_zero_frequency(mtf):
+    # (2/pi) acos(0): fl(2/pi) times fl(pi/2), one rounding each: within one ulp of 1.
+    assert float(mtf(0.0)) == pytest.approx(1.0, rel=0, abs=ULP)
+
+
+@pytest.mark.parametrize("mtf", DIFFRACTION)
+def test_diffraction_mtf_is_exactly_zero_at_the_cutoff(mtf):
+    # acos(1) = 0 and sqrt((1 - 1)(1 + 1)) = 0 are exact in float64.
+    assert float(mtf(1.0)) == 0.0
+
+
+@pytest.mark.parametrize("mtf", DIFFRACTION)
+def test_diffraction_mtf_is_exactly_zero_beyond_the_cutoff(mtf):
+    nu = np.array([1.0 + ULP, 1.001, 1.5, 2.0, 10.0, 1e300, np.inf])
+    np.testing.assert_array_equal(mtf(nu), np.zeros_like(nu))
+
+
+@pytest.mark.parametrize("mtf", DIFFRACTION)
+def test_diffraction_mtf_decreases_strictly_from_zero_to_the_cutoff(mtf):
+    nu = np.linspace(0.0, 1.0, 10001)
+    assert np.all(np.diff(mtf(nu)) < 0)
+
+
+@pytest.mark.parametrize("mtf", DIFFRACTION)
+def test_diffraction_mtf_matches_mpmath_on_a_grid(mtf):
+    nu = np.concatenate([np.linspace(0.0, 1.0, 401), 1.0 - np.logspace(-12, -2, 21)])
+    expected = np.array([float(mp_diffraction(v)) for v in nu])
+    # 1e-15 absolute: D is O(1) with about 4 roundings; near nu = 1, acos(nu) and
+    # nu sqrt(1 - nu^2) cancel (D ~ eps^1.5), so only an absolute bound is meaningful there.
+    np.testing.assert_allclose(mtf(nu), expected, rtol=0, atol=1e-15)
+
+
+# --- sinc (MODEL.md section 5) ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("sinc", SINC)
+def test_sinc_crosses_one_half_at_0_6034_to_four_digits(sinc):
+    # sinc decreases on (0, 1): the crossing lies in [0.60335, 0.60345), i.e. rounds to 0.6034.
+    assert float(sinc(0.60335)) > 0.5 > float(sinc(0.60345))
+
+
+@pytest.mark.parametrize("sinc", SINC)
+def test_sinc_is_one_half_at_its_mpmath_crossing_0_6034(sinc):
+    # 1e-15 absolute: X50 rounds to float64 within 5.6e-17, |sinc'| there is 1.1, and sin and
+    # the division add about 2 ulp of 0.5.
+    assert float(sinc(float(X50))) == pytest.approx(0.5, rel=0, abs=1e-15)
+
+
+@pytest.mark.parametrize("sinc", SINC)
+def test_sinc_is_exactly_one_at_zero(sinc):
+    assert float(sinc(0.0)) == 1.0
+
+
+@pytest.mark.parametrize("sinc", SINC)
+def test_sinc_vanishes_at_small_integers_to_1e_16(sinc):
+    n = np.concatenate([-np.arange(1.0, 11.0), np.arange(1.0, 11.0)])
+    # sin(fl(pi) n) = +-n (pi - fl(pi)) = +-n 1.22e-16, over pi n: 3.9e-17; for |n| <= 10 the
+    # rounding of fl(pi) n adds less than 6.1e-17.
+    assert np.max(np.abs(sinc(n))) < 1e-16
+
+
+@pytest.mark.parametrize("sinc", SINC)
+def test_sinc_vanishes_at_every_integer_up_to_1e4_within_the_rounding_of_pi_n(sinc):
+    n = np.concatenate([-np.arange(1.0, 10001.0), np.arange(1.0, 10001.0)])
+    # |fl(fl(pi) n) - pi n| <= 2^-53 pi n + n |pi - fl(pi)|, over pi n: 2^-53 + 3.9e-17 = 1.5e-16.
+    assert np.max(np.abs(sinc(n))) <= 2.0**-53 + 3.9e-17 + 1e-18  # 1e-18: slack for sin itself
+
+
+@pytest.mark.parametrize("sinc", SINC)
+@pytest.mark.parametrize("x", [1e-300, 1e-20, -1e-20, 5e-324])
+def test_sinc_is_exactly_one_for_tiny_arguments(sinc, x):
+    # sin(y) rounds to y for |y| < 1e-8, so the quotient is exactly 1 (no 0/0, no underflow).
+    assert float(sinc(x)) == 1.0
+
+
+@pytest.mark.parametrize("sinc", SINC)
+def test_sinc_matches_mpmath_on_a_grid(sinc):
+    x = np.linspace(-3.0, 3.0, 601)
+    expected = np.array([float(mp_sinc(mpmath.mpf(v))) for v in x])
+    # 1e-15 absolute: |sinc| <= 1 and pi x, sin and the division round once each; at integers
+    # sinc is only known to ~1.5e-16 absolute (see above).
+    np.testing.assert_allclose(sinc(x), expected, rtol=0, atol=1e-15)
+
+
+# --- T_MPE: electrons needed (MODEL.md section 3) -----------------------------------------------
+
+
+@pytest.mark.parametrize("signal_electrons", SIGNAL_ELECTRONS)
+@pytest.mark.parametrize("rate", [1e-3, 1.0, 4025.8, 1e9])
+def test_30_db_shot_noise_only_needs_1000_electrons(signal_electrons, rate):
+    # 1e-15 relative: s = fl(10^1.5)^2 is 1000 within 2 roundings (4.4e-16); the rest is exact.
+    assert float(signal_electrons(rate, 30.0, 0.0, 0.0, 0.0)) == pytest.approx(1000.0, rel=1e-15)
+
+
+@pytest.mark.parametrize("signal_electrons", SIGNAL_ELECTRONS)
+def test_33_db_shot_noise_only_needs_1995_26_electrons(signal_electrons):
+    electrons = float(signal_electrons(1.0, 33.0, 0.0, 0.0, 0.0))
+    assert round(electrons, 2) == 1995.26
+    # 1e-15 relative: as for 30 dB, against 10^3.3 at 50 digits.
+    assert electrons == pytest.approx(float(mpmath.mpf(10) ** mpmath.mpf(3.3)), rel=1e-15)
+
+
+def test_t_mpe_with_shot_noise_only_is_1000_electrons_over_the_rate():
+    rate = np.array([1e-3, 0.37, 4025.825471213014, 1e9])
+    # 1e-15 relative: 1000 e- within 4.4e-16 (above), and one division.
+    np.testing.assert_allclose(reference.t_mpe_closed_form(rate, 30.0, 0.0, 0.0, 0.0),
+                               1000.0 / rate, rtol=1e-15, atol=0)
+
+
+def test_closed_form_t_mpe_reaches_the_target_snr():
+    rate, snr_db, read, dark, prnu = exposure_sample(500, seed=1)
+    t = reference.t_mpe_closed_form(rate, snr_db, read, dark, prnu)
+    # 1e-12 dB: SNR_dB = 20 log10(S/sigma) is evaluated in float64 from ~1e14-sized terms; a
+    # 1e-15 relative error in S/sigma is 1e-14 dB (seen: 7e-15 dB).
+    np.testing.assert_allclose(reference.snr_db_at(t, rate, read, dark, prnu), snr_db,
+                               rtol=0, atol=1e-12)
+
+
+def test_closed_form_t_mpe_matches_the_mpmath_quadratic_root():
+    rate, snr_db, read, dark, prnu = exposure_sample(50, seed=2)
+    t = reference.t_mpe_closed_form(rate, snr_db, read, dark, prnu)
+    expected = np.array([float(mp_signal_electrons(*args) / mpmath.mpf(float(args[0])))
+                         for args in zip(rate, snr_db, read, dark, prnu)])
+    # 1e-14 relative: 10^(snr/20) is within 1 ulp, amplified up to ~10x near the PRNU cap
+    # (root_s_amplification at w = 0.19), plus ~8 roundings (seen: 4.5e-15).
+    np.testing.assert_allclose(t, expected, rtol=1e-14, atol=0)
+
+
+def test_core_signal_electrons_matches_the_mpmath_quadratic_root():
+    rate, snr_db, read, dark, prnu = exposure_sample(50, seed=3)
+    expected = np.array([float(mp_signal_electrons(*args))
+                         for args in zip(rate, snr_db, read, dark, prnu)])
+    # 1e-14 relative: as for the reference's closed form, the same formula.
+    np.testing.assert_allclose(_core.signal_electrons(rate, snr_db, read, dark, prnu), expected,
+                               rtol=1e-14, atol=0)
+
+
+def test_core_signal_electrons_equals_the_reference_without_prnu():
+    rate, snr_db, read, dark, _ = exposure_sample(2000, seed=4)
+    prnu = np.zeros_like(rate)
+    core = _core.signal_electrons(rate, snr_db, read, dark, prnu)
+    ref = reference.signal_electrons(rate, snr_db, read, dark, prnu)
+    # 1e-15 relative: the same operations in the same order, but NumPy's vectorised 10**x and
+    # libm's pow differ in the last bit of 10^(snr/20) for ~6% of inputs; without PRNU that bit
+    # is amplified at most 2x (E ~ s), and the later roundings can then fall differently
+    # (seen: 8.9e-16 over 2e5 points).
+    np.testing.assert_allclose(core, ref, rtol=1e-15, atol=0)
+
+
+def test_core_signal_electrons_equals_the_reference_with_prnu_up_to_its_amplification():
+    rate, snr_db, read, dark, prnu = exposure_sample(2000, seed=5)
+    core = _core.signal_electrons(rate, snr_db, read, dark, prnu)
+    ref = reference.signal_electrons(rate, snr_db, read, dark, prnu)
+    amplification = root_s_amplification(ref, snr_db, dark / rate, prnu)
+    # The 1e-15 of the case without PRNU (amplification 2) scaled by the amplification of the
+    # last bit of 10^(snr/20), which reaches ~10 at 0.9 of the PRNU cap (seen: 2.9e-15 there).
+    tolerance = 1e-15 * np.maximum(1.0, amplification / 2.0)
+    assert np.all(np.abs(core / ref - 1.0) <= tolerance)
+
+
+def test_brent_t_mpe_matches_the_closed_form():
+    rate, snr_db, read, dark, prnu = exposure_sample(2000, seed=6)
+    brent = _core.signal_electrons_brent(rate, snr_db, read, dark, prnu, 1e-15)
+    closed = _core.signal_electrons(rate, snr_db, read, dark, prnu)
+    # 1e-13 relative: Brent stops at 1e-15, but it finds the zero of g(E) = ln E - ln(variance)/2
+    # - ln sqrt(s), whose logs (up to ~30) carry ~1e-15 absolute rounding, over a slope E g'(E)
+    # that falls to ~w/2 = 0.1 near the PRNU cap: ~3e-14 (seen: 3.5e-14 over 1e6 points).
+    np.testing.assert_allclose(brent, closed, rtol=1e-13, atol=0)
+
+
+@pytest.mark.parametrize("signal_electrons", SIGNAL_ELECTRONS)
+def test_closed_form_depends_on_rate_and_dark_only_through_their_ratio(signal_electrons):
+    rate, snr_db, read, dark, prnu = exposure_sample(200, seed=7)
+    # Scaling r and D by a power of 2 leaves D/r exactly unchanged: so must E be.
+    np.testing.assert_array_equal(signal_electrons(8.0 * rate, snr_db, read, 8.0 * dark, prnu),
+                                  signal_electrons(rate, snr_db, read, dark, prnu))
+
+
+def test_prnu_cap_is_inclusive():
+    # u 10^(snr/20) = 0.1 * 10 rounds to exactly 1.0: the cap, which MODEL.md says is reached.
+    assert 0.1 * 10.0 ** (20.0 / 20.0) == 1.0
+    assert reference.t_mpe_closed_form(1000.0, 20.0, 0.0, 0.0, 0.1) == math.inf
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_evaluate_reports_prnu_at_exactly_its_cap_as_unreachable(options):
+    r = epc_fast.evaluate(1000.0, 1.4, 2.8, 5.6, sensor_area_mm2=15.6751, snr_db=20.0, prnu=0.1,
+                          **options)
+    assert (r.status, r.cause, r.t_mpe_s) == (Status.UNREACHABLE, Cause.PRNU, math.inf)
+
+
+# --- Rayleigh blur: the units of lambda and F (MODEL.md section 9) ------------------------------
+
+
+def diffraction_cutoff(f_number, wavelength_nm):
+    """cycles/mm: 1/(lambda F) from the reference's bracket, with every other factor's zero far
+    beyond it (pitch 1e-12 um, no motion, no jitter)."""
+    a = np.asarray
+    return float(reference.f50_bracket(a(f_number), a(wavelength_nm), a(1e-12), a(1.0), a(0.0),
+                                       a(0.0), a(0.5)))
+
+
+@pytest.mark.parametrize("f_number, digits, rayleigh_um",
+                         [(2.8, 3, 1.879), (4.9, 2, 3.29)])
+def test_rayleigh_blur_at_550_nm_is_as_the_paper_says(f_number, digits, rayleigh_um):
+    # 1.22 lambda F = 1.22 / cutoff, in um (1e3 um per mm), to the digits the paper gives.
+    assert round(1.22 / diffraction_cutoff(f_number, 550.0) * 1e3, digits) == rayleigh_um
+
+
+def test_reference_diffraction_mtf_vanishes_at_the_rayleigh_cutoff_and_not_before():
+    cutoff = diffraction_cutoff(2.8, 550.0)
+    # 1e-9 below the cutoff nu = 1 - 1e-9: D ~ (8 sqrt 2 / 3 pi) 1e-13.5 > 0.
+    assert reference.mtf_diffraction(cutoff * (1 - 1e-9), 550.0, 2.8) > 0
+    assert reference.mtf_diffraction(cutoff, 550.0, 2.8) == 0
+
+
+# --- Blur (MODEL.md section 4) ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("t_s", [1e-4, 0.0248, 0.25, 2.0])
+def test_blur_length_is_f_omega_t_up_to_the_tan_correction(t_s):
+    focal_mm, shake, k = 5.6, 4.39, 1.0
+    angle = shake * math.pi / 180 / k * t_s
+    ratio = float(reference.blur_length_mm(focal_mm, shake, k, t_s)) / (focal_mm * angle)
+    # tan(x)/x - 1 = x^2/3 + 2 x^4/15 + ...: the next term bounds the series' rest, 4 ulp the
+    # float64 evaluation of the two sides.
+    assert abs(ratio - 1 - angle**2 / 3) <= 2 * angle**4 / 15 * 1.01 + 4 * ULP
+
+
+def test_blur_length_divides_the_angle_by_the_stabilization():
+    # tan(x) = tan(4x / 4): k = 4 with 4x the shake is exactly the blur of x with k = 1.
+    assert (reference.blur_length_mm(5.6, 4 * 4.39, 4.0, 0.3)
+            == reference.blur_length_mm(5.6, 4.39, 1.0, 0.3))
+
+
+@pytest.mark.parametrize("t_s", [1.0, 1.5, 2.0, 4.0, 1e9])
+def test_blur_is_infinite_once_the_angle_reaches_a_quarter_turn(t_s):
+    # 90 deg/s for 1 s is exactly pi/2 in float64 (deg2rad(90) == pi/2); beyond it tan would
+    # wrap to finite or negative values, which MODEL.md forbids.
+    assert np.deg2rad(90.0) == np.pi / 2
+    assert reference.blur_length_mm(5.6, 90.0, 1.0, t_s) == math.inf
+
+
+def test_blur_is_finite_just_below_a_quarter_turn():
+    blur = float(reference.blur_length_mm(5.6, 90.0, 1.0, 1.0 - 1e-9))
+    # 5.6 tan(pi/2 - 1.57e-9) = 5.6 / 1.57e-9 = 3.565e9 mm; 1e-6: the angle's own rounding.
+    assert blur == pytest.approx(5.6 / (math.pi / 2 * 1e-9), rel=1e-6)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_evaluate_reports_an_unbounded_blur_with_zero_f50_and_epc(options):
+    # 0.01 lux at the 1.4 um corner: T_MPE ~ 2500 s, shake angle ~ 190 rad >> pi/2.
+    r = epc_fast.evaluate(0.01, 1.4, 2.8, 5.6, sensor_area_mm2=15.6751, **options)
+    assert (r.status, r.blur_mm, r.f50_cyc_per_mm, r.epc) == (Status.BLUR_UNBOUNDED, math.inf,
+                                                               0.0, 0.0)
+
+
+# --- f50 (MODEL.md section 6) -------------------------------------------------------------------
+
+
+def bracket(f_number=2.8, wavelength_nm=550.0, pitch_um=1.4, fill_factor=1.0, blur_mm=0.0,
+            jitter_um=0.0, threshold=0.5):
+    a = np.asarray
+    return float(reference.f50_bracket(a(f_number), a(wavelength_nm), a(pitch_um), a(fill_factor),
+                                       a(blur_mm), a(jitter_um), a(threshold)))
+
+
+@pytest.mark.parametrize("kwargs, expected", [
+    (dict(), 1 / (550e-6 * 2.8)),  # diffraction 649.35 < pixel 714.29
+    (dict(pitch_um=2.0, fill_factor=0.81), 1 / (0.9 * 2.0e-3)),  # pixel 555.6
+    (dict(blur_mm=0.01), 1 / 0.01),  # motion 100
+    (dict(jitter_um=1.5), math.sqrt(math.log(2) / (2 * math.pi**2)) / 1.5e-3),  # jitter 124.9
+])
+def test_f50_bracket_ends_at_the_smallest_first_zero(kwargs, expected):
+    # 1e-15 relative: each candidate is a product or quotient of a few rounded factors.
+    assert bracket(**kwargs) == pytest.approx(expected, rel=1e-15)
+
+
+@pytest.mark.parametrize("pitch_um", [1.4, 1.75, 2.8])
+def test_pixel_only_f50_is_0_6034_over_the_pitch(pitch_um):
+    pitch_mm = pitch_um * 1e-3
+    f50 = reference.f50_bisection(lambda f: np.abs(reference.sinc(pitch_mm * f)),
+                                  np.array(1.0 / pitch_mm), 0.5)
+    # 1e-15 relative: bisection ends on adjacent floats; sinc rounds within ~2e-16 there and
+    # its log slope at the crossing is -1.3, and pitch_mm carries one rounding.
+    assert float(f50) == pytest.approx(float(X50 / (mpmath.mpf(pitch_um) / 1000)), rel=1e-15)
+
+
+@pytest.mark.parametrize("f_number, wavelength_nm", [(2.8, 550.0), (4.9, 550.0), (16.0, 480.0)])
+def test_diffraction_only_f50_is_nu50_over_lambda_f(f_number, wavelength_nm):
+    f_hi = bracket(f_number=f_number, wavelength_nm=wavelength_nm, pitch_um=1e-12)
+    f50 = reference.f50_bisection(
+        lambda f: reference.mtf_diffraction(f, wavelength_nm, f_number), np.array(f_hi), 0.5)
+    expected = NU50 / (mpmath.mpf(wavelength_nm) / 10**6 * mpmath.mpf(f_number))
+    # 1e-15 relative: as for the pixel; D's log slope at nu50 is -1.5.
+    assert float(f50) == pytest.approx(float(expected), rel=1e-15)
+
+
+@pytest.mark.parametrize("threshold", [0.5, 0.1, 0.9])
+def test_jitter_only_f50_is_the_gaussian_closed_form(threshold):
+    sigma_um = 1.5
+    expected = mpmath.sqrt(mpmath.log(1 / mpmath.mpf(threshold))
+                           / (2 * mpmath.pi**2 * (mpmath.mpf(sigma_um) / 1000) ** 2))
+    # A bracket three times wider than the answer, so that bisection has work to do.
+    f50 = reference.f50_bisection(lambda f: reference.mtf_jitter(f, sigma_um),
+                                  np.array(3 * float(expected)), threshold)
+    # 2e-15 relative: bisection ends on adjacent floats, where exp and its argument leave ~3e-16
+    # relative error in J; J's log slope is -2 ln(1/c), only -0.21 at c = 0.9, which turns that
+    # into ~1.4e-15 in f50 (seen: 3.3e-16).
+    assert float(f50) == pytest.approx(float(expected), rel=2e-15)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+@pytest.mark.parametrize("fill_factor", [1.0, 0.3])
+def test_evaluate_without_diffraction_or_motion_gives_the_pixel_f50(options, fill_factor):
+    # lambda = 1e-20 nm: nu ~ 1e-24 at f50, so D = 1 to the last bit; no shake, no jitter.
+    r = epc_fast.evaluate(1000.0, 1.75, 2.8, 5.6, pixel_count=1e6, fill_factor=fill_factor,
+                          shake_deg_per_s=0.0, wavelength_nm=1e-20, **options)
+    expected = X50 / (mpmath.sqrt(mpmath.mpf(fill_factor)) * mpmath.mpf(1.75) / 1000)
+    # 1e-14 relative: the core bisects until hi - lo <= 1e-14 lo (f50_rtol), so its midpoint is
+    # within 5e-15; the reference goes to adjacent floats.
+    assert r.f50_cyc_per_mm == pytest.approx(float(expected), rel=1e-14)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_evaluate_with_a_vanishing_pixel_gives_the_diffraction_f50(options):
+    # Pitch 1e-12 um: sinc(1e-15 * 260) = 1 to the last bit; no shake, no jitter.
+    r = epc_fast.evaluate(1000.0, 1e-12, 2.8, 5.6, pixel_count=1e6, shake_deg_per_s=0.0,
+                          **options)
+    expected = NU50 / (mpmath.mpf(550) / 10**6 * mpmath.mpf(2.8))
+    # 1e-14 relative: as above.
+    assert r.f50_cyc_per_mm == pytest.approx(float(expected), rel=1e-14)
+
+
+# --- EPC (MODEL.md section 7) -------------------------------------------------------------------
+
+
+def test_epc_of_a_sensor_of_n_pixels_is_n_times_f50_over_nyquist_squared():
+    n_pixels, pitch_mm = 5038848.0, 1.75e-3
+    f50 = np.array([1.0, 63.57, 285.7, 400.0])  # 285.7 = Nyquist 1/(2p): EPC = N
+    nyquist = 1 / (2 * pitch_mm)
+    # 1e-15 relative: two products of a few rounded factors each side.
+    np.testing.assert_allclose(reference.effective_pixel_count(n_pixels * pitch_mm**2, f50),
+                               n_pixels * (f50 / nyquist) ** 2, rtol=1e-15, atol=0)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_evaluate_epc_is_n_times_f50_over_nyquist_squared(options):
+    n_pixels, pitch_um = 7680000.0, 1.4
+    r = epc_fast.evaluate(3000.0, pitch_um, 2.8, 5.6, pixel_count=n_pixels, **options)
+    nyquist = 1 / (2 * pitch_um * 1e-3)
+    # 1e-15 relative: S = N p^2 and 4 S f50^2 against N (f50 / f_Nyq)^2, ~4 roundings a side.
+    assert r.epc == pytest.approx(n_pixels * (r.f50_cyc_per_mm / nyquist) ** 2, rel=1e-15)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_evaluate_gives_the_same_epc_for_pixel_count_and_its_area(options):
+    n_pixels, pitch_um = 7680000.0, 1.4
+    by_count = epc_fast.evaluate(3000.0, pitch_um, 2.8, 5.6, pixel_count=n_pixels, **options)
+    by_area = epc_fast.evaluate(3000.0, pitch_um, 2.8, 5.6,
+                                sensor_area_mm2=n_pixels * (pitch_um * 1e-3) ** 2, **options)
+    # 1e-15 relative: the two areas are N p^2 rounded in different orders.
+    assert by_count.epc == pytest.approx(by_area.epc, rel=1e-15)

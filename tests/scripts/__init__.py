@@ -1,0 +1,1 @@
+"""The repository's scripts that are not package modules: bench/ and tools/."""

@@ -1,0 +1,231 @@
+"""The house's rooms hold: the package's and the core's layout, as docs/internals.md maps it.
+
+Architecture guards, read from the source tree: subsystems are subpackages (no module-name
+prefix stands for one), files stay small, no module imports itself round a circle, importing
+epc_fast loads neither the scan nor the optimiser, and the import paths users have keep working.
+"""
+
+import ast
+import importlib
+import os
+import re
+import subprocess
+import sys
+from collections import Counter
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "python" / "epc_fast"
+INTERNALS = ROOT / "docs" / "internals.md"
+
+#: Longest Python module of the package, and binding file of the core, in lines.
+MAX_PY_LINES = 500
+MAX_CPP_LINES = 400
+
+
+def _modules() -> dict:
+    """{dotted name: path} of every module of the package's source tree."""
+    modules = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        modules[".".join(parts)] = path
+    return modules
+
+
+def _imports(name: str, path: Path, modules: dict) -> set:
+    """The package's modules that module ``name`` imports anywhere in its text (at the top or
+    inside a function): ``from .x import y`` counts y when it is a module, else x."""
+    found = set()
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            for alias in node.names:
+                sub = f"{target}.{alias.name}"
+                found.add(sub if sub in modules else target)
+        elif isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+    return {m for m in found if m in modules and m != name}
+
+
+def _circles(graph: dict) -> list:
+    """The strongly connected components of more than one module (Tarjan)."""
+    index, low, stack, on_stack, circles = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                circles.append(sorted(component))
+
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return circles
+
+
+def test_no_module_of_the_package_imports_itself_round_a_circle():
+    modules = _modules()
+    graph = {name: _imports(name, path, modules) for name, path in modules.items()}
+    assert _circles(graph) == []
+
+
+def test_the_circle_check_finds_a_circle():
+    # the check itself: a -> b -> c -> a is one circle, d alone none
+    assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+
+
+def _shared_prefixes(names) -> dict:
+    """{first word: count} of the module names (``optimize_config``: ``optimize``) that two or
+    more of ``names`` share, the bare word (``optimize``) counted too."""
+    names = [name for name in names if not name.startswith("_")]
+    prefixes = Counter(name.split("_")[0] for name in names if "_" in name)
+    return {prefix: count + (prefix in names) for prefix, count in prefixes.items()
+            if count + (prefix in names) > 1}
+
+
+@pytest.mark.parametrize("folder", sorted({p.parent for p in PACKAGE.rglob("__init__.py")}),
+                         ids=lambda p: str(p.relative_to(PACKAGE.parent)))
+def test_no_module_name_prefix_stands_for_a_subsystem(folder):
+    # a subsystem is a subpackage (optimize/, scan/config/, ...), not modules that share a
+    # name's first word side by side
+    names = [p.stem for p in folder.glob("*.py")] + [p.name for p in folder.iterdir()
+                                                     if (p / "__init__.py").exists()]
+    assert _shared_prefixes(names) == {}
+
+
+def test_the_prefix_check_finds_a_subsystem():
+    assert _shared_prefixes(["optimize", "optimize_config", "api", "_core_x86"]) == {"optimize": 2}
+    assert _shared_prefixes(["plot_text", "plot_layout", "limits_plot"]) == {"plot": 2}
+    assert _shared_prefixes(["elasticity_outputs", "api"]) == {}
+
+
+@pytest.mark.parametrize("path", sorted(PACKAGE.rglob("*.py")), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_no_python_module_is_over_500_lines(path):
+    assert len(path.read_text().splitlines()) <= MAX_PY_LINES
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "cpp" / "src").glob("*.cpp")), ids=lambda p: p.name)
+def test_no_binding_file_is_over_400_lines(path):
+    assert len(path.read_text().splitlines()) <= MAX_CPP_LINES
+
+
+def test_importing_epc_fast_loads_neither_the_scan_nor_the_optimiser():
+    code = ("import sys, epc_fast\n"
+            "loaded = sorted(m for m in sys.modules if m.split('.')[:2] in "
+            "(['epc_fast', 'scan'], ['epc_fast', 'optimize'], ['epc_fast', 'reference']))\n"
+            "assert not loaded, loaded\n"
+            "assert epc_fast.scan.Space and epc_fast.optimize.maximize\n"
+            "assert 'epc_fast.scan' in sys.modules and 'epc_fast.optimize' in sys.modules\n")
+    env = dict(os.environ)
+    proc = subprocess.run([sys.executable, "-c", "import conftest\n" + code],
+                          cwd=Path(__file__).parent, env=env, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+
+
+def test_the_package_lists_scan_and_optimize_alike():
+    import epc_fast
+
+    assert {"scan", "optimize"} <= set(epc_fast.__all__) <= set(dir(epc_fast))
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        epc_fast.nothing  # noqa: B018
+
+
+#: Import paths users write today, each "module:name".
+PUBLIC_PATHS = [
+    "epc_fast:evaluate", "epc_fast:Result", "epc_fast:Design", "epc_fast:lux_for_epc",
+    "epc_fast:crossover_lux", "epc_fast:Spectrum", "epc_fast:Status", "epc_fast:Cause",
+    "epc_fast:output_cache", "epc_fast:scan", "epc_fast:optimize",
+    "epc_fast.api:evaluate", "epc_fast.api:Result", "epc_fast.api:ELASTICITY_PARAMETERS",
+    "epc_fast.api:SHARE_OUTPUTS", "epc_fast.api:OUTPUT_DTYPES", "epc_fast.api:MAX_THREADS",
+    "epc_fast.optimize:maximize", "epc_fast.optimize:Problem", "epc_fast.optimize:Mean",
+    "epc_fast.optimize:Quantile", "epc_fast.optimize:ProbabilityAtLeast",
+    "epc_fast.optimize:Optimum", "epc_fast.optimize:Estimate", "epc_fast.optimize:Curve",
+    "epc_fast.optimize.objectives:order_statistics", "epc_fast.optimize.config:load_optimize_config",
+    "epc_fast.plotting:plot_epc_over_illuminance", "epc_fast.plotting:plot_limits_over_illuminance",
+    "epc_fast.plotting:save_figure",
+    "epc_fast.tradeoff:measure", "epc_fast.tradeoff:default_settings",
+    "epc_fast.tradeoff:pareto_front", "epc_fast.tradeoff:plot_tradeoff",
+    "epc_fast.tradeoff:markdown_columns", "epc_fast.tradeoff:csv_columns",
+    "epc_fast.paper:statements", "epc_fast.paper:FIGURES", "epc_fast.paper:write_csv",
+    "epc_fast.paper:markdown_table",
+    "epc_fast.reference:mtf_diffraction", "epc_fast.reference:evaluate_points",
+    "epc_fast.reference.sensitivity:sensitivity_points",
+    "epc_fast.scan:run", "epc_fast.scan:Space", "epc_fast.scan:LogUniform",
+    "epc_fast.presets:HIGH_TIER", "epc_fast.spectra:diffraction_spectrum",
+    "epc_fast.inverse:lux_for_epc", "epc_fast.memory:output_cache",
+    "epc_fast.params:PARAMETERS", "epc_fast.sensor:sensor_shape",
+]
+
+
+@pytest.mark.parametrize("path", PUBLIC_PATHS)
+def test_a_public_import_path_keeps_working(path):
+    module, name = path.split(":")
+    assert getattr(importlib.import_module(module), name) is not None
+
+
+def test_every_all_entry_names_something():
+    missing = []
+    for name in _modules():
+        if name.rsplit(".", 1)[-1].startswith("_core_") or name.endswith("__main__"):
+            continue
+        module = importlib.import_module(name)
+        missing += [f"{name}.{entry}" for entry in getattr(module, "__all__", ())
+                    if not hasattr(module, entry)]
+    assert missing == []
+
+
+def test_the_map_in_docs_internals_names_every_header_and_binding_file():
+    text = INTERNALS.read_text()
+    files = sorted(ROOT.glob("cpp/include/epc_fast/*.h")) + sorted(ROOT.glob("cpp/src/*"))
+    unnamed = [f.name for f in files if not re.search(rf"`{re.escape(f.name)}`", text)]
+    assert unnamed == []
+
+
+def test_the_map_in_docs_internals_names_every_room_of_the_package():
+    text = INTERNALS.read_text()
+    rooms = [p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").exists()]
+    rooms += [p.name for p in PACKAGE.glob("*.py") if p.stem != "__init__"]
+    unnamed = [room for room in sorted(rooms) if f"`{room}" not in text]
+    assert unnamed == []
+
+
+def test_no_name_a_subpackage_exports_hides_one_of_its_modules():
+    # `from .measurements import measure` in tradeoff/__init__ is fine; a module named measure
+    # would be hidden behind the function, and epc_fast.tradeoff.measure would not be it
+    import pkgutil
+    import types
+
+    hidden = []
+    for name, path in _modules().items():
+        if path.name != "__init__.py":
+            continue
+        package = importlib.import_module(name)
+        for sub in pkgutil.iter_modules(package.__path__):
+            value = getattr(package, sub.name, None)
+            if value is not None and not isinstance(value, types.ModuleType):
+                hidden.append(f"{name}.{sub.name}")
+    assert hidden == []
