@@ -397,7 +397,7 @@ def test_grid_digits_are_exact_for_any_number_of_cells(sizes):
         assert np.array_equal(core.indices[name], expected), name
 
 
-#: Grid spaces whose keys on grid axes fold by position in the grid's cycle (scan_reductions.h
+#: Grid spaces whose keys on grid axes fold by position in the grid's cycle (scan_groups.h
 #: set_cycle): one cell (a cycle of 64 points), 3 cells (192), 100 cells (1600), and 4100
 #: cells, beyond the longest cycle folded by position (4096), folded lane by lane.
 CYCLE_GRIDS = {
