@@ -33,11 +33,11 @@ constexpr std::size_t scan_block_points = std::size_t{1} << 16;
 
 enum class ReductionKind { summary, histogram, quantiles, fraction_below, top_k };
 
-// One reduction of one output (`of`, an index into the kernel's six float outputs) per group
-// of key `key`.
+// One reduction of one output (`of`, an index into the outputs a scan reads: n_scan_outputs)
+// per group of key `key`.
 struct Reduction {
     ReductionKind kind = ReductionKind::summary;
-    int of = 5;   // Outputs order: rate, electrons, T_MPE, blur, f50, EPC
+    int of = 5;   // rate, electrons, T_MPE, blur, f50, EPC (Outputs order), then the shares
     int key = 0;  // index into the scan's keys (unused by top_k)
     std::int64_t groups = 1;
     // histogram: `bins` equal bins on t in [first, last), t the value or its log10 (histograms.py
@@ -156,12 +156,12 @@ struct ReductionState {
     static double inf_value() { return std::numeric_limits<double>::infinity(); }
 };
 
-// What one kernel block gives the reductions: each lane's point index, status, group under
-// each key, the outputs and, where a log-binned histogram needs it, log10 of an output.
 // The outputs a reduction can read, by its `of`: the kernel's six float64 outputs (Outputs
 // order) and the four MTF-loss shares (Share order, sensitivity.h).
 constexpr int n_scan_outputs = 6 + n_shares;
 
+// What one kernel block gives the reductions: each lane's point index, status, group under
+// each key, the outputs and, where a log-binned histogram needs it, log10 of an output.
 struct FoldLanes {
     std::size_t n = 0;
     std::uint64_t first = 0;  // lane 0's point index, a multiple of block_size
