@@ -105,7 +105,7 @@ def test_reference_sinc_keeps_relative_accuracy_next_to_its_zeros():
     assert err <= 4 * U
 
 
-DIFFRACTION = [pytest.param(_core.mtf_diffraction, id="core"),
+DIFFRACTION = [pytest.param(_core.testing.mtf_diffraction, id="core"),
                pytest.param(lambda nu: reference.mtf_diffraction(nu, 1e6, 1.0), id="reference")]
 
 
@@ -166,8 +166,8 @@ def test_electrons_needed_match_the_mpmath_root_for_every_sign_pattern(read, dar
     with mp.workdps(60):
         exact = [mp_signal_electrons(*case) for case in cases]
         kappa = [mp_electrons_condition(case) for case in cases]
-    for name, values in [("core", _core.signal_electrons(*args)),
-                         ("core-brent", _core.signal_electrons_brent(*args, 0.0)),
+    for name, values in [("core", _core.testing.signal_electrons(*args)),
+                         ("core-brent", _core.testing.signal_electrons_brent(*args, 0.0)),
                          ("reference", reference.signal_electrons(*args))]:
         for value, e, k, case in zip(values, exact, kappa, cases):
             if e > LARGEST:  # e.g. D/r = 2e309: the answer itself overflows
@@ -511,6 +511,6 @@ def test_spectra_at_the_ends_of_the_double_range_give_the_references_f50(wavelen
 
 def test_a_spectrum_whose_start_cannot_be_fitted_has_none_and_is_solved_from_the_cubic_one():
     subnormal = np.array([1e-310, 2e-310])
-    assert _core.spectrum_start(subnormal, np.array([0.5, 0.5])) is None
-    start = _core.f50_spectrum_start(subnormal, np.array([0.5, 0.5]), 1e-3, 1e-3, 0.0, 0.5)
-    assert start == _core.f50_cubic_start(1e-3, 1e-3, 0.0, 0.0, 0.5)
+    assert _core.testing.spectrum_start(subnormal, np.array([0.5, 0.5])) is None
+    start = _core.testing.f50_spectrum_start(subnormal, np.array([0.5, 0.5]), 1e-3, 1e-3, 0.0, 0.5)
+    assert start == _core.testing.f50_cubic_start(1e-3, 1e-3, 0.0, 0.0, 0.5)

@@ -51,7 +51,7 @@ def test_core_formulas_carry_the_reference_names():
     from epc_fast import _core
 
     for name in ("sinc", "mtf_diffraction", "signal_electrons"):
-        assert hasattr(_core, name) and hasattr(reference, name), name
+        assert hasattr(_core.testing, name) and hasattr(reference, name), name
 
 
 def test_the_core_stub_lists_every_public_function_of_the_core():
@@ -65,4 +65,20 @@ def test_the_core_stub_lists_every_public_function_of_the_core():
     stubbed = {node.name for node in tree.body if isinstance(node, ast.FunctionDef)}
     public = {name for name in dir(_core) if not name.startswith("_")
               and callable(getattr(_core, name))}
+    assert stubbed == public
+
+
+def test_the_core_stub_lists_every_function_of_the_testing_submodule():
+    import ast
+    from pathlib import Path
+
+    from epc_fast import _core
+
+    stub = Path(epc_fast.__file__).with_name("_core.pyi")
+    tree = ast.parse(stub.read_text())
+    testing = next(node for node in tree.body
+                   if isinstance(node, ast.ClassDef) and node.name == "_Testing")
+    stubbed = {node.name for node in testing.body if isinstance(node, ast.FunctionDef)}
+    public = {name for name in dir(_core.testing) if not name.startswith("_")
+              and callable(getattr(_core.testing, name))}
     assert stubbed == public

@@ -407,9 +407,9 @@ def read_header(text):
 
 def core_start_errors(n_random=4_000_000, n_grid=1001, n_grid_jitter=101, chunk=1_000_000):
     """The largest relative error of the installed core's own accurate and jitter starts
-    (``epc_fast._core.f50_start``, float64) against the bisected f50, over ``n_random`` random
-    points of each domain and a regular grid (``n_grid``^2; jitter ``n_grid_jitter``^3): the
-    evidence behind f50_start.h's certified_start_error. Returns {row name: largest error}."""
+    (``epc_fast._core.testing.f50_start``, float64) against the bisected f50, over ``n_random``
+    random points of each domain and a regular grid (``n_grid``^2; jitter ``n_grid_jitter``^3):
+    the evidence behind f50_start.h's certified_start_error. Returns {row name: largest error}."""
     from epc_fast import _core  # the built package: this check measures what it computes
 
     def largest(columns, target, start):
@@ -427,8 +427,8 @@ def core_start_errors(n_random=4_000_000, n_grid=1001, n_grid_jitter=101, chunk=
     def accurate_start(threshold):
         def start(v_d, s):
             rest = 1 - v_d ** 2
-            return _core.f50_start(v_d * NU50, np.sqrt(s * rest) * X50,
-                                   np.sqrt((1 - s) * rest) * X50, 0.0, threshold)
+            return _core.testing.f50_start(v_d * NU50, np.sqrt(s * rest) * X50,
+                                           np.sqrt((1 - s) * rest) * X50, 0.0, threshold)
         return start
 
     errors = {}
@@ -444,8 +444,8 @@ def core_start_errors(n_random=4_000_000, n_grid=1001, n_grid_jitter=101, chunk=
         rest = 1 - v_d ** 2
         v_j = t * np.sqrt(rest)
         rest = np.maximum(rest - v_j ** 2, 0.0)
-        return _core.f50_start(v_d * NU50, np.sqrt(s * rest) * X50, np.sqrt((1 - s) * rest) * X50,
-                               v_j * j50, 0.5)
+        return _core.testing.f50_start(v_d * NU50, np.sqrt(s * rest) * X50,
+                                       np.sqrt((1 - s) * rest) * X50, v_j * j50, 0.5)
 
     errors["jitter"] = largest((v_d, t, s), jitter_target, jitter_start)
     return errors

@@ -1,9 +1,10 @@
-// Where the kernel's time goes, stage by stage (kernel.h, f50.h): one thread runs the blocks of
-// `points` random phone designs (phone_designs.h) through the stages cumulatively (gather;
-// then the exposure; then f50's start and bracket; then its solve; then the scatter into the
-// outputs, which is evaluate_block) and prints each stage's share, from the best of `rounds`
-// passes of each (taken in turn). The stages run in their real order on real data, so each one's cost is that
-// of its place in the kernel. 8192 points stay in the caches.
+// Where the kernel's time goes, stage by stage (kernel.h, exposure_stage.h, f50.h): one thread
+// runs the blocks of `points` random phone designs (phone_designs.h) through the stages
+// cumulatively (gather; then the exposure; then f50's start and bracket; then its solve; then
+// the scatter into the outputs, which is evaluate_block) and prints each stage's share, from
+// the best of `rounds` passes of each (taken in turn). The stages run in their real order on
+// real data, so each one's cost is that of its place in the kernel. 8192 points stay in the
+// caches.
 //
 //   g++ -std=c++17 -O3 -march=x86-64-v4 -mprefer-vector-width=512 -ffp-contract=fast
 //       -fno-math-errno -fno-trapping-math -fopenmp -I cpp/include tools/stage_costs.cpp

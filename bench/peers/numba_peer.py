@@ -49,10 +49,11 @@ SMALL_PI_X = 1e-2
 #: the polynomial in a = 2 v_d - 1 and z = w^2, rows a^0 .. a^degree of z^0 .. z^((degree-i)/2).
 NU50 = 0.4039727532995172
 X50 = 0.6033545644016142
-START_DEGREE = int(_core.accurate_start_degree)
+START_DEGREE = int(_core.testing.accurate_start_degree)
 #: threshold 1/2's row (the benchmarks' threshold)
 START_COEFFICIENTS = np.asarray(
-    _core.accurate_start_coefficients[list(_core.accurate_start_thresholds).index(0.5)],
+    _core.testing.accurate_start_coefficients[
+        list(_core.testing.accurate_start_thresholds).index(0.5)],
     dtype=np.float64)
 
 

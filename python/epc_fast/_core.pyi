@@ -1,6 +1,7 @@
-"""Type stubs for epc_fast's compiled core (cpp/src/bindings.cpp). Use epc_fast.evaluate."""
+"""Type stubs for epc_fast's compiled core (cpp/src/module.cpp and the register_*.cpp files it
+calls). Use epc_fast.evaluate."""
 
-from typing import Sequence
+from typing import Protocol, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -74,32 +75,6 @@ def crossover_lux(
     f50_rtol: float,
     threads: int,
 ) -> dict[str, np.ndarray]: ...
-def sinc(x: npt.ArrayLike) -> np.ndarray: ...
-def mtf_diffraction(nu: npt.ArrayLike) -> np.ndarray: ...
-def signal_electrons(
-    rate: npt.ArrayLike, snr_db: npt.ArrayLike, read: npt.ArrayLike, dark: npt.ArrayLike,
-    prnu: npt.ArrayLike,
-) -> np.ndarray: ...
-def signal_electrons_brent(
-    rate: npt.ArrayLike, snr_db: npt.ArrayLike, read: npt.ArrayLike, dark: npt.ArrayLike,
-    prnu: npt.ArrayLike, rtol: npt.ArrayLike,
-) -> np.ndarray: ...
-def f50_start(
-    lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
-    jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
-) -> np.ndarray: ...
-def f50_cubic_start(
-    lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
-    jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
-) -> np.ndarray: ...
-def spectrum_start(
-    wavelengths_nm: npt.NDArray[np.float64], weights: npt.NDArray[np.float64],
-) -> dict[str, np.ndarray]: ...
-def f50_spectrum_start(
-    wavelengths_nm: npt.NDArray[np.float64], weights: npt.NDArray[np.float64],
-    lambda_f_mm: npt.NDArray[np.float64], aperture_mm: npt.NDArray[np.float64],
-    blur_mm: npt.NDArray[np.float64], mtf_threshold: npt.NDArray[np.float64],
-) -> np.ndarray: ...
 def scan_chunk(
     space: dict, keys: list, reductions: list, f50_solver: str, f50_rtol: float,
     t_mpe_solver: str, t_mpe_rtol: float, precision: str, start: int, stop: int, threads: int,
@@ -107,14 +82,60 @@ def scan_chunk(
 def scan_points(
     space: dict, index: npt.NDArray[np.int64],
 ) -> tuple[list[np.ndarray | None], list[np.ndarray]]: ...
-def stream_uniforms(seed: int, stream: int, index: npt.NDArray[np.int64]) -> np.ndarray: ...
-def ndtri(p: npt.ArrayLike) -> np.ndarray: ...
-def ndtri_blocks(p: npt.ArrayLike) -> np.ndarray: ...
-def elementary_exp(x: npt.ArrayLike) -> np.ndarray: ...
-def elementary_exp_normal(x: npt.ArrayLike) -> np.ndarray: ...
-def elementary_log(x: npt.ArrayLike) -> np.ndarray: ...
-def octave_slots(values: npt.ArrayLike, first_key: int, bins: int, shift: int) -> np.ndarray: ...
 scan_block_points: int
-accurate_start_degree: int
-accurate_start_thresholds: np.ndarray
-accurate_start_coefficients: np.ndarray
+
+class _Testing(Protocol):
+    """The submodule ``testing`` (cpp/src/register_testing.cpp): single formulas and stages of
+    the core, elementwise, for the tests and the benchmarks' Numba peer; not part of the
+    package's interface."""
+
+    accurate_start_degree: int
+    accurate_start_thresholds: np.ndarray  # the thresholds with an accurate start, in row order
+    accurate_start_coefficients: np.ndarray  # (thresholds, terms): each threshold's polynomial
+    certified_start_error: np.ndarray  # per start row (the thresholds', then the jitter start's)
+
+    def sinc(self, x: npt.ArrayLike) -> np.ndarray: ...
+    def mtf_diffraction(self, nu: npt.ArrayLike) -> np.ndarray: ...
+    def signal_electrons(
+        self,
+        rate: npt.ArrayLike, snr_db: npt.ArrayLike, read: npt.ArrayLike, dark: npt.ArrayLike,
+        prnu: npt.ArrayLike,
+    ) -> np.ndarray: ...
+    def signal_electrons_brent(
+        self,
+        rate: npt.ArrayLike, snr_db: npt.ArrayLike, read: npt.ArrayLike, dark: npt.ArrayLike,
+        prnu: npt.ArrayLike, rtol: npt.ArrayLike,
+    ) -> np.ndarray: ...
+    def f50_start(
+        self,
+        lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
+        jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
+    ) -> np.ndarray: ...
+    def f50_cubic_start(
+        self,
+        lambda_f_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, blur_mm: npt.ArrayLike,
+        jitter_mm: npt.ArrayLike, mtf_threshold: npt.ArrayLike,
+    ) -> np.ndarray: ...
+    def spectrum_start(
+        self,
+        wavelengths_nm: npt.NDArray[np.float64], weights: npt.NDArray[np.float64],
+    ) -> dict[str, np.ndarray]: ...
+    def f50_spectrum_start(
+        self,
+        wavelengths_nm: npt.NDArray[np.float64], weights: npt.NDArray[np.float64],
+        lambda_f_mm: npt.NDArray[np.float64], aperture_mm: npt.NDArray[np.float64],
+        blur_mm: npt.NDArray[np.float64], mtf_threshold: npt.NDArray[np.float64],
+    ) -> np.ndarray: ...
+    def stream_uniforms(
+        self, seed: int, stream: int, index: npt.NDArray[np.int64],
+    ) -> np.ndarray: ...
+    def ndtri(self, p: npt.ArrayLike) -> np.ndarray: ...
+    def ndtri_blocks(self, p: npt.ArrayLike) -> np.ndarray: ...
+    def elementary_exp(self, x: npt.ArrayLike) -> np.ndarray: ...
+    def elementary_exp_normal(self, x: npt.ArrayLike) -> np.ndarray: ...
+    def elementary_log(self, x: npt.ArrayLike) -> np.ndarray: ...
+    def octave_slots(
+        self, values: npt.ArrayLike, first_key: int, bins: int, shift: int,
+    ) -> np.ndarray: ...
+
+testing: _Testing

@@ -1,6 +1,7 @@
-"""The exposure stage's vector path (kernel.h): the electron rate and T_MPE come out rounded as
-their formulas say, step by step, however the core forms its quotients (one reciprocal shared by
-the quotients with the same divisor, each corrected to the correctly rounded one)."""
+"""The exposure stage's vector path (exposure_stage.h): the electron rate and T_MPE come out
+rounded as their formulas say, step by step, however the core forms its quotients (one
+reciprocal shared by the quotients with the same divisor, each corrected to the correctly
+rounded one)."""
 
 import numpy as np
 import pytest

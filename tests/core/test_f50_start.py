@@ -29,8 +29,8 @@ ACCURATE_BOUND = {0.5: 5e-8, 0.3: 1.5e-6, 0.2: 6e-6, 0.1: 6e-5}
 
 
 def test_the_thresholds_with_an_accurate_start_are_mtf50_30_20_10():
-    assert list(_core.accurate_start_thresholds) == list(ACCURATE_BOUND)
-    assert _core.accurate_start_coefficients.shape == (4, 36)
+    assert list(_core.testing.accurate_start_thresholds) == list(ACCURATE_BOUND)
+    assert _core.testing.accurate_start_coefficients.shape == (4, 36)
 
 
 @pytest.mark.parametrize("threshold", list(ACCURATE_BOUND))
@@ -46,11 +46,11 @@ def test_each_accurate_start_is_within_its_fit_everywhere(threshold):
     aperture = np.concatenate([aperture, edges[:, 1]])
     blur = np.concatenate([blur, edges[:, 2]])
     exact = _exact_f50(f_number, aperture, blur, 0.0, threshold)
-    start = _core.f50_start(lambda_f, aperture, blur, 0.0, threshold)
+    start = _core.testing.f50_start(lambda_f, aperture, blur, 0.0, threshold)
     error = np.max(np.abs(start / exact - 1))
     assert error <= ACCURATE_BOUND[threshold]
     # and it is this threshold's row: the bound is far below what the cubic start gets
-    cubic = _core.f50_cubic_start(lambda_f, aperture, blur, 0.0, threshold)
+    cubic = _core.testing.f50_cubic_start(lambda_f, aperture, blur, 0.0, threshold)
     assert np.max(np.abs(cubic / exact - 1)) > 100 * error
 
 
@@ -58,7 +58,7 @@ def test_the_cubic_start_is_within_its_fit_at_one_half():
     # tools/fit_f50_start.py: 0.37% over ratios e^-7..e^7; measured 0.369% over these e^-9..e^9.
     f_number, lambda_f, aperture, blur = lengths(20_000, seed=4, wavelength_nm=WAVELENGTH_NM)
     exact = _exact_f50(f_number, aperture, blur, 0.0, 0.5)
-    start = _core.f50_cubic_start(lambda_f, aperture, blur, 0.0, 0.5)
+    start = _core.testing.f50_cubic_start(lambda_f, aperture, blur, 0.0, 0.5)
     assert np.max(np.abs(start / exact - 1)) <= 3.8e-3
 
 
@@ -72,7 +72,7 @@ def test_the_start_for_other_thresholds_and_jitter_is_a_finite_positive_guess(th
     f_number, lambda_f, aperture, blur = lengths(5_000, seed=4, wavelength_nm=WAVELENGTH_NM)
     rng = np.random.default_rng(5)
     jitter = lambda_f * np.exp(rng.uniform(-3.0, 3.0, len(lambda_f))) * (rng.random(len(lambda_f)) < 0.5)
-    start = _core.f50_start(lambda_f, aperture, blur, jitter, threshold)
+    start = _core.testing.f50_start(lambda_f, aperture, blur, jitter, threshold)
     assert np.all(np.isfinite(start)) and np.all(start > 0)
     exact = _exact_f50(f_number, aperture, blur, jitter, threshold)
     assert np.median(np.abs(start / exact - 1)) <= 0.3
@@ -84,20 +84,20 @@ def test_the_accurate_start_is_the_cubic_one_where_it_does_not_apply():
     lf = WAVELENGTH_NM * 1e-6 * 2.8
     aperture, blur = np.array([0.5, 2.0, 8.0]) * lf, np.array([0.0, 1.0, 3.0]) * lf
     exact = _exact_f50(2.8, aperture, blur, 0.0, 0.5)
-    accurate = _core.f50_start(lf, aperture, blur, 0.0, 0.5)
-    cubic_at_half = _core.f50_cubic_start(lf, aperture, blur, 0.0, 0.5)
+    accurate = _core.testing.f50_start(lf, aperture, blur, 0.0, 0.5)
+    cubic_at_half = _core.testing.f50_cubic_start(lf, aperture, blur, 0.0, 0.5)
     assert np.max(np.abs(accurate / exact - 1)) <= 5e-8
     assert np.max(np.abs(cubic_at_half / exact - 1)) > 1e-6  # the cubic's own error
     assert np.max(np.abs(cubic_at_half / exact - 1)) <= 4e-3
     # 0.25 has no row: the cubic start, scaled, with or without jitter
-    scaled = _core.f50_start(lf, aperture, blur, 0.0, 0.25)
-    assert np.array_equal(scaled, _core.f50_cubic_start(lf, aperture, blur, 0.0, 0.25))
-    assert np.array_equal(_core.f50_start(lf, aperture, blur, 0.3 * lf, 0.25),
-                          _core.f50_cubic_start(lf, aperture, blur, 0.3 * lf, 0.25))
+    scaled = _core.testing.f50_start(lf, aperture, blur, 0.0, 0.25)
+    assert np.array_equal(scaled, _core.testing.f50_cubic_start(lf, aperture, blur, 0.0, 0.25))
+    assert np.array_equal(_core.testing.f50_start(lf, aperture, blur, 0.3 * lf, 0.25),
+                          _core.testing.f50_cubic_start(lf, aperture, blur, 0.3 * lf, 0.25))
     assert np.max(np.abs(scaled / _exact_f50(2.8, aperture, blur, 0.0, 0.25) - 1)) > 1e-3
     # 0.3 has a row without jitter only: with jitter, the cubic start
-    assert np.array_equal(_core.f50_start(lf, aperture, blur, 0.3 * lf, 0.3),
-                          _core.f50_cubic_start(lf, aperture, blur, 0.3 * lf, 0.3))
+    assert np.array_equal(_core.testing.f50_start(lf, aperture, blur, 0.3 * lf, 0.3),
+                          _core.testing.f50_cubic_start(lf, aperture, blur, 0.3 * lf, 0.3))
 
 
 #: The jitter start's largest relative error: tools/fit_f50_start.py (fit_jitter) measures
@@ -120,11 +120,11 @@ def test_the_jitter_start_is_within_its_fit_everywhere():
     lambda_f, aperture, blur, jitter = (np.concatenate([a, e]) for a, e in
                                         zip((lambda_f, aperture, blur, jitter), edges.T))
     exact = _exact_f50(f_number, aperture, blur, jitter, 0.5)
-    start = _core.f50_start(lambda_f, aperture, blur, jitter, 0.5)
+    start = _core.testing.f50_start(lambda_f, aperture, blur, jitter, 0.5)
     error = np.max(np.abs(start / exact - 1))
     assert error <= JITTER_BOUND
     # and it is the jitter start: the cubic one is far coarser with jitter
-    cubic = _core.f50_cubic_start(lambda_f, aperture, blur, jitter, 0.5)
+    cubic = _core.testing.f50_cubic_start(lambda_f, aperture, blur, jitter, 0.5)
     assert np.max(np.abs(cubic / exact - 1)) > 100 * error
 
 
@@ -210,7 +210,7 @@ def test_each_certified_error_is_twice_the_largest_error_measured_or_more():
     fit_f50_start = load_script("tools/fit_f50_start.py")
     errors = fit_f50_start.core_start_errors(n_random=40_000, n_grid=101, n_grid_jitter=21)
     assert list(errors) == list(ROW_NAMES)
-    certified = _core.certified_start_error
+    certified = _core.testing.certified_start_error
     assert len(certified) == len(ROW_NAMES)
     for name, bound in zip(ROW_NAMES, certified):
         assert 0 < errors[name] <= bound / 2, name
@@ -244,10 +244,10 @@ def test_a_tolerance_above_the_certified_error_takes_the_start_as_f50(solver):
     error = np.abs(loose.f50_cyc_per_mm[ok] / ref.f50_cyc_per_mm[ok] - 1)
     # the start itself: within its certified 1e-7 (measured at most 4.2e-8), and not solved
     # further (a step would leave ~1e-16, the reference's own rounding)
-    assert error.max() <= _core.certified_start_error[0]
+    assert error.max() <= _core.testing.certified_start_error[0]
     assert np.median(error) > 1e-9
     lambda_f, aperture, blur = _lengths_of(d, loose)
-    start = _core.f50_start(lambda_f[ok], aperture[ok], blur[ok], 0.0, 0.5)
+    start = _core.testing.f50_start(lambda_f[ok], aperture[ok], blur[ok], 0.0, 0.5)
     # the same formula as the core's start, on lengths formed here (a rounding apart)
     assert np.max(np.abs(loose.f50_cyc_per_mm[ok] / start - 1)) <= 1e-14
 
@@ -261,7 +261,7 @@ def test_each_row_settles_above_its_certified_error_and_solves_below_it(solver, 
     ref = epc_fast.evaluate(**d, mtf_threshold=threshold, jitter_um=jitter_um, backend="reference")
     ok = ref.status == Status.OK
     assert ok.sum() > 1000
-    bound = _core.certified_start_error[row]
+    bound = _core.testing.certified_start_error[row]
 
     def error(rtol):
         r = epc_fast.evaluate(**d, mtf_threshold=threshold, jitter_um=jitter_um,
@@ -286,7 +286,7 @@ def test_brent_and_bisection_take_no_start(solver):
     r = epc_fast.evaluate(**d, f50_solver=solver, f50_rtol=1e-6)
     ok = r.status == Status.OK
     lambda_f, aperture, blur = _lengths_of(d, r)
-    start = _core.f50_start(lambda_f[ok], aperture[ok], blur[ok], 0.0, 0.5)
+    start = _core.testing.f50_start(lambda_f[ok], aperture[ok], blur[ok], 0.0, 0.5)
     ref = epc_fast.evaluate(**d, backend="reference")
     error = np.abs(r.f50_cyc_per_mm[ok] / ref.f50_cyc_per_mm[ok] - 1)
     assert error.max() <= 1e-6
@@ -340,7 +340,7 @@ def test_float32_settles_on_the_float64_start_rounded_once(threshold, jitter_um)
     d = random_designs(2000, seed=26)
     row = {0.5: 0, 0.3: 1, 0.1: 3}[threshold] if jitter_um == 0 else 4
     # (1% above the bound: float32 compares its tolerance rounded to float32)
-    rtol = _core.certified_start_error[row] * 1.01 + 2.0**-24
+    rtol = _core.testing.certified_start_error[row] * 1.01 + 2.0**-24
     kwargs = dict(d, mtf_threshold=threshold, jitter_um=jitter_um, f50_rtol=rtol)
     wide = epc_fast.evaluate(**kwargs)
     narrow = epc_fast.evaluate(**kwargs, precision="float32")

@@ -39,9 +39,9 @@ def test_the_header_is_exactly_what_the_tool_writes_of_its_numbers(fit, tables):
 
 def test_the_core_holds_the_header_s_coefficients_bit_for_bit(tables):
     accurate, _, _ = tables
-    assert list(_core.accurate_start_thresholds) == list(accurate)
+    assert list(_core.testing.accurate_start_thresholds) == list(accurate)
     stored = np.array([f.coefficients for f in accurate.values()])
-    assert np.asarray(_core.accurate_start_coefficients).tobytes() == stored.tobytes()
+    assert np.asarray(_core.testing.accurate_start_coefficients).tobytes() == stored.tobytes()
 
 
 def test_a_table_row_and_its_power_grid_convert_both_ways(fit, tables):
@@ -63,7 +63,7 @@ def test_each_accurate_row_is_within_its_stated_error_and_half_its_certified_bou
     # the stated error is the largest over the tool's 400,000 points, printed to 3 digits
     assert 0.3 * stated.largest < error.max() <= 1.005 * stated.largest
     row = list(accurate).index(threshold)
-    assert 2 * stated.largest <= _core.certified_start_error[row]
+    assert 2 * stated.largest <= _core.testing.certified_start_error[row]
 
 
 def test_the_jitter_start_is_within_its_stated_error_and_half_its_certified_bound(fit, tables):
@@ -73,7 +73,8 @@ def test_the_jitter_start_is_within_its_stated_error_and_half_its_certified_boun
     start = fit.horner_jitter(jitter.coefficients, *fit.jitter_variables(v_d, t, s))
     error = np.abs(start / fit.jitter_target(v_d, t, s) - 1)
     assert 0.3 * jitter.largest < error.max() <= 1.005 * jitter.largest
-    assert 2 * jitter.largest <= _core.certified_start_error[len(_core.accurate_start_thresholds)]
+    jitter_row = len(_core.testing.accurate_start_thresholds)
+    assert 2 * jitter.largest <= _core.testing.certified_start_error[jitter_row]
 
 
 def test_the_cubic_start_is_within_its_stated_error(fit, tables):
@@ -88,5 +89,5 @@ def test_the_cubic_start_is_within_its_stated_error(fit, tables):
     error = np.abs(columns @ cubic.coefficients / exact - 1)
     assert 0.3 * cubic.largest < error.max() <= 1.005 * cubic.largest
     # the core's cubic start at these lengths (lambda F, pixel aperture, blur in mm; x_d = 1)
-    core = _core.f50_cubic_start(fit.NU50, x_p * fit.X50, x_m * fit.X50, 0.0, 0.5)
+    core = _core.testing.f50_cubic_start(fit.NU50, x_p * fit.X50, x_m * fit.X50, 0.0, 0.5)
     assert np.allclose(core, columns @ cubic.coefficients / root_s, rtol=1e-14, atol=0)

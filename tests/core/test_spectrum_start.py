@@ -27,8 +27,8 @@ def _exact_f50(spectrum, f_number, aperture_mm, blur_mm, threshold):
 
 
 def _start(spectrum, lambda_f, aperture, blur, threshold):
-    return _core.f50_spectrum_start(spectrum.wavelengths_nm, spectrum.weights, lambda_f, aperture,
-                                    blur, np.full(len(lambda_f), threshold))
+    return _core.testing.f50_spectrum_start(spectrum.wavelengths_nm, spectrum.weights, lambda_f,
+                                            aperture, blur, np.full(len(lambda_f), threshold))
 
 
 @pytest.mark.parametrize("samples", [4, 16, 64])
@@ -41,10 +41,10 @@ def test_the_spectrum_start_is_within_its_bound_everywhere(samples, threshold):
     error = np.max(np.abs(_start(spectrum, lambda_f, aperture, blur, threshold) / exact - 1))
     assert error <= SPECTRUM_BOUND[threshold]
     # the fit's own report agrees in size (its nodes are a subset of the domain)
-    fit_error = _core.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["fit_error"]
+    fit_error = _core.testing.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["fit_error"]
     assert fit_error[THRESHOLDS.index(threshold)] <= SPECTRUM_BOUND[threshold]
     # and it is that threshold's fit: the cubic start, the alternative, is far coarser
-    cubic = _core.f50_cubic_start(lambda_f, aperture, blur, 0.0, threshold)
+    cubic = _core.testing.f50_cubic_start(lambda_f, aperture, blur, 0.0, threshold)
     assert np.max(np.abs(cubic / exact - 1)) > 10 * error
 
 
@@ -56,7 +56,7 @@ def test_one_wavelength_fits_the_monochromatic_accurate_start():
     f_number, lambda_f, aperture, blur = lengths(5_000, seed=7, wavelength_nm=550.0)
     for threshold, bound in zip(THRESHOLDS, (2e-7, 4e-6, 2e-5, 2e-4)):
         fitted = _start(spectrum, lambda_f, aperture, blur, threshold)
-        offline = _core.f50_start(lambda_f, aperture, blur, 0.0, threshold)
+        offline = _core.testing.f50_start(lambda_f, aperture, blur, 0.0, threshold)
         assert np.max(np.abs(fitted / offline - 1)) <= bound, threshold
 
 
@@ -65,11 +65,11 @@ def test_the_fit_is_the_same_bits_every_time():
     # on the spectrum's values, whether it comes from the cache or is fitted again after others
     # pushed it out (the cache keeps 8)
     spectrum = diffraction_spectrum(12)
-    first = _core.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["coefficients"]
+    first = _core.testing.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["coefficients"]
     for samples in range(20, 30):
         other = diffraction_spectrum(samples)
-        _core.spectrum_start(other.wavelengths_nm, other.weights)
-    again = _core.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["coefficients"]
+        _core.testing.spectrum_start(other.wavelengths_nm, other.weights)
+    again = _core.testing.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["coefficients"]
     assert np.array_equal(first.view(np.uint64), again.view(np.uint64))
     assert first.shape == (4, 36) and np.all(np.isfinite(first))
 
@@ -106,7 +106,7 @@ def test_a_spectrum_the_polynomial_fits_badly_still_converges_to_the_reference()
     # where MTF20 and MTF10 lie, and the fit there is coarse (3.7e-3 and 4.0e-3, 50 times the
     # default spectrum's). The start decides only how many steps the solver takes.
     spectrum = epc_fast.Spectrum([400.0, 1000.0], [0.5, 0.5])
-    fit_error = _core.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["fit_error"]
+    fit_error = _core.testing.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["fit_error"]
     assert fit_error[2] > 1e-3 and fit_error[3] > 1e-3  # the case this test is about
     designs = random_designs(2_000, seed=13)
     for threshold in THRESHOLDS:
@@ -127,4 +127,5 @@ def test_a_spectrum_the_polynomial_fits_badly_still_converges_to_the_reference()
 ])
 def test_bad_spectra_are_refused_by_name(wavelengths, weights, message):
     with pytest.raises(ValueError, match=message):
-        _core.spectrum_start(np.array(wavelengths, dtype=float), np.array(weights, dtype=float))
+        _core.testing.spectrum_start(np.array(wavelengths, dtype=float),
+                                     np.array(weights, dtype=float))

@@ -40,10 +40,10 @@ def reference_diffraction_at_nu(nu):
     return reference.mtf_diffraction(np.asarray(nu, dtype=np.float64), 1e6, 1.0)
 
 
-DIFFRACTION = [pytest.param(_core.mtf_diffraction, id="core"),
+DIFFRACTION = [pytest.param(_core.testing.mtf_diffraction, id="core"),
                pytest.param(reference_diffraction_at_nu, id="reference")]
-SINC = [pytest.param(_core.sinc, id="core"), pytest.param(reference.sinc, id="reference")]
-SIGNAL_ELECTRONS = [pytest.param(_core.signal_electrons, id="core"),
+SINC = [pytest.param(_core.testing.sinc, id="core"), pytest.param(reference.sinc, id="reference")]
+SIGNAL_ELECTRONS = [pytest.param(_core.testing.signal_electrons, id="core"),
                     pytest.param(reference.signal_electrons, id="reference")]
 BACKENDS = [pytest.param(dict(backend="core"), id="core"),
             pytest.param(dict(backend="core", t_mpe_solver="brent"), id="core-brent"),
@@ -223,14 +223,14 @@ def test_core_signal_electrons_matches_the_mpmath_quadratic_root():
     expected = np.array([float(mp_signal_electrons(*args))
                          for args in zip(rate, snr_db, read, dark, prnu)])
     # 1e-14 relative: as for the reference's closed form, the same formula.
-    np.testing.assert_allclose(_core.signal_electrons(rate, snr_db, read, dark, prnu), expected,
-                               rtol=1e-14, atol=0)
+    np.testing.assert_allclose(_core.testing.signal_electrons(rate, snr_db, read, dark, prnu),
+                               expected, rtol=1e-14, atol=0)
 
 
 def test_core_signal_electrons_equals_the_reference_without_prnu():
     rate, snr_db, read, dark, _ = exposure_sample(2000, seed=4)
     prnu = np.zeros_like(rate)
-    core = _core.signal_electrons(rate, snr_db, read, dark, prnu)
+    core = _core.testing.signal_electrons(rate, snr_db, read, dark, prnu)
     ref = reference.signal_electrons(rate, snr_db, read, dark, prnu)
     # 1e-15 relative: the same operations in the same order, but NumPy's vectorised 10**x and
     # libm's pow differ in the last bit of 10^(snr/20) for ~6% of inputs; without PRNU that bit
@@ -241,7 +241,7 @@ def test_core_signal_electrons_equals_the_reference_without_prnu():
 
 def test_core_signal_electrons_equals_the_reference_with_prnu_up_to_its_amplification():
     rate, snr_db, read, dark, prnu = exposure_sample(2000, seed=5)
-    core = _core.signal_electrons(rate, snr_db, read, dark, prnu)
+    core = _core.testing.signal_electrons(rate, snr_db, read, dark, prnu)
     ref = reference.signal_electrons(rate, snr_db, read, dark, prnu)
     amplification = root_s_amplification(ref, snr_db, dark / rate, prnu)
     # The 1e-15 of the case without PRNU (amplification 2) scaled by the amplification of the
@@ -252,8 +252,8 @@ def test_core_signal_electrons_equals_the_reference_with_prnu_up_to_its_amplific
 
 def test_brent_t_mpe_matches_the_closed_form():
     rate, snr_db, read, dark, prnu = exposure_sample(2000, seed=6)
-    brent = _core.signal_electrons_brent(rate, snr_db, read, dark, prnu, 1e-15)
-    closed = _core.signal_electrons(rate, snr_db, read, dark, prnu)
+    brent = _core.testing.signal_electrons_brent(rate, snr_db, read, dark, prnu, 1e-15)
+    closed = _core.testing.signal_electrons(rate, snr_db, read, dark, prnu)
     # 1e-13 relative: Brent stops at 1e-15, but it finds the zero of g(E) = ln E - ln(variance)/2
     # - ln sqrt(s), whose logs (up to ~30) carry ~1e-15 absolute rounding, over a slope E g'(E)
     # that falls to ~w/2 = 0.1 near the PRNU cap: ~3e-14 (seen: 3.5e-14 over 1e6 points).

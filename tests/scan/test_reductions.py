@@ -180,10 +180,10 @@ def test_octave_slots_put_every_value_in_the_bin_that_holds_it(bins_per_decade):
     assert np.array_equal(slot == 0, ~(values >= edges[0]))
     assert np.array_equal(slot == bins.bins + 1, values >= edges[-1])
     # the fused pass bins every value alike, to the slot
-    core = _core.octave_slots(values, bins.first_key, bins.bins, bins.shift)
+    core = _core.testing.octave_slots(values, bins.first_key, bins.bins, bins.shift)
     assert np.array_equal(core, slot)
-    assert _core.octave_slots(np.array([np.nan, -np.nan]), bins.first_key, bins.bins,
-                              bins.shift).tolist() == [0, 0]
+    assert _core.testing.octave_slots(np.array([np.nan, -np.nan]), bins.first_key, bins.bins,
+                                      bins.shift).tolist() == [0, 0]
     assert bins.slot(np.array([np.nan])).tolist() == [0]
 
 
@@ -192,7 +192,7 @@ def test_octave_slots_put_every_value_in_the_bin_that_holds_it(bins_per_decade):
 def test_octave_bins_the_core_cannot_hold_are_refused(first_key, bins, shift):
     # keys must stay below 2^52 (exact doubles) and below 2^(64 - shift) (what a double gives)
     with pytest.raises(ValueError, match="octave bins"):
-        _core.octave_slots(np.ones(3), first_key, bins, shift)
+        _core.testing.octave_slots(np.ones(3), first_key, bins, shift)
 
 
 def test_fraction_below_matches_numpy_with_its_binomial_error(backend, full):

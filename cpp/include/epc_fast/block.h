@@ -1,5 +1,5 @@
 // The per-lane state of one block of points, laid out as structure of arrays so that every
-// stage of the kernel (kernel.h, f50.h) is a loop over lanes that vectorises.
+// stage of the kernel (kernel.h, exposure_stage.h, f50.h) is a loop over lanes that vectorises.
 #pragma once
 
 #include <cstddef>
@@ -49,8 +49,9 @@ struct alignas(64) Block {
     unsigned char valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
     unsigned char capped[block_size];
-    // what the exposure stage decides (kernel.h): each lane's Status and Cause codes (status.h),
-    // the blur as written out (NaN where undefined, +inf where unbounded), the lanes to solve
+    // what the exposure stage decides (exposure_stage.h): each lane's Status and Cause codes
+    // (status.h), the blur as written out (NaN where undefined, +inf where unbounded), the
+    // lanes to solve
     unsigned char status[block_size], cause[block_size];
     double blur_out[block_size];
     unsigned char solve[block_size];

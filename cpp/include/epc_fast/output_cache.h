@@ -2,12 +2,11 @@
 // kept (up to a limit) and handed to a later call that asks for about as many bytes.
 //
 // Why: a new array's pages are mapped on first write, and the operating system zeroes each one
-// first. For 10^7 points' default outputs (500 MB) that zeroing is a tenth to a fifth of the
-// call's time on two cores, and every call of a scan or a benchmark loop repeats it, the
-// results of the call before having just been dropped. A kept block's pages stay
-// mapped: the next call writes them at memory speed. The kept memory is bounded by limit() (0
-// keeps nothing), and a block is only reused for a request within a quarter of its size, so a
-// small call never pins a large block.
+// first: a page fault per page and one more pass over the outputs' memory, which every call of
+// a scan or a benchmark loop pays again, the results of the call before having just been
+// dropped. A kept block's pages stay mapped: the next call only writes them. The kept memory is
+// bounded by limit() (0 keeps nothing), and a block is only reused for a request within a
+// quarter of its size, so a small call never pins a large block.
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
 // A scan's reductions, folded a block of points at a time while the block is in cache: per
-// group (group keys below) status counts, count/mean/std/min/max, histograms on fixed bins
-// (equal in the value or its log10), the fraction below a threshold, and the k best points.
+// group (group keys: scan_groups.h) status counts, count/mean/std/min/max, histograms on fixed
+// bins (equal in the value or its log10), the fraction below a threshold, and the k best points.
 //
 // Every state is exact or order-free (integer counts, min, max, the k best by a total order)
 // except the mean and the squared deviations, which are accumulated in a fixed order into
@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "block.h"
+#include "scan_groups.h"
 #include "scan_space.h"
 #include "status.h"
 
@@ -30,118 +31,13 @@ namespace epc_fast {
 // Points a scan block holds: the unit of the moments' merge order (scan.BLOCK_POINTS).
 constexpr std::size_t scan_block_points = std::size_t{1} << 16;
 
-// One part of a group key (python/epc_fast/scan/groups.py): a discrete axis's index, a value
-// index looked up from the design index, or a parameter's bin (edges searched, or equal steps
-// in log10 found arithmetically).
-struct KeyPart {
-    enum Kind { axis, lookup, binned, binned_log };
-    Kind kind = axis;
-    int axis_index = -1;  // axis, lookup: index into ScanSpace::axes
-    int param = -1;       // binned, binned_log
-    std::int32_t size = 1;
-    std::vector<std::int32_t> lookup_table;  // lookup: axis index -> group part
-    std::vector<double> inner_edges;         // binned: edges[1 .. -2]
-    double first = 0.0, scale = 1.0;         // binned_log: log10 of the first edge, 1 / step
-};
-
-// Groups are the parts' indices in mixed radix, the last part fastest; no parts: one group.
-//
-// A key whose parts are all grid axes (or lookups of them) repeats with the grid: point i's
-// group is cycle[i mod cycle.size()] (set_cycle). Its reductions then accumulate per position
-// in the cycle with plain vector loops (CycleSums) and fold the positions into their groups
-// once per scan block. Empty: the key has no cycle of at most max_cycle points.
-struct GroupKey {
-    std::vector<KeyPart> parts;
-    std::int64_t size = 1;
-    std::vector<std::int32_t> cycle;
-};
-
-namespace detail {
-
-// The part's index of each of the lanes' n points.
-inline void part_indices(const KeyPart& part, const ScanSpace& space, const ScanLanes& lanes,
-                         std::int32_t* __restrict out) {
-    const std::size_t n = lanes.n;
-    switch (part.kind) {
-        case KeyPart::axis: {
-            const std::int32_t* k = lanes.axis_index[static_cast<std::size_t>(part.axis_index)].data();
-            for (std::size_t i = 0; i < n; ++i) out[i] = k[i];
-            return;
-        }
-        case KeyPart::lookup: {
-            const std::int32_t* k = lanes.axis_index[static_cast<std::size_t>(part.axis_index)].data();
-            for (std::size_t i = 0; i < n; ++i) out[i] = part.lookup_table[static_cast<std::size_t>(k[i])];
-            return;
-        }
-        default:
-            break;
-    }
-    const ParamSource& p = space.params[part.param];
-    const bool fixed = p.kind == ParamSource::fixed;
-    const double* x = lanes.values[part.param];
-    for (std::size_t i = 0; i < n; ++i) {
-        const double v = fixed ? p.value : x[i];
-        if (part.kind == KeyPart::binned) {  // np.searchsorted(inner_edges, v, side="right")
-            const auto at = std::upper_bound(part.inner_edges.begin(), part.inner_edges.end(), v);
-            out[i] = static_cast<std::int32_t>(at - part.inner_edges.begin());
-        } else {  // groups.py _part_indices: floor of the clipped position in bins
-            double position = (std::log10(v > 0.0 ? v : 0.0) - part.first) * part.scale;
-            const double top = static_cast<double>(part.size - 1);
-            position = position >= 0.0 ? (position <= top ? position : top) : 0.0;  // NaN: 0
-            out[i] = static_cast<std::int32_t>(position);
-        }
-    }
-}
-
-}  // namespace detail
-
-// Each lane's group under `key` (int32: python refuses keys of 2^31 groups or more).
-inline void group_indices(const GroupKey& key, const ScanSpace& space, const ScanLanes& lanes,
-                          std::int32_t* __restrict group, std::int32_t* __restrict scratch) {
-    const std::size_t n = lanes.n;
-    for (std::size_t i = 0; i < n; ++i) group[i] = 0;
-    for (const KeyPart& part : key.parts) {
-        detail::part_indices(part, space, lanes, scratch);
-        for (std::size_t i = 0; i < n; ++i) group[i] = group[i] * part.size + scratch[i];
-    }
-}
-
-// Sets key.cycle: the groups of points 0 .. L - 1, L the least multiple of block_size (so that
-// every kernel block starts a cycle's block) that the key's period divides. The period is the
-// number of grid cells from the slowest grid axis the key reads (the grid's mixed radix, last
-// axis fastest): 1 for a key without parts. Left empty when a part is not a grid axis's or L
-// exceeds max_cycle.
-inline void set_cycle(GroupKey& key, const ScanSpace& space) {
-    key.cycle.clear();
-    std::size_t slowest = space.grid_axes.size();
-    for (const KeyPart& part : key.parts) {
-        if (part.kind != KeyPart::axis && part.kind != KeyPart::lookup) return;
-        const auto at = std::find(space.grid_axes.begin(), space.grid_axes.end(),
-                                  static_cast<std::size_t>(part.axis_index));
-        if (at == space.grid_axes.end()) return;  // a random choice
-        slowest = std::min(slowest, static_cast<std::size_t>(at - space.grid_axes.begin()));
-    }
-    std::uint64_t period = 1;
-    for (std::size_t k = slowest; k < space.grid_axes.size(); ++k) {
-        period *= static_cast<std::uint64_t>(space.axes[space.grid_axes[k]].size);
-        if (period > max_cycle) return;
-    }
-    const std::uint64_t length = cycle_length(period);
-    if (length == 0) return;
-    std::vector<std::int32_t> scratch(block_size);
-    key.cycle.resize(length);
-    for_grid_blocks(space, length, [&](const ScanLanes& lanes) {
-        group_indices(key, space, lanes, key.cycle.data() + lanes.index[0], scratch.data());
-    });
-}
-
 enum class ReductionKind { summary, histogram, quantiles, fraction_below, top_k };
 
-// One reduction of one output (`of`, an index into the kernel's six float outputs) per group
-// of key `key`.
+// One reduction of one output (`of`, an index into the outputs a scan reads: n_scan_outputs)
+// per group of key `key`.
 struct Reduction {
     ReductionKind kind = ReductionKind::summary;
-    int of = 5;   // Outputs order: rate, electrons, T_MPE, blur, f50, EPC
+    int of = 5;   // rate, electrons, T_MPE, blur, f50, EPC (Outputs order), then the shares
     int key = 0;  // index into the scan's keys (unused by top_k)
     std::int64_t groups = 1;
     // histogram: `bins` equal bins on t in [first, last), t the value or its log10 (histograms.py
@@ -260,12 +156,12 @@ struct ReductionState {
     static double inf_value() { return std::numeric_limits<double>::infinity(); }
 };
 
-// What one kernel block gives the reductions: each lane's point index, status, group under
-// each key, the outputs and, where a log-binned histogram needs it, log10 of an output.
 // The outputs a reduction can read, by its `of`: the kernel's six float64 outputs (Outputs
 // order) and the four MTF-loss shares (Share order, sensitivity.h).
 constexpr int n_scan_outputs = 6 + n_shares;
 
+// What one kernel block gives the reductions: each lane's point index, status, group under
+// each key, the outputs and, where a log-binned histogram needs it, log10 of an output.
 struct FoldLanes {
     std::size_t n = 0;
     std::uint64_t first = 0;  // lane 0's point index, a multiple of block_size

@@ -17,6 +17,7 @@
 #include "elementary.h"
 #include "exposure.h"
 #include "mtf.h"
+#include "parallel.h"
 #include "params.h"
 #include "polynomials.h"
 #include "status.h"

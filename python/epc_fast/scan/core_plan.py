@@ -1,7 +1,7 @@
 """A scan as the core's fused pass reads it: the space, the group keys and the reductions as
-plain dicts and lists (``cpp/include/epc_fast/scan_space.h``, ``scan_reductions.h``), and the
-core's partial results turned into each reduction's own partial, which its ``merge`` and
-``finish`` then take exactly as they take the NumPy path's.
+plain dicts and lists (``cpp/include/epc_fast/scan_space.h``, ``scan_groups.h``,
+``scan_reductions.h``), and the core's partial results turned into each reduction's own partial,
+which its ``merge`` and ``finish`` then take exactly as they take the NumPy path's.
 
 The core forms every point's parameters itself from this description (docs/scan.md, the draw
 contract), evaluates the model and folds the outputs into the reductions while the points are

@@ -1,0 +1,136 @@
+// The definitions of binding_support.h's functions.
+#include "binding_support.h"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "epc_fast/output_cache.h"
+#include "epc_fast/params.h"
+#include "epc_fast/scan_reductions.h"
+#include "epc_fast/spectrum_start.h"
+
+namespace epc_fast {
+namespace bindings {
+
+Column column_of(const py::handle& obj, int index, py::ssize_t n) {
+    const std::string what = index < 0 ? "target_epc" : "column " + std::to_string(index);
+    if (!py::isinstance<py::array>(obj)) throw std::invalid_argument(what + " is not an ndarray");
+    auto arr = py::reinterpret_borrow<py::array>(obj);
+    // Equivalence, not identity: an unpickled array carries an equal but distinct dtype object.
+    if (!py::isinstance<py::array_t<double, py::array::c_style>>(arr) || arr.ndim() != 1)
+        throw std::invalid_argument(what + " must be a contiguous 1-D float64 array");
+    if (arr.size() != 1 && arr.size() != n)
+        throw std::invalid_argument(what + " has " + std::to_string(arr.size()) +
+                                    " values, expected 1 or " + std::to_string(n));
+    return Column{static_cast<const double*>(arr.data()), arr.size() == 1 ? 0 : 1};
+}
+
+namespace {
+
+TMpeSolver solver_of(const std::string& name) {
+    if (name == "closed_form") return TMpeSolver::closed_form;
+    if (name == "brent") return TMpeSolver::brent;
+    throw std::invalid_argument("t_mpe_solver must be 'closed_form' or 'brent', got '" + name + "'");
+}
+
+F50Solver f50_solver_of(const std::string& name) {
+    if (name == "halley") return F50Solver::halley;
+    if (name == "newton") return F50Solver::newton;
+    if (name == "brent") return F50Solver::brent;
+    if (name == "bisection") return F50Solver::bisection;
+    throw std::invalid_argument(
+        "f50_solver must be 'halley', 'newton', 'brent' or 'bisection', got '" + name + "'");
+}
+
+Precision precision_of(const std::string& name) {
+    if (name == "float64") return Precision::float64;
+    if (name == "float32") return Precision::float32;
+    throw std::invalid_argument("precision must be 'float64' or 'float32', got '" + name + "'");
+}
+
+}  // namespace
+
+Spectrum spectrum_of(const double_array& wavelengths_nm, const double_array& weights) {
+    if (wavelengths_nm.size() != weights.size() || wavelengths_nm.size() == 0)
+        throw std::invalid_argument("wavelengths_nm and weights must be non-empty and of one length");
+    Spectrum spectrum;
+    spectrum.wavelengths_nm.assign(wavelengths_nm.data(), wavelengths_nm.data() + wavelengths_nm.size());
+    spectrum.weights.assign(weights.data(), weights.data() + weights.size());
+    for (std::size_t k = 0; k < spectrum.weights.size(); ++k)
+        if (!(spectrum.wavelengths_nm[k] > 0.0 && std::isfinite(spectrum.wavelengths_nm[k]) &&
+              spectrum.weights[k] >= 0.0 && std::isfinite(spectrum.weights[k])))
+            throw std::invalid_argument("wavelengths_nm must be positive and weights non-negative, finite");
+    if (!(spectrum.extent().mean_nm > 0.0))
+        throw std::invalid_argument("the weights must not all be 0");
+    // the kernel's MTF is the weighted sum itself: weights that do not sum to 1 would scale it
+    // (epc_fast.Spectrum divides them by their sum, which leaves an error of a few ulp)
+    double total = 0.0;
+    for (const double w : spectrum.weights) total += w;
+    if (!(std::fabs(total - 1.0) <= 1e-9))
+        throw std::invalid_argument("weights must sum to 1 (epc_fast.Spectrum normalises them), got sum " +
+                                    py::repr(py::float_(total)).cast<std::string>());
+    return spectrum;
+}
+
+Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
+                 const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n) {
+    if (static_cast<int>(columns.size()) != n_params)
+        throw std::invalid_argument("expected " + std::to_string(n_params) + " columns");
+    if (domains.ndim() != 2 || domains.shape(0) != n_params || domains.shape(1) != 4)
+        throw std::invalid_argument("domains must have shape (n_params, 4)");
+    if (wavelengths_nm.size() != weights.size())
+        throw std::invalid_argument("wavelengths_nm and weights differ in length");
+    if (n < 0) throw std::invalid_argument("n must be >= 0");
+    Inputs in;
+    in.size_is_pixel_count = size_is_pixel_count;
+    auto d = domains.unchecked<2>();
+    for (int j = 0; j < n_params; ++j) {
+        in.columns[j] = column_of(columns[j], j, n);
+        in.domains[j] = Domain{d(j, 0), d(j, 1), d(j, 2) != 0.0, d(j, 3) != 0.0};
+    }
+    if (wavelengths_nm.size() != 0) {  // none: monochromatic at each point's wavelength
+        in.spectrum = spectrum_of(wavelengths_nm, weights);
+        in.spectrum.start = spectrum_start_of(in.spectrum);
+    }
+    return in;
+}
+
+Options options_of(const std::string& f50_solver, double f50_rtol,
+                   const std::string& t_mpe_solver, double t_mpe_rtol,
+                   const std::string& precision) {
+    if (!(f50_rtol >= 0.0) || !(t_mpe_rtol >= 0.0))
+        throw std::invalid_argument("tolerances must be >= 0");
+    Options opt;
+    opt.f50_solver = f50_solver_of(f50_solver);
+    opt.f50_rtol = f50_rtol;
+    opt.t_mpe_solver = solver_of(t_mpe_solver);
+    opt.t_mpe_rtol = t_mpe_rtol;
+    opt.precision = precision_of(precision);
+    return opt;
+}
+
+void set_octave_bins(Reduction& r, std::int64_t first_key, std::int32_t bins, int shift) {
+    if (shift < 12 || shift > 52 || bins < 1 || first_key < 0 ||
+        first_key + bins > (std::int64_t{1} << (64 - shift)))
+        throw std::invalid_argument("octave bins: shift in [12, 52], bins >= 1, keys from first_key >= 0 below 2^(64 - shift)");
+    r.first_key = first_key;
+    r.bins = bins;
+    r.shift = shift;
+}
+
+OutputCache& output_cache() {
+    static auto* cache = new OutputCache();
+    return *cache;
+}
+
+void release_block(void* block) {
+    auto* b = static_cast<OutputCache::Block*>(block);
+    output_cache().release(b->data, b->capacity);
+    delete b;
+}
+
+}  // namespace bindings
+}  // namespace epc_fast

@@ -1,0 +1,169 @@
+// evaluate: NumPy columns in, the kernel (kernel.h) run over them chunk by chunk with the GIL
+// released, and the output arrays asked for (the caller's, or new ones) handed back.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "binding_support.h"
+#include "epc_fast/kernel.h"
+#include "register.h"
+
+namespace epc_fast {
+namespace bindings {
+
+namespace {
+
+// Calls (chunks) of fewer points than this write their fresh outputs without first_touch: a
+// float64 column of them spans at most a quarter of a 2 MiB huge page.
+constexpr std::size_t first_touch_points = std::size_t{1} << 16;
+
+constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t_mpe_s",
+                                        "blur_mm", "f50_cyc_per_mm", "epc", "status", "cause"};
+// The outputs computed only when named (sensitivity.h): the shares, in Share's order, and
+// the elasticities: parameter j's as "elasticity_" + param_names[j], or all of them as
+// "elasticities", n_params rows of n points in one array (row j parameter j's).
+constexpr const char* share_names[] = {"share_diffraction", "share_pixel", "share_motion",
+                                       "share_jitter"};
+
+constexpr const char* elasticity_prefix = "elasticity_";
+constexpr const char* elasticities_name = "elasticities";
+
+// How many values output `name` holds for n points.
+py::ssize_t output_size(const std::string& name, py::ssize_t n) {
+    return name == elasticities_name ? n * n_params : n;
+}
+
+// The parameter whose elasticity output `name` is, or -1.
+int elasticity_of(const std::string& name) {
+    const std::size_t length = std::strlen(elasticity_prefix);
+    if (name.compare(0, length, elasticity_prefix) != 0) return -1;
+    for (int j = 0; j < n_params; ++j)
+        if (name.compare(length, std::string::npos, param_names[j]) == 0) return j;
+    return -1;
+}
+
+bool is_output_name(const std::string& name) {
+    auto in = [&](const auto& names) {
+        return std::find(std::begin(names), std::end(names), name) != std::end(names);
+    };
+    return in(output_names) || in(share_names) || name == elasticities_name || elasticity_of(name) >= 0;
+}
+
+// The output dict of one call: `out`'s arrays (a dict, or None for none) and new arrays for
+// the outputs named in `allocate` (None: every output when `out` is None, else none). `fresh`
+// gets those of the new arrays whose pages are new.
+py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize_t n,
+                    py::dict& fresh) {
+    py::dict result;
+    if (!out.is_none()) {
+        if (!py::isinstance<py::dict>(out)) throw std::invalid_argument("out must be a dict or None");
+        for (auto item : py::reinterpret_borrow<py::dict>(out)) result[item.first] = item.second;
+    }
+    std::vector<std::string> names;
+    if (!allocate.is_none()) {
+        for (auto name : allocate) {
+            if (!py::isinstance<py::str>(name)) throw py::type_error("allocate must hold output names");
+            names.push_back(py::cast<std::string>(name));
+        }
+    } else if (out.is_none()) {
+        names.assign(std::begin(output_names), std::end(output_names));
+    }
+    for (const std::string& name : names) {
+        const bool known = is_output_name(name);
+        if (!known || result.contains(name))
+            throw std::invalid_argument("allocate: '" + name + "' is " +
+                                        (known ? "in out already" : "not an output"));
+        bool is_fresh = false;
+        py::array array = name == "status" || name == "cause"
+                              ? new_column<std::uint8_t>(n, is_fresh)
+                              : new_column<double>(output_size(name, n), is_fresh);
+        result[name.c_str()] = array;
+        if (is_fresh) fresh[name.c_str()] = array;
+    }
+    return result;
+}
+
+// The kernel's view of `arrays` (output name -> array): null for the outputs it lacks.
+Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
+    Outputs out{output_column<double>(arrays, "electron_rate_e_per_s", n),
+                output_column<double>(arrays, "electrons", n),
+                output_column<double>(arrays, "t_mpe_s", n),
+                output_column<double>(arrays, "blur_mm", n),
+                output_column<double>(arrays, "f50_cyc_per_mm", n),
+                output_column<double>(arrays, "epc", n),
+                output_column<std::uint8_t>(arrays, "status", n),
+                output_column<std::uint8_t>(arrays, "cause", n)};
+    for (int k = 0; k < n_shares; ++k)
+        out.sensitivity.share[k] = output_column<double>(arrays, share_names[k], n);
+    // the elasticities asked for, by one pass over the names: when the dict holds more
+    // outputs than those found so far (most calls ask for none)
+    const double* values[] = {out.electron_rate_e_per_s, out.electrons, out.t_mpe_s, out.blur_mm,
+                              out.f50_cyc_per_mm, out.epc};
+    std::size_t found = (out.status != nullptr) + (out.cause != nullptr);
+    for (const double* v : values) found += v != nullptr;
+    for (const double* v : out.sensitivity.share) found += v != nullptr;
+    if (arrays.size() == found) return out;
+    double* every = output_column<double>(arrays, elasticities_name, output_size(elasticities_name, n));
+    for (auto item : arrays) {
+        if (!py::isinstance<py::str>(item.first)) continue;
+        const std::string name = py::cast<std::string>(item.first);
+        const int j = elasticity_of(name);
+        if (j < 0) continue;
+        if (every != nullptr)
+            throw std::invalid_argument("out has both 'elasticities' (every elasticity) and '" + name + "'");
+        out.sensitivity.elasticity[j] = output_column<double>(arrays, name.c_str(), n);
+    }
+    if (every != nullptr)
+        for (int j = 0; j < n_params; ++j) out.sensitivity.elasticity[j] = every + j * n;
+    return out;
+}
+
+py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
+                     const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
+                     const std::string& f50_solver, double f50_rtol,
+                     const std::string& t_mpe_solver, double t_mpe_rtol,
+                     const std::string& precision, int threads, py::ssize_t chunk_points,
+                     const py::object& out, const py::object& allocate) {
+    const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
+    const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
+    py::dict fresh;
+    py::dict result = outputs_of(out, allocate, n, fresh);
+    // A large call's outputs are written with streaming stores (stream.h)
+    const Outputs outputs = streaming_for(outputs_in(result, n), static_cast<std::size_t>(n));
+    // New pages are faulted in on all threads first (first_touch), except at sizes where they
+    // are too few to matter; the cache's kept blocks and the caller's arrays are mapped already.
+    const Outputs untouched = outputs_in(fresh, n);
+    const bool touch = !fresh.empty() && threads > 1;
+    run_chunked(n, chunk_points, threads, [&](std::size_t start, std::size_t stop) {
+        if (touch && stop - start >= first_touch_points) first_touch(untouched, start, stop, threads);
+        evaluate(in, opt, outputs, start, stop, threads);
+    });
+    return result;
+}
+
+}  // namespace
+
+void register_evaluate(py::module_& m) {
+    m.attr("n_params") = static_cast<int>(n_params);
+    py::tuple parameter_names(static_cast<std::size_t>(n_params));
+    for (int j = 0; j < n_params; ++j) parameter_names[j] = param_names[j];
+    m.attr("parameter_names") = parameter_names;
+    m.def("evaluate", &evaluate_py, py::arg("columns"), py::arg("size_is_pixel_count"),
+          py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
+          py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
+          py::arg("precision"), py::arg("threads"),
+          py::arg("chunk_points"), py::arg("out") = py::none(), py::arg("allocate") = py::none(),
+          "Evaluates the model into the arrays of `out` (a dict of output arrays, or None) and "
+          "new arrays for the outputs named in `allocate` (None: all of them when out is None, "
+          "else none); only these outputs are computed. Returns the dict of them all.");
+}
+
+}  // namespace bindings
+}  // namespace epc_fast
