@@ -6,7 +6,7 @@
 // exp_poly), 2^k applied in two halves: within 2 ulp, underflowing gradually below -708, +inf
 // above 709.78. log: x = 2^e m with m in [sqrt(1/2), sqrt(2)), log m = 2 atanh(s),
 // s = (m - 1)/(m + 1), by its odd series; within 2 ulp for positive normal and subnormal x,
-// -inf at 0, NaN below 0 or for NaN, +inf at +inf. tests/test_scan_core.py measures both
+// -inf at 0, NaN below 0 or for NaN, +inf at +inf. tests/scan/test_core_plan.py measures both
 // against mpmath.
 #pragma once
 

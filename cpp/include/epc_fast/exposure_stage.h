@@ -44,7 +44,7 @@ EPC_FAST_INLINE bool moderate(double v) {
 // fused multiply-add, and q + (a - q b) inverse_b, rounded once, is the correctly rounded a / b
 // (Markstein, IBM J. Res. Dev. 34(1), 1990) for a, b and a / b inside 2^-900..2^900 (moderate;
 // the callers send other lanes to exposure_lane). Checked against the division for 2e8 random
-// and adversarial pairs (tests/test_exposure.py checks the kernel's results). The
+// and adversarial pairs (tests/core/test_exposure.py checks the kernel's results). The
 // unfused build divides.
 EPC_FAST_INLINE double divide_by(double a, double b, double inverse_b) {
 #if EPC_FAST_FMA
