@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import elasticity_outputs, params
+from . import _limits, elasticity_outputs, params
 from ._limits import MAX_THREADS
 from ._validation import as_float_array, choice, column, short, threads_of, tolerance
 from .elasticity_outputs import ELASTICITY_PARAMETERS
@@ -288,8 +288,11 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         normalised to sum 1); see :func:`epc_fast.spectra.diffraction_spectrum`. Replaces
         ``wavelength_nm``.
     threads : int, optional
-        Core threads; default ``OMP_NUM_THREADS`` or the number of cores. Results are
-        identical for every thread count.
+        Core threads, 1 to 1024; default ``OMP_NUM_THREADS`` or the number of cores. Results
+        are identical for every thread count. Each thread maps a stack (``OMP_STACKSIZE``, or
+        ``ulimit -s``): under an address-space limit (``RLIMIT_AS``, ``ulimit -v``) a
+        ``threads=`` above what the process can start is a ValueError saying how many it can,
+        and the default is capped to that many.
     backend : {"core", "reference"}
         The compiled core, or the NumPy reference (which ignores the solver knobs: it uses the
         closed-form T_MPE and bisects f50 to adjacent floats).
@@ -370,7 +373,10 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
                           precision, outputs, sensor.is_pixel_count)
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
-    _check_memory(shape, arrays, options.backend, given is not None, options.computed)
+    if options.backend == "core":  # the threads first: their stacks take memory too
+        threads = threads_of(threads)
+    _check_memory(shape, arrays, options.backend, given is not None, options.computed,
+                  threads=1 if threads is None else threads)
     result = _compute(arrays, shape, sensor, spec, options, threads, given)
     return _assembled(result, shape, names, arrays, sensor, options, given)
 
@@ -384,14 +390,22 @@ BYTES_PER_POINT = {"core": 6 * 8 + 2, "reference": 640}
 SENSITIVITY_BYTES_FACTOR = 4
 
 
-def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES)):
-    """A MemoryError, before any allocation, for a call that cannot fit in memory.
+def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES), threads=1):
+    """A MemoryError, before any allocation, for a call that cannot fit in memory: physical
+    memory (or the container's), or under an address-space limit (``RLIMIT_AS``) the address
+    space left, less the stacks of the ``threads`` not started yet.
 
     The estimate counts the contiguous copy of every input that is not a scalar and the
     backend's own arrays; a call that fits the estimate may still fail with NumPy's own
     MemoryError, but none is left to the kernel's out-of-memory killer by a silly shape.
     """
     limit = _memory_limit_bytes()
+    where = "of memory here"
+    free = _limits.address_space_free_bytes()
+    if free is not None:
+        free = max(0, free - _limits.new_thread_bytes(threads))
+        if limit is None or free <= limit:
+            limit, where = free, "of address space left under RLIMIT_AS (ulimit -v)"
     n = math.prod(shape)
     columns = sum(1 for a in arrays if a.size > 1)
     if backend == "core":  # the outputs it computes, unless the caller gave them
@@ -406,7 +420,7 @@ def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPE
     if limit is not None and needed > limit:
         raise MemoryError(f"evaluate over the broadcast shape {shape} ({n:,} points) needs "
                           f"about {needed / 2**30:,.1f} GiB, more than the "
-                          f"{limit / 2**30:,.1f} GiB of memory here; evaluate it in pieces")
+                          f"{limit / 2**30:,.1f} GiB {where}; evaluate it in pieces")
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
