@@ -22,7 +22,8 @@ import importlib
 import os
 
 from ._limits import CACHE_ENV as _CACHE_ENV
-from ._limits import MAX_CACHE_BYTES, MAX_THREADS, startable_threads
+from ._limits import MAX_CACHE_BYTES, MAX_THREADS
+from ._limits import startable_threads as _startable_threads
 from ._limits import default_cache_bytes as _default_cache_bytes
 
 #: Level name -> extension module, widest first.
@@ -65,7 +66,7 @@ def checked_default_threads() -> int:
     if not 1 <= count <= MAX_THREADS:
         raise ValueError(f"the OpenMP runtime's default of {count} threads is not between 1 and "
                          f"{MAX_THREADS}: set OMP_NUM_THREADS or pass threads=")
-    return min(count, startable_threads()) if count > 1 else count
+    return min(count, _startable_threads()) if count > 1 else count
 
 
 def _load():
