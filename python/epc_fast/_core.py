@@ -11,9 +11,10 @@ lacks it).
 ``OMP_NUM_THREADS`` sets the default thread count of every call; it is checked as ``threads=``
 is (:func:`checked_default_threads`): the OpenMP runtime itself takes any count and crashes
 creating, e.g., 100000 threads, or more than an address-space limit (``ulimit -v``) leaves room
-for: the default is capped to :func:`epc_fast._limits.startable_threads`. ``EPC_FAST_OUTPUT_CACHE_MB`` (:mod:`epc_fast.memory`) is checked
-when the module loads; its limits come from :mod:`epc_fast._limits`, which imports
-nothing of the package, so that the loader and :mod:`epc_fast.memory` do not import each other.
+for, so the default is capped to :func:`epc_fast._limits.startable_threads`.
+``EPC_FAST_OUTPUT_CACHE_MB`` (:mod:`epc_fast.memory`) is checked when the module loads; its
+limits come from :mod:`epc_fast._limits`, which imports nothing of the package, so that the
+loader and :mod:`epc_fast.memory` do not import each other.
 """
 
 from __future__ import annotations
