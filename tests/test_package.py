@@ -1,8 +1,11 @@
 """Architecture guards: what importing the package pulls in, and the shape of its public API."""
 
+import dataclasses
 import inspect
 import subprocess
 import sys
+
+import pytest
 
 import epc_fast
 from epc_fast import params, reference
@@ -82,3 +85,25 @@ def test_the_core_stub_lists_every_function_of_the_testing_submodule():
     public = {name for name in dir(_core.testing) if not name.startswith("_")
               and callable(getattr(_core.testing, name))}
     assert stubbed == public
+
+
+def test_the_loaded_build_is_public():
+    from epc_fast import _core
+
+    info = epc_fast.build_info()
+    assert info.isa == _core.isa and info.isa in info.built_levels
+    assert info.isa in info.cpu_levels and "x86-64" in info.cpu_levels
+    assert info.cpu_levels == tuple(level for level in ("x86-64", "x86-64-v2", "x86-64-v3",
+                                                        "x86-64-v4")
+                                    if level == "x86-64" or _core.cpu_levels()[level])
+    assert info.openmp is _core.openmp_enabled()
+    assert info.default_threads == _core.checked_default_threads()
+    assert info.version == epc_fast.__version__
+    assert dataclasses.is_dataclass(info)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        info.isa = "generic"
+    assert str(info) == (f"epc_fast {info.version}, core {info.isa} (built: "
+                         f"{', '.join(info.built_levels)}; CPU: "
+                         f"{', '.join(info.cpu_levels)}), OpenMP "
+                         f"{'on' if info.openmp else 'off'}, {info.default_threads} threads "
+                         "by default")

@@ -16,8 +16,7 @@ from helpers.scripts import ROOT
 def test_main_job_prints_build_self_check_and_design_table(capsys):
     assert main(["--check-points", "2000"]) == 0
     out = capsys.readouterr().out
-    assert "epc_fast " in out
-    assert "OpenMP: " in out and "threads: " in out
+    assert out.splitlines()[0] == str(epc_fast.build_info())
     assert "self-check passed" in out
     # The four 1/3.2" designs, one line each, EPC in pixels as in the scan's tables: the
     # 1.4 um design's 3200 x 2400 array, then its EPC at 1000 lux (the preset, evaluated).
@@ -36,6 +35,18 @@ def test_the_version_is_pyprojects():
     tomllib = pytest.importorskip("tomllib")
     pyproject = ROOT / "pyproject.toml"
     assert epc_fast.__version__ == tomllib.loads(pyproject.read_text())["project"]["version"]
+
+
+def test_the_version_option_prints_the_version_and_the_loaded_build(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    info = epc_fast.build_info()
+    assert capsys.readouterr().out.splitlines() == [
+        f"epc_fast {epc_fast.__version__}",
+        f"core {info.isa} (built: {', '.join(info.built_levels)}; CPU: "
+        f"{', '.join(info.cpu_levels)}), OpenMP {'on' if info.openmp else 'off'}, "
+        f"{info.default_threads} threads by default"]
 
 
 def test_usage_is_plain_text(capsys):
