@@ -107,3 +107,19 @@ def test_the_loaded_build_is_public():
                          f"{', '.join(info.cpu_levels)}), OpenMP "
                          f"{'on' if info.openmp else 'off'}, {info.default_threads} threads "
                          "by default")
+
+
+def test_the_package_refers_to_sections_of_docs_model_md_that_exist():
+    import re
+    from pathlib import Path
+
+    package = Path(epc_fast.__file__).parent
+    model = (package.parents[1] / "docs" / "model.md").read_text()
+    headings = set(re.findall(r"^#+ (.+)$", model, flags=re.M))
+    texts = {path.relative_to(package): path.read_text() for path in package.rglob("*.py")}
+    texts["help(Design)"] = epc_fast.Design.__doc__
+    stale = [name for name, text in texts.items() if "MODEL.md" in text]
+    assert stale == []
+    cited = {section for text in texts.values()
+             for section in re.findall(r'docs/model\.md, "([^"]+)"', " ".join(text.split()))}
+    assert "EPC" in cited and cited <= headings

@@ -241,7 +241,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
              t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None) -> Result:
-    """Effective pixel count and its intermediates for camera designs (MODEL.md).
+    """Effective pixel count and its intermediates for camera designs (docs/model.md).
 
     Every model parameter is a float or an array_like of floats; all of them broadcast against
     each other, NumPy style. Domains are in :data:`epc_fast.params.PARAMETERS`; what the engine
@@ -301,12 +301,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         first offending argument, value and index.
     f50_solver : {"halley", "newton", "brent", "bisection"}
         f50's root finder; every one keeps its iterates inside the bisection bracket of
-        MODEL.md section 6. Halley (the default) and Newton use the MTF's analytic slopes from a
-        starting guess and stop once their last step predicts an error far below ``f50_rtol``,
-        or take no step where the guess is certified within ``f50_rtol`` (at MTF50 without
-        jitter from 1e-7: f50 within 4.2e-8 for the guess's price alone);
-        Brent and bisection narrow the bracket to ``f50_rtol``. docs/numerics.md has their
-        measured errors and speeds.
+        docs/model.md, "The cut-off frequency f50". Halley (the default) and Newton use the
+        MTF's analytic slopes from a starting guess and stop once their last step predicts an
+        error far below ``f50_rtol``, or take no step where the guess is certified within
+        ``f50_rtol`` (at MTF50 without jitter from 1e-7: f50 within 4.2e-8 for the guess's
+        price alone); Brent and bisection narrow the bracket to ``f50_rtol``. docs/numerics.md
+        has their measured errors and speeds.
     f50_rtol : 1, relative tolerance on f50.
     t_mpe_solver : {"closed_form", "brent"}
         The closed-form quadratic root, or Brent's method on ln SNR(T) = ln SNR_target.
