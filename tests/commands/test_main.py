@@ -69,3 +69,28 @@ def test_python_dash_m_runs_the_main_job():
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert "self-check passed" in proc.stdout
+
+
+def test_docs_cli_md_names_every_command_and_option_in_plain_markdown():
+    # The page reads as a reference where Sphinx directives do not run (the repository's web
+    # page): every sub-command has a section and every option is named outside the directive.
+    import argparse
+
+    from epc_fast.__main__ import build_parser
+    from epc_fast.commands import discover
+
+    page = (ROOT / "docs" / "cli.md").read_text()
+    written = page.split("```{epc-fast-help}")[0]
+    parser = build_parser(discover())
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    parsers = {"": parser, **sub.choices}
+    assert set(sub.choices) == set(discover())
+    missing = [f"epc-fast {name}".strip() for name in sub.choices
+               if f"## `epc-fast {name}`" not in written
+               or f"| `epc-fast {name}" not in written]
+    missing += [f"epc-fast {name} {option}".replace("  ", " ")
+                for name, command in parsers.items() for action in command._actions
+                for option in action.option_strings
+                if option.startswith("--") and option != "--help" and f"`{option}" not in written]
+    assert missing == []
+    assert "```{epc-fast-help}\n```" in page  # the Sphinx build still prints every --help
