@@ -54,16 +54,31 @@ def test_the_default_thread_count_is_capped_to_what_the_address_space_can_start(
         result = epc_fast.evaluate(**DESIGN)
         print("RAN", int(np.count_nonzero(result.status == 0)))
         from epc_fast import _core
-        from epc_fast._limits import startable_threads
+        from epc_fast._limits import DEFAULT_THREADS_SHARE, startable_threads
         print("DEFAULT", _core.default_threads(), _core.checked_default_threads(),
-              startable_threads())
+              startable_threads(DEFAULT_THREADS_SHARE), startable_threads())
     """, OMP_NUM_THREADS="1024")
     assert "Thread creation failed" not in proc.stderr
     assert proc.returncode == 0, proc.stderr
     default = next(line for line in proc.stdout.splitlines() if line.startswith("DEFAULT"))
-    runtime, checked, startable = map(int, default.split()[1:])
-    assert runtime == 1024 and checked == startable < 1024
+    runtime, checked, half, startable = map(int, default.split()[1:])
+    assert runtime == 1024 and 2 <= checked == half < startable < 1024
     assert "RAN 100000" in proc.stdout and "SURVIVED" in proc.stdout
+
+
+def test_a_scan_on_the_capped_default_runs_every_chunk_under_an_address_space_limit(tmp_path):
+    # The scan resolves the default once and passes it to every chunk as an explicit count,
+    # checked again there after the run has mapped more: the cap leaves room for that.
+    proc = run_child(f"""
+        from epc_fast.__main__ import main
+        code = main(["scan", "--points", "131072", "--chunk-points", "65536", "--no-plots",
+                     "--no-progress", "--out", {str(tmp_path / "out")!r}])
+        print("EXIT", code)
+    """, OMP_NUM_THREADS="1024")
+    assert "Thread creation failed" not in proc.stderr
+    assert proc.returncode == 0, proc.stderr
+    assert "EXIT 0" in proc.stdout and "SURVIVED" in proc.stdout
+    assert (tmp_path / "out" / "summary_by_design.csv").exists()
 
 
 def test_the_memory_check_counts_the_address_space_left_under_rlimit_as():

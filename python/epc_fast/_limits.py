@@ -47,6 +47,11 @@ THREAD_OVERHEAD_BYTES = 128 * 2**10
 #: Address space kept free for the call itself when counting the threads that fit.
 THREAD_RESERVE_BYTES = 32 * 2**20
 
+#: The share of the free address space the default thread count's stacks may take: the rest
+#: stays for the call's data, so that the default stays below the most that can start as the
+#: process maps more (a scan passes it on to every chunk as an explicit count).
+DEFAULT_THREADS_SHARE = 0.5
+
 
 def memory_limit_bytes() -> int | None:
     """The memory a call may use: physical memory, or the container's (cgroup) limit where
@@ -123,17 +128,19 @@ def new_thread_bytes(threads: int) -> int:
     return max(0, threads - _running_threads()) * (thread_stack_bytes() + THREAD_OVERHEAD_BYTES)
 
 
-def startable_threads() -> int:
+def startable_threads(share: float = 1.0) -> int:
     """The most threads a call can run on: :data:`MAX_THREADS`, or fewer where the address
     space left under ``RLIMIT_AS`` holds fewer thread stacks (:func:`thread_stack_bytes` and
     :data:`THREAD_OVERHEAD_BYTES` each, :data:`THREAD_RESERVE_BYTES` kept for the call), or
     where ``RLIMIT_NPROC`` allows fewer. The threads running now count as started: the OpenMP
-    runtime keeps a call's threads for the next."""
+    runtime keeps a call's threads for the next. ``share`` < 1 counts only that share of the
+    free address space, leaving the rest for the call's data (the default thread count)."""
     count = MAX_THREADS
     free = address_space_free_bytes()
     if free is not None:
         per_thread = thread_stack_bytes() + THREAD_OVERHEAD_BYTES
-        count = min(count, _running_threads() + max(0, free - THREAD_RESERVE_BYTES) // per_thread)
+        usable = int(max(0, free - THREAD_RESERVE_BYTES) * share)
+        count = min(count, _running_threads() + usable // per_thread)
     if resource is not None and hasattr(resource, "RLIMIT_NPROC"):
         soft, _ = resource.getrlimit(resource.RLIMIT_NPROC)
         if soft != resource.RLIM_INFINITY and soft > 0:

@@ -63,7 +63,7 @@ def integer(name: str, value) -> int:
 def threads_of(threads) -> int:
     """The core threads of a call: ``threads`` checked (an int in [1, MAX_THREADS], and no
     more than the process can start: a ValueError saying how many it can), or for None the
-    default (``OMP_NUM_THREADS`` or the cores, capped to what the process can start,
+    default (``OMP_NUM_THREADS`` or the cores, capped below what the process can start,
     :func:`epc_fast._core.checked_default_threads`)."""
     if threads is None:
         from . import _core

@@ -292,7 +292,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         are identical for every thread count. Each thread maps a stack (``OMP_STACKSIZE``, or
         ``ulimit -s``): under an address-space limit (``RLIMIT_AS``, ``ulimit -v``) a
         ``threads=`` above what the process can start is a ValueError saying how many it can,
-        and the default is capped to that many.
+        and the default is capped to the threads whose stacks take at most half the address
+        space left.
     backend : {"core", "reference"}
         The compiled core, or the NumPy reference (which ignores the solver knobs: it uses the
         closed-form T_MPE and bisects f50 to adjacent floats).
