@@ -377,7 +377,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     if options.backend == "core":  # the threads first: their stacks take memory too
         threads = threads_of(threads)
     _check_memory(shape, arrays, options.backend, given is not None, options.computed,
-                  threads=1 if threads is None else threads)
+                  threads=threads if options.backend == "core" else 1)
     result = _compute(arrays, shape, sensor, spec, options, threads, given)
     return _assembled(result, shape, names, arrays, sensor, options, given)
 
