@@ -152,10 +152,10 @@ def threads_limit_reason() -> str:
     """Why :func:`startable_threads` is below :data:`MAX_THREADS`, for an error message."""
     limit = address_space_limit_bytes()
     if limit is None:
-        return "RLIMIT_NPROC (ulimit -u) limits this user's processes"
+        return "RLIMIT_NPROC (ulimit -u) limits this user's processes and threads"
     return (f"the address space is limited to {limit / 2**30:,.2f} GiB by RLIMIT_AS "
             f"(ulimit -v), {(address_space_free_bytes() or 0) / 2**30:,.2f} GiB of it free, and "
-            f"each thread maps a {thread_stack_bytes() / 2**20:,.4g} MiB stack "
+            f"each thread maps a stack of {thread_stack_bytes() / 2**20:,.4g} MiB "
             "(OMP_STACKSIZE or ulimit -s)")
 
 
