@@ -1,8 +1,11 @@
 """Architecture guards: what importing the package pulls in, and the shape of its public API."""
 
+import dataclasses
 import inspect
 import subprocess
 import sys
+
+import pytest
 
 import epc_fast
 from epc_fast import params, reference
@@ -82,3 +85,41 @@ def test_the_core_stub_lists_every_function_of_the_testing_submodule():
     public = {name for name in dir(_core.testing) if not name.startswith("_")
               and callable(getattr(_core.testing, name))}
     assert stubbed == public
+
+
+def test_the_loaded_build_is_public():
+    from epc_fast import _core
+
+    info = epc_fast.build_info()
+    assert info.isa == _core.isa and info.isa in info.built_levels
+    assert info.isa in info.cpu_levels and "x86-64" in info.cpu_levels
+    assert info.cpu_levels == tuple(level for level in ("x86-64", "x86-64-v2", "x86-64-v3",
+                                                        "x86-64-v4")
+                                    if level == "x86-64" or _core.cpu_levels()[level])
+    assert info.openmp is _core.openmp_enabled()
+    assert info.default_threads == _core.checked_default_threads()
+    assert info.version == epc_fast.__version__
+    assert dataclasses.is_dataclass(info)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        info.isa = "generic"
+    assert str(info) == (f"epc_fast {info.version}, core {info.isa} (built: "
+                         f"{', '.join(info.built_levels)}; CPU: "
+                         f"{', '.join(info.cpu_levels)}), OpenMP "
+                         f"{'on' if info.openmp else 'off'}, {info.default_threads} threads "
+                         "by default")
+
+
+def test_the_package_refers_to_sections_of_docs_model_md_that_exist():
+    import re
+    from pathlib import Path
+
+    package = Path(epc_fast.__file__).parent
+    model = (package.parents[1] / "docs" / "model.md").read_text()
+    headings = set(re.findall(r"^#+ (.+)$", model, flags=re.M))
+    texts = {path.relative_to(package): path.read_text() for path in package.rglob("*.py")}
+    texts["help(Design)"] = epc_fast.Design.__doc__
+    stale = [name for name, text in texts.items() if "MODEL.md" in text]
+    assert stale == []
+    cited = {section for text in texts.values()
+             for section in re.findall(r'docs/model\.md, "([^"]+)"', " ".join(text.split()))}
+    assert "EPC" in cited and cited <= headings

@@ -1,7 +1,7 @@
 """Command line: ``epc-fast`` or ``python -m epc_fast``.
 
-With no sub-command it runs the main job on built-in defaults: it prints the build (version,
-OpenMP, threads), checks the core against the NumPy reference on random points, and evaluates
+With no sub-command it runs the main job on built-in defaults: it prints the build
+(:func:`epc_fast.build_info`: version, core level, OpenMP, threads), checks the core against the NumPy reference on random points, and evaluates
 the paper's 1/3.2" designs over illuminance. Sub-commands live in :mod:`epc_fast.commands`.
 
 An error ends the command with one line on stderr, ``epc-fast COMMAND: error: ...``, and exit
@@ -16,7 +16,7 @@ import sys
 
 import numpy as np
 
-from . import __version__, evaluate
+from . import __version__, build_info, evaluate
 from .commands import discover
 from .commands.scan import print_default_scan
 from .presets import HIGH_TIER
@@ -30,11 +30,21 @@ DESCRIPTION = ("The effective pixel count (EPC) of camera designs. With no comma
 
 
 def _info() -> None:
-    from . import _core
+    print(build_info())
 
-    print(f"epc_fast {__version__}")
-    print(f"OpenMP: {'on' if _core.openmp_enabled() else 'off'}, "
-          f"threads: {_core.default_threads()}")
+
+class _Version(argparse.Action):
+    """``--version``: the version, then the loaded build in one line (the core loaded only
+    when asked)."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help="print the version and the loaded build (core level, OpenMP, threads)"):
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"epc_fast {__version__}")
+        print(build_info().core_text())
+        parser.exit()
 
 
 def _design_table() -> None:
@@ -60,7 +70,7 @@ def main_job(args) -> int:
 
 def build_parser(commands: dict) -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="epc-fast", description=DESCRIPTION)
-    parser.add_argument("--version", action="version", version=f"epc_fast {__version__}")
+    parser.add_argument("--version", action=_Version)
     parser.add_argument("--check-points", type=int, default=20000,
                         help="random points for the core-vs-reference self-check (main job)")
     parser.add_argument("--debug", action="store_true", help="show the traceback of an error")

@@ -10,9 +10,11 @@ lacks it).
 
 ``OMP_NUM_THREADS`` sets the default thread count of every call; it is checked as ``threads=``
 is (:func:`checked_default_threads`): the OpenMP runtime itself takes any count and crashes
-creating, e.g., 100000 threads. ``EPC_FAST_OUTPUT_CACHE_MB`` (:mod:`epc_fast.memory`) is checked
-when the module loads; its limits come from :mod:`epc_fast._limits`, which imports
-nothing of the package, so that the loader and :mod:`epc_fast.memory` do not import each other.
+creating, e.g., 100000 threads, or more than an address-space limit (``ulimit -v``) leaves room
+for, so the default is capped below :func:`epc_fast._limits.startable_threads`.
+``EPC_FAST_OUTPUT_CACHE_MB`` (:mod:`epc_fast.memory`) is checked when the module loads; its
+limits come from :mod:`epc_fast._limits`, which imports nothing of the package, so that the
+loader and :mod:`epc_fast.memory` do not import each other.
 """
 
 from __future__ import annotations
@@ -22,6 +24,8 @@ import os
 
 from ._limits import CACHE_ENV as _CACHE_ENV
 from ._limits import MAX_CACHE_BYTES, MAX_THREADS
+from ._limits import DEFAULT_THREADS_SHARE as _DEFAULT_THREADS_SHARE
+from ._limits import startable_threads as _startable_threads
 from ._limits import default_cache_bytes as _default_cache_bytes
 
 #: Level name -> extension module, widest first.
@@ -51,7 +55,10 @@ def _omp_counts(text: str) -> list[int] | None:
 
 def checked_default_threads() -> int:
     """The thread count a call without ``threads=`` uses, at most :data:`MAX_THREADS`; a
-    ValueError naming ``OMP_NUM_THREADS`` when it asks for more, or is not a count."""
+    ValueError naming ``OMP_NUM_THREADS`` when it asks for more, or is not a count. The count
+    is capped to the threads whose stacks take at most half the address space left
+    (:func:`epc_fast._limits.startable_threads`: fewer under an address-space limit), where an
+    explicit ``threads=`` above what can start is refused."""
     text = os.environ.get("OMP_NUM_THREADS", "").strip()
     if text:
         counts = _omp_counts(text)
@@ -62,7 +69,7 @@ def checked_default_threads() -> int:
     if not 1 <= count <= MAX_THREADS:
         raise ValueError(f"the OpenMP runtime's default of {count} threads is not between 1 and "
                          f"{MAX_THREADS}: set OMP_NUM_THREADS or pass threads=")
-    return count
+    return min(count, _startable_threads(_DEFAULT_THREADS_SHARE)) if count > 1 else count
 
 
 def _load():

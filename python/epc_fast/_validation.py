@@ -12,7 +12,7 @@ import operator
 
 import numpy as np
 
-from ._limits import MAX_THREADS
+from ._limits import MAX_THREADS, startable_threads, threads_limit_reason
 
 __all__ = ["short", "as_float_array", "integer", "threads_of", "tolerance", "choice", "column"]
 
@@ -61,8 +61,10 @@ def integer(name: str, value) -> int:
 
 
 def threads_of(threads) -> int:
-    """The core threads of a call: ``threads`` checked (an int in [1, MAX_THREADS]), or for None
-    the default (``OMP_NUM_THREADS`` or the cores, :func:`epc_fast._core.checked_default_threads`)."""
+    """The core threads of a call: ``threads`` checked (an int in [1, MAX_THREADS], and no
+    more than the process can start: a ValueError saying how many it can), or for None the
+    default (``OMP_NUM_THREADS`` or the cores, capped below what the process can start,
+    :func:`epc_fast._core.checked_default_threads`)."""
     if threads is None:
         from . import _core
 
@@ -70,6 +72,11 @@ def threads_of(threads) -> int:
     count = integer("threads", threads)
     if not 1 <= count <= MAX_THREADS:
         raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")
+    if count > 1:
+        can = startable_threads()
+        if count > can:
+            raise ValueError(f"threads={count}: this process can start at most {can} threads "
+                             f"({threads_limit_reason()}); pass threads={can} or fewer")
     return count
 
 

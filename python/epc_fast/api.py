@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import elasticity_outputs, params
+from . import _limits, elasticity_outputs, params
 from ._limits import MAX_THREADS
 from ._validation import as_float_array, choice, column, short, threads_of, tolerance
 from .elasticity_outputs import ELASTICITY_PARAMETERS
@@ -241,7 +241,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
              t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None) -> Result:
-    """Effective pixel count and its intermediates for camera designs (MODEL.md).
+    """Effective pixel count and its intermediates for camera designs (docs/model.md).
 
     Every model parameter is a float or an array_like of floats; all of them broadcast against
     each other, NumPy style. Domains are in :data:`epc_fast.params.PARAMETERS`; what the engine
@@ -288,8 +288,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         normalised to sum 1); see :func:`epc_fast.spectra.diffraction_spectrum`. Replaces
         ``wavelength_nm``.
     threads : int, optional
-        Core threads; default ``OMP_NUM_THREADS`` or the number of cores. Results are
-        identical for every thread count.
+        Core threads, 1 to 1024; default ``OMP_NUM_THREADS`` or the number of cores. Results
+        are identical for every thread count. Each thread maps a stack (``OMP_STACKSIZE``, or
+        ``ulimit -s``): under an address-space limit (``RLIMIT_AS``, ``ulimit -v``) a
+        ``threads=`` above what the process can start is a ValueError saying how many it can,
+        and the default is capped to the threads whose stacks take at most half the address
+        space left.
     backend : {"core", "reference"}
         The compiled core, or the NumPy reference (which ignores the solver knobs: it uses the
         closed-form T_MPE and bisects f50 to adjacent floats).
@@ -298,12 +302,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         first offending argument, value and index.
     f50_solver : {"halley", "newton", "brent", "bisection"}
         f50's root finder; every one keeps its iterates inside the bisection bracket of
-        MODEL.md section 6. Halley (the default) and Newton use the MTF's analytic slopes from a
-        starting guess and stop once their last step predicts an error far below ``f50_rtol``,
-        or take no step where the guess is certified within ``f50_rtol`` (at MTF50 without
-        jitter from 1e-7: f50 within 4.2e-8 for the guess's price alone);
-        Brent and bisection narrow the bracket to ``f50_rtol``. docs/numerics.md has their
-        measured errors and speeds.
+        docs/model.md, "The cut-off frequency f50". Halley (the default) and Newton use the
+        MTF's analytic slopes from a starting guess and stop once their last step predicts an
+        error far below ``f50_rtol``, or take no step where the guess is certified within
+        ``f50_rtol`` (at MTF50 without jitter from 1e-7: f50 within 4.2e-8 for the guess's
+        price alone); Brent and bisection narrow the bracket to ``f50_rtol``. docs/numerics.md
+        has their measured errors and speeds.
     f50_rtol : 1, relative tolerance on f50.
     t_mpe_solver : {"closed_form", "brent"}
         The closed-form quadratic root, or Brent's method on ln SNR(T) = ln SNR_target.
@@ -370,7 +374,10 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
                           precision, outputs, sensor.is_pixel_count)
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
-    _check_memory(shape, arrays, options.backend, given is not None, options.computed)
+    if options.backend == "core":  # the threads first: their stacks take memory too
+        threads = threads_of(threads)
+    _check_memory(shape, arrays, options.backend, given is not None, options.computed,
+                  threads=threads if options.backend == "core" else 1)
     result = _compute(arrays, shape, sensor, spec, options, threads, given)
     return _assembled(result, shape, names, arrays, sensor, options, given)
 
@@ -384,14 +391,22 @@ BYTES_PER_POINT = {"core": 6 * 8 + 2, "reference": 640}
 SENSITIVITY_BYTES_FACTOR = 4
 
 
-def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES)):
-    """A MemoryError, before any allocation, for a call that cannot fit in memory.
+def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES), threads=1):
+    """A MemoryError, before any allocation, for a call that cannot fit in memory: physical
+    memory (or the container's), or under an address-space limit (``RLIMIT_AS``) the address
+    space left, less the stacks of the ``threads`` not started yet.
 
     The estimate counts the contiguous copy of every input that is not a scalar and the
     backend's own arrays; a call that fits the estimate may still fail with NumPy's own
     MemoryError, but none is left to the kernel's out-of-memory killer by a silly shape.
     """
     limit = _memory_limit_bytes()
+    where = "of memory here"
+    free = _limits.address_space_free_bytes()
+    if free is not None:
+        free = max(0, free - _limits.new_thread_bytes(threads))
+        if limit is None or free <= limit:
+            limit, where = free, "of address space left under RLIMIT_AS (ulimit -v)"
     n = math.prod(shape)
     columns = sum(1 for a in arrays if a.size > 1)
     if backend == "core":  # the outputs it computes, unless the caller gave them
@@ -406,7 +421,7 @@ def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPE
     if limit is not None and needed > limit:
         raise MemoryError(f"evaluate over the broadcast shape {shape} ({n:,} points) needs "
                           f"about {needed / 2**30:,.1f} GiB, more than the "
-                          f"{limit / 2**30:,.1f} GiB of memory here; evaluate it in pieces")
+                          f"{limit / 2**30:,.1f} GiB {where}; evaluate it in pieces")
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,

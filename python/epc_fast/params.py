@@ -1,4 +1,5 @@
-"""The model's parameters: names with units, defaults and domains (MODEL.md sections 1 and 8).
+"""The model's parameters: names with units, defaults and domains (docs/model.md,
+"Quantities, units and defaults" and "Per-point status").
 
 This table is the one place where a parameter's domain is written down. The NumPy reference
 uses it to flag invalid points, the API uses it for ``invalid="raise"`` messages, and the C++

@@ -1,9 +1,10 @@
-"""The paper's camera systems (MODEL.md section 9) as plain data a user can copy and change.
+"""The paper's camera systems (docs/model.md, "The paper's systems") as plain data a user can
+copy and change.
 
-The preset reads the paper as MODEL.md section 9 documents: the 30 dB target met at the image
-corner (cos^4 falloff at half the diagonal field of view) and EPC taken over the nominal sensor
-area of the format. This is a reading of the paper, not a fitted model; the paper's literal
-30 dB and 33 dB targets on the optical axis are the other :data:`READINGS`, one
+The preset reads the paper as docs/model.md, "The paper's systems" documents: the 30 dB target
+met at the image corner (cos^4 falloff at half the diagonal field of view) and EPC taken over
+the nominal sensor area of the format. This is a reading of the paper, not a fitted model; the
+paper's literal 30 dB and 33 dB targets on the optical axis are the other :data:`READINGS`, one
 ``design.read_as("on_axis_33db")`` away. A design of your own is a :class:`Design` made from
 its sensor's data sheet (docs/sensor.md); ``snr_at`` chooses where it meets the target.
 
@@ -55,7 +56,7 @@ class Reading:
     meaning: str
 
 
-#: The readings of the paper's SNR target, by name (MODEL.md section 9).
+#: The readings of the paper's SNR target, by name (docs/model.md, "The paper's systems").
 READINGS = {r.name: r for r in (
     Reading("corner_30db", 30.0, True,
             "30 dB at the image corner (cos^4 falloff): the preset's reading of the paper"),
@@ -85,7 +86,7 @@ class Design:
         Design("50 Mpx 1/1.56-inch", 1.0, sensor_diagonal_mm=10.24, aspect="4:3",
                f_number=1.9, focal_length_mm=5.7)
 
-    EPC uses the sensor's area, width x height (MODEL.md section 7); the array, when not given,
+    EPC uses the sensor's area, width x height (docs/model.md, "EPC"); the array, when not given,
     is the sensor's width and height over the pitch, each rounded to the nearest pixel.
 
     Attributes

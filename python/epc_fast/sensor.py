@@ -1,19 +1,20 @@
 """A sensor as its data sheet gives it, and where a design meets its SNR target.
 
 Size. A data sheet gives the active area's width and height in mm, or its diagonal and aspect
-ratio, and the pixel pitch in um. The model needs the sensor area S (MODEL.md section 7:
+ratio, and the pixel pitch in um. The model needs the sensor area S (docs/model.md, "EPC":
 EPC = 4 S f50^2, S = N p^2), so the area is taken exactly, S = width x height, and the pixel
 count follows as N = S / p^2 = (width / p) x (height / p) with no rounding: rounding the columns
 and rows would move S away from the sensor's area. :class:`epc_fast.presets.Design` reports
 whole columns and rows (each rounded to the nearest integer) for display only.
 
 Where the SNR target is met (``snr_at``). The light falls off as cos^4 of the field angle
-(MODEL.md section 3), so the same target met at the image corner asks for a longer exposure
-than on the optical axis, and moves EPC several-fold:
+(docs/model.md, "Exposure: T_MPE"), so the same target met at the image corner asks for a
+longer exposure than on the optical axis, and moves EPC several-fold:
 
-- ``"axis"``: the optical axis, field angle 0 (``evaluate``'s default, MODEL.md's θ = 0);
+- ``"axis"``: the optical axis, field angle 0 (``evaluate``'s default, docs/model.md's θ = 0);
 - ``"corner"``: the image corner, field angle atan(half-diagonal / focal length) (the presets'
-  reading of the paper, MODEL.md section 9; 27.03 degrees for its 1/3.2" designs);
+  reading of the paper, docs/model.md, "The paper's systems"; 27.03 degrees for its 1/3.2"
+  designs);
 - or an explicit ``field_angle_deg``.
 
 :func:`epc_fast.evaluate` is the model and meets the target on the axis unless told. A

@@ -1,4 +1,5 @@
-"""Spectra: from lux to photo-electrons, and wavelength weights for diffraction (MODEL.md section 2).
+"""Spectra: from lux to photo-electrons, and wavelength weights for diffraction (docs/model.md,
+"Photometry: from lux to electrons").
 
 The sensor counts electrons, the scene is given in lux. The conversion factor is
 
@@ -47,7 +48,8 @@ GRID_NM = np.arange(380.0, 781.0, 1.0)
 GRID_NM.flags.writeable = False
 
 DEFAULT_ELECTRONS_PER_LUX_S_M2 = 2557705539053827.5
-"""e⁻/(lux·s·m²), K for the defaults of MODEL.md section 2 (the golden reference value).
+"""e⁻/(lux·s·m²), K for the defaults of docs/model.md, "Photometry: from lux to electrons" (the
+golden reference value).
 
 CIE illuminant D50, rectangle QE 0.7 on [480, 580] nm with the band integrated exactly (half
 weight at the two edge samples), CIE tables from colour-science linearly interpolated to 1 nm over
@@ -190,7 +192,8 @@ def photopic_luminosity():
 
 
 def electrons_per_lux_s_m2(illuminant="D50", qe=None, wavelengths_nm=None):
-    """K, the photo-electrons per lux·second per m² of sensor (MODEL.md section 2).
+    """K, the photo-electrons per lux·second per m² of sensor (docs/model.md, "Photometry: from
+    lux to electrons").
 
     Parameters
     ----------

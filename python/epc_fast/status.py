@@ -1,4 +1,5 @@
-"""Per-point status codes (MODEL.md section 8) and the cause of an unreachable SNR target.
+"""Per-point status codes (docs/model.md, "Per-point status") and the cause of an unreachable
+SNR target.
 
 The integer values are part of the binary contract with the C++ core
 (``cpp/include/epc_fast/status.h``): keep the two in step.

@@ -1,15 +1,16 @@
-"""The paper's quantitative statements, held against the model (MODEL.md section 9).
+"""The paper's quantitative statements, held against the model (docs/model.md, "The paper's
+systems").
 
 Each :class:`Statement` pairs a claim with the paper's value and the model's value under three
 readings of the paper's SNR target (:data:`epc_fast.presets.READINGS`): the preset (30 dB at the
 image corner) and the literal 30 dB and 33 dB on the optical axis. Claims come in four kinds:
 
-- ``paper``: the paper's statements listed in MODEL.md section 9, which the preset must
-  reproduce within the stated tolerance;
-- ``known limit``: stated by the paper, but MODEL.md says no model of this family reproduces it
-  (reported, not tuned away);
-- ``derived``: follows exactly from the paper's model as MODEL.md writes it down;
-- ``model only``: a quantity the paper discusses whose value MODEL.md does not give: the
+- ``paper``: the paper's statements listed in docs/model.md, "The paper's systems", which the
+  preset must reproduce within the stated tolerance;
+- ``known limit``: stated by the paper, but docs/model.md says no model of this family
+  reproduces it (reported, not tuned away);
+- ``derived``: follows exactly from the paper's model as docs/model.md writes it down;
+- ``model only``: a quantity the paper discusses whose value docs/model.md does not give: the
   model's value, with no paper value to compare (fill it in from the paper when at hand).
 """
 

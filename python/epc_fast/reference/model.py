@@ -1,6 +1,6 @@
-"""The NumPy reference implementation of the EPC model, readable as the spec (MODEL.md).
+"""The NumPy reference implementation of the EPC model, readable as the spec (docs/model.md).
 
-Every function is one formula of MODEL.md, written with whole-array NumPy expressions, and
+Every function is one formula of docs/model.md, written with whole-array NumPy expressions, and
 carries the same name as its C++ counterpart in ``cpp/include/epc_fast/``. The C++ core is
 tested against this module; this module is tested against closed forms and the mpmath golden
 values. It favours clarity over speed: f50 is bisected until the bracket cannot shrink any
@@ -41,7 +41,7 @@ __all__ = [
 ]
 
 
-# --- Photometry and exposure (MODEL.md section 3) -------------------------------------------
+# --- Photometry and exposure (docs/model.md, "Exposure: T_MPE") ------------------------------
 
 #: The smallest normal float64: a rate below it is no light (see :func:`electron_rate`).
 SMALLEST_NORMAL = float(np.finfo(np.float64).tiny)
@@ -170,7 +170,7 @@ def snr_db_at(t_s, rate_e_per_s, read_noise_e, dark_current_e_per_s, prnu):
     return 20.0 * np.log10(signal / np.sqrt(variance))
 
 
-# --- Blur (MODEL.md section 4) ---------------------------------------------------------------
+# --- Blur (docs/model.md, "Blur during the exposure") ----------------------------------------
 
 
 def blur_length_mm(focal_length_mm, shake_deg_per_s, stabilization, t_mpe_s):
@@ -187,7 +187,7 @@ def blur_length_mm(focal_length_mm, shake_deg_per_s, stabilization, t_mpe_s):
                         np.inf)
 
 
-# --- MTF factors (MODEL.md section 5) --------------------------------------------------------
+# --- MTF factors (docs/model.md, "System MTF") -----------------------------------------------
 
 
 def sinpi(x):
@@ -258,7 +258,7 @@ def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jit
             * mtf_motion(f, blur_mm) * mtf_jitter(f, jitter_um))
 
 
-# --- The cut-off frequency (MODEL.md section 6) ----------------------------------------------
+# --- The cut-off frequency (docs/model.md, "The cut-off frequency f50") ----------------------
 
 
 def f50_bracket(f_number, shortest_wavelength_nm, pixel_pitch_um, fill_factor, blur_mm,
@@ -301,7 +301,7 @@ def f50_bisection(mtf, f_hi, mtf_threshold):
         hi = np.where(active & ~above, mid, hi)
 
 
-# --- EPC (MODEL.md section 7) ----------------------------------------------------------------
+# --- EPC (docs/model.md, "EPC") --------------------------------------------------------------
 
 
 def effective_pixel_count(sensor_area_mm2, f50_cyc_per_mm):

@@ -30,8 +30,8 @@ so d ln T / d ln x = -x dQ/dx / (T dQ/dT). With e = r T the electrons and the po
     d ln T / d ln u       = 2 u^2 e^2 / spread
 
 Every one is a ratio of sums of positive terms. An elasticity is theta times the partial
-derivative of ln EPC, all other parameters of MODEL.md section 1 held: with a pixel count the
-pitch's includes the area N p^2, with a sensor area it does not.
+derivative of ln EPC, all other parameters of docs/model.md, "Quantities, units and defaults"
+held: with a pixel count the pitch's includes the area N p^2, with a sensor area it does not.
 """
 
 from __future__ import annotations
