@@ -215,7 +215,8 @@ def test_a_toml_design_takes_its_sensor_from_the_data_sheet(sensor):
 
 
 @pytest.mark.parametrize("extra, message", [
-    ("sensor_width_mm = 8.192", r"\[design.custom\[0\]\]: give the sensor's size one way"),
+    ("sensor_width_mm = 8.192",
+     r"\[design.custom\[0\]\] 'phone': give the sensor's size one way"),
     ("sensor_width_mm = 8.192\nsensor_height_mm = 6.144\nsensor_area_mm2 = 50",
      "got sensor_width_mm=8.192, sensor_height_mm=6.144, sensor_area_mm2=50"),
     ("sensor_heigth_mm = 6.1", r"unknown key 'sensor_heigth_mm'"),

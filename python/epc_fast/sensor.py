@@ -30,6 +30,7 @@ import numbers
 import numpy as np
 
 from ._validation import short
+from .params import BIG
 
 __all__ = ["SNR_AT", "SHAPE_KEYWORDS", "aspect_ratio", "sensor_shape",
            "corner_field_angle_deg", "check_snr_at", "snr_at_text", "design_parameters"]
@@ -144,6 +145,9 @@ def design_parameters(entry) -> tuple[dict, str]:
     snr_at = kwargs.pop("snr_at", None)
     shape_given = {k: kwargs.pop(k) for k in SHAPE_KEYWORDS if k in kwargs}
     shape = None
+    for key, value in shape_given.items():
+        if key != "aspect" and not (isinstance(value, numbers.Real) and 0.0 < value < BIG):
+            raise ValueError(f"{key}={short(value)}: expected a length in (0, {BIG:g}) mm")
     if shape_given:
         others = {k: kwargs.pop(k) for k in ("sensor_area_mm2", "pixel_count") if k in kwargs}
         shape = sensor_shape(**shape_given, **others)

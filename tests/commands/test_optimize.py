@@ -103,6 +103,14 @@ def test_a_non_empty_out_is_refused_unless_overwrite(tmp_path, capsys):
     (("batches = 4", "batches = 1"), "[optimize]: batches = 1"),
     (("points = 20_000", "points = 0"), "[optimize]: points = 0"),
     (("seed = 3\n", "seed = 3\nrounds = 2\n"), "[optimize]: unknown key(s) rounds"),
+    # Unchecked, these three ended in exit code 1 and "... at index (0,) is outside its domain"
+    (("[parameters]\n", "[parameters]\nreflectance = 2.0\n"),
+     "[parameters]: reflectance = 2: expected a value in [0, 1] (1: reflectance"),
+    (("f_number = 2.8", "f_number = -2"),
+     "[design.custom[0]] '1/3.2 inch': f_number = -2: expected a value in (1e-30, inf)"),
+    (("pixel_pitch_um = [0.8, 4.0]", "pixel_pitch_um = [-1.0, 1.0]"),
+     "[optimize.bounds]: pixel_pitch_um = [-1.0, 1.0]: expected both bounds in (0, 1e+30) "
+     "(um: pixel pitch)"),
 ])
 def test_a_config_error_is_one_line_naming_the_key_with_exit_code_2(tmp_path, capsys, change,
                                                                      key):

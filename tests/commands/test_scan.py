@@ -77,6 +77,35 @@ def test_a_scan_config_error_is_one_line_naming_the_key_with_exit_code_2(tmp_pat
     assert not (tmp_path / "out").exists()
 
 
+CUSTOM_ONLY = SCAN_CONFIG.replace('[design]\npresets = ["HIGH_TIER"]\n', "")
+
+
+@pytest.mark.parametrize("text, message", [
+    (SCAN_CONFIG + "pixel_pitch_um = -0.56\n", "[parameters]: pixel_pitch_um = -0.56: expected "
+                                               "a value in (0, 1e+30) (um: pixel pitch)"),
+    (SCAN_CONFIG + "f_number = -2\n", "[parameters]: f_number = -2: expected a value in "
+                                      "(1e-30, inf) (1: working f-number)"),
+    (SCAN_CONFIG + 'f_number = { distribution = "uniform", low = -1, high = 3 }\n',
+     "reaches -1: expected its bounds in (1e-30, inf) (1: working f-number)"),
+    (SCAN_CONFIG + "reflectance = { grid = [0.5, 2.0] }\n",
+     "[parameters]: reflectance = grid value 2: expected every value in [0, 1]"),
+    (CUSTOM_ONLY + CUSTOM_DESIGN.format(name='"A"').replace("f_number = 2.8", "f_number = -2"),
+     "[design.custom[0]] 'A': f_number = -2: expected a value in (1e-30, inf)"),
+    (CUSTOM_ONLY + CUSTOM_DESIGN.format(name='"A"').replace(
+        "sensor_area_mm2 = 15.6751", "sensor_width_mm = -4.6\nsensor_height_mm = -3.5"),
+     "[design.custom[0]] 'A': sensor_width_mm=-4.6: expected a length in (0, 1e+30) mm"),
+])
+def test_a_value_outside_its_domain_is_refused_before_the_first_point_with_exit_code_2(
+        tmp_path, capsys, text, message):
+    # Unchecked, the first ran every point and printed "ok 0, invalid 100,000, mean nan, min
+    # inf, max -inf" with exit code 0.
+    code, out, err = _scan(tmp_path, capsys, text + '[reductions.s]\nkind = "summary"\n')
+    assert code == 2 and out == ""
+    assert err.startswith("epc-fast scan: error: scan config") and message in err, err
+    assert err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+
+
 def test_debug_shows_the_traceback(tmp_path, capsys):
     from epc_fast.scan.errors import ConfigError
 

@@ -19,13 +19,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
+from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
 from ..presets import Design
 from ..sensor import SHAPE_KEYWORDS, design_parameters
 from . import streams
-from .distributions import Choice, Grid
+from .distributions import (MIN_TRUNCATED_PROBABILITY, Choice, Empirical, Grid, LogNormal,
+                            LogUniform, Truncated, Uniform)
 
-__all__ = ["Space", "Points", "BLOCK_POINTS"]
+__all__ = ["Space", "Points", "BLOCK_POINTS", "domain_problem"]
 
 #: Points per block: chunks are whole numbers of blocks, which fixes the order in which the
 #: reductions merge them.
@@ -39,6 +40,88 @@ DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
 EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
                     "precision")
+
+
+def _domain_of(name: str):
+    """The :class:`~epc_fast.params.Param` of a point parameter (the size slot for
+    ``pixel_count`` and ``sensor_area_mm2``)."""
+    slot = "size" if name in SIZE_PARAMETERS else name
+    return next(p for p in PARAMETERS if p.name == slot)
+
+
+def _expected(name: str, what: str = "a value") -> str:
+    """``"expected <what> in <domain> (<unit>, <meaning>)"`` of point parameter ``name``."""
+    param = _domain_of(name)
+    if name in SIZE_PARAMETERS:
+        unit, meaning = ("pixels", "pixel count") if name == "pixel_count" else \
+            ("mm^2", "sensor area")
+    else:
+        unit, meaning = param.meaning.split(": ", 1)
+    return f"expected {what} in {param.domain_text()} ({unit}: {meaning})"
+
+
+def _outside(param, values) -> list:
+    values = np.asarray(values, dtype=np.float64).reshape(-1)
+    return [float(v) for v in values[~in_domain(param, values)]]
+
+
+def _inside_closure(param, value: float) -> bool:
+    return param.lo <= value <= param.hi
+
+
+def domain_problem(name: str, axis):
+    """What is wrong with parameter ``name`` set to ``axis`` (a number, a :class:`Grid`, a
+    :class:`Choice` or a distribution) against its domain (:mod:`epc_fast.params`), as
+    ``"<value>: expected ..."``; None when nothing is.
+
+    A number, and every value of a grid, a choice or an empirical distribution, is drawn as
+    it is, so each must lie in the domain. A uniform or log-uniform distribution's bounds, and
+    a truncation's finite bounds, must lie in the domain or on its ends (draws never reach an
+    open end). A distribution whose draws fall in the domain with a probability below
+    :data:`~epc_fast.scan.distributions.MIN_TRUNCATED_PROBABILITY` is refused (its points would
+    all be INVALID); one whose tail only reaches outside keeps its draws there, which are
+    INVALID points, counted as such (``truncate`` avoids them).
+    """
+    param = _domain_of(name)
+    if isinstance(axis, (Grid, Choice)):
+        bad = _outside(param, axis.values)
+        kind = "grid" if isinstance(axis, Grid) else "choice"
+        return (None if not bad else
+                f"{kind} value {bad[0]:g}: {_expected(name, 'every value')}")
+    if isinstance(axis, (int, float)) and not isinstance(axis, bool):
+        return None if in_domain(param, axis) else f"{float(axis):g}: {_expected(name)}"
+    parent = axis.distribution if isinstance(axis, Truncated) else axis
+    if isinstance(parent, Empirical):
+        bad = _outside(param, parent.samples if parent is axis else
+                       parent.samples[(parent.samples >= axis.low)
+                                      & (parent.samples <= axis.high)])
+        if bad:
+            return f"empirical sample {bad[0]:g}: {_expected(name, 'every sample')}"
+        return None
+    # The support's ends, and whether the user wrote each (a bound or a truncation).
+    if isinstance(parent, (Uniform, LogUniform)):
+        (low, low_given), (high, high_given) = (parent.low, True), (parent.high, True)
+    else:
+        low, low_given = (0.0 if isinstance(parent, LogNormal) else -math.inf), False
+        high, high_given = math.inf, False
+    if isinstance(axis, Truncated):
+        if axis.low > low:
+            low, low_given = axis.low, True
+        if axis.high < high:
+            high, high_given = axis.high, True
+    bad = [v for v, given in ((low, low_given), (high, high_given))
+           if given and not _inside_closure(param, v)]
+    if bad:
+        return f"{axis!r} reaches {bad[0]:g}: {_expected(name, 'its bounds')}"
+    if hasattr(parent, "probability_within"):
+        low, high = (max(param.lo, axis.low), min(param.hi, axis.high)) \
+            if isinstance(axis, Truncated) else (param.lo, param.hi)
+        inside = parent.probability_within(low, high) / getattr(axis, "probability", 1.0) \
+            if low < high else 0.0
+        if inside < MIN_TRUNCATED_PROBABILITY:
+            return (f"{axis!r} draws in the domain with a probability of {inside:.2g}: "
+                    f"{_expected(name, 'draws')}")
+    return None
 
 
 @dataclass
@@ -126,6 +209,7 @@ class Space:
             raise TypeError(f"unknown evaluate option(s) {', '.join(bad)}; the options are "
                             f"{', '.join(EVALUATE_OPTIONS)}")
         self._check_required()
+        self._check_domains()
         self.grid_axes = tuple(n for n, a in self.axes.items() if isinstance(a, Grid))
         self.grid_shape = tuple(len(self.axes[n].values) for n in self.grid_axes)
 
@@ -179,6 +263,20 @@ class Space:
         if len(sizes) != 1:
             raise TypeError(f"give exactly one of {' and '.join(SIZE_PARAMETERS)} "
                             f"(given: {sizes or 'neither'})")
+
+    def _check_domains(self):
+        """A ValueError naming the parameter, its value and its domain when a fixed value, a
+        grid's or a choice's value, a distribution or a design's value lies outside the
+        parameter's domain (:func:`domain_problem`): refused before the first point."""
+        for name, axis in self.axes.items():
+            problem = None if name == "design" else domain_problem(name, axis)
+            if problem:
+                raise ValueError(f"{name} = {problem}")
+        for name, values in self.design_table.items():
+            for design, value in zip(self.design_names, values):
+                problem = domain_problem(name, float(value))
+                if problem:
+                    raise ValueError(f"design {design!r}: {name} = {problem}")
 
     @property
     def grid_size(self) -> int:

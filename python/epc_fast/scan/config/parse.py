@@ -54,7 +54,7 @@ from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, 
                      check_size, choice, file_name, integer, number, number_list, short, string,
                      table_of, take, wrapped)
 from ...sensor import SHAPE_KEYWORDS, design_parameters
-from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space
+from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG",
            "toml_document", "parse_space"]
@@ -216,8 +216,15 @@ def _custom_design(entry, index: int) -> dict:
             design[key] = value
         else:
             design[key] = number(where, key, value)
-    wrapped(where, lambda: design_parameters(
-        {k: v for k, v in design.items() if k != "name"}))
+    label = f"[{where}]" + (f" {design['name']!r}" if "name" in design else "")
+    for key, value in design.items():
+        problem = domain_problem(key, value) if key in POINT_PARAMETERS else None
+        if problem:
+            raise ConfigError(f"scan config {label}: {key} = {problem}")
+    try:
+        design_parameters({k: v for k, v in design.items() if k != "name"})
+    except (TypeError, ValueError) as error:
+        raise ConfigError(f"scan config {label}: {error}") from None
     return design
 
 
