@@ -106,6 +106,31 @@ def test_a_value_outside_its_domain_is_refused_before_the_first_point_with_exit_
     assert not (tmp_path / "out").exists()
 
 
+@pytest.mark.parametrize("names, message", [
+    (['"A"', '"A"'], "[design.custom[1]]: name = 'A': expected a name no other design has "
+                     "([design.custom[0]] is named 'A')"),
+    (['""'], "[design.custom[0]]: name = '': expected a name with a letter or digit"),
+    (['"--"'], "[design.custom[0]]: name = '--': expected a name with a letter or digit"),
+])
+def test_designs_named_alike_or_unnamed_are_refused_with_exit_code_2(tmp_path, capsys, names,
+                                                                     message):
+    # Unchecked, two designs named "A" made two summary rows both labelled "A", and points the
+    # Parquet design column could not tell apart.
+    text = CUSTOM_ONLY + "".join(CUSTOM_DESIGN.format(name=n) for n in names)
+    code, out, err = _scan(tmp_path, capsys, text + '[reductions.s]\nkind = "summary"\n')
+    assert code == 2 and out == ""
+    assert err == f"epc-fast scan: error: scan config {message}\n"
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_preset_given_twice_is_refused_naming_it(tmp_path, capsys):
+    text = SCAN_CONFIG.replace('presets = ["HIGH_TIER"]', 'presets = ["HIGH_TIER", "HIGH_TIER"]')
+    code, _, err = _scan(tmp_path, capsys, text + '[reductions.s]\nkind = "summary"\n')
+    assert code == 2
+    assert err.startswith("epc-fast scan: error: scan config [design]: presets: 'HIGH_TIER' "
+                          "gives the design '1/3.2\" 2.8 um' a second time"), err
+
+
 def test_debug_shows_the_traceback(tmp_path, capsys):
     from epc_fast.scan.errors import ConfigError
 

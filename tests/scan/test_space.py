@@ -220,3 +220,15 @@ def test_a_normal_tail_outside_the_domain_gives_invalid_points_counted_as_such()
     invalid = int(summary.status_counts[:, Status.INVALID].sum())
     # P(F <= 0) of Normal(2, 1) is 2.3%: about 1490 of 65,536 draws
     assert 1300 < invalid < 1700
+
+
+@pytest.mark.parametrize("names, message", [
+    (("A", "A"), "design names must differ: 'A' is the name of designs 0 and 1"),
+    (("A", ""), "design 1's name is '': expected a name with a letter or digit"),
+])
+def test_designs_named_alike_or_unnamed_are_refused(names, message):
+    design = [{"name": n, "pixel_pitch_um": 1.4, "f_number": 2.8, "focal_length_mm": 5.6,
+               "sensor_area_mm2": 15.0} for n in names]
+    with pytest.raises(ValueError) as error:
+        Space(design=design, illuminance_lux=100.0)
+    assert str(error.value) == message

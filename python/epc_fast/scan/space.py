@@ -234,6 +234,14 @@ class Space:
                             f"gives parameters of epc_fast.evaluate ({', '.join(POINT_PARAMETERS)}"
                             f"), its sensor as {', '.join(SHAPE_KEYWORDS)}, and snr_at")
         self.design_names = tuple(str(e["name"]) for e in entries)
+        for position, name in enumerate(self.design_names):
+            if not any(c.isalnum() for c in name):
+                raise ValueError(f"design {position}'s name is {name!r}: expected a name with a "
+                                 "letter or digit")
+            first = self.design_names.index(name)
+            if first != position:
+                raise ValueError(f"design names must differ: {name!r} is the name of designs "
+                                 f"{first} and {position}")
         self.design_table = {n: np.array([float(e[n]) for e in entries]) for n in sorted(names)}
         self.design_varying = tuple(n for n, v in self.design_table.items() if np.any(v != v[0]))
         self.design_constant = tuple(n for n in self.design_table if n not in self.design_varying)

@@ -168,18 +168,34 @@ def _designs(table: dict):
     if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
         raise ConfigError(f"scan config [design]: presets = {short(names)}: expected a list of "
                           'preset names, e.g. ["HIGH_TIER"]')
+    #: {design name: where it was given}: a name names one design only.
+    named = {}
     for name in names:
         found = getattr(presets, name, None) if name.isidentifier() else None
         if not (isinstance(found, presets.Design) or (isinstance(found, tuple) and found
                                                       and isinstance(found[0], presets.Design))):
             raise ConfigError(f"scan config [design]: presets: {short(name)} is not a preset "
                               "of epc_fast.presets (e.g. HIGH_TIER, LOW_TIER, ZOOM_3X)")
-        designs.extend(found if isinstance(found, tuple) else (found,))
+        for design in found if isinstance(found, tuple) else (found,):
+            if design.name in named:
+                raise ConfigError(f"scan config [design]: presets: {short(name)} gives the "
+                                  f"design {short(design.name)} a second time")
+            named[design.name] = f"the preset {name}'s design"
+            designs.append(design)
     custom = table.get("custom", [])
     if not isinstance(custom, list) or len(custom) > MAX_LIST:
         raise ConfigError(f"scan config [design]: custom = {short(custom)}: expected "
                           "[[design.custom]] tables")
-    designs.extend(_custom_design(entry, i) for i, entry in enumerate(custom))
+    for index, entry in enumerate(custom):
+        design = _custom_design(entry, index)
+        # Space names a design without a name by its position.
+        name = design.get("name", f"design {len(designs)}")
+        if name in named:
+            raise ConfigError(f"scan config [design.custom[{index}]]: name = {short(name)}: "
+                              f"expected a name no other design has ({named[name]} is named "
+                              f"{short(name)})")
+        named[name] = f"[design.custom[{index}]]"
+        designs.append(design)
     check_size("design", "designs", len(designs), MAX_GROUPS, 64)
     if not designs:
         raise ConfigError("scan config [design]: give presets or [[design.custom]] entries")
@@ -212,6 +228,9 @@ def _custom_design(entry, index: int) -> dict:
                               "sensor_area_mm2, or pixel_count) and snr_at")
         if key in ("name", "snr_at"):
             design[key] = string(where, key, value)
+            if key == "name" and not any(c.isalnum() for c in value):
+                raise ConfigError(f"scan config [{where}]: name = {short(value)}: expected a "
+                                  "name with a letter or digit")
         elif key == "aspect" and isinstance(value, str):
             design[key] = value
         else:
