@@ -21,7 +21,7 @@ import numpy as np
 
 from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
 from ..presets import Design
-from ..sensor import SHAPE_KEYWORDS, design_parameters
+from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
 from . import streams
 from .distributions import (MIN_TRUNCATED_PROBABILITY, Choice, Empirical, Grid, LogNormal,
                             LogUniform, Truncated, Uniform)
@@ -268,6 +268,13 @@ class Space:
         if missing:
             raise TypeError(f"the space does not give {', '.join(missing)}")
         sizes = [n for n in SIZE_PARAMETERS if n in given]
+        if not sizes and self.design_names:
+            raise TypeError(f"design {self.design_names[0]!r} gives no sensor size: give it in "
+                            f"the design, one of four ways: {SIZE_WAYS}; {SIZE_AND_SNR_AT}")
+        if not sizes:
+            raise TypeError("the space gives no sensor size: give pixel_count or "
+                            "sensor_area_mm2, or designs that give it one of four ways: "
+                            f"{SIZE_WAYS}; {SIZE_AND_SNR_AT}")
         if len(sizes) != 1:
             raise TypeError(f"give exactly one of {' and '.join(SIZE_PARAMETERS)} "
                             f"(given: {sizes or 'neither'})")

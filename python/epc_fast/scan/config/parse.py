@@ -53,7 +53,8 @@ from ..runner import DEFAULT_CHUNK_POINTS
 from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
                      check_size, choice, file_name, integer, number, number_list, short, string,
                      table_of, take, wrapped)
-from ...sensor import SHAPE_KEYWORDS, design_parameters
+from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
+from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
 from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG",
@@ -336,6 +337,19 @@ def toml_document(text: str, source: str) -> dict:
         raise ConfigError(f"scan config {source}: not valid TOML: {error}") from None
 
 
+def _check_sizes(design) -> None:
+    """A ConfigError naming the first [[design.custom]] table that gives no sensor size (none
+    is in [parameters]): the size belongs in the design's table, where its shape decides
+    where the SNR target is met."""
+    custom = [entry for entry in design.values if isinstance(entry, dict)]
+    for index, entry in enumerate(custom):
+        if not set(entry) & set(SIZE_KEYWORDS):
+            name = f" {short(entry['name'])}" if "name" in entry else ""
+            raise ConfigError(f"scan config [design.custom[{index}]]{name}: no sensor size: give "
+                              f"it in this table, one of four ways: {SIZE_WAYS}; "
+                              f"{SIZE_AND_SNR_AT}")
+
+
 def _space_builder(document: dict, base_dir):
     """A function that builds the :class:`Space` of a config's ``[design]``, ``[parameters]``
     and ``[evaluate]`` tables, every key of which is checked here, before it is called."""
@@ -343,6 +357,8 @@ def _space_builder(document: dict, base_dir):
     parameters = {name: _parameter(name, value, Path(base_dir)) for name, value
                   in table_of("parameters", document.get("parameters", {})).items()}
     options = _evaluate_options(document.get("evaluate", {}))
+    if design is not None and not set(parameters) & set(SIZE_PARAMETERS):
+        _check_sizes(design)
     return lambda: wrapped("parameters", lambda: Space(design=design, evaluate_options=options,
                                                        **parameters))
 
