@@ -148,7 +148,18 @@ def test_without_matplotlib_the_command_stops_before_any_work(tmp_path, capsys, 
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
     code, out, err = _optimize(tmp_path, capsys)
-    assert code == 1 and out == ""
-    assert "pip install 'epc-fast[plot]' (or --no-plot on the command line)" in err
+    assert (code, out) == (2, "")
+    assert err == ("epc-fast optimize: error: matplotlib is needed for the optimiser's curve "
+                   "plot and is not installed: pip install 'epc-fast[plot]' (or --no-plot)\n")
     assert not (tmp_path / "out").exists()
     assert _optimize(tmp_path, capsys, CONFIG, "--no-plot")[0] == 0
+
+
+def test_without_scipy_the_command_stops_before_any_work(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "scipy", None)
+    monkeypatch.setitem(sys.modules, "scipy.optimize", None)
+    code, out, err = _optimize(tmp_path, capsys, CONFIG, "--no-plot")
+    assert (code, out) == (2, "")
+    assert err == ("epc-fast optimize: error: SciPy is needed for the optimiser and is not "
+                   "installed: pip install 'epc-fast[optimize]'\n")
+    assert not (tmp_path / "out").exists()

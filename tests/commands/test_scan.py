@@ -131,6 +131,47 @@ def test_a_preset_given_twice_is_refused_naming_it(tmp_path, capsys):
                           "gives the design '1/3.2\" 2.8 um' a second time"), err
 
 
+HISTOGRAM = '[reductions.h]\nkind = "histogram"\nlow = 1e3\nhigh = 1e7\n'
+SUMMARY = '[reductions.s]\nkind = "summary"\n'
+
+
+@pytest.mark.parametrize("modules, more, args, message", [
+    (("matplotlib", "matplotlib.figure"), SUMMARY + HISTOGRAM, (),
+     "matplotlib is needed for the scan's plots and is not installed: pip install "
+     "'epc-fast[plot]' (or --no-plots)"),
+    (("pyarrow", "pyarrow.parquet"), SUMMARY + '[output]\nparquet = "points"\n', (),
+     "pyarrow is needed for the Parquet points ([output] parquet) and is not installed: pip "
+     "install 'epc-fast[parquet]' (or no [output] parquet)"),
+    (("distributed",), SUMMARY, ("--scheduler", "tcp://127.0.0.1:9"),
+     "dask.distributed is needed for a scan on a cluster (--scheduler) and is not installed: "
+     "pip install 'epc-fast[dask]'"),
+    (("SALib", "SALib.sample.sobol", "SALib.analyze.sobol"), SUMMARY + "[sobol]\npoints = 64\n",
+     (), "SALib is needed for the [sobol] table's Sobol' indices and is not installed: pip "
+         "install 'epc-fast[sensitivity]'"),
+])
+def test_a_missing_optional_dependency_stops_the_scan_before_the_first_point(
+        tmp_path, capsys, monkeypatch, modules, more, args, message):
+    # Unchecked, a scan without matplotlib computed every point, then failed on the plot.
+    import epc_fast.scan.runner
+
+    for module in modules:
+        monkeypatch.setitem(sys.modules, module, None)
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", None)  # no point is computed
+    code, out, err = _scan(tmp_path, capsys, SCAN_CONFIG + more, *args)
+    assert (code, out, err) == (2, "", f"epc-fast scan: error: {message}\n")
+    assert not (tmp_path / "out").exists()
+
+
+def test_without_matplotlib_a_scan_runs_with_no_plots_or_with_no_plot_to_draw(tmp_path, capsys,
+                                                                             monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
+    code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + SUMMARY + HISTOGRAM, "--no-plots")
+    assert (code, err) == (0, "")
+    code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + SUMMARY, "--overwrite")
+    assert (code, err) == (0, "")
+
+
 def test_debug_shows_the_traceback(tmp_path, capsys):
     from epc_fast.scan.errors import ConfigError
 

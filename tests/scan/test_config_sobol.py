@@ -198,3 +198,17 @@ def test_a_value_outside_its_domain_ends_the_sobol_command_before_any_point(tmp_
     err = capsys.readouterr().err
     assert err.startswith("epc-fast sobol: error: scan config") and message in err, err
     assert err.count("\n") == 1 and not (tmp_path / "out").exists()
+
+
+def test_without_salib_the_sobol_command_stops_before_any_point(tmp_path, capsys, monkeypatch):
+    import sys
+
+    for module in ("SALib", "SALib.sample.sobol", "SALib.analyze.sobol"):
+        monkeypatch.setitem(sys.modules, module, None)
+    path = tmp_path / "scan.toml"
+    path.write_text(SCAN)
+    assert main(["sobol", str(path), "--out", str(tmp_path / "out"), "--points", "64"]) == 2
+    assert capsys.readouterr().err == ("epc-fast sobol: error: SALib is needed for Sobol' "
+                                       "indices and is not installed: pip install "
+                                       "'epc-fast[sensitivity]'\n")
+    assert not (tmp_path / "out").exists()
