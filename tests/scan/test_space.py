@@ -232,3 +232,12 @@ def test_designs_named_alike_or_unnamed_are_refused(names, message):
     with pytest.raises(ValueError) as error:
         Space(design=design, illuminance_lux=100.0)
     assert str(error.value) == message
+
+
+def test_the_space_says_which_share_of_a_distributions_draws_falls_outside_the_domain():
+    space = Space(design=HIGH_TIER, illuminance_lux=100.0, f_number=Normal(2.0, 1.0),
+                  shake_deg_per_s=LogNormal(4.39, 0.5))
+    lines = space.describe().splitlines()
+    assert "f_number: Normal(mean=2.0, std=1.0): 2.3% of the draws fall outside the domain " \
+           "(1e-30, inf) and are INVALID points" in lines
+    assert "shake_deg_per_s: LogNormal(median=4.39, sigma=0.5)" in lines

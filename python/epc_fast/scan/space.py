@@ -35,6 +35,9 @@ BLOCK_POINTS = 1 << 16
 #: The per-point keyword parameters of :func:`epc_fast.evaluate`.
 POINT_PARAMETERS = tuple(n for n in PARAMETER_NAMES if n != "size") + SIZE_PARAMETERS
 REQUIRED_PARAMETERS = ("illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm")
+#: The smallest share of a distribution's draws outside the domain that
+#: :meth:`Space.describe` reports.
+MIN_REPORTED_SHARE = 1e-6
 #: Characters per line of :meth:`Space.describe`.
 DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
@@ -113,15 +116,26 @@ def domain_problem(name: str, axis):
            if given and not _inside_closure(param, v)]
     if bad:
         return f"{axis!r} reaches {bad[0]:g}: {_expected(name, 'its bounds')}"
-    if hasattr(parent, "probability_within"):
-        low, high = (max(param.lo, axis.low), min(param.hi, axis.high)) \
-            if isinstance(axis, Truncated) else (param.lo, param.hi)
-        inside = parent.probability_within(low, high) / getattr(axis, "probability", 1.0) \
-            if low < high else 0.0
-        if inside < MIN_TRUNCATED_PROBABILITY:
-            return (f"{axis!r} draws in the domain with a probability of {inside:.2g}: "
-                    f"{_expected(name, 'draws')}")
+    inside = _inside_probability(name, axis)
+    if inside < MIN_TRUNCATED_PROBABILITY:
+        return (f"{axis!r} draws in the domain with a probability of {inside:.2g}: "
+                f"{_expected(name, 'draws')}")
     return None
+
+
+def _inside_probability(name: str, axis) -> float:
+    """1: the probability that a distribution's draw of parameter ``name`` falls inside its
+    domain; 1 for a number, a grid, a choice and an empirical distribution, whose values are
+    checked one by one."""
+    param = _domain_of(name)
+    parent = axis.distribution if isinstance(axis, Truncated) else axis
+    if not hasattr(parent, "probability_within") or isinstance(parent, Empirical):
+        return 1.0
+    low, high = (max(param.lo, axis.low), min(param.hi, axis.high)) \
+        if isinstance(axis, Truncated) else (param.lo, param.hi)
+    inside = parent.probability_within(low, high) / getattr(axis, "probability", 1.0) \
+        if low < high else 0.0
+    return min(max(inside, 0.0), 1.0)
 
 
 @dataclass
@@ -429,7 +443,12 @@ class Space:
                 lines.extend(f"  {design}: SNR target {target}"
                              for design, target in zip(self.design_names, targets))
             else:
-                lines.append(f"{name}: {axis!r}")
+                share = 0.0 if isinstance(axis, (float, Grid, Choice)) else \
+                    1.0 - _inside_probability(name, axis)
+                lines.append(f"{name}: {axis!r}" + (
+                    f": {100 * share:.2g}% of the draws fall outside the domain "
+                    f"{_domain_of(name).domain_text()} and are INVALID points"
+                    if share >= MIN_REPORTED_SHARE else ""))
         if not self.design_names:
             lines.append(f"SNR target: {targets[0]}")
         defaults = [f"{name}={value:g}" for name, value in self.defaults().items()]
