@@ -197,6 +197,11 @@ class Space:
         :class:`LogUniform`, :class:`Normal`, :class:`LogNormal`, :class:`Truncated`,
         :class:`Empirical`). A parameter given here replaces the designs' value of it;
         parameters given nowhere take evaluate's defaults.
+
+    Every value is checked here, before any point: each parameter against its domain
+    (:func:`domain_problem`), the designs' names (each its own, with a letter or digit) and the
+    sensor's size (given once, by the designs or as a parameter); a ValueError or TypeError
+    names the parameter or design, the value and what is expected.
     """
 
     def __init__(self, design=None, evaluate_options=None, **parameters):
