@@ -215,7 +215,8 @@ def test_a_toml_design_takes_its_sensor_from_the_data_sheet(sensor):
 
 
 @pytest.mark.parametrize("extra, message", [
-    ("sensor_width_mm = 8.192", r"\[design.custom\[0\]\]: give the sensor's size one way"),
+    ("sensor_width_mm = 8.192",
+     r"\[design.custom\[0\]\] 'phone': give the sensor's size one way"),
     ("sensor_width_mm = 8.192\nsensor_height_mm = 6.144\nsensor_area_mm2 = 50",
      "got sensor_width_mm=8.192, sensor_height_mm=6.144, sensor_area_mm2=50"),
     ("sensor_heigth_mm = 6.1", r"unknown key 'sensor_heigth_mm'"),
@@ -261,3 +262,46 @@ def test_a_space_without_designs_or_with_a_field_angle_of_its_own_says_where():
     tilted = Space(design=HIGH_TIER, illuminance_lux=100.0, field_angle_deg=12.0, snr_db=33.0)
     assert tilted.snr_target_text() == ["33 dB at field angle 12 deg"] * 4
     assert "snr_db" not in tilted.defaults() and "shake_deg_per_s" in tilted.defaults()
+
+
+WAYS = ("pixel_count, or sensor_area_mm2, or sensor_width_mm and sensor_height_mm, or "
+        "sensor_diagonal_mm and aspect")
+CORNER = ('snr_at = "corner" (the default of a design that gives its shape and focal length) '
+          "needs sensor_width_mm and sensor_height_mm, or sensor_diagonal_mm and aspect")
+
+
+def test_a_forgotten_sensor_size_is_asked_for_in_the_designs_own_table():
+    # The message said to add sensor_area_mm2 to [parameters], which moved the SNR target
+    # from the image corner to the axis without a word.
+    with pytest.raises(ConfigError) as error:
+        parse_config(TOML)
+    message = str(error.value)
+    assert message.startswith("scan config [design.custom[0]] 'phone': no sensor size: give "
+                              f"it in this table, one of four ways: {WAYS}; {CORNER}"), message
+
+
+def test_a_forgotten_sensor_size_names_the_design_and_the_four_ways_in_python():
+    from epc_fast.scan import Space
+
+    with pytest.raises(TypeError) as error:
+        Space(design=[{"name": "phone", "pixel_pitch_um": 1.0, "f_number": 1.88,
+                       "focal_length_mm": 5.7}], illuminance_lux=100.0)
+    assert str(error.value).startswith(f"design 'phone' gives no sensor size: give it in the "
+                                       f"design, one of four ways: {WAYS}; {CORNER}")
+    with pytest.raises(TypeError) as error:
+        Space(illuminance_lux=100.0, pixel_pitch_um=1.0, f_number=1.88, focal_length_mm=5.7)
+    assert str(error.value).startswith("the space gives no sensor size: give pixel_count or "
+                                       "sensor_area_mm2, or designs that give it one of four "
+                                       f"ways: {WAYS}; {CORNER}")
+
+
+def test_the_cli_asks_for_a_forgotten_sensor_size_in_the_designs_table(tmp_path, capsys):
+    from epc_fast.__main__ import main
+
+    config = tmp_path / "c.toml"
+    config.write_text(TOML)
+    assert main(["scan", str(config), "--out", str(tmp_path / "out"), "--no-progress"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "[parameters]" not in err
+    assert err.startswith("epc-fast scan: error: scan config [design.custom[0]] 'phone': no "
+                          "sensor size: give it in this table")

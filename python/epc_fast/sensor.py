@@ -31,8 +31,9 @@ import numbers
 import numpy as np
 
 from ._validation import short
+from .params import BIG
 
-__all__ = ["SNR_AT", "SHAPE_KEYWORDS", "aspect_ratio", "sensor_shape",
+__all__ = ["SNR_AT", "SHAPE_KEYWORDS", "SIZE_WAYS", "SIZE_AND_SNR_AT", "aspect_ratio", "sensor_shape",
            "corner_field_angle_deg", "check_snr_at", "snr_at_text", "design_parameters"]
 
 #: The named places where the SNR target can be met.
@@ -42,6 +43,11 @@ SHAPE_KEYWORDS = ("sensor_width_mm", "sensor_height_mm", "sensor_diagonal_mm", "
 #: How a sensor's size can be given, for error messages.
 SIZE_WAYS = ("pixel_count, or sensor_area_mm2, or sensor_width_mm and sensor_height_mm, "
              "or sensor_diagonal_mm and aspect")
+#: What the ways of giving the size mean for where the SNR target is met, for error messages.
+SIZE_AND_SNR_AT = ('snr_at = "corner" (the default of a design that gives its shape and focal '
+                   "length) needs sensor_width_mm and sensor_height_mm, or sensor_diagonal_mm "
+                   "and aspect; with sensor_area_mm2 or pixel_count the SNR target is met on "
+                   "the axis unless the design gives field_angle_deg")
 
 
 def aspect_ratio(aspect) -> float:
@@ -145,6 +151,9 @@ def design_parameters(entry) -> tuple[dict, str]:
     snr_at = kwargs.pop("snr_at", None)
     shape_given = {k: kwargs.pop(k) for k in SHAPE_KEYWORDS if k in kwargs}
     shape = None
+    for key, value in shape_given.items():
+        if key != "aspect" and not (isinstance(value, numbers.Real) and 0.0 < value < BIG):
+            raise ValueError(f"{key}={short(value)}: expected a length in (0, {BIG:g}) mm")
     if shape_given:
         others = {k: kwargs.pop(k) for k in ("sensor_area_mm2", "pixel_count") if k in kwargs}
         shape = sensor_shape(**shape_given, **others)

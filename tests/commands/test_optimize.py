@@ -103,6 +103,14 @@ def test_a_non_empty_out_is_refused_unless_overwrite(tmp_path, capsys):
     (("batches = 4", "batches = 1"), "[optimize]: batches = 1"),
     (("points = 20_000", "points = 0"), "[optimize]: points = 0"),
     (("seed = 3\n", "seed = 3\nrounds = 2\n"), "[optimize]: unknown key(s) rounds"),
+    # Unchecked, these three ended in exit code 1 and "... at index (0,) is outside its domain"
+    (("[parameters]\n", "[parameters]\nreflectance = 2.0\n"),
+     "[parameters]: reflectance = 2: expected a value in [0, 1] (1: reflectance"),
+    (("f_number = 2.8", "f_number = -2"),
+     "[design.custom[0]] '1/3.2 inch': f_number = -2: expected a value in (1e-30, inf)"),
+    (("pixel_pitch_um = [0.8, 4.0]", "pixel_pitch_um = [-1.0, 1.0]"),
+     "[optimize.bounds]: pixel_pitch_um = [-1.0, 1.0]: expected both bounds in (0, 1e+30) "
+     "(um: pixel pitch)"),
 ])
 def test_a_config_error_is_one_line_naming_the_key_with_exit_code_2(tmp_path, capsys, change,
                                                                      key):
@@ -140,7 +148,18 @@ def test_without_matplotlib_the_command_stops_before_any_work(tmp_path, capsys, 
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
     code, out, err = _optimize(tmp_path, capsys)
-    assert code == 1 and out == ""
-    assert "pip install 'epc-fast[plot]' (or --no-plot on the command line)" in err
+    assert (code, out) == (2, "")
+    assert err == ("epc-fast optimize: error: matplotlib is needed for the optimiser's curve "
+                   "plot and is not installed: pip install 'epc-fast[plot]' (or --no-plot)\n")
     assert not (tmp_path / "out").exists()
     assert _optimize(tmp_path, capsys, CONFIG, "--no-plot")[0] == 0
+
+
+def test_without_scipy_the_command_stops_before_any_work(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "scipy", None)
+    monkeypatch.setitem(sys.modules, "scipy.optimize", None)
+    code, out, err = _optimize(tmp_path, capsys, CONFIG, "--no-plot")
+    assert (code, out) == (2, "")
+    assert err == ("epc-fast optimize: error: SciPy is needed for the optimiser and is not "
+                   "installed: pip install 'epc-fast[optimize]'\n")
+    assert not (tmp_path / "out").exists()

@@ -77,6 +77,101 @@ def test_a_scan_config_error_is_one_line_naming_the_key_with_exit_code_2(tmp_pat
     assert not (tmp_path / "out").exists()
 
 
+CUSTOM_ONLY = SCAN_CONFIG.replace('[design]\npresets = ["HIGH_TIER"]\n', "")
+
+
+@pytest.mark.parametrize("text, message", [
+    (SCAN_CONFIG + "pixel_pitch_um = -0.56\n", "[parameters]: pixel_pitch_um = -0.56: expected "
+                                               "a value in (0, 1e+30) (um: pixel pitch)"),
+    (SCAN_CONFIG + "f_number = -2\n", "[parameters]: f_number = -2: expected a value in "
+                                      "(1e-30, inf) (1: working f-number)"),
+    (SCAN_CONFIG + 'f_number = { distribution = "uniform", low = -1, high = 3 }\n',
+     "reaches -1: expected its bounds in (1e-30, inf) (1: working f-number)"),
+    (SCAN_CONFIG + "reflectance = { grid = [0.5, 2.0] }\n",
+     "[parameters]: reflectance = grid value 2: expected every value in [0, 1]"),
+    (CUSTOM_ONLY + CUSTOM_DESIGN.format(name='"A"').replace("f_number = 2.8", "f_number = -2"),
+     "[design.custom[0]] 'A': f_number = -2: expected a value in (1e-30, inf)"),
+    (CUSTOM_ONLY + CUSTOM_DESIGN.format(name='"A"').replace(
+        "sensor_area_mm2 = 15.6751", "sensor_width_mm = -4.6\nsensor_height_mm = -3.5"),
+     "[design.custom[0]] 'A': sensor_width_mm=-4.6: expected a length in (0, 1e+30) mm"),
+])
+def test_a_value_outside_its_domain_is_refused_before_the_first_point_with_exit_code_2(
+        tmp_path, capsys, text, message):
+    # Unchecked, the first ran every point and printed "ok 0, invalid 100,000, mean nan, min
+    # inf, max -inf" with exit code 0.
+    code, out, err = _scan(tmp_path, capsys, text + '[reductions.s]\nkind = "summary"\n')
+    assert code == 2 and out == ""
+    assert err.startswith("epc-fast scan: error: scan config") and message in err, err
+    assert err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("names, message", [
+    (['"A"', '"A"'], "[design.custom[1]]: name = 'A': expected a name no other design has "
+                     "([design.custom[0]] is named 'A')"),
+    (['""'], "[design.custom[0]]: name = '': expected a name with a letter or digit"),
+    (['"--"'], "[design.custom[0]]: name = '--': expected a name with a letter or digit"),
+])
+def test_designs_named_alike_or_unnamed_are_refused_with_exit_code_2(tmp_path, capsys, names,
+                                                                     message):
+    # Unchecked, two designs named "A" made two summary rows both labelled "A", and points the
+    # Parquet design column could not tell apart.
+    text = CUSTOM_ONLY + "".join(CUSTOM_DESIGN.format(name=n) for n in names)
+    code, out, err = _scan(tmp_path, capsys, text + '[reductions.s]\nkind = "summary"\n')
+    assert code == 2 and out == ""
+    assert err == f"epc-fast scan: error: scan config {message}\n"
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_preset_given_twice_is_refused_naming_it(tmp_path, capsys):
+    text = SCAN_CONFIG.replace('presets = ["HIGH_TIER"]', 'presets = ["HIGH_TIER", "HIGH_TIER"]')
+    code, _, err = _scan(tmp_path, capsys, text + '[reductions.s]\nkind = "summary"\n')
+    assert code == 2
+    assert err.startswith("epc-fast scan: error: scan config [design]: presets: 'HIGH_TIER' "
+                          "gives the design '1/3.2\" 2.8 um' a second time"), err
+
+
+HISTOGRAM = '[reductions.h]\nkind = "histogram"\nlow = 1e3\nhigh = 1e7\n'
+SUMMARY = '[reductions.s]\nkind = "summary"\n'
+
+
+@pytest.mark.parametrize("modules, more, args, message", [
+    (("matplotlib", "matplotlib.figure"), SUMMARY + HISTOGRAM, (),
+     "matplotlib is needed for the scan's plots and is not installed: pip install "
+     "'epc-fast[plot]' (or --no-plots)"),
+    (("pyarrow", "pyarrow.parquet"), SUMMARY + '[output]\nparquet = "points"\n', (),
+     "pyarrow is needed for the Parquet points ([output] parquet) and is not installed: pip "
+     "install 'epc-fast[parquet]' (or no [output] parquet)"),
+    (("distributed",), SUMMARY, ("--scheduler", "tcp://127.0.0.1:9"),
+     "dask.distributed is needed for a scan on a cluster (--scheduler) and is not installed: "
+     "pip install 'epc-fast[dask]'"),
+    (("SALib", "SALib.sample.sobol", "SALib.analyze.sobol"), SUMMARY + "[sobol]\npoints = 64\n",
+     (), "SALib is needed for the [sobol] table's Sobol' indices and is not installed: pip "
+         "install 'epc-fast[sensitivity]'"),
+])
+def test_a_missing_optional_dependency_stops_the_scan_before_the_first_point(
+        tmp_path, capsys, monkeypatch, modules, more, args, message):
+    # Unchecked, a scan without matplotlib computed every point, then failed on the plot.
+    import epc_fast.scan.runner
+
+    for module in modules:
+        monkeypatch.setitem(sys.modules, module, None)
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", None)  # no point is computed
+    code, out, err = _scan(tmp_path, capsys, SCAN_CONFIG + more, *args)
+    assert (code, out, err) == (2, "", f"epc-fast scan: error: {message}\n")
+    assert not (tmp_path / "out").exists()
+
+
+def test_without_matplotlib_a_scan_runs_with_no_plots_or_with_no_plot_to_draw(tmp_path, capsys,
+                                                                             monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
+    code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + SUMMARY + HISTOGRAM, "--no-plots")
+    assert (code, err) == (0, "")
+    code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + SUMMARY, "--overwrite")
+    assert (code, err) == (0, "")
+
+
 def test_debug_shows_the_traceback(tmp_path, capsys):
     from epc_fast.scan.errors import ConfigError
 

@@ -183,3 +183,32 @@ def test_the_output_policy_refuses_a_file_where_the_indices_go(tmp_path):
     with pytest.raises(OutputError, match="sobol.csv is a directory"):
         OutputDirectory(tmp_path / "out", overwrite=True).prepare(
             {"sobol.csv": "the Sobol' indices"})
+
+
+@pytest.mark.parametrize("line, message", [
+    ("reflectance = 2.0", "[parameters]: reflectance = 2: expected a value in [0, 1]"),
+    ("f_number = -2", "[parameters]: f_number = -2: expected a value in (1e-30, inf)"),
+])
+def test_a_value_outside_its_domain_ends_the_sobol_command_before_any_point(tmp_path, capsys,
+                                                                            line, message):
+    # Unchecked, reflectance = 2.0 ended in "IndexError: too many indices for array".
+    path = tmp_path / "scan.toml"
+    path.write_text(SCAN.replace("[reductions.summary]", line + "\n\n[reductions.summary]"))
+    assert main(["sobol", str(path), "--out", str(tmp_path / "out"), "--points", "64"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("epc-fast sobol: error: scan config") and message in err, err
+    assert err.count("\n") == 1 and not (tmp_path / "out").exists()
+
+
+def test_without_salib_the_sobol_command_stops_before_any_point(tmp_path, capsys, monkeypatch):
+    import sys
+
+    for module in ("SALib", "SALib.sample.sobol", "SALib.analyze.sobol"):
+        monkeypatch.setitem(sys.modules, module, None)
+    path = tmp_path / "scan.toml"
+    path.write_text(SCAN)
+    assert main(["sobol", str(path), "--out", str(tmp_path / "out"), "--points", "64"]) == 2
+    assert capsys.readouterr().err == ("epc-fast sobol: error: SALib is needed for Sobol' "
+                                       "indices and is not installed: pip install "
+                                       "'epc-fast[sensitivity]'\n")
+    assert not (tmp_path / "out").exists()

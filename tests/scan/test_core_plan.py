@@ -384,7 +384,7 @@ def test_grid_digits_are_exact_for_any_number_of_cells(sizes):
     # up to 2^51 cells in vectorised double arithmetic, beyond by integer division, beyond
     # 2^63 saturated (point indices are below it); held against Python's integers
     grids = {name: Grid(tuple(float(v) for v in range(1, n + 1)))
-             for name, n in zip(("reflectance", "read_noise_e", "dark_current_e_per_s",
+             for name, n in zip(("prnu", "read_noise_e", "dark_current_e_per_s",
                                  "jitter_um"), sizes)}
     space = Space(illuminance_lux=100.0, pixel_pitch_um=1.4, f_number=2.8,
                   focal_length_mm=5.6, pixel_count=8e6, **grids)

@@ -20,18 +20,19 @@ SIGMAS = 5.0
 P_MIN = 1e-4
 
 
-def _space_draws(axis, n=N, seed=SEED):
-    """Points 0 .. n - 1 of a scan whose ``read_noise_e`` is ``axis``: its values, or its value
-    indices for a Choice."""
-    points = Space(design=HIGH_TIER, illuminance_lux=100.0, read_noise_e=axis).points(seed, 0, n)
+def _space_draws(axis, n=N, seed=SEED, name="read_noise_e"):
+    """Points 0 .. n - 1 of a scan whose parameter ``name`` is ``axis``: its values, or its
+    value indices for a Choice. A law reaching below 0 is drawn for ``field_angle_deg``, whose
+    domain holds negative values."""
+    points = Space(design=HIGH_TIER, illuminance_lux=100.0, **{name: axis}).points(seed, 0, n)
     if isinstance(axis, (Choice, Grid)):
-        return points.indices["read_noise_e"]
-    return points.parameters["read_noise_e"]
+        return points.indices[name]
+    return points.parameters[name]
 
 
-def _uniforms(n=N, seed=SEED):
+def _uniforms(n=N, seed=SEED, name="read_noise_e"):
     """The uniforms behind :func:`_space_draws`."""
-    return streams.uniforms(seed, streams.stream_id("read_noise_e"), np.arange(n))
+    return streams.uniforms(seed, streams.stream_id(name), np.arange(n))
 
 
 def _assert_quantiles(t, cdf, pdf, u, spec):
@@ -91,13 +92,14 @@ CONTINUOUS = [
 @pytest.mark.parametrize("case", range(len(CONTINUOUS)), ids=[repr(d) for d, _ in CONTINUOUS])
 def test_a_continuous_distribution_draws_its_law(case):
     distribution, expected = CONTINUOUS[case]
-    # A seed per case: each law is tested on its own sample.
-    draws = _space_draws(distribution, seed=SEED + case)
     low, high = expected.support()
+    name = "field_angle_deg" if high < 0 else "read_noise_e"
+    # A seed per case: each law is tested on its own sample.
+    draws = _space_draws(distribution, seed=SEED + case, name=name)
     assert draws.min() >= low and draws.max() <= high
     _assert_follows(draws, expected)
     spec = distribution.stream_spec()
-    u = _uniforms(seed=SEED + case)
+    u = _uniforms(seed=SEED + case, name=name)
     if spec["kind"] in ("exp_affine", "lognormal"):
         # In t = log x: F(exp t), and the density exp(t) f(exp t).
         _assert_quantiles(np.log(draws), lambda t: expected.cdf(np.exp(t)),
@@ -154,7 +156,7 @@ def _assert_frequencies(indices, probabilities):
 
 def test_empirical_draws_each_sample_equally_often():
     samples = np.array([8.0, 1.0, 2.0, 4.0, 2.5, -3.0, 0.5])
-    draws = _space_draws(Empirical(samples), seed=201)
+    draws = _space_draws(Empirical(samples), seed=201, name="field_angle_deg")
     # KS needs a continuous law: a discrete one is tested by its frequencies.
     _assert_frequencies(np.searchsorted(np.sort(samples), draws), np.full(7, 1 / 7))
     mean = samples.mean()

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from epc_fast.presets import HIGH_TIER
-from epc_fast.scan import (BLOCK_POINTS, Choice, Grid, LogNormal, LogUniform, Space, Uniform,
-                           streams)
+from epc_fast.scan import (BLOCK_POINTS, Choice, Empirical, Grid, LogNormal, LogUniform, Normal,
+                           Space, Truncated, Uniform, streams)
 
 
 def _space(**extra):
@@ -151,3 +151,93 @@ def test_an_incomplete_or_unknown_space_is_refused(make, error, message):
 def test_a_range_of_points_starts_at_a_block():
     with pytest.raises(ValueError, match="starts at a block"):
         _space().points(0, 100, 200)
+
+
+# --- every value against its parameter's domain, before the first point -----------------------
+
+@pytest.mark.parametrize("parameters, message", [
+    ({"pixel_pitch_um": -0.56},
+     "pixel_pitch_um = -0.56: expected a value in (0, 1e+30) (um: pixel pitch)"),
+    ({"f_number": -2.0}, "f_number = -2: expected a value in (1e-30, inf) (1: working f-number)"),
+    ({"reflectance": 2.0}, "reflectance = 2: expected a value in [0, 1] (1: reflectance"),
+    ({"reflectance": Grid((0.2, 1.5))}, "reflectance = grid value 1.5: expected every value in "
+                                        "[0, 1]"),
+    ({"read_noise_e": Choice((1.0, -1.0))}, "read_noise_e = choice value -1: expected every "
+                                            "value in [0, 1e+30)"),
+    ({"f_number": Uniform(-1, 3)}, "f_number = Uniform(low=-1, high=3) reaches -1: expected "
+                                   "its bounds in (1e-30, inf)"),
+    ({"mtf_threshold": LogUniform(0.1, 2)}, "reaches 2: expected its bounds in (0, 1)"),
+    ({"reflectance": Truncated(Normal(0.4, 1), -1, 0.9)}, "reaches -1: expected its bounds in "
+                                                          "[0, 1]"),
+    ({"reflectance": Empirical([0.1, 3.0])}, "reflectance = empirical sample 3: expected every "
+                                             "sample in [0, 1]"),
+    ({"f_number": Normal(-2, 0.1)}, "f_number = Normal(mean=-2, std=0.1) draws in the domain "
+                                    "with a probability of 2.8e-89: expected draws in"),
+    ({"pixel_count": -1e6}, "pixel_count = -1e+06: expected a value in (0, 1e+30) (pixels"),
+])
+def test_a_value_outside_its_parameters_domain_is_refused_naming_it(parameters, message):
+    with pytest.raises(ValueError) as error:
+        Space(design=[{"name": "A", "pixel_pitch_um": 1.4, "f_number": 2.8,
+                       "focal_length_mm": 5.6}], illuminance_lux=100.0,
+              **({"sensor_area_mm2": 15.0} if "pixel_count" not in parameters else {}),
+              **parameters)
+    assert message in str(error.value), str(error.value)
+
+
+def test_a_designs_value_outside_its_domain_is_refused_naming_the_design():
+    with pytest.raises(ValueError) as error:
+        Space(design=[{"name": "A", "pixel_pitch_um": 1.4, "f_number": -2.0,
+                       "focal_length_mm": 5.6, "sensor_area_mm2": 15.0}], illuminance_lux=100.0)
+    assert str(error.value) == ("design 'A': f_number = -2: expected a value in (1e-30, inf) "
+                                "(1: working f-number)")
+
+
+def test_a_sensor_of_negative_lengths_is_refused_not_made_a_positive_area():
+    with pytest.raises(ValueError, match=r"design 'A': sensor_width_mm=-4.6: expected a length "
+                                         r"in \(0, 1e\+30\) mm"):
+        Space(design=[{"name": "A", "pixel_pitch_um": 1.4, "f_number": 2.8,
+                       "focal_length_mm": 5.6, "sensor_width_mm": -4.6,
+                       "sensor_height_mm": -3.5}], illuminance_lux=100.0)
+
+
+@pytest.mark.parametrize("axis", [Normal(2.0, 1.0), Truncated(Normal(0.4, 1), 0, 1),
+                                  Uniform(0.0, 2.0)])
+def test_a_distribution_inside_its_domain_but_for_a_tail_or_an_open_end_is_kept(axis):
+    name = "reflectance" if isinstance(axis, Truncated) else \
+        "f_number" if isinstance(axis, Normal) else "pixel_pitch_um"
+    space = Space(design=HIGH_TIER, illuminance_lux=100.0, **{name: axis})
+    assert space.axes[name] == axis
+
+
+def test_a_normal_tail_outside_the_domain_gives_invalid_points_counted_as_such():
+    from epc_fast.scan import Summary, run
+
+    space = Space(design=HIGH_TIER[:1], illuminance_lux=100.0, f_number=Normal(2.0, 1.0))
+    summary = run(space, points=BLOCK_POINTS, seed=1, reductions={"s": Summary()},
+                  progress=False).results["s"]
+    from epc_fast import Status
+
+    invalid = int(summary.status_counts[:, Status.INVALID].sum())
+    # P(F <= 0) of Normal(2, 1) is 2.3%: about 1490 of 65,536 draws
+    assert 1300 < invalid < 1700
+
+
+@pytest.mark.parametrize("names, message", [
+    (("A", "A"), "design names must differ: 'A' is the name of designs 0 and 1"),
+    (("A", ""), "design 1's name is '': expected a name with a letter or digit"),
+])
+def test_designs_named_alike_or_unnamed_are_refused(names, message):
+    design = [{"name": n, "pixel_pitch_um": 1.4, "f_number": 2.8, "focal_length_mm": 5.6,
+               "sensor_area_mm2": 15.0} for n in names]
+    with pytest.raises(ValueError) as error:
+        Space(design=design, illuminance_lux=100.0)
+    assert str(error.value) == message
+
+
+def test_the_space_says_which_share_of_a_distributions_draws_falls_outside_the_domain():
+    space = Space(design=HIGH_TIER, illuminance_lux=100.0, f_number=Normal(2.0, 1.0),
+                  shake_deg_per_s=LogNormal(4.39, 0.5))
+    lines = space.describe().splitlines()
+    assert "f_number: Normal(mean=2.0, std=1.0): 2.3% of the draws fall outside the domain " \
+           "(1e-30, inf) and are INVALID points" in lines
+    assert "shake_deg_per_s: LogNormal(median=4.39, sigma=0.5)" in lines

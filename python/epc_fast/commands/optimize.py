@@ -76,16 +76,17 @@ def run(args) -> int:
 
     from .. import _core
     from ..optimize import Problem
+    from ..scan.config.extras import OPTIMIZE, PLOT, check_extras
     from ..scan.output import OutputDirectory
 
     config = _config(args)
     if config.threads is None:
         _core.checked_default_threads()  # OMP_NUM_THREADS, before anything is written
     plot = not args.no_plot
+    check_extras([(OPTIMIZE, "the optimiser", "")]
+                 + [(PLOT, "the optimiser's curve plot", "--no-plot")] * plot)
     if plot:
-        from ..optimize.plot import curve_figure, figure_class
-
-        figure_class()  # without matplotlib, an error before any work
+        from ..optimize.plot import curve_figure
     out = OutputDirectory(args.out, overwrite=args.overwrite)
     out.prepare({name: what for name, what in FILES.items() if plot or name != "curve.png"})
     problem = Problem(**config.problem_kwargs())

@@ -163,6 +163,7 @@ def run(args) -> int:
     from ..scan import run as run_scan
     from ..scan import tables
     from ..scan.config import DEFAULT_CONFIG
+    from ..scan.config.extras import check_extras, scan_extras
     from ..scan.errors import ScanAborted
     from ..scan.manifest import new_manifest, write_manifest
     from ..scan.output import OutputDirectory
@@ -177,6 +178,7 @@ def run(args) -> int:
         _core.checked_default_threads()  # OMP_NUM_THREADS, before anything is written
     plots = not args.no_plots
     planned = _planned(config, plots)
+    check_extras(scan_extras(config, planned, cluster=args.scheduler is not None))
     out = OutputDirectory(args.out, overwrite=args.overwrite)
     out.prepare(planned, config.parquet, _parquet_bytes(config))
     manifest = new_manifest(config, _overrides(args), config.points)

@@ -91,11 +91,13 @@ def write_indices(out, result) -> None:
 
 def run(args) -> int:
     from ..scan.config import default_config, load_config
+    from ..scan.config.extras import SENSITIVITY, check_extras
     from ..scan.config.sobol import SOBOL_FILES
     from ..scan.output import OutputDirectory
 
     config = load_config(args.config) if args.config else default_config()
     sobol = settings(config, args.points, args.seed)
+    check_extras([(SENSITIVITY, "Sobol' indices", "")])
     out = OutputDirectory(args.out, overwrite=args.overwrite)
     out.prepare(dict.fromkeys(SOBOL_FILES, "the Sobol' indices"))
     result, seconds = compute(config, sobol, args.threads or config.threads)

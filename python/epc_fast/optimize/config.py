@@ -29,7 +29,8 @@ from ..scan.config.files import read_text
 from ..scan.errors import ConfigError
 from ..scan.schema import (MAX_CONFIG_BYTES, choice, integer, number, number_list, short,
                           table_of, take, wrapped)
-from ..scan.space import POINT_PARAMETERS, Space
+from ..scan.distributions import Grid
+from ..scan.space import POINT_PARAMETERS, Space, domain_problem
 
 __all__ = ["OptimizeConfig", "parse_optimize_config", "load_optimize_config",
            "MAX_OPTIMIZE_POINTS", "DEFAULT_CURVE_POINTS"]
@@ -101,6 +102,10 @@ def _bounds(table) -> dict:
         if len(pair) != 2 or not pair[0] < pair[1]:
             raise ConfigError(f"scan config [optimize.bounds]: {name} = {short(value)}: "
                               "expected [low, high] with low < high")
+        problem = domain_problem(name, Grid(tuple(pair)))
+        if problem:
+            raise ConfigError(f"scan config [optimize.bounds]: {name} = {short(value)}: "
+                              + problem.split(": ", 1)[1].replace("every value", "both bounds"))
         bounds[name] = (float(pair[0]), float(pair[1]))
     return bounds
 

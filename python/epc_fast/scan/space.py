@@ -19,13 +19,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
+from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
 from ..presets import Design
-from ..sensor import SHAPE_KEYWORDS, design_parameters
+from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
 from . import streams
-from .distributions import Choice, Grid
+from .distributions import (MIN_TRUNCATED_PROBABILITY, Choice, Empirical, Grid, LogNormal,
+                            LogUniform, Truncated, Uniform)
 
-__all__ = ["Space", "Points", "BLOCK_POINTS"]
+__all__ = ["Space", "Points", "BLOCK_POINTS", "domain_problem"]
 
 #: Points per block: chunks are whole numbers of blocks, which fixes the order in which the
 #: reductions merge them.
@@ -34,11 +35,107 @@ BLOCK_POINTS = 1 << 16
 #: The per-point keyword parameters of :func:`epc_fast.evaluate`.
 POINT_PARAMETERS = tuple(n for n in PARAMETER_NAMES if n != "size") + SIZE_PARAMETERS
 REQUIRED_PARAMETERS = ("illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm")
+#: The smallest share of a distribution's draws outside the domain that
+#: :meth:`Space.describe` reports.
+MIN_REPORTED_SHARE = 1e-6
 #: Characters per line of :meth:`Space.describe`.
 DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
 EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
                     "precision")
+
+
+def _domain_of(name: str):
+    """The :class:`~epc_fast.params.Param` of a point parameter (the size slot for
+    ``pixel_count`` and ``sensor_area_mm2``)."""
+    slot = "size" if name in SIZE_PARAMETERS else name
+    return next(p for p in PARAMETERS if p.name == slot)
+
+
+def _expected(name: str, what: str = "a value") -> str:
+    """``"expected <what> in <domain> (<unit>, <meaning>)"`` of point parameter ``name``."""
+    param = _domain_of(name)
+    if name in SIZE_PARAMETERS:
+        unit, meaning = ("pixels", "pixel count") if name == "pixel_count" else \
+            ("mm^2", "sensor area")
+    else:
+        unit, meaning = param.meaning.split(": ", 1)
+    return f"expected {what} in {param.domain_text()} ({unit}: {meaning})"
+
+
+def _outside(param, values) -> list:
+    values = np.asarray(values, dtype=np.float64).reshape(-1)
+    return [float(v) for v in values[~in_domain(param, values)]]
+
+
+def _inside_closure(param, value: float) -> bool:
+    return param.lo <= value <= param.hi
+
+
+def domain_problem(name: str, axis):
+    """What is wrong with parameter ``name`` set to ``axis`` (a number, a :class:`Grid`, a
+    :class:`Choice` or a distribution) against its domain (:mod:`epc_fast.params`), as
+    ``"<value>: expected ..."``; None when nothing is.
+
+    A number, and every value of a grid, a choice or an empirical distribution, is drawn as
+    it is, so each must lie in the domain. A uniform or log-uniform distribution's bounds, and
+    a truncation's finite bounds, must lie in the domain or on its ends (draws never reach an
+    open end). A distribution whose draws fall in the domain with a probability below
+    :data:`~epc_fast.scan.distributions.MIN_TRUNCATED_PROBABILITY` is refused (its points would
+    all be INVALID); one whose tail only reaches outside keeps its draws there, which are
+    INVALID points, counted as such (``truncate`` avoids them).
+    """
+    param = _domain_of(name)
+    if isinstance(axis, (Grid, Choice)):
+        bad = _outside(param, axis.values)
+        kind = "grid" if isinstance(axis, Grid) else "choice"
+        return (None if not bad else
+                f"{kind} value {bad[0]:g}: {_expected(name, 'every value')}")
+    if isinstance(axis, (int, float)) and not isinstance(axis, bool):
+        return None if in_domain(param, axis) else f"{float(axis):g}: {_expected(name)}"
+    parent = axis.distribution if isinstance(axis, Truncated) else axis
+    if isinstance(parent, Empirical):
+        bad = _outside(param, parent.samples if parent is axis else
+                       parent.samples[(parent.samples >= axis.low)
+                                      & (parent.samples <= axis.high)])
+        if bad:
+            return f"empirical sample {bad[0]:g}: {_expected(name, 'every sample')}"
+        return None
+    # The support's ends, and whether the user wrote each (a bound or a truncation).
+    if isinstance(parent, (Uniform, LogUniform)):
+        (low, low_given), (high, high_given) = (parent.low, True), (parent.high, True)
+    else:
+        low, low_given = (0.0 if isinstance(parent, LogNormal) else -math.inf), False
+        high, high_given = math.inf, False
+    if isinstance(axis, Truncated):
+        if axis.low > low:
+            low, low_given = axis.low, True
+        if axis.high < high:
+            high, high_given = axis.high, True
+    bad = [v for v, given in ((low, low_given), (high, high_given))
+           if given and not _inside_closure(param, v)]
+    if bad:
+        return f"{axis!r} reaches {bad[0]:g}: {_expected(name, 'its bounds')}"
+    inside = _inside_probability(name, axis)
+    if inside < MIN_TRUNCATED_PROBABILITY:
+        return (f"{axis!r} draws in the domain with a probability of {inside:.2g}: "
+                f"{_expected(name, 'draws')}")
+    return None
+
+
+def _inside_probability(name: str, axis) -> float:
+    """1: the probability that a distribution's draw of parameter ``name`` falls inside its
+    domain; 1 for a number, a grid, a choice and an empirical distribution, whose values are
+    checked one by one."""
+    param = _domain_of(name)
+    parent = axis.distribution if isinstance(axis, Truncated) else axis
+    if not hasattr(parent, "probability_within") or isinstance(parent, Empirical):
+        return 1.0
+    low, high = (max(param.lo, axis.low), min(param.hi, axis.high)) \
+        if isinstance(axis, Truncated) else (param.lo, param.hi)
+    inside = parent.probability_within(low, high) / getattr(axis, "probability", 1.0) \
+        if low < high else 0.0
+    return min(max(inside, 0.0), 1.0)
 
 
 @dataclass
@@ -100,6 +197,11 @@ class Space:
         :class:`LogUniform`, :class:`Normal`, :class:`LogNormal`, :class:`Truncated`,
         :class:`Empirical`). A parameter given here replaces the designs' value of it;
         parameters given nowhere take evaluate's defaults.
+
+    Every value is checked here, before any point: each parameter against its domain
+    (:func:`domain_problem`), the designs' names (each its own, with a letter or digit) and the
+    sensor's size (given once, by the designs or as a parameter); a ValueError or TypeError
+    names the parameter or design, the value and what is expected.
     """
 
     def __init__(self, design=None, evaluate_options=None, **parameters):
@@ -126,6 +228,7 @@ class Space:
             raise TypeError(f"unknown evaluate option(s) {', '.join(bad)}; the options are "
                             f"{', '.join(EVALUATE_OPTIONS)}")
         self._check_required()
+        self._check_domains()
         self.grid_axes = tuple(n for n, a in self.axes.items() if isinstance(a, Grid))
         self.grid_shape = tuple(len(self.axes[n].values) for n in self.grid_axes)
 
@@ -150,6 +253,14 @@ class Space:
                             f"gives parameters of epc_fast.evaluate ({', '.join(POINT_PARAMETERS)}"
                             f"), its sensor as {', '.join(SHAPE_KEYWORDS)}, and snr_at")
         self.design_names = tuple(str(e["name"]) for e in entries)
+        for position, name in enumerate(self.design_names):
+            if not any(c.isalnum() for c in name):
+                raise ValueError(f"design {position}'s name is {name!r}: expected a name with a "
+                                 "letter or digit")
+            first = self.design_names.index(name)
+            if first != position:
+                raise ValueError(f"design names must differ: {name!r} is the name of designs "
+                                 f"{first} and {position}")
         self.design_table = {n: np.array([float(e[n]) for e in entries]) for n in sorted(names)}
         self.design_varying = tuple(n for n, v in self.design_table.items() if np.any(v != v[0]))
         self.design_constant = tuple(n for n in self.design_table if n not in self.design_varying)
@@ -176,9 +287,30 @@ class Space:
         if missing:
             raise TypeError(f"the space does not give {', '.join(missing)}")
         sizes = [n for n in SIZE_PARAMETERS if n in given]
+        if not sizes and self.design_names:
+            raise TypeError(f"design {self.design_names[0]!r} gives no sensor size: give it in "
+                            f"the design, one of four ways: {SIZE_WAYS}; {SIZE_AND_SNR_AT}")
+        if not sizes:
+            raise TypeError("the space gives no sensor size: give pixel_count or "
+                            "sensor_area_mm2, or designs that give it one of four ways: "
+                            f"{SIZE_WAYS}; {SIZE_AND_SNR_AT}")
         if len(sizes) != 1:
             raise TypeError(f"give exactly one of {' and '.join(SIZE_PARAMETERS)} "
                             f"(given: {sizes or 'neither'})")
+
+    def _check_domains(self):
+        """A ValueError naming the parameter, its value and its domain when a fixed value, a
+        grid's or a choice's value, a distribution or a design's value lies outside the
+        parameter's domain (:func:`domain_problem`): refused before the first point."""
+        for name, axis in self.axes.items():
+            problem = None if name == "design" else domain_problem(name, axis)
+            if problem:
+                raise ValueError(f"{name} = {problem}")
+        for name, values in self.design_table.items():
+            for design, value in zip(self.design_names, values):
+                problem = domain_problem(name, float(value))
+                if problem:
+                    raise ValueError(f"design {design!r}: {name} = {problem}")
 
     @property
     def grid_size(self) -> int:
@@ -316,7 +448,12 @@ class Space:
                 lines.extend(f"  {design}: SNR target {target}"
                              for design, target in zip(self.design_names, targets))
             else:
-                lines.append(f"{name}: {axis!r}")
+                share = 0.0 if isinstance(axis, (float, Grid, Choice)) else \
+                    1.0 - _inside_probability(name, axis)
+                lines.append(f"{name}: {axis!r}" + (
+                    f": {100 * share:.2g}% of the draws fall outside the domain "
+                    f"{_domain_of(name).domain_text()} and are INVALID points"
+                    if share >= MIN_REPORTED_SHARE else ""))
         if not self.design_names:
             lines.append(f"SNR target: {targets[0]}")
         defaults = [f"{name}={value:g}" for name, value in self.defaults().items()]

@@ -2,7 +2,8 @@
 reads the space, the point count, the seed and the reductions (the format is in its docstring);
 :mod:`~epc_fast.scan.config.reductions` the ``[reductions]`` tables,
 :mod:`~epc_fast.scan.config.sobol` the ``[sobol]`` table and
-:mod:`~epc_fast.scan.config.files` the files a config reads. Its names are importable from here
+:mod:`~epc_fast.scan.config.files` the files a config reads;
+:mod:`~epc_fast.scan.config.extras` checks the optional dependencies a run needs. Its names are importable from here
 (``from epc_fast.scan.config import load_config``).
 """
 

@@ -53,8 +53,9 @@ from ..runner import DEFAULT_CHUNK_POINTS
 from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
                      check_size, choice, file_name, integer, number, number_list, short, string,
                      table_of, take, wrapped)
-from ...sensor import SHAPE_KEYWORDS, design_parameters
-from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space
+from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
+from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
+from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG",
            "toml_document", "parse_space"]
@@ -168,18 +169,34 @@ def _designs(table: dict):
     if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
         raise ConfigError(f"scan config [design]: presets = {short(names)}: expected a list of "
                           'preset names, e.g. ["HIGH_TIER"]')
+    #: {design name: where it was given}: a name names one design only.
+    named = {}
     for name in names:
         found = getattr(presets, name, None) if name.isidentifier() else None
         if not (isinstance(found, presets.Design) or (isinstance(found, tuple) and found
                                                       and isinstance(found[0], presets.Design))):
             raise ConfigError(f"scan config [design]: presets: {short(name)} is not a preset "
                               "of epc_fast.presets (e.g. HIGH_TIER, LOW_TIER, ZOOM_3X)")
-        designs.extend(found if isinstance(found, tuple) else (found,))
+        for design in found if isinstance(found, tuple) else (found,):
+            if design.name in named:
+                raise ConfigError(f"scan config [design]: presets: {short(name)} gives the "
+                                  f"design {short(design.name)} a second time")
+            named[design.name] = f"the preset {name}'s design"
+            designs.append(design)
     custom = table.get("custom", [])
     if not isinstance(custom, list) or len(custom) > MAX_LIST:
         raise ConfigError(f"scan config [design]: custom = {short(custom)}: expected "
                           "[[design.custom]] tables")
-    designs.extend(_custom_design(entry, i) for i, entry in enumerate(custom))
+    for index, entry in enumerate(custom):
+        design = _custom_design(entry, index)
+        # Space names a design without a name by its position.
+        name = design.get("name", f"design {len(designs)}")
+        if name in named:
+            raise ConfigError(f"scan config [design.custom[{index}]]: name = {short(name)}: "
+                              f"expected a name no other design has ({named[name]} is named "
+                              f"{short(name)})")
+        named[name] = f"[design.custom[{index}]]"
+        designs.append(design)
     check_size("design", "designs", len(designs), MAX_GROUPS, 64)
     if not designs:
         raise ConfigError("scan config [design]: give presets or [[design.custom]] entries")
@@ -212,12 +229,22 @@ def _custom_design(entry, index: int) -> dict:
                               "sensor_area_mm2, or pixel_count) and snr_at")
         if key in ("name", "snr_at"):
             design[key] = string(where, key, value)
+            if key == "name" and not any(c.isalnum() for c in value):
+                raise ConfigError(f"scan config [{where}]: name = {short(value)}: expected a "
+                                  "name with a letter or digit")
         elif key == "aspect" and isinstance(value, str):
             design[key] = value
         else:
             design[key] = number(where, key, value)
-    wrapped(where, lambda: design_parameters(
-        {k: v for k, v in design.items() if k != "name"}))
+    label = f"[{where}]" + (f" {design['name']!r}" if "name" in design else "")
+    for key, value in design.items():
+        problem = domain_problem(key, value) if key in POINT_PARAMETERS else None
+        if problem:
+            raise ConfigError(f"scan config {label}: {key} = {problem}")
+    try:
+        design_parameters({k: v for k, v in design.items() if k != "name"})
+    except (TypeError, ValueError) as error:
+        raise ConfigError(f"scan config {label}: {error}") from None
     return design
 
 
@@ -310,6 +337,19 @@ def toml_document(text: str, source: str) -> dict:
         raise ConfigError(f"scan config {source}: not valid TOML: {error}") from None
 
 
+def _check_sizes(design) -> None:
+    """A ConfigError naming the first [[design.custom]] table that gives no sensor size (none
+    is in [parameters]): the size belongs in the design's table, where its shape decides
+    where the SNR target is met."""
+    custom = [entry for entry in design.values if isinstance(entry, dict)]
+    for index, entry in enumerate(custom):
+        if not set(entry) & set(SIZE_KEYWORDS):
+            name = f" {short(entry['name'])}" if "name" in entry else ""
+            raise ConfigError(f"scan config [design.custom[{index}]]{name}: no sensor size: give "
+                              f"it in this table, one of four ways: {SIZE_WAYS}; "
+                              f"{SIZE_AND_SNR_AT}")
+
+
 def _space_builder(document: dict, base_dir):
     """A function that builds the :class:`Space` of a config's ``[design]``, ``[parameters]``
     and ``[evaluate]`` tables, every key of which is checked here, before it is called."""
@@ -317,6 +357,8 @@ def _space_builder(document: dict, base_dir):
     parameters = {name: _parameter(name, value, Path(base_dir)) for name, value
                   in table_of("parameters", document.get("parameters", {})).items()}
     options = _evaluate_options(document.get("evaluate", {}))
+    if design is not None and not set(parameters) & set(SIZE_PARAMETERS):
+        _check_sizes(design)
     return lambda: wrapped("parameters", lambda: Space(design=design, evaluate_options=options,
                                                        **parameters))
 
