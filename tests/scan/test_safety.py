@@ -388,3 +388,19 @@ def test_a_full_disk_while_writing_a_table_leaves_no_truncated_table(tmp_path, c
     assert code == 1 and "No space left on device" in err and err.count("\n") == 1
     assert not (out / "summary_by_design.md").exists()
     assert not [p.name for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_ctrl_c_before_the_first_merge_writes_an_empty_top_k_table(tmp_path, capsys,
+                                                                   monkeypatch):
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=1))
+    out = tmp_path / "out"
+    code, stdout, err = _cli(capsys, _config(tmp_path, '[reductions.best]\nkind = "top_k"\n'
+                                             'k = 3\n'), "--out", out, "--no-plots")
+    assert code == 130 and "INTERRUPTED" in stdout and "Traceback" not in err, err
+    with open(out / "best.csv", newline="") as handle:
+        assert list(csv.reader(handle)) == [["point", "epc", "design", "illuminance_lux",
+                                             "pixel_pitch_um"]]
+    assert [int(r["points"]) for r in _rows(out / "summary_by_design.csv")] == [0] * 4
+    manifest = _manifest(out)
+    assert manifest["state"] == "interrupted" and manifest["points_done"] == 0
+    assert "best.csv" in manifest["files"]
