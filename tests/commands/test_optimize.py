@@ -144,3 +144,21 @@ def test_without_matplotlib_the_command_stops_before_any_work(tmp_path, capsys, 
     assert "pip install 'epc-fast[plot]' (or --no-plot on the command line)" in err
     assert not (tmp_path / "out").exists()
     assert _optimize(tmp_path, capsys, CONFIG, "--no-plot")[0] == 0
+
+
+def test_an_out_another_run_writes_in_is_refused_naming_that_run(tmp_path, capsys):
+    import os
+
+    from epc_fast.scan.output import OutputLock
+
+    (tmp_path / "out").mkdir()
+    holder = OutputLock(tmp_path / "out")
+    holder.acquire()
+    try:
+        code, out, err = _optimize(tmp_path, capsys, CONFIG, "--overwrite")
+    finally:
+        holder.release()
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith(f"epc-fast optimize: error: --out '{tmp_path / 'out'}': another run "
+                          f"writes here: pid {os.getpid()} on ")
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == []

@@ -270,11 +270,12 @@ def _scan_process(config, out, *extra):
                             stderr=subprocess.PIPE, text=True)
 
 
-def _wait_for_chunks(process, out, chunks, timeout=120):
+def _wait_for_chunks(process, out, chunks, timeout=120, seed=7):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         try:
-            if _manifest(out)["points_done"] >= chunks * CHUNK:
+            manifest = _manifest(out)
+            if manifest["points_done"] >= chunks * CHUNK and manifest["seed"] == seed:
                 return
         except (OSError, ValueError):
             pass
@@ -404,3 +405,67 @@ def test_ctrl_c_before_the_first_merge_writes_an_empty_top_k_table(tmp_path, cap
     manifest = _manifest(out)
     assert manifest["state"] == "interrupted" and manifest["points_done"] == 0
     assert "best.csv" in manifest["files"]
+
+
+# --- one writer per --out ------------------------------------------------------------------
+
+def test_a_second_run_into_a_busy_out_is_refused_naming_the_holder_and_a_dead_ones_is_taken_over(
+        tmp_path, capsys):
+    pq = pytest.importorskip("pyarrow.parquet")
+    config = _config(tmp_path, '[output]\nparquet = "points"\n')
+    out = tmp_path / "out"
+    first = _scan_process(config, out, "--points", "2e7", "--overwrite")
+    try:
+        _wait_for_chunks(first, out, 2)
+        second = subprocess.run([sys.executable, "-m", "epc_fast", "scan", str(config), "--out",
+                                 str(out), "--overwrite", "--no-progress", "--seed", "1"],
+                                capture_output=True, text=True, timeout=120)
+        assert second.returncode == 2 and second.stdout == "", second.stderr
+        assert second.stderr.count("\n") == 1 and "another run writes here" in second.stderr
+        assert f"pid {first.pid} on " in second.stderr and " since 20" in second.stderr
+        assert first.poll() is None
+        first.send_signal(signal.SIGTERM)
+        first.communicate(timeout=120)
+    finally:
+        first.kill()
+    assert first.returncode == 143
+    manifest = _manifest(out)
+    assert manifest["seed"] == 7 and manifest["state"] == "interrupted"
+    table = pq.read_table(out / "points")
+    assert table.column("point").to_pylist() == list(range(manifest["points_done"]))
+    assert not [p for p in out.rglob(".*")]  # the lock file is gone with its run
+    # A run killed with its lock held leaves the lock file; the next run takes it over.
+    killed = _scan_process(config, out, "--points", "2e7", "--overwrite", "--seed", "5")
+    try:
+        _wait_for_chunks(killed, out, 1, seed=5)
+    finally:
+        killed.kill()
+        killed.communicate(timeout=60)
+    assert (out / ".epc-fast.lock").exists()
+    code, _, err = _cli(capsys, config, "--out", out, "--overwrite", "--no-plots")
+    assert code == 0 and "took over the lock" in err and f"pid {killed.pid} on " in err
+    assert pq.read_table(out / "points").num_rows == 200_000
+    assert not [p for p in out.rglob(".*")]
+
+
+def test_an_interrupted_scan_removes_only_the_parquet_files_it_wrote(tmp_path, monkeypatch):
+    pq = pytest.importorskip("pyarrow.parquet")
+    from epc_fast.presets import HIGH_TIER
+    from epc_fast.scan import Space, run
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=2))
+    points = tmp_path / "points"
+    others = ["part-000000196608.parquet", ".ready-part-000000262144.parquet",
+              ".part-000000327680.parquet.0a1b2c.tmp"]
+
+    def another_run_writes_beside(done):
+        for name in others:
+            (points / name).write_bytes(b"another run's")
+
+    space = Space(design=HIGH_TIER, illuminance_lux=1000.0)
+    result = run(space, 4 * CHUNK, seed=1, chunk_points=CHUNK, progress=False, parquet=points,
+                 on_chunk=another_run_writes_beside)
+    assert result.partial and result.points == CHUNK
+    assert sorted(p.name for p in points.iterdir()) == sorted(
+        ["part-000000000000.parquet", *others])
+    assert pq.read_table(points / "part-000000000000.parquet").num_rows == CHUNK

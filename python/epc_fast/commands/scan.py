@@ -177,70 +177,70 @@ def run(args) -> int:
         _core.checked_default_threads()  # OMP_NUM_THREADS, before anything is written
     plots = not args.no_plots
     planned = _planned(config, plots)
-    out = OutputDirectory(args.out, overwrite=args.overwrite)
-    out.prepare(planned, config.parquet, _parquet_bytes(config))
-    manifest = new_manifest(config, _overrides(args), config.points)
-    write_manifest(out.path, manifest)
-
-    def on_chunk(done: int) -> None:
-        manifest["points_done"] = done
-        manifest["files"] = _parquet_files(out, config)
+    with OutputDirectory(args.out, overwrite=args.overwrite) as out:
+        out.prepare(planned, config.parquet, _parquet_bytes(config))
+        manifest = new_manifest(config, _overrides(args), config.points)
         write_manifest(out.path, manifest)
 
-    client = _client(args.scheduler)
-    failure = sobol = None
-    try:
-        if config.sobol is not None:
-            sobol = compute(config, config.sobol, config.threads)
-        with StopSignals() as stops:
-            result = run_scan(config.space, **config.run_kwargs(),
-                              progress=False if args.no_progress else None,
-                              parquet=None if config.parquet is None else out.path / config.parquet,
-                              client=client, on_chunk=on_chunk)
-    except ScanAborted as error:
-        if error.result is None:
+        def on_chunk(done: int) -> None:
+            manifest["points_done"] = done
+            manifest["files"] = _parquet_files(out, config)
+            write_manifest(out.path, manifest)
+
+        client = _client(args.scheduler)
+        failure = sobol = None
+        try:
+            if config.sobol is not None:
+                sobol = compute(config, config.sobol, config.threads)
+            with StopSignals() as stops:
+                parquet = None if config.parquet is None else out.path / config.parquet
+                result = run_scan(config.space, **config.run_kwargs(),
+                                  progress=False if args.no_progress else None,
+                                  parquet=parquet, client=client, on_chunk=on_chunk)
+        except ScanAborted as error:
+            if error.result is None:
+                raise
+            failure, result = error, error.result
+        except BaseException as error:
+            manifest.update(state="failed", stopped_by=f"{type(error).__name__}: {error}")
+            write_manifest(out.path, manifest)
             raise
-        failure, result = error, error.result
-    except BaseException as error:
-        manifest.update(state="failed", stopped_by=f"{type(error).__name__}: {error}")
+        finally:
+            if client is not None:
+                client.close()
+        print(headline(result, config.source))
+        print(config.space.describe())
+        units = tables.grouping_units(result)
+        for grouping, columns in tables.grouped_tables(result).items():
+            if len(next(iter(columns.values()))) <= MAX_PRINTED_ROWS:
+                unit = f" ({units[grouping]})" if grouping in units else ""
+                print(f"\nby {grouping}{unit}:\n{tables.markdown(columns)}")
+        if sobol is not None:
+            print(f"\n{report(*sobol)}")
+        print()
+        for note in _quantile_notes(result):
+            print(note)
+        _write_outputs(result, out, plots=plots)
+        if sobol is not None:
+            write_indices(out, sobol[0])
+        stopped_by = (str(failure) if failure is not None
+                      else stops.name if result.partial else None)
+        state = ("failed" if failure is not None else "interrupted" if result.partial
+                 else "complete")
+        manifest.update(points_done=result.points, partial=result.partial, state=state,
+                        stopped_by=stopped_by, files=out.written + _parquet_files(out, config))
         write_manifest(out.path, manifest)
-        raise
-    finally:
-        if client is not None:
-            client.close()
-    print(headline(result, config.source))
-    print(config.space.describe())
-    units = tables.grouping_units(result)
-    for grouping, columns in tables.grouped_tables(result).items():
-        if len(next(iter(columns.values()))) <= MAX_PRINTED_ROWS:
-            unit = f" ({units[grouping]})" if grouping in units else ""
-            print(f"\nby {grouping}{unit}:\n{tables.markdown(columns)}")
-    if sobol is not None:
-        print(f"\n{report(*sobol)}")
-    print()
-    for note in _quantile_notes(result):
-        print(note)
-    _write_outputs(result, out, plots=plots)
-    if sobol is not None:
-        write_indices(out, sobol[0])
-    stopped_by = (str(failure) if failure is not None
-                  else stops.name if result.partial else None)
-    state = ("failed" if failure is not None else "interrupted" if result.partial
-             else "complete")
-    manifest.update(points_done=result.points, partial=result.partial, state=state,
-                    stopped_by=stopped_by, files=out.written + _parquet_files(out, config))
-    write_manifest(out.path, manifest)
-    for name in out.written + ["manifest.json"]:
-        print(f"wrote {out.path / name}")
-    parts = _parquet_files(out, config)
-    if parts:
-        print(f"wrote {out.path / config.parquet} ({len(parts)} Parquet parts, points 0 to "
-              f"{result.points - 1:,})")
-    if failure is not None:
-        print(f"epc-fast scan: error: {failure}; the {result.points:,} points merged before it "
-              "are written, marked partial", file=sys.stderr)
-        return EXIT_ABORTED
-    return EXIT_INTERRUPTED[stops.name] if result.partial else 0
+        for name in out.written + ["manifest.json"]:
+            print(f"wrote {out.path / name}")
+        parts = _parquet_files(out, config)
+        if parts:
+            print(f"wrote {out.path / config.parquet} ({len(parts)} Parquet parts, points 0 to "
+                  f"{result.points - 1:,})")
+        if failure is not None:
+            print(f"epc-fast scan: error: {failure}; the {result.points:,} points merged before "
+                  "it are written, marked partial", file=sys.stderr)
+            return EXIT_ABORTED
+        return EXIT_INTERRUPTED[stops.name] if result.partial else 0
 
 
 def print_default_scan(points: int = MAIN_JOB_POINTS) -> None:

@@ -96,11 +96,11 @@ def run(args) -> int:
 
     config = load_config(args.config) if args.config else default_config()
     sobol = settings(config, args.points, args.seed)
-    out = OutputDirectory(args.out, overwrite=args.overwrite)
-    out.prepare(dict.fromkeys(SOBOL_FILES, "the Sobol' indices"))
-    result, seconds = compute(config, sobol, args.threads or config.threads)
-    print(report(result, seconds))
-    write_indices(out, result)
-    for name in out.written:
-        print(f"wrote {out.path / name}")
-    return 0
+    with OutputDirectory(args.out, overwrite=args.overwrite) as out:
+        out.prepare(dict.fromkeys(SOBOL_FILES, "the Sobol' indices"))
+        result, seconds = compute(config, sobol, args.threads or config.threads)
+        print(report(result, seconds))
+        write_indices(out, result)
+        for name in out.written:
+            print(f"wrote {out.path / name}")
+        return 0

@@ -1,5 +1,9 @@
 """The output directory of ``epc-fast scan``: one policy for everything a scan writes.
 
+- One run writes in a directory at a time: :meth:`OutputDirectory.prepare` takes its lock
+  (:mod:`~epc_fast.scan.output.lock`) before anything else, refuses it while another run
+  holds it, and takes it over, saying so, from a run that died; :meth:`OutputDirectory.close`
+  (or the end of a ``with`` block) releases it.
 - Everything stays inside the directory: file names are checked (no separator, no ``..``) and
   a symlink in it is replaced, never written through.
 - A directory that is not empty is refused unless ``overwrite``; then only the files this
@@ -15,11 +19,14 @@ from __future__ import annotations
 import os
 import re
 import shutil
+import sys
 from pathlib import Path
 
 from ..atomic import TEMPORARY_SUFFIX, atomic_write
 from ..errors import OutputError
 from ..manifest import describe, read_manifest
+from ..parquet import STAGING_PREFIX
+from .lock import LOCK_NAME, OutputLock
 
 __all__ = ["OutputDirectory", "TABLE_BYTES", "PARQUET_BYTES_PER_VALUE"]
 
@@ -45,7 +52,8 @@ def _human(count: float) -> str:
 
 
 class OutputDirectory:
-    """A scan's output directory, checked by :meth:`prepare` before the scan starts.
+    """A scan's output directory, checked and locked by :meth:`prepare` before the scan starts,
+    released by :meth:`close` (a context manager: ``with OutputDirectory(path) as out``).
 
     Parameters
     ----------
@@ -57,6 +65,30 @@ class OutputDirectory:
         self.path = Path(path)
         self.overwrite = overwrite
         self.written: list[str] = []
+        self.lock = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def close(self) -> None:
+        """Release the directory's lock (nothing when :meth:`prepare` did not take it)."""
+        if self.lock is not None:
+            self.lock.release()
+            self.lock = None
+
+    def _take_lock(self) -> None:
+        if self.lock is not None:
+            return
+        lock = OutputLock(self.path)
+        previous = lock.acquire()
+        self.lock = lock
+        if previous is not None:
+            print(f"--out {str(self.path)!r}: took over the lock of a run that ended without "
+                  f"releasing it ({OutputLock.describe(previous)}); the system freed it when "
+                  "that run's process ended", file=sys.stderr)
 
     def _refuse(self, why: str):
         raise OutputError(f"--out {str(self.path)!r}: {why}")
@@ -75,7 +107,11 @@ class OutputDirectory:
             self._refuse("exists and is not a directory")
         try:
             self.path.mkdir(parents=True, exist_ok=True)
-            present = os.listdir(self.path)
+        except OSError as error:
+            self._refuse(f"cannot create or list it: {error.strerror}")
+        self._take_lock()
+        try:
+            present = [name for name in os.listdir(self.path) if name != LOCK_NAME]
         except OSError as error:
             self._refuse(f"cannot create or list it: {error.strerror}")
         if present and not self.overwrite:
@@ -117,7 +153,8 @@ class OutputDirectory:
                 "directory that is not empty without --overwrite)")
 
     def _clear_previous(self, present: list, parquet: str | None) -> None:
-        """Remove the temporary files a killed scan left, and the previous Parquet parts."""
+        """Remove the temporary files a killed scan left, and the previous Parquet parts and
+        staging directories (the lock is held: no other run is writing them)."""
         for name in present:
             if name.startswith(".") and name.endswith(TEMPORARY_SUFFIX):
                 self._remove(self.path / name)
@@ -128,6 +165,9 @@ class OutputDirectory:
                     entry.name.startswith(".") and entry.name.endswith(TEMPORARY_SUFFIX))
                 if stale and entry.is_file(follow_symlinks=False):
                     self._remove(Path(entry.path))
+                elif (entry.name.startswith(STAGING_PREFIX)
+                      and entry.is_dir(follow_symlinks=False)):
+                    shutil.rmtree(entry.path, ignore_errors=True)
 
     def _remove(self, path: Path) -> None:
         try:
