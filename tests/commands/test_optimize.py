@@ -162,3 +162,19 @@ def test_an_out_another_run_writes_in_is_refused_naming_that_run(tmp_path, capsy
     assert err.startswith(f"epc-fast optimize: error: --out '{tmp_path / 'out'}': another run "
                           f"writes here: pid {os.getpid()} on ")
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == []
+
+
+def test_overwrite_removes_the_previous_runs_files_this_run_does_not_write(tmp_path, capsys):
+    assert _optimize(tmp_path, capsys)[0] == 0
+    (tmp_path / "out" / "notes.txt").write_text("keep me\n")
+    code, _, err = _optimize(tmp_path, capsys, CONFIG, "--overwrite", "--no-plot")
+    assert code == 0 and err == ""
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
+        "curve.csv", "notes.txt", "optimum.json", "optimum.md"]
+
+
+def test_every_file_the_command_writes_is_one_overwrite_knows_as_a_commands():
+    from epc_fast.commands.optimize import FILES
+    from epc_fast.scan.output.plan import COMMAND_FILES
+
+    assert set(FILES) <= COMMAND_FILES

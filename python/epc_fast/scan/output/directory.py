@@ -6,8 +6,11 @@
   (or the end of a ``with`` block) releases it.
 - Everything stays inside the directory: file names are checked (no separator, no ``..``) and
   a symlink in it is replaced, never written through.
-- A directory that is not empty is refused unless ``overwrite``; then only the files this
-  scan writes are replaced (and its Parquet directory's parts), nothing else is touched.
+- A directory that is not empty is refused unless ``overwrite``; then the files this run
+  writes are replaced, and the previous run's files it will not write are removed before the
+  first point (those its manifest lists, its Parquet parts, and the names an ``epc-fast``
+  command always writes, :data:`~epc_fast.scan.output.plan.COMMAND_FILES`), so no file of
+  another run is left beside this run's; nothing else is touched.
 - Before the first point: the directory is created, a probe file is written and removed
   (writability), and its free space is compared with what the scan will write.
 - Every file is written to a temporary name in the same directory and renamed into place
@@ -27,6 +30,7 @@ from ..errors import OutputError
 from ..manifest import describe, read_manifest
 from ..parquet import STAGING_PREFIX
 from .lock import LOCK_NAME, OutputLock
+from .plan import COMMAND_FILES
 
 __all__ = ["OutputDirectory", "TABLE_BYTES", "PARQUET_BYTES_PER_VALUE"]
 
@@ -127,6 +131,7 @@ class OutputDirectory:
                 self._refuse(f"{name} is a directory; this scan writes a file of that name")
         if self.overwrite:
             self._clear_previous(present, parquet)
+            self._remove_previous_run(planned, parquet)
         self._probe(self.path)
         if parquet is not None:
             try:
@@ -168,6 +173,31 @@ class OutputDirectory:
                 elif (entry.name.startswith(STAGING_PREFIX)
                       and entry.is_dir(follow_symlinks=False)):
                     shutil.rmtree(entry.path, ignore_errors=True)
+
+    def _remove_previous_run(self, planned: dict, parquet: str | None) -> None:
+        """Remove the previous run's files that this run will not write: those its manifest
+        lists and the names a command always writes; a Parquet directory of its that this run
+        does not reuse loses its parts and staging directories (and goes, once empty)."""
+        manifest = read_manifest(self.path) or {}
+        files = manifest.get("files")
+        previous = set(COMMAND_FILES)
+        previous.update(name for name in (files if isinstance(files, list) else [])
+                        if isinstance(name, str) and _SAFE_NAME.fullmatch(name)
+                        and ".." not in name)
+        for name in sorted(previous - set(planned)):
+            target = self.path / name
+            if target.is_symlink() or target.is_file():
+                self._remove(target)
+        old = manifest.get("parquet")
+        if (isinstance(old, str) and old != parquet and _SAFE_NAME.fullmatch(old)
+                and ".." not in old and old not in planned):
+            directory = self.path / old
+            if directory.is_dir() and not directory.is_symlink():
+                self._clear_previous([], old)
+                try:
+                    directory.rmdir()
+                except OSError:
+                    pass  # it holds files the user put there: they stay
 
     def _remove(self, path: Path) -> None:
         try:
