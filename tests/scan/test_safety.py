@@ -469,3 +469,111 @@ def test_an_interrupted_scan_removes_only_the_parquet_files_it_wrote(tmp_path, m
     assert sorted(p.name for p in points.iterdir()) == sorted(
         ["part-000000000000.parquet", *others])
     assert pq.read_table(points / "part-000000000000.parquet").num_rows == CHUNK
+
+
+# --- every way a run ends leaves the tables of its prefix and a true manifest --------------
+
+TOP_K = '[reductions.best]\nkind = "top_k"\nk = 3\n'
+TABLES = ["best.csv", "manifest.json", "summary_by_design.csv", "summary_by_design.md"]
+
+
+@pytest.mark.parametrize("signame, code", [("SIGTERM", 143), ("SIGINT", 130)])
+def test_a_signal_while_the_tables_are_written_costs_no_file(tmp_path, signame, code):
+    config = _config(tmp_path, TOP_K)
+    out = tmp_path / "out"
+    script = tmp_path / "signalled.py"
+    script.write_text(f"""
+import os, signal, sys
+import epc_fast.scan.tables as tables
+from epc_fast.__main__ import main
+
+real_write_csv = tables.write_csv
+
+def write_csv_signalled(path, columns):
+    os.kill(os.getpid(), signal.{signame})
+    real_write_csv(path, columns)
+
+tables.write_csv = write_csv_signalled
+sys.exit(main(["scan", {str(config)!r}, "--out", {str(out)!r}, "--no-progress", "--no-plots"]))
+""")
+    finished = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                              timeout=120)
+    assert finished.returncode == code, finished.stderr
+    assert finished.stderr == (f"epc-fast scan: {signame} while the results were written: "
+                               "every file is written whole, the scan is complete\n")
+    assert sorted(p.name for p in out.iterdir()) == TABLES  # no .tmp, no lock left
+    assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == 200_000
+    assert len(_rows(out / "best.csv")) == 3
+    manifest = _manifest(out)
+    assert manifest["state"] == "complete" and manifest["stopped_by"] is None
+    assert manifest["points_done"] == 200_000 and set(manifest["files"]) == set(TABLES) - {
+        "manifest.json"}
+
+
+def test_a_second_ctrl_c_while_the_tables_are_written_costs_no_file(tmp_path, capsys,
+                                                                     monkeypatch):
+    import epc_fast.scan.tables
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=2))
+    real_write_csv = epc_fast.scan.tables.write_csv
+
+    def write_csv_after_ctrl_c(path, columns):
+        os.kill(os.getpid(), signal.SIGINT)
+        real_write_csv(path, columns)
+
+    monkeypatch.setattr(epc_fast.scan.tables, "write_csv", write_csv_after_ctrl_c)
+    out = tmp_path / "out"
+    code, stdout, _ = _cli(capsys, _config(tmp_path, TOP_K), "--out", out, "--no-plots",
+                           "--chunk-points", CHUNK)
+    assert code == 130 and "INTERRUPTED" in stdout
+    assert sorted(p.name for p in out.iterdir()) == TABLES
+    assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == CHUNK
+    manifest = _manifest(out)
+    assert manifest["state"] == "interrupted" and manifest["stopped_by"] == "SIGINT"
+    assert manifest["points_done"] == CHUNK
+
+
+def test_a_full_disk_mid_run_leaves_the_tables_of_the_merged_prefix(tmp_path, capsys,
+                                                                    monkeypatch):
+    real_reduce_chunk = epc_fast.scan.runner.reduce_chunk
+    calls = []
+
+    def full_on_the_third_chunk(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real_reduce_chunk(*args, **kwargs)
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", full_on_the_third_chunk)
+    out = tmp_path / "out"
+    code, stdout, err = _cli(capsys, _config(tmp_path, TOP_K), "--out", out, "--no-plots",
+                             "--chunk-points", CHUNK)
+    assert code == 1 and "INTERRUPTED, partial results" in stdout
+    assert err == ("epc-fast scan: error: OSError: [Errno 28] No space left on device; the "
+                   "131,072 points merged before it are written, marked partial\n")
+    assert sorted(p.name for p in out.iterdir()) == TABLES
+    assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == 2 * CHUNK
+    manifest = _manifest(out)
+    assert manifest["state"] == "failed" and manifest["partial"] is True
+    assert manifest["stopped_by"] == "OSError: [Errno 28] No space left on device"
+    assert manifest["points_done"] == 2 * CHUNK
+
+
+def test_a_failed_plot_leaves_the_tables_and_a_manifest_that_says_so(tmp_path, capsys,
+                                                                     monkeypatch):
+    import epc_fast.scan.plots
+
+    def broken_plot(*args, **kwargs):
+        raise RuntimeError("no renderer")
+
+    monkeypatch.setattr(epc_fast.scan.plots, "plot_distributions", broken_plot)
+    out = tmp_path / "out"
+    code, _, err = _cli(capsys, _config(tmp_path, '[reductions.h]\nkind = "histogram"\n'
+                                        'low = 1e3\nhigh = 1e7\n'), "--out", out)
+    assert code == 1 and err == "epc-fast scan: error: RuntimeError: no renderer\n"
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "summary_by_design.csv",
+                                                     "summary_by_design.md"]
+    manifest = _manifest(out)
+    assert manifest["state"] == "failed" and manifest["stopped_by"] == "RuntimeError: no renderer"
+    assert manifest["points_done"] == 200_000
+    assert manifest["files"] == ["summary_by_design.csv", "summary_by_design.md"]
