@@ -577,3 +577,16 @@ def test_a_failed_plot_leaves_the_tables_and_a_manifest_that_says_so(tmp_path, c
     assert manifest["state"] == "failed" and manifest["stopped_by"] == "RuntimeError: no renderer"
     assert manifest["points_done"] == 200_000
     assert manifest["files"] == ["summary_by_design.csv", "summary_by_design.md"]
+
+
+def test_a_directory_holding_only_a_dead_runs_leftovers_is_not_refused_as_not_empty(
+        tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".epc-fast.lock").write_text('{"pid": 1, "host": "gone"}\n')
+    (out / ".summary_by_design.csv.0a1b2c3d4e5f.tmp").write_text("half a tab")
+    (out / ".write-probe-4242.tmp").write_bytes(b"epc_fast")
+    code, _, err = _cli(capsys, _config(tmp_path), "--out", out)
+    assert code == 0, err
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "summary_by_design.csv",
+                                                     "summary_by_design.md"]

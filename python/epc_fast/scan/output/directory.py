@@ -10,7 +10,8 @@
   writes are replaced, and the previous run's files it will not write are removed before the
   first point (those its manifest lists, its Parquet parts, and the names an ``epc-fast``
   command always writes, :data:`~epc_fast.scan.output.plan.COMMAND_FILES`), so no file of
-  another run is left beside this run's; nothing else is touched.
+  another run is left beside this run's; nothing else is touched. A dead run's temporary
+  files (and its lock file) are removed, and do not make the directory "not empty".
 - Before the first point: the directory is created, a probe file is written and removed
   (writability), and its free space is compared with what the scan will write.
 - Every file is written to a temporary name in the same directory and renamed into place
@@ -40,6 +41,8 @@ TABLE_BYTES = 16 * 2**20
 PARQUET_BYTES_PER_VALUE = 8
 _SAFE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,199}")
 _PARTS = re.compile(r"(\.ready-)?part-\d{12,}\.parquet")
+#: A temporary file of a run that died: an atomic write's or a writability probe's.
+_LEFTOVER = re.compile(r"\.(.+\.[0-9a-f]{12}|write-probe-\d+)" + re.escape(TEMPORARY_SUFFIX))
 
 
 def _short_list(names) -> str:
@@ -118,6 +121,10 @@ class OutputDirectory:
             present = [name for name in os.listdir(self.path) if name != LOCK_NAME]
         except OSError as error:
             self._refuse(f"cannot create or list it: {error.strerror}")
+        # The lock is held: temporary files here are a dead run's leftovers, not results.
+        for name in [name for name in present if _LEFTOVER.fullmatch(name)]:
+            self._remove(self.path / name)
+            present.remove(name)
         if present and not self.overwrite:
             self._refuse(self._found(present, planned))
         for name in planned:

@@ -32,9 +32,10 @@ _TRIES = 20
 
 
 def _holder_text(holder: dict) -> str:
-    if not holder:
+    if not holder.get("pid"):
         return "another run"
-    return (f"pid {holder.get('pid')} on {holder.get('host')} since {holder.get('since')}"
+    return (f"pid {holder['pid']}" + (f" on {holder['host']}" if holder.get("host") else "")
+            + (f" since {holder['since']}" if holder.get("since") else "")
             + (f" ({holder['command']})" if holder.get("command") else ""))
 
 
