@@ -178,3 +178,34 @@ def test_every_file_the_command_writes_is_one_overwrite_knows_as_a_commands():
     from epc_fast.scan.output.plan import COMMAND_FILES
 
     assert set(FILES) <= COMMAND_FILES
+
+
+def test_sigterm_while_the_files_are_written_leaves_every_file_whole(tmp_path):
+    import subprocess
+
+    config = tmp_path / "optimize.toml"
+    config.write_text(CONFIG)
+    out = tmp_path / "out"
+    script = tmp_path / "signalled.py"
+    script.write_text(f"""
+import os, signal, sys
+import epc_fast.commands.optimize as command
+from epc_fast.__main__ import main
+
+real_write_curves = command._write_curves
+
+def write_curves_signalled(path, curves):
+    os.kill(os.getpid(), signal.SIGTERM)
+    real_write_curves(path, curves)
+
+command._write_curves = write_curves_signalled
+sys.exit(main(["optimize", {str(config)!r}, "--out", {str(out)!r}]))
+""")
+    finished = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                              timeout=120)
+    assert finished.returncode == 143, finished.stderr
+    assert finished.stderr == ("epc-fast optimize: SIGTERM while the results were written: "
+                               "every file is written whole\n")
+    assert sorted(p.name for p in out.iterdir()) == ["curve.csv", "curve.png", "optimum.json",
+                                                     "optimum.md"]
+    assert len((out / "curve.csv").read_text().splitlines()) == 1 + 5

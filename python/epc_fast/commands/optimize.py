@@ -77,6 +77,7 @@ def run(args) -> int:
     from .. import _core
     from ..optimize import Problem
     from ..scan.output import OutputDirectory
+    from ..scan.signals import SignalsHeld
 
     config = _config(args)
     if config.threads is None:
@@ -100,14 +101,15 @@ def run(args) -> int:
         print()
         print(optimum.markdown())
         text = json.dumps(_document(optimum, config), indent=1) + "\n"
-        out.write("optimum.json", lambda path: path.write_text(text, encoding="utf-8"))
-        out.write("optimum.md", lambda path: path.write_text(optimum.markdown() + "\n",
-                                                             encoding="utf-8"))
-        out.write("curve.csv", lambda path: _write_curves(path, curves))
-        if plot:
-            figure = curve_figure(curves, optimum)
-            out.write("curve.png", lambda path: figure.savefig(path, dpi=120, format="png"))
+        with SignalsHeld() as writing:  # SIGINT and SIGTERM wait for every file
+            out.write("optimum.json", lambda path: path.write_text(text, encoding="utf-8"))
+            out.write("optimum.md", lambda path: path.write_text(optimum.markdown() + "\n",
+                                                                 encoding="utf-8"))
+            out.write("curve.csv", lambda path: _write_curves(path, curves))
+            if plot:
+                figure = curve_figure(curves, optimum)
+                out.write("curve.png", lambda path: figure.savefig(path, dpi=120, format="png"))
         print()
         for name in out.written:
             print(f"wrote {out.path / name}")
-        return 0
+        return writing.exit_code("epc-fast optimize")

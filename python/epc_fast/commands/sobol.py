@@ -93,6 +93,7 @@ def run(args) -> int:
     from ..scan.config import default_config, load_config
     from ..scan.config.sobol import SOBOL_FILES
     from ..scan.output import OutputDirectory
+    from ..scan.signals import SignalsHeld
 
     config = load_config(args.config) if args.config else default_config()
     sobol = settings(config, args.points, args.seed)
@@ -100,7 +101,8 @@ def run(args) -> int:
         out.prepare(dict.fromkeys(SOBOL_FILES, "the Sobol' indices"))
         result, seconds = compute(config, sobol, args.threads or config.threads)
         print(report(result, seconds))
-        write_indices(out, result)
+        with SignalsHeld() as writing:  # SIGINT and SIGTERM wait for both files
+            write_indices(out, result)
         for name in out.written:
             print(f"wrote {out.path / name}")
-        return 0
+        return writing.exit_code("epc-fast sobol")

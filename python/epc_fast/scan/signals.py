@@ -12,6 +12,7 @@ results, and says which arrived: the command line then ends as they asked, every
 from __future__ import annotations
 
 import signal
+import sys
 import threading
 from contextlib import contextmanager
 
@@ -122,3 +123,12 @@ class SignalsHeld:
     def name(self) -> str | None:
         """The first signal received, or None."""
         return self.received[0] if self.received else None
+
+    def exit_code(self, prog: str) -> int:
+        """0 when no signal came; else 128 + the first signal's number, after one line on
+        stderr saying the files are whole."""
+        if self.name is None:
+            return 0
+        print(f"{prog}: {self.name} while the results were written: every file is written "
+              "whole", file=sys.stderr)
+        return 128 + signal.Signals[self.name].value
