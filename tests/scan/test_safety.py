@@ -590,3 +590,20 @@ def test_a_directory_holding_only_a_dead_runs_leftovers_is_not_refused_as_not_em
     assert code == 0, err
     assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "summary_by_design.csv",
                                                      "summary_by_design.md"]
+
+
+def test_ctrl_c_while_the_sobol_indices_are_computed_leaves_a_manifest_saying_so(
+        tmp_path, capsys, monkeypatch):
+    import epc_fast.commands.sobol
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(epc_fast.commands.sobol, "compute", interrupted)
+    out = tmp_path / "out"
+    code, _, err = _cli(capsys, _config(tmp_path, "[sobol]\npoints = 16\n"), "--out", out)
+    assert code == 130 and err == "epc-fast scan: interrupted before the first point\n"
+    manifest = _manifest(out)
+    assert manifest["state"] == "interrupted" and manifest["stopped_by"] == "SIGINT"
+    assert manifest["points_done"] == 0 and manifest["partial"] is True
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json"]

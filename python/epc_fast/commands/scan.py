@@ -192,12 +192,12 @@ def run(args) -> int:
         failure = sobol = None
         # From the scan's end to the manifest's last write, SIGINT and SIGTERM are held: every
         # file is written whole, then the command ends as they asked.
-        writing = SignalsHeld()
+        writing, stops = SignalsHeld(), StopSignals()
         try:
             try:
-                if config.sobol is not None:
-                    sobol = compute(config, config.sobol, config.threads)
-                with StopSignals() as stops:
+                with stops:
+                    if config.sobol is not None:
+                        sobol = compute(config, config.sobol, config.threads)
                     parquet = None if config.parquet is None else out.path / config.parquet
                     result = run_scan(config.space, **config.run_kwargs(),
                                       progress=False if args.no_progress else None,
@@ -211,6 +211,12 @@ def run(args) -> int:
                 writing.__exit__()
                 raise
             failure, result = error, error.result
+        except KeyboardInterrupt:  # before the scan's first point: the [sobol] indices
+            with writing:
+                manifest.update(state="interrupted", stopped_by=stops.name)
+                write_manifest(out.path, manifest)
+            print("epc-fast scan: interrupted before the first point", file=sys.stderr)
+            return EXIT_INTERRUPTED[stops.name]
         except BaseException as error:
             result = getattr(error, "scan_result", None)
             if result is None:
