@@ -208,7 +208,9 @@ def run(args) -> int:
                     client.close()
         except ScanAborted as error:
             if error.result is None:
-                writing.__exit__()
+                with writing:
+                    manifest.update(state="failed", stopped_by=_stopped_by(error))
+                    write_manifest(out.path, manifest)
                 raise
             failure, result = error, error.result
         except KeyboardInterrupt:  # before the scan's first point: the [sobol] indices
@@ -221,13 +223,12 @@ def run(args) -> int:
             result = getattr(error, "scan_result", None)
             if result is None:
                 with writing:
-                    manifest.update(state="failed",
-                                    stopped_by=f"{type(error).__name__}: {error}")
+                    manifest.update(state="failed", stopped_by=_stopped_by(error))
                     write_manifest(out.path, manifest)
                 raise
             failure = error
         with writing:
-            _finish(args, config, out, manifest, result, sobol, failure, stops, plots)
+            _finish(config, out, manifest, result, sobol, failure, stops, plots)
         if failure is not None:
             print(f"epc-fast scan: error: {_one_line(failure)}; the {result.points:,} points "
                   "merged before it are written, marked partial", file=sys.stderr)
@@ -259,7 +260,7 @@ def _stopped_by(error) -> str:
     return str(error) if isinstance(error, ScanAborted) else f"{type(error).__name__}: {error}"
 
 
-def _finish(args, config, out, manifest, result, sobol, failure, stops, plots) -> None:
+def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None:
     """Print the results, write every table, plot and the manifest; an error while writing is
     recorded in the manifest (state ``failed``, the files written so far) and raised."""
     from ..scan import tables
