@@ -314,7 +314,9 @@ def test_a_rerun_into_a_killed_scans_directory_says_what_it_found(tmp_path, caps
     assert table.column("point").to_pylist() == list(range(table.num_rows))
     assert table.num_rows >= _manifest(out)["points_done"] >= 2 * CHUNK
     code, _, err = _cli(capsys, config, "--out", out)
-    assert code == 2 and "a scan that did not finish" in err and "killed" in err
+    assert code == 2 and "a scan that did not finish" in err
+    assert "it was killed (no run holds this directory's lock)" in err
+    assert "still running" not in err
     assert "--overwrite" in err
     code, _, _ = _cli(capsys, config, "--out", out, "--overwrite", "--no-plots")
     assert code == 0 and pq.read_table(out / "points").num_rows == 200_000
