@@ -163,3 +163,68 @@ def test_without_scipy_the_command_stops_before_any_work(tmp_path, capsys, monke
     assert err == ("epc-fast optimize: error: SciPy is needed for the optimiser and is not "
                    "installed: pip install 'epc-fast[optimize]'\n")
     assert not (tmp_path / "out").exists()
+
+
+def test_an_out_another_run_writes_in_is_refused_naming_that_run(tmp_path, capsys):
+    import os
+
+    from epc_fast.scan.output import OutputLock
+
+    (tmp_path / "out").mkdir()
+    holder = OutputLock(tmp_path / "out")
+    holder.acquire()
+    try:
+        code, out, err = _optimize(tmp_path, capsys, CONFIG, "--overwrite")
+    finally:
+        holder.release()
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert err.startswith(f"epc-fast optimize: error: --out '{tmp_path / 'out'}': another run "
+                          f"writes here: pid {os.getpid()} on ")
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == []
+
+
+def test_overwrite_removes_the_previous_runs_files_this_run_does_not_write(tmp_path, capsys):
+    assert _optimize(tmp_path, capsys)[0] == 0
+    (tmp_path / "out" / "notes.txt").write_text("keep me\n")
+    code, _, err = _optimize(tmp_path, capsys, CONFIG, "--overwrite", "--no-plot")
+    assert code == 0 and err == ""
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
+        "curve.csv", "notes.txt", "optimum.json", "optimum.md"]
+
+
+def test_every_file_the_command_writes_is_one_overwrite_knows_as_a_commands():
+    from epc_fast.commands.optimize import FILES
+    from epc_fast.scan.output.plan import COMMAND_FILES
+
+    assert set(FILES) <= COMMAND_FILES
+
+
+def test_sigterm_while_the_files_are_written_leaves_every_file_whole(tmp_path):
+    import subprocess
+
+    config = tmp_path / "optimize.toml"
+    config.write_text(CONFIG)
+    out = tmp_path / "out"
+    script = tmp_path / "signalled.py"
+    script.write_text(f"""
+import os, signal, sys
+import epc_fast.commands.optimize as command
+from epc_fast.__main__ import main
+
+real_write_curves = command._write_curves
+
+def write_curves_signalled(path, curves):
+    os.kill(os.getpid(), signal.SIGTERM)
+    real_write_curves(path, curves)
+
+command._write_curves = write_curves_signalled
+sys.exit(main(["optimize", {str(config)!r}, "--out", {str(out)!r}]))
+""")
+    finished = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                              timeout=120)
+    assert finished.returncode == 143, finished.stderr
+    assert finished.stderr == ("epc-fast optimize: SIGTERM while the results were written: "
+                               "every file is written whole\n")
+    assert sorted(p.name for p in out.iterdir()) == ["curve.csv", "curve.png", "optimum.json",
+                                                     "optimum.md"]
+    assert len((out / "curve.csv").read_text().splitlines()) == 1 + 5

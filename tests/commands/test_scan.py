@@ -188,9 +188,11 @@ def test_an_error_that_is_not_the_users_is_one_line_with_exit_code_1(tmp_path, c
 
     monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", broken)
     code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + '[reductions.s]\nkind = "summary"\n')
-    assert code == 1 and err == "epc-fast scan: error: RuntimeError\n"
+    assert code == 1 and err == ("epc-fast scan: error: RuntimeError; the 0 points merged "
+                                 "before it are written, marked partial\n")
     manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
     assert manifest["state"] == "failed" and manifest["stopped_by"] == "RuntimeError: "
+    assert manifest["files"] == ["summary_by_all.csv", "summary_by_all.md"]
 
 
 @pytest.mark.parametrize("option, value", [("--points", "70000.9"), ("--points", "1e30"),

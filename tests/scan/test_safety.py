@@ -270,11 +270,12 @@ def _scan_process(config, out, *extra):
                             stderr=subprocess.PIPE, text=True)
 
 
-def _wait_for_chunks(process, out, chunks, timeout=120):
+def _wait_for_chunks(process, out, chunks, timeout=120, seed=7):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         try:
-            if _manifest(out)["points_done"] >= chunks * CHUNK:
+            manifest = _manifest(out)
+            if manifest["points_done"] >= chunks * CHUNK and manifest["seed"] == seed:
                 return
         except (OSError, ValueError):
             pass
@@ -313,7 +314,9 @@ def test_a_rerun_into_a_killed_scans_directory_says_what_it_found(tmp_path, caps
     assert table.column("point").to_pylist() == list(range(table.num_rows))
     assert table.num_rows >= _manifest(out)["points_done"] >= 2 * CHUNK
     code, _, err = _cli(capsys, config, "--out", out)
-    assert code == 2 and "a scan that did not finish" in err and "killed" in err
+    assert code == 2 and "a scan that did not finish" in err
+    assert "it was killed (no run holds this directory's lock)" in err
+    assert "still running" not in err
     assert "--overwrite" in err
     code, _, _ = _cli(capsys, config, "--out", out, "--overwrite", "--no-plots")
     assert code == 0 and pq.read_table(out / "points").num_rows == 200_000
@@ -388,3 +391,221 @@ def test_a_full_disk_while_writing_a_table_leaves_no_truncated_table(tmp_path, c
     assert code == 1 and "No space left on device" in err and err.count("\n") == 1
     assert not (out / "summary_by_design.md").exists()
     assert not [p.name for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_ctrl_c_before_the_first_merge_writes_an_empty_top_k_table(tmp_path, capsys,
+                                                                   monkeypatch):
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=1))
+    out = tmp_path / "out"
+    code, stdout, err = _cli(capsys, _config(tmp_path, '[reductions.best]\nkind = "top_k"\n'
+                                             'k = 3\n'), "--out", out, "--no-plots")
+    assert code == 130 and "INTERRUPTED" in stdout and "Traceback" not in err, err
+    with open(out / "best.csv", newline="") as handle:
+        assert list(csv.reader(handle)) == [["point", "epc", "design", "illuminance_lux",
+                                             "pixel_pitch_um"]]
+    assert [int(r["points"]) for r in _rows(out / "summary_by_design.csv")] == [0] * 4
+    manifest = _manifest(out)
+    assert manifest["state"] == "interrupted" and manifest["points_done"] == 0
+    assert "best.csv" in manifest["files"]
+
+
+# --- one writer per --out ------------------------------------------------------------------
+
+def test_a_second_run_into_a_busy_out_is_refused_naming_the_holder_and_a_dead_ones_is_taken_over(
+        tmp_path, capsys):
+    pq = pytest.importorskip("pyarrow.parquet")
+    config = _config(tmp_path, '[output]\nparquet = "points"\n')
+    out = tmp_path / "out"
+    first = _scan_process(config, out, "--points", "2e7", "--overwrite")
+    try:
+        _wait_for_chunks(first, out, 2)
+        second = subprocess.run([sys.executable, "-m", "epc_fast", "scan", str(config), "--out",
+                                 str(out), "--overwrite", "--no-progress", "--seed", "1"],
+                                capture_output=True, text=True, timeout=120)
+        assert second.returncode == 2 and second.stdout == "", second.stderr
+        assert second.stderr.count("\n") == 1 and "another run writes here" in second.stderr
+        assert f"pid {first.pid} on " in second.stderr and " since 20" in second.stderr
+        assert first.poll() is None
+        first.send_signal(signal.SIGTERM)
+        first.communicate(timeout=120)
+    finally:
+        first.kill()
+    assert first.returncode == 143
+    manifest = _manifest(out)
+    assert manifest["seed"] == 7 and manifest["state"] == "interrupted"
+    table = pq.read_table(out / "points")
+    assert table.column("point").to_pylist() == list(range(manifest["points_done"]))
+    assert not [p for p in out.rglob(".*")]  # the lock file is gone with its run
+    # A run killed with its lock held leaves the lock file; the next run takes it over.
+    killed = _scan_process(config, out, "--points", "2e7", "--overwrite", "--seed", "5")
+    try:
+        _wait_for_chunks(killed, out, 1, seed=5)
+    finally:
+        killed.kill()
+        killed.communicate(timeout=60)
+    assert (out / ".epc-fast.lock").exists()
+    code, _, err = _cli(capsys, config, "--out", out, "--overwrite", "--no-plots")
+    assert code == 0 and "took over the lock" in err and f"pid {killed.pid} on " in err
+    assert pq.read_table(out / "points").num_rows == 200_000
+    assert not [p for p in out.rglob(".*")]
+
+
+def test_an_interrupted_scan_removes_only_the_parquet_files_it_wrote(tmp_path, monkeypatch):
+    pq = pytest.importorskip("pyarrow.parquet")
+    from epc_fast.presets import HIGH_TIER
+    from epc_fast.scan import Space, run
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=2))
+    points = tmp_path / "points"
+    others = ["part-000000196608.parquet", ".ready-part-000000262144.parquet",
+              ".part-000000327680.parquet.0a1b2c.tmp"]
+
+    def another_run_writes_beside(done):
+        for name in others:
+            (points / name).write_bytes(b"another run's")
+
+    space = Space(design=HIGH_TIER, illuminance_lux=1000.0)
+    result = run(space, 4 * CHUNK, seed=1, chunk_points=CHUNK, progress=False, parquet=points,
+                 on_chunk=another_run_writes_beside)
+    assert result.partial and result.points == CHUNK
+    assert sorted(p.name for p in points.iterdir()) == sorted(
+        ["part-000000000000.parquet", *others])
+    assert pq.read_table(points / "part-000000000000.parquet").num_rows == CHUNK
+
+
+# --- every way a run ends leaves the tables of its prefix and a true manifest --------------
+
+TOP_K = '[reductions.best]\nkind = "top_k"\nk = 3\n'
+TABLES = ["best.csv", "manifest.json", "summary_by_design.csv", "summary_by_design.md"]
+
+
+@pytest.mark.parametrize("signame, code", [("SIGTERM", 143), ("SIGINT", 130)])
+def test_a_signal_while_the_tables_are_written_costs_no_file(tmp_path, signame, code):
+    config = _config(tmp_path, TOP_K)
+    out = tmp_path / "out"
+    script = tmp_path / "signalled.py"
+    script.write_text(f"""
+import os, signal, sys
+import epc_fast.scan.tables as tables
+from epc_fast.__main__ import main
+
+real_write_csv = tables.write_csv
+
+def write_csv_signalled(path, columns):
+    os.kill(os.getpid(), signal.{signame})
+    real_write_csv(path, columns)
+
+tables.write_csv = write_csv_signalled
+sys.exit(main(["scan", {str(config)!r}, "--out", {str(out)!r}, "--no-progress", "--no-plots"]))
+""")
+    finished = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                              timeout=120)
+    assert finished.returncode == code, finished.stderr
+    assert finished.stderr == (f"epc-fast scan: {signame} while the results were written: "
+                               "every file is written whole, the scan is complete\n")
+    assert sorted(p.name for p in out.iterdir()) == TABLES  # no .tmp, no lock left
+    assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == 200_000
+    assert len(_rows(out / "best.csv")) == 3
+    manifest = _manifest(out)
+    assert manifest["state"] == "complete" and manifest["stopped_by"] is None
+    assert manifest["points_done"] == 200_000 and set(manifest["files"]) == set(TABLES) - {
+        "manifest.json"}
+
+
+def test_a_second_ctrl_c_while_the_tables_are_written_costs_no_file(tmp_path, capsys,
+                                                                     monkeypatch):
+    import epc_fast.scan.tables
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=2))
+    real_write_csv = epc_fast.scan.tables.write_csv
+
+    def write_csv_after_ctrl_c(path, columns):
+        os.kill(os.getpid(), signal.SIGINT)
+        real_write_csv(path, columns)
+
+    monkeypatch.setattr(epc_fast.scan.tables, "write_csv", write_csv_after_ctrl_c)
+    out = tmp_path / "out"
+    code, stdout, _ = _cli(capsys, _config(tmp_path, TOP_K), "--out", out, "--no-plots",
+                           "--chunk-points", CHUNK)
+    assert code == 130 and "INTERRUPTED" in stdout
+    assert sorted(p.name for p in out.iterdir()) == TABLES
+    assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == CHUNK
+    manifest = _manifest(out)
+    assert manifest["state"] == "interrupted" and manifest["stopped_by"] == "SIGINT"
+    assert manifest["points_done"] == CHUNK
+
+
+def test_a_full_disk_mid_run_leaves_the_tables_of_the_merged_prefix(tmp_path, capsys,
+                                                                    monkeypatch):
+    real_reduce_chunk = epc_fast.scan.runner.reduce_chunk
+    calls = []
+
+    def full_on_the_third_chunk(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real_reduce_chunk(*args, **kwargs)
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", full_on_the_third_chunk)
+    out = tmp_path / "out"
+    code, stdout, err = _cli(capsys, _config(tmp_path, TOP_K), "--out", out, "--no-plots",
+                             "--chunk-points", CHUNK)
+    assert code == 1 and "INTERRUPTED, partial results" in stdout
+    assert err == ("epc-fast scan: error: OSError: [Errno 28] No space left on device; the "
+                   "131,072 points merged before it are written, marked partial\n")
+    assert sorted(p.name for p in out.iterdir()) == TABLES
+    assert sum(int(r["points"]) for r in _rows(out / "summary_by_design.csv")) == 2 * CHUNK
+    manifest = _manifest(out)
+    assert manifest["state"] == "failed" and manifest["partial"] is True
+    assert manifest["stopped_by"] == "OSError: [Errno 28] No space left on device"
+    assert manifest["points_done"] == 2 * CHUNK
+
+
+def test_a_failed_plot_leaves_the_tables_and_a_manifest_that_says_so(tmp_path, capsys,
+                                                                     monkeypatch):
+    import epc_fast.scan.plots
+
+    def broken_plot(*args, **kwargs):
+        raise RuntimeError("no renderer")
+
+    monkeypatch.setattr(epc_fast.scan.plots, "plot_distributions", broken_plot)
+    out = tmp_path / "out"
+    code, _, err = _cli(capsys, _config(tmp_path, '[reductions.h]\nkind = "histogram"\n'
+                                        'low = 1e3\nhigh = 1e7\n'), "--out", out)
+    assert code == 1 and err == "epc-fast scan: error: RuntimeError: no renderer\n"
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "summary_by_design.csv",
+                                                     "summary_by_design.md"]
+    manifest = _manifest(out)
+    assert manifest["state"] == "failed" and manifest["stopped_by"] == "RuntimeError: no renderer"
+    assert manifest["points_done"] == 200_000
+    assert manifest["files"] == ["summary_by_design.csv", "summary_by_design.md"]
+
+
+def test_a_directory_holding_only_a_dead_runs_leftovers_is_not_refused_as_not_empty(
+        tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / ".epc-fast.lock").write_text('{"pid": 1, "host": "gone"}\n')
+    (out / ".summary_by_design.csv.0a1b2c3d4e5f.tmp").write_text("half a tab")
+    (out / ".write-probe-4242.tmp").write_bytes(b"epc_fast")
+    code, _, err = _cli(capsys, _config(tmp_path), "--out", out)
+    assert code == 0, err
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "summary_by_design.csv",
+                                                     "summary_by_design.md"]
+
+
+def test_ctrl_c_while_the_sobol_indices_are_computed_leaves_a_manifest_saying_so(
+        tmp_path, capsys, monkeypatch):
+    import epc_fast.commands.sobol
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(epc_fast.commands.sobol, "compute", interrupted)
+    out = tmp_path / "out"
+    code, _, err = _cli(capsys, _config(tmp_path, "[sobol]\npoints = 16\n"), "--out", out)
+    assert code == 130 and err == "epc-fast scan: interrupted before the first point\n"
+    manifest = _manifest(out)
+    assert manifest["state"] == "interrupted" and manifest["stopped_by"] == "SIGINT"
+    assert manifest["points_done"] == 0 and manifest["partial"] is True
+    assert sorted(p.name for p in out.iterdir()) == ["manifest.json"]

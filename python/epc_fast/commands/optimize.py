@@ -78,6 +78,7 @@ def run(args) -> int:
     from ..optimize import Problem
     from ..scan.config.extras import OPTIMIZE, PLOT, check_extras
     from ..scan.output import OutputDirectory
+    from ..scan.signals import SignalsHeld
 
     config = _config(args)
     if config.threads is None:
@@ -87,28 +88,29 @@ def run(args) -> int:
                  + [(PLOT, "the optimiser's curve plot", "--no-plot")] * plot)
     if plot:
         from ..optimize.plot import curve_figure
-    out = OutputDirectory(args.out, overwrite=args.overwrite)
-    out.prepare({name: what for name, what in FILES.items() if plot or name != "curve.png"})
-    problem = Problem(**config.problem_kwargs())
-    optimum = problem.maximize(**config.search_kwargs())
-    curves = [problem.curve(name, np.linspace(low, high, config.curve_points), at=optimum.x)
-              for name, (low, high) in config.bounds.items()]
-    print(f"optimum of {optimum.objective.label} over {optimum.points:,} draws "
-          f"({config.source}), seed {optimum.seed}: {duration(optimum.wall_s)}, "
-          f"{optimum.evaluations} candidates on every draw, {optimum.batch_evaluations} on "
-          f"{optimum.batches} batches")
-    print(problem.describe())
-    print()
-    print(optimum.markdown())
-    text = json.dumps(_document(optimum, config), indent=1) + "\n"
-    out.write("optimum.json", lambda path: path.write_text(text, encoding="utf-8"))
-    out.write("optimum.md", lambda path: path.write_text(optimum.markdown() + "\n",
-                                                         encoding="utf-8"))
-    out.write("curve.csv", lambda path: _write_curves(path, curves))
-    if plot:
-        figure = curve_figure(curves, optimum)
-        out.write("curve.png", lambda path: figure.savefig(path, dpi=120, format="png"))
-    print()
-    for name in out.written:
-        print(f"wrote {out.path / name}")
-    return 0
+    with OutputDirectory(args.out, overwrite=args.overwrite) as out:
+        out.prepare({name: what for name, what in FILES.items() if plot or name != "curve.png"})
+        problem = Problem(**config.problem_kwargs())
+        optimum = problem.maximize(**config.search_kwargs())
+        curves = [problem.curve(name, np.linspace(low, high, config.curve_points), at=optimum.x)
+                  for name, (low, high) in config.bounds.items()]
+        print(f"optimum of {optimum.objective.label} over {optimum.points:,} draws "
+              f"({config.source}), seed {optimum.seed}: {duration(optimum.wall_s)}, "
+              f"{optimum.evaluations} candidates on every draw, {optimum.batch_evaluations} on "
+              f"{optimum.batches} batches")
+        print(problem.describe())
+        print()
+        print(optimum.markdown())
+        text = json.dumps(_document(optimum, config), indent=1) + "\n"
+        with SignalsHeld() as writing:  # SIGINT and SIGTERM wait for every file
+            out.write("optimum.json", lambda path: path.write_text(text, encoding="utf-8"))
+            out.write("optimum.md", lambda path: path.write_text(optimum.markdown() + "\n",
+                                                                 encoding="utf-8"))
+            out.write("curve.csv", lambda path: _write_curves(path, curves))
+            if plot:
+                figure = curve_figure(curves, optimum)
+                out.write("curve.png", lambda path: figure.savefig(path, dpi=120, format="png"))
+        print()
+        for name in out.written:
+            print(f"wrote {out.path / name}")
+        return writing.exit_code("epc-fast optimize")

@@ -6,6 +6,8 @@ Everything the scan writes goes into ``--out`` under the policy of
 :class:`epc_fast.scan.output.OutputDirectory` (checked before the first point, every file
 written atomically), with a ``manifest.json`` updated after every merged chunk. SIGINT and
 SIGTERM stop the scan between chunks; the prefix done is written everywhere, marked partial.
+An error between chunks (a full disk, a failed chunk) ends it the same way, with exit code 1.
+While the results and the manifest are written, both signals are held, then obeyed.
 """
 
 from __future__ import annotations
@@ -161,14 +163,13 @@ def _parquet_files(out, config) -> list[str]:
 def run(args) -> int:
     from .. import _core
     from ..scan import run as run_scan
-    from ..scan import tables
     from ..scan.config import DEFAULT_CONFIG
     from ..scan.config.extras import check_extras, scan_extras
     from ..scan.errors import ScanAborted
     from ..scan.manifest import new_manifest, write_manifest
     from ..scan.output import OutputDirectory
-    from ..scan.signals import StopSignals
-    from .sobol import compute, report, write_indices
+    from ..scan.signals import SignalsHeld, StopSignals
+    from .sobol import compute
 
     if args.show_config:
         print(DEFAULT_CONFIG, end="")
@@ -179,53 +180,118 @@ def run(args) -> int:
     plots = not args.no_plots
     planned = _planned(config, plots)
     check_extras(scan_extras(config, planned, cluster=args.scheduler is not None))
-    out = OutputDirectory(args.out, overwrite=args.overwrite)
-    out.prepare(planned, config.parquet, _parquet_bytes(config))
-    manifest = new_manifest(config, _overrides(args), config.points)
-    write_manifest(out.path, manifest)
-
-    def on_chunk(done: int) -> None:
-        manifest["points_done"] = done
-        manifest["files"] = _parquet_files(out, config)
+    with OutputDirectory(args.out, overwrite=args.overwrite) as out:
+        out.prepare(planned, config.parquet, _parquet_bytes(config))
+        manifest = new_manifest(config, _overrides(args), config.points)
         write_manifest(out.path, manifest)
 
-    client = _client(args.scheduler)
-    failure = sobol = None
+        def on_chunk(done: int) -> None:
+            manifest["points_done"] = done
+            manifest["files"] = _parquet_files(out, config)
+            write_manifest(out.path, manifest)
+
+        client = _client(args.scheduler)
+        failure = sobol = None
+        # From the scan's end to the manifest's last write, SIGINT and SIGTERM are held: every
+        # file is written whole, then the command ends as they asked.
+        writing, stops = SignalsHeld(), StopSignals()
+        try:
+            try:
+                with stops:
+                    if config.sobol is not None:
+                        sobol = compute(config, config.sobol, config.threads)
+                    parquet = None if config.parquet is None else out.path / config.parquet
+                    result = run_scan(config.space, **config.run_kwargs(),
+                                      progress=False if args.no_progress else None,
+                                      parquet=parquet, client=client, on_chunk=on_chunk)
+            finally:
+                writing.__enter__()
+                if client is not None:
+                    client.close()
+        except ScanAborted as error:
+            if error.result is None:
+                with writing:
+                    manifest.update(state="failed", stopped_by=_stopped_by(error))
+                    write_manifest(out.path, manifest)
+                raise
+            failure, result = error, error.result
+        except KeyboardInterrupt:  # before the scan's first point: the [sobol] indices
+            with writing:
+                manifest.update(state="interrupted", stopped_by=stops.name)
+                write_manifest(out.path, manifest)
+            print("epc-fast scan: interrupted before the first point", file=sys.stderr)
+            return EXIT_INTERRUPTED[stops.name]
+        except BaseException as error:
+            result = getattr(error, "scan_result", None)
+            if result is None:
+                with writing:
+                    manifest.update(state="failed", stopped_by=_stopped_by(error))
+                    write_manifest(out.path, manifest)
+                raise
+            failure = error
+        with writing:
+            _finish(config, out, manifest, result, sobol, failure, stops, plots)
+        if failure is not None:
+            print(f"epc-fast scan: error: {_one_line(failure)}; the {result.points:,} points "
+                  "merged before it are written, marked partial", file=sys.stderr)
+            return EXIT_ABORTED
+        if result.partial:
+            return EXIT_INTERRUPTED[stops.name]
+        if writing.name is not None:
+            print(f"epc-fast scan: {writing.name} while the results were written: every file "
+                  "is written whole, the scan is complete", file=sys.stderr)
+            return EXIT_INTERRUPTED[writing.name]
+        return 0
+
+
+def _one_line(error) -> str:
+    """An error that ended the scan, on one line: a lost cluster's message, else the error's
+    type and message."""
+    from ..scan.errors import ScanAborted
+
+    text = " ".join(str(error).split())
+    if isinstance(error, ScanAborted):
+        return text
+    return f"{type(error).__name__}: {text}" if text else type(error).__name__
+
+
+def _stopped_by(error) -> str:
+    """The manifest's ``stopped_by`` for an error."""
+    from ..scan.errors import ScanAborted
+
+    return str(error) if isinstance(error, ScanAborted) else f"{type(error).__name__}: {error}"
+
+
+def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None:
+    """Print the results, write every table, plot and the manifest; an error while writing is
+    recorded in the manifest (state ``failed``, the files written so far) and raised."""
+    from ..scan import tables
+    from ..scan.manifest import write_manifest
+    from .sobol import report, write_indices
+
     try:
-        if config.sobol is not None:
-            sobol = compute(config, config.sobol, config.threads)
-        with StopSignals() as stops:
-            result = run_scan(config.space, **config.run_kwargs(),
-                              progress=False if args.no_progress else None,
-                              parquet=None if config.parquet is None else out.path / config.parquet,
-                              client=client, on_chunk=on_chunk)
-    except ScanAborted as error:
-        if error.result is None:
-            raise
-        failure, result = error, error.result
+        print(headline(result, config.source))
+        print(config.space.describe())
+        units = tables.grouping_units(result)
+        for grouping, columns in tables.grouped_tables(result).items():
+            if len(next(iter(columns.values()))) <= MAX_PRINTED_ROWS:
+                unit = f" ({units[grouping]})" if grouping in units else ""
+                print(f"\nby {grouping}{unit}:\n{tables.markdown(columns)}")
+        if sobol is not None:
+            print(f"\n{report(*sobol)}")
+        print()
+        for note in _quantile_notes(result):
+            print(note)
+        _write_outputs(result, out, plots=plots)
+        if sobol is not None:
+            write_indices(out, sobol[0])
     except BaseException as error:
-        manifest.update(state="failed", stopped_by=f"{type(error).__name__}: {error}")
+        manifest.update(points_done=result.points, partial=result.partial, state="failed",
+                        stopped_by=_stopped_by(error),
+                        files=out.written + _parquet_files(out, config))
         write_manifest(out.path, manifest)
         raise
-    finally:
-        if client is not None:
-            client.close()
-    print(headline(result, config.source))
-    print(config.space.describe())
-    units = tables.grouping_units(result)
-    for grouping, columns in tables.grouped_tables(result).items():
-        if len(next(iter(columns.values()))) <= MAX_PRINTED_ROWS:
-            unit = f" ({units[grouping]})" if grouping in units else ""
-            print(f"\nby {grouping}{unit}:\n{tables.markdown(columns)}")
-    if sobol is not None:
-        print(f"\n{report(*sobol)}")
-    print()
-    for note in _quantile_notes(result):
-        print(note)
-    _write_outputs(result, out, plots=plots)
-    if sobol is not None:
-        write_indices(out, sobol[0])
-    stopped_by = (str(failure) if failure is not None
+    stopped_by = (_stopped_by(failure) if failure is not None
                   else stops.name if result.partial else None)
     state = ("failed" if failure is not None else "interrupted" if result.partial
              else "complete")
@@ -238,12 +304,6 @@ def run(args) -> int:
     if parts:
         print(f"wrote {out.path / config.parquet} ({len(parts)} Parquet parts, points 0 to "
               f"{result.points - 1:,})")
-    if failure is not None:
-        print(f"epc-fast scan: error: {failure}; the {result.points:,} points merged before it "
-              "are written, marked partial", file=sys.stderr)
-        return EXIT_ABORTED
-    return EXIT_INTERRUPTED[stops.name] if result.partial else 0
-
 
 def print_default_scan(points: int = MAIN_JOB_POINTS) -> None:
     """The main job's scan: the built-in config on ``points`` points, a compact table (EPC in

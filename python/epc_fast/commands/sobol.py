@@ -94,15 +94,17 @@ def run(args) -> int:
     from ..scan.config.extras import SENSITIVITY, check_extras
     from ..scan.config.sobol import SOBOL_FILES
     from ..scan.output import OutputDirectory
+    from ..scan.signals import SignalsHeld
 
     config = load_config(args.config) if args.config else default_config()
     sobol = settings(config, args.points, args.seed)
     check_extras([(SENSITIVITY, "Sobol' indices", "")])
-    out = OutputDirectory(args.out, overwrite=args.overwrite)
-    out.prepare(dict.fromkeys(SOBOL_FILES, "the Sobol' indices"))
-    result, seconds = compute(config, sobol, args.threads or config.threads)
-    print(report(result, seconds))
-    write_indices(out, result)
-    for name in out.written:
-        print(f"wrote {out.path / name}")
-    return 0
+    with OutputDirectory(args.out, overwrite=args.overwrite) as out:
+        out.prepare(dict.fromkeys(SOBOL_FILES, "the Sobol' indices"))
+        result, seconds = compute(config, sobol, args.threads or config.threads)
+        print(report(result, seconds))
+        with SignalsHeld() as writing:  # SIGINT and SIGTERM wait for both files
+            write_indices(out, result)
+        for name in out.written:
+            print(f"wrote {out.path / name}")
+        return writing.exit_code("epc-fast sobol")

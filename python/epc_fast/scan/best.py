@@ -116,7 +116,10 @@ class TopK:
         return merged
 
     def finish(self, state: dict, key: GroupKey, space) -> TopKResult:
-        parameters = {name: state["parameters"][name] for name in space.varying_parameters}
+        # Before the first merge (a scan stopped before its first chunk) the state holds no
+        # parameter: the result is then every column with no row.
+        parameters = {name: state["parameters"].get(name, np.empty(0))
+                      for name in space.varying_parameters}
         if space.design_names:
             parameters = {"design": [space.design_names[i] for i in state["design"]],
                           **parameters}

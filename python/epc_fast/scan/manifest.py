@@ -3,8 +3,8 @@
 It records the config (its TOML text and the command line's overrides), the seed, the epc_fast
 version and core build, the points asked for and done, ``partial``, the state (``running``
 while the scan runs, updated after every merged chunk; then ``complete``, ``interrupted`` or
-``failed``) and the files written. A directory whose manifest still says ``running`` was left
-by a scan that was killed (or is running still).
+``failed``) and the files written. A directory whose manifest still says ``running`` and
+whose lock no run holds (:mod:`~epc_fast.scan.output.lock`) was left by a scan that was killed.
 """
 
 from __future__ import annotations
@@ -58,12 +58,14 @@ def read_manifest(directory) -> dict | None:
 
 
 def describe(manifest: dict) -> str:
-    """What a manifest says of its scan, in a few words."""
+    """What a manifest says of its scan, in a few words, for a directory whose lock no run
+    holds (a live run's directory is refused naming that run before its manifest is read)."""
     done = f"{manifest.get('points_done', 0):,} of {manifest.get('points_requested', 0):,} points"
     state = manifest.get("state")
     if state == "running":
         return (f"a scan that did not finish ({done} merged, last recorded "
-                f"{manifest.get('updated_utc')}): it was killed, or is still running")
+                f"{manifest.get('updated_utc')}): it was killed (no run holds this "
+                "directory's lock)")
     if state == "complete":
         return f"a complete scan ({done})"
     return f"a partial scan ({state}, {done}, stopped by {manifest.get('stopped_by')})"

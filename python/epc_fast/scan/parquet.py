@@ -8,26 +8,33 @@ own chunks, so the directory must be on a file system every worker sees.
 
 A part is written in two steps, so the directory never holds more than the merged prefix
 under final names: the chunk's task writes it whole to a hidden name (``.ready-part-...``, via
-a temporary file and a rename), and the scan renames it to ``part-...`` only once the chunk's
-reductions are merged (:func:`commit_parts`). An interrupted or killed scan leaves at most
-hidden files beyond its prefix, which Parquet readers skip and :func:`discard_uncommitted`
-removes.
+a temporary file and a rename) in the run's own hidden staging directory
+(``.run-<pid>-<random>/``, made by :func:`prepare_directory`), and the scan renames it to
+``part-...`` in the directory only once the chunk's reductions are merged
+(:func:`commit_parts`). An interrupted or killed scan leaves at most hidden files beyond its
+prefix, which Parquet readers skip; :func:`discard_uncommitted` removes the run's staging
+directory, and only it: never a part, nor what another run stages beside it.
 """
 
 from __future__ import annotations
 
 import os
 import re
+import secrets
+import shutil
 from pathlib import Path
 
 import numpy as np
 
 from ..api import Result
-from .atomic import TEMPORARY_SUFFIX, atomic_write
+from .atomic import atomic_write
 from .space import Points, Space
 
 __all__ = ["prepare_directory", "write_part", "commit_parts", "discard_uncommitted",
-           "committed_parts"]
+           "committed_parts", "STAGING_PREFIX"]
+
+#: The start of a run's hidden staging directory's name.
+STAGING_PREFIX = ".run-"
 
 _READY = re.compile(r"\.ready-(part-(\d{12,})\.parquet)")
 _PART = re.compile(r"part-(\d{12,})\.parquet")
@@ -43,8 +50,9 @@ def _pyarrow():
 
 
 def prepare_directory(directory) -> str:
-    """Create ``directory`` for a scan's parts; refuse a symlink (never written through) and a
-    directory that already holds parts."""
+    """Create ``directory`` for a scan's parts and this run's staging directory in it, and
+    return the staging directory's path (where the chunks' tasks write); refuse a symlink
+    (never written through) and a directory that already holds parts."""
     _pyarrow()
     path = Path(directory)
     if path.is_symlink():
@@ -53,13 +61,16 @@ def prepare_directory(directory) -> str:
     path.mkdir(parents=True, exist_ok=True)
     if any(_PART.fullmatch(p.name) or _READY.fullmatch(p.name) for p in path.iterdir()):
         raise FileExistsError(f"{path} already holds part-*.parquet files of another scan")
+    staging = path / f"{STAGING_PREFIX}{os.getpid()}-{secrets.token_hex(6)}"
+    staging.mkdir()
     # Writable before the first point, not after the first chunk's work.
-    os.unlink(atomic_write(path / ".write-probe", lambda probe: probe.write_bytes(b"epc_fast")))
-    return str(path)
+    os.unlink(atomic_write(staging / ".write-probe", lambda probe: probe.write_bytes(b"epc")))
+    return str(staging)
 
 
 def write_part(directory: str, space: Space, points: Points, result: Result) -> None:
-    """Write one chunk's points and outputs, whole, under its hidden ready name."""
+    """Write one chunk's points and outputs, whole, under its hidden ready name in the run's
+    staging ``directory``."""
     pa = _pyarrow()
     columns = {"point": pa.array(points.index)}
     if space.design_names:
@@ -75,13 +86,15 @@ def write_part(directory: str, space: Space, points: Points, result: Result) -> 
 
 
 def commit_parts(directory: str, done: int) -> list[str]:
-    """Rename every ready part of a chunk starting before point ``done`` to its final name;
-    the names committed now, in point order."""
+    """Rename every ready part in the staging ``directory`` of a chunk starting before point
+    ``done`` to its final name in the Parquet directory; the names committed now, in point
+    order."""
     committed = []
+    parent = os.path.dirname(os.path.abspath(directory))
     for entry in sorted(os.scandir(directory), key=lambda e: e.name):
         match = _READY.fullmatch(entry.name)
         if match and int(match.group(2)) < done:
-            os.replace(entry.path, os.path.join(directory, match.group(1)))
+            os.replace(entry.path, os.path.join(parent, match.group(1)))
             committed.append(match.group(1))
     return committed
 
@@ -92,14 +105,7 @@ def committed_parts(directory: str) -> list[str]:
 
 
 def discard_uncommitted(directory: str, done: int) -> None:
-    """Remove what lies beyond the merged prefix of ``done`` points: ready parts, temporary
-    files, and any part starting at or after ``done``."""
-    for entry in os.scandir(directory):
-        ready, part = _READY.fullmatch(entry.name), _PART.fullmatch(entry.name)
-        stray = (ready is not None or (part is not None and int(part.group(1)) >= done)
-                 or (entry.name.startswith(".") and entry.name.endswith(TEMPORARY_SUFFIX)))
-        if stray:
-            try:
-                os.unlink(entry.path)
-            except FileNotFoundError:
-                pass
+    """Remove the run's staging ``directory``: its ready parts beyond the merged prefix of
+    ``done`` points and its temporary files. Nothing outside it is touched: the parts this
+    run committed stay, and so does whatever another run writes beside them."""
+    shutil.rmtree(directory, ignore_errors=True)

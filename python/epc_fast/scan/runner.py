@@ -2,7 +2,9 @@
 merged in block order as they arrive, so memory stays bounded whatever the point count.
 
 Ctrl-C (KeyboardInterrupt) or SIGTERM stops the scan between chunks: the result holds the
-chunks merged so far, a prefix of the points, and is marked ``partial``.
+chunks merged so far, a prefix of the points, and is marked ``partial``. An error between
+merges (a chunk's task failing, a full disk under its Parquet part or ``on_chunk``) is raised
+with that prefix as its ``scan_result``, so a caller can still write what was merged.
 """
 
 from __future__ import annotations
@@ -168,6 +170,9 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     ScanAborted
         When the scan cannot go on (e.g. its cluster lost every worker); its ``result`` holds
         the prefix merged before, marked ``partial``.
+    Exception
+        An error between merges (a chunk's task, Parquet, ``on_chunk``: a full disk, say) is
+        raised as it was, with the prefix merged before it as its ``scan_result``.
     """
     points = _checked_points(space, points)
     chunk_points = _checked_chunk_points(chunk_points)
@@ -197,17 +202,20 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     timing = Timing()
     done = 0
     partial = False
-    aborted = None
+    aborted = failure = None
+    merging = False
     started = time.perf_counter()
     with terminate_as_interrupt():
         try:
             for outcome in outcomes:
                 merge_started = time.perf_counter()
                 with _interrupts_deferred():
+                    merging = True
                     for item in plan:
                         states[item.name] = item.reduction.merge(states[item.name],
                                                                  outcome.partials[item.name])
                     done = outcome.stop
+                    merging = False
                     if parquet_dir is not None:
                         commit_parts(parquet_dir, done)
                     if on_chunk is not None:
@@ -220,6 +228,10 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
             partial = done < points
         except ScanAborted as error:
             aborted, partial = error, True
+        except Exception as error:
+            if merging:  # the states may hold part of a chunk: no prefix to give
+                raise
+            failure, partial = error, True
         finally:
             outcomes.close()
             reporter.close()
@@ -232,5 +244,11 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     if aborted is not None:
         aborted.result = result
         raise aborted
+    if failure is not None:
+        try:
+            failure.scan_result = result
+        except AttributeError:  # an exception type without attributes of its own
+            pass
+        raise failure
     return result
 

@@ -5,15 +5,19 @@ for SIGINT) while a scan runs, so a ``kill`` stops the scan like Ctrl-C and its 
 :func:`signals_deferred` holds both signals while a chunk is merged and delivers them after.
 Both act only in the main thread (the only one Python delivers signals to) and only where the
 handler is Python's own, leaving a handler the application installed alone.
+:class:`SignalsHeld` holds both, whatever their handlers, while a finished run writes its
+results, and says which arrived: the command line then ends as they asked, every file written.
 """
 
 from __future__ import annotations
 
 import signal
+import sys
 import threading
 from contextlib import contextmanager
 
-__all__ = ["terminate_as_interrupt", "signals_deferred", "StopSignals", "STOP_SIGNALS"]
+__all__ = ["terminate_as_interrupt", "signals_deferred", "StopSignals", "SignalsHeld",
+           "STOP_SIGNALS"]
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -86,3 +90,45 @@ class StopSignals:
     @property
     def name(self) -> str:
         return self.received[0] if self.received else "SIGINT"
+
+
+class SignalsHeld:
+    """A context in which SIGINT and SIGTERM do nothing but be recorded (``received``: their
+    names, in order), whatever their handlers were (the default action included; an ignored
+    signal stays ignored): a run's tables and manifest are written whole, then the caller ends
+    as the signal asked. In a thread other than the main one it holds nothing (Python runs
+    handlers in the main thread only)."""
+
+    def __init__(self):
+        self.received = []
+        self.previous = {}
+
+    def __enter__(self):
+        if _main_thread() and not self.previous:
+            for signum in STOP_SIGNALS:
+                # None: a handler installed outside Python, which could not be put back.
+                if signal.getsignal(signum) not in (signal.SIG_IGN, None):
+                    self.previous[signum] = signal.signal(signum, self._record)
+        return self
+
+    def _record(self, signum, frame):
+        self.received.append(signal.Signals(signum).name)
+
+    def __exit__(self, *exc):
+        for signum, handler in self.previous.items():
+            signal.signal(signum, handler)
+        self.previous = {}
+
+    @property
+    def name(self) -> str | None:
+        """The first signal received, or None."""
+        return self.received[0] if self.received else None
+
+    def exit_code(self, prog: str) -> int:
+        """0 when no signal came; else 128 + the first signal's number, after one line on
+        stderr saying the files are whole."""
+        if self.name is None:
+            return 0
+        print(f"{prog}: {self.name} while the results were written: every file is written "
+              "whole", file=sys.stderr)
+        return 128 + signal.Signals[self.name].value

@@ -17,10 +17,15 @@ from ..plots import bands_parameter_of
 from ..runner import default_reductions
 from ..tables import file_stem, table_groupings
 
-__all__ = ["plan_outputs", "TABLE_KINDS"]
+__all__ = ["plan_outputs", "TABLE_KINDS", "COMMAND_FILES"]
 
 #: Reductions whose results join the per-grouping tables (those with labels and columns).
 TABLE_KINDS = ("Summary", "Quantiles", "FractionBelow")
+#: The file names an ``epc-fast`` command writes whatever its config: ``optimize``'s four,
+#: ``sobol``'s two and the scan's manifest (which lists the scan's other files). ``--overwrite``
+#: removes these, and those the previous manifest lists, when the run will not write them.
+COMMAND_FILES = frozenset({"optimum.json", "optimum.md", "curve.csv", "curve.png",
+                           *SOBOL_FILES, MANIFEST_NAME})
 
 
 def plan_outputs(space, reductions: dict | None, plots: bool, parquet: str | None,
