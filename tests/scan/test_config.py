@@ -302,3 +302,20 @@ def test_an_evaluate_tolerance_takes_what_evaluate_takes(value, accepted):
 def test_a_check_the_scans_classes_make_names_the_table(text, message):
     with pytest.raises(ConfigError, match=message):
         parse_config(text)
+
+
+def test_a_group_with_no_finite_value_prints_a_dash_not_inf_or_nan():
+    from epc_fast.scan import BLOCK_POINTS, Space
+    # a PRNU of 10% caps the SNR at 20 dB: the 30 dB target is unreachable at every point of
+    # that group, which has no EPC at all
+    space = Space(design=[HIGH_TIER[3]], prnu=Choice([0.1, 0.0]), illuminance_lux=1000.0)
+    result = run(space, 2 * BLOCK_POINTS, progress=False,
+                 reductions={"summary": Summary(by="prnu")})
+    columns = tables.grouped_tables(result)["prnu"]
+    assert columns["ok"] == [0, columns["points"][1]]
+    assert np.isnan(columns["min"][0]) and np.isnan(columns["max"][0])
+    assert columns["min"][1] == columns["max"][1] > 0
+    unreachable = tables.markdown(columns).splitlines()[2]
+    cells = [cell.strip() for cell in unreachable.strip("|").split("|")]
+    assert cells[-4:] == [tables.NO_VALUE] * 4  # mean, std, min, max
+    assert "inf" not in unreachable and "nan" not in unreachable

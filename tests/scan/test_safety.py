@@ -402,7 +402,7 @@ def test_ctrl_c_before_the_first_merge_writes_an_empty_top_k_table(tmp_path, cap
     assert code == 130 and "INTERRUPTED" in stdout and "Traceback" not in err, err
     with open(out / "best.csv", newline="") as handle:
         assert list(csv.reader(handle)) == [["point", "epc", "design", "illuminance_lux",
-                                             "pixel_pitch_um"]]
+                                             "pixel_pitch_um", "partial: points done"]]
     assert [int(r["points"]) for r in _rows(out / "summary_by_design.csv")] == [0] * 4
     manifest = _manifest(out)
     assert manifest["state"] == "interrupted" and manifest["points_done"] == 0
@@ -609,3 +609,41 @@ def test_ctrl_c_while_the_sobol_indices_are_computed_leaves_a_manifest_saying_so
     assert manifest["state"] == "interrupted" and manifest["stopped_by"] == "SIGINT"
     assert manifest["points_done"] == 0 and manifest["partial"] is True
     assert sorted(p.name for p in out.iterdir()) == ["manifest.json"]
+
+
+# --- partial results say so in every file -----------------------------------------------------
+
+def test_every_file_of_an_interrupted_scan_says_its_results_are_partial(tmp_path, capsys,
+                                                                       monkeypatch):
+    from epc_fast.scan.tables import PARTIAL_COLUMN
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=3))
+    titles = []
+    real_save = epc_fast.scan.plots._save
+    monkeypatch.setattr(epc_fast.scan.plots, "_save", lambda figure, path: (
+        titles.append(figure.get_suptitle() + " ".join(a.get_title() for a in figure.axes)),
+        real_save(figure, path)))
+    out = tmp_path / "out"
+    config = _config(tmp_path, '[reductions.best]\nkind = "top_k"\nk = 3\n'
+                     '[reductions.distribution]\nkind = "histogram"\nlow = 1e3\nhigh = 1e7\n'
+                     'by = "design"\n'
+                     '[reductions.bands]\nkind = "quantiles"\nq = [0.1, 0.5, 0.9]\nby = '
+                     '["design", { parameter = "illuminance_lux", log_bins = [10, 100_000, 4] }]'
+                     '\n')
+    code, _, _ = _cli(capsys, config, "--out", out, "--chunk-points", CHUNK)
+    assert code == 130
+    done = f"{2 * CHUNK} of {_manifest(out)['points_requested']}"
+    csvs = sorted(out.glob("*.csv"))
+    assert csvs and all(row[PARTIAL_COLUMN] == done for path in csvs for row in _rows(path))
+    note = f"**PARTIAL RESULTS: {2 * CHUNK:,} of "
+    assert all(path.read_text().startswith(note) for path in out.glob("*.md"))
+    assert len(titles) == 2 and all("PARTIAL RESULTS: " in title for title in titles)
+
+
+def test_a_complete_scans_files_carry_no_partial_mark(tmp_path, capsys):
+    from epc_fast.scan.tables import PARTIAL_COLUMN
+
+    out = tmp_path / "out"
+    assert _cli(capsys, _config(tmp_path), "--out", out, "--no-plots")[0] == 0
+    assert all(PARTIAL_COLUMN not in row for path in out.glob("*.csv") for row in _rows(path))
+    assert not any("PARTIAL" in path.read_text() for path in out.glob("*.md"))

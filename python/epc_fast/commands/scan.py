@@ -104,17 +104,23 @@ def _write_outputs(result, out, plots: bool) -> None:
     """Every table, top-k list and plot of ``result``, each written atomically in ``out``."""
     from ..scan import tables
 
+    # a partial scan says so in every file: a last column, a line above the table, the title
+    note = tables.partial_note(result)
+    above = f"**{note}**\n\n" if note else ""
     for grouping, columns in tables.grouped_tables(result).items():
         stem = tables.file_stem(grouping)
-        out.write(stem + ".csv", lambda path: tables.write_csv(path, columns))
-        out.write(stem + ".md", lambda path: path.write_text(tables.markdown(columns) + "\n"))
+        out.write(stem + ".csv",
+                  lambda path: tables.write_csv(path, tables.marked_partial(columns, result)))
+        out.write(stem + ".md",
+                  lambda path: path.write_text(above + tables.markdown(columns) + "\n"))
     for name, columns in tables.top_k_columns(result).items():
-        out.write(f"{name}.csv", lambda path: tables.write_csv(path, columns))
+        out.write(f"{name}.csv",
+                  lambda path: tables.write_csv(path, tables.marked_partial(columns, result)))
     if plots:
-        _write_plots(result, out)
+        _write_plots(result, out, note)
 
 
-def _write_plots(result, out) -> None:
+def _write_plots(result, out, partial: str = "") -> None:
     from ..scan import plots
     from ..scan.histograms import HistogramResult, QuantilesResult
     from ..scan.summaries import FractionBelowResult
@@ -122,9 +128,10 @@ def _write_plots(result, out) -> None:
     below = [r for r in result.results.values() if isinstance(r, FractionBelowResult)]
     for name, r in result.results.items():
         if isinstance(r, HistogramResult):
-            out.write(f"{name}.png", lambda path: plots.plot_distributions(r, path, below))
+            out.write(f"{name}.png",
+                      lambda path: plots.plot_distributions(r, path, below, partial))
         elif isinstance(r, QuantilesResult) and plots.bands_parameter(r):
-            out.write(f"{name}.png", lambda path: plots.plot_bands(r, path, below))
+            out.write(f"{name}.png", lambda path: plots.plot_bands(r, path, below, partial))
 
 
 def _planned(config, plots: bool) -> dict:

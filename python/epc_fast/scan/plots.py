@@ -84,12 +84,12 @@ def _share(count: int, total: int) -> str:
     return "0%" if count == 0 else (f"{share:.2%}" if share < 0.001 else f"{share:.1%}")
 
 
-def plot_distributions(histogram: HistogramResult, path, fractions_below=()) -> None:
+def plot_distributions(histogram: HistogramResult, path, fractions_below=(), partial="") -> None:
     """Write :func:`distribution_figure` to ``path`` (PNG)."""
-    _save(distribution_figure(histogram, fractions_below), path)
+    _save(distribution_figure(histogram, fractions_below, partial), path)
 
 
-def distribution_figure(histogram: HistogramResult, fractions_below=()):
+def distribution_figure(histogram: HistogramResult, fractions_below=(), partial=""):
     """One curve per group: the fraction of its finite points whose output is below x (log x).
 
     The x axis spans the histogram's bins: each curve starts at its group's share of points
@@ -135,7 +135,8 @@ def distribution_figure(histogram: HistogramResult, fractions_below=()):
     axes.set_ylabel("Fraction of points below x")
     axes.set_ylim(0.0, 1.02)
     axes.grid(True, alpha=0.3)
-    axes.set_title(f"Cumulative distribution of {quantity_label(of)} per group")
+    axes.set_title(f"Cumulative distribution of {quantity_label(of)} per group"
+                   + _partial_line(partial))
     notes = []
     if cut:
         notes.append(f"The x axis starts at the histogram's low edge, "
@@ -170,12 +171,18 @@ def bands_parameter_of(labels) -> str | None:
     return None
 
 
-def plot_bands(quantiles: QuantilesResult, path, fractions_below=()) -> None:
+def plot_bands(quantiles: QuantilesResult, path, fractions_below=(), partial="") -> None:
     """Write :func:`bands_figure` to ``path`` (PNG)."""
-    _save(bands_figure(quantiles, fractions_below), path)
+    _save(bands_figure(quantiles, fractions_below, partial), path)
 
 
-def bands_figure(quantiles: QuantilesResult, fractions_below=()):
+def _partial_line(partial: str) -> str:
+    """A figure title's second line saying its results are partial (``partial``: what
+    :func:`epc_fast.scan.tables.partial_note` says), or nothing."""
+    return f"\n{plain_text(partial)}" if partial else ""
+
+
+def bands_figure(quantiles: QuantilesResult, fractions_below=(), partial=""):
     """The quantiles against the binned parameter (log axis, bin centres), one panel per other
     group: the middle quantile a line, shaded between the outermost quantiles and, lighter
     outside darker, the next pair in; the other groups' middle quantiles thin and grey for
@@ -233,8 +240,8 @@ def bands_figure(quantiles: QuantilesResult, fractions_below=()):
         axes.set_visible(False)
     figure.supylabel(quantity_label(of), fontsize=10)
     figure.suptitle(f"{quantity_label(of)} against {_in_sentence(quantity_label(parameter))}: "
-                    f"quantiles per bin" + (", one panel per group" if len(groups) > 1 else ""),
-                    fontsize=11)
+                    f"quantiles per bin" + (", one panel per group" if len(groups) > 1 else "")
+                    + _partial_line(partial), fontsize=11)
     figure.legend(loc="outside lower center", ncols=4, fontsize="small", frameon=False)
     renderer = freeze_layout(figure)
     for axes in panels[:len(groups)]:

@@ -59,8 +59,11 @@ class SummaryResult:
         """Table columns, one row per group."""
         statuses = {s.name.lower().replace("_", " "): self.status_counts[:, s]
                     for s in Status}
+        # a group with no finite value has no extremes: NaN, not the empty min's +inf
+        empty = ~np.isfinite(self.mean)
         return {**self.labels, "points": self.points, **statuses, "mean": self.mean,
-                "std": self.std, "min": self.min, "max": self.max}
+                "std": self.std, "min": np.where(empty, np.nan, self.min),
+                "max": np.where(empty, np.nan, self.max)}
 
 
 def _status_counts(chunk: Chunk, key: GroupKey) -> np.ndarray:

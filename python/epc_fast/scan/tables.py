@@ -15,13 +15,19 @@ import numpy as np
 from .runner import ScanResult
 
 __all__ = ["grouped_tables", "grouping_units", "table_groupings", "file_stem", "top_k_columns",
-           "write_csv", "markdown", "SNR_TARGET_COLUMN", "OUTPUT_UNITS"]
+           "write_csv", "markdown", "partial_note", "marked_partial", "SNR_TARGET_COLUMN",
+           "OUTPUT_UNITS", "PARTIAL_COLUMN", "NO_VALUE"]
 
 #: The column, after ``design``, that says where each design meets its SNR target.
 SNR_TARGET_COLUMN = "SNR target"
 #: The unit of each output a reduction may summarise.
 OUTPUT_UNITS = {"electron_rate_e_per_s": "e-/s", "electrons": "e-", "t_mpe_s": "s",
                 "blur_mm": "mm", "f50_cyc_per_mm": "cycles/mm", "epc": "pixels"}
+
+#: The column every table of a partial scan ends with: the points done of those asked for.
+PARTIAL_COLUMN = "partial: points done"
+#: What a Markdown cell shows for a statistic with no value (NaN: a group with no finite value).
+NO_VALUE = "–"
 
 #: First characters that make a spreadsheet read a CSV cell as a formula.
 FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
@@ -139,15 +145,35 @@ def _cell(value) -> str:
         return f"{int(value):,}"
     if isinstance(value, numbers.Real):
         value = float(value)
+        if np.isnan(value):
+            return NO_VALUE
         if not np.isfinite(value):
             return str(value)
         return f"{value:,.0f}" if abs(value) >= 1000 else f"{value:.4g}"
     return " ".join(str(value).replace("|", "\\|").splitlines())
 
 
+def partial_note(result: ScanResult) -> str:
+    """What marks every file of a partial scan: ``"PARTIAL RESULTS: 120,000 of 1,000,000
+    points"``; empty for a complete one."""
+    if not result.partial:
+        return ""
+    return f"PARTIAL RESULTS: {result.points:,} of {result.points_requested:,} points"
+
+
+def marked_partial(columns: dict, result: ScanResult) -> dict:
+    """``columns`` with :data:`PARTIAL_COLUMN` last, the points done of those asked for on every
+    row, when ``result`` is partial; ``columns`` as they are for a complete scan."""
+    if not result.partial:
+        return columns
+    rows = len(next(iter(columns.values()))) if columns else 0
+    done = f"{result.points} of {result.points_requested}"
+    return {**columns, PARTIAL_COLUMN: [done] * rows}
+
+
 def markdown(columns: dict) -> str:
     """A markdown table: integers and values >= 1000 with thousands separators, others to 4
-    significant digits."""
+    significant digits, a statistic with no value (NaN) a dash."""
     if not columns:
         return ""
     header = "| " + " | ".join(map(_cell, columns)) + " |"
