@@ -102,3 +102,19 @@ def test_the_memory_check_counts_the_address_space_left_under_rlimit_as():
     seconds = float(refused.split()[1])
     assert seconds < 1.0 and "(250,000,000 points)" in refused and "RLIMIT_AS" in refused
     assert "SURVIVED" in proc.stdout
+
+
+@pytest.mark.parametrize("command", ["scan", "optimize", "sobol"])
+def test_a_command_refuses_threads_it_cannot_start_before_it_writes_anything(tmp_path, command):
+    out = tmp_path / "out"
+    config = os.path.join(os.path.dirname(__file__), "..", "examples", "optimize_pitch.toml")
+    args = [command, *([config] if command == "optimize" else []), "--out", str(out),
+            "--threads", "1024"]
+    proc = run_child(f"""
+        from epc_fast.__main__ import main
+        print("EXIT", main({args!r}))
+    """)
+    assert "SURVIVED" in proc.stdout, proc.stderr
+    assert "EXIT 1" in proc.stdout
+    assert "threads=1024: this process can start at most" in proc.stderr
+    assert not out.exists()  # refused before the --out directory is made

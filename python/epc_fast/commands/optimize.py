@@ -74,15 +74,14 @@ def _document(optimum, config) -> dict:
 def run(args) -> int:
     import numpy as np
 
-    from .. import _core
+    from .._validation import threads_of
     from ..optimize import Problem
     from ..scan.config.extras import OPTIMIZE, PLOT, check_extras
     from ..scan.output import OutputDirectory
     from ..scan.signals import SignalsHeld
 
     config = _config(args)
-    if config.threads is None:
-        _core.checked_default_threads()  # OMP_NUM_THREADS, before anything is written
+    threads_of(config.threads)  # the threads (or OMP_NUM_THREADS), before anything is written
     plot = not args.no_plot
     check_extras([(OPTIMIZE, "the optimiser", "")]
                  + [(PLOT, "the optimiser's curve plot", "--no-plot")] * plot)

@@ -168,7 +168,7 @@ def _parquet_files(out, config) -> list[str]:
 
 
 def run(args) -> int:
-    from .. import _core
+    from .._validation import threads_of
     from ..scan import run as run_scan
     from ..scan.config import DEFAULT_CONFIG
     from ..scan.config.extras import check_extras, scan_extras
@@ -182,8 +182,8 @@ def run(args) -> int:
         print(DEFAULT_CONFIG, end="")
         return 0
     config = _config(args)
-    if config.threads is None and args.scheduler is None:
-        _core.checked_default_threads()  # OMP_NUM_THREADS, before anything is written
+    if args.scheduler is None:  # the threads (or OMP_NUM_THREADS), before anything is written
+        threads_of(config.threads)
     plots = not args.no_plots
     planned = _planned(config, plots)
     check_extras(scan_extras(config, planned, cluster=args.scheduler is not None))

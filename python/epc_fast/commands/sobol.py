@@ -90,6 +90,7 @@ def write_indices(out, result) -> None:
 
 
 def run(args) -> int:
+    from .._validation import threads_of
     from ..scan.config import default_config, load_config
     from ..scan.config.extras import SENSITIVITY, check_extras
     from ..scan.config.sobol import SOBOL_FILES
@@ -98,10 +99,11 @@ def run(args) -> int:
 
     config = load_config(args.config) if args.config else default_config()
     sobol = settings(config, args.points, args.seed)
+    threads = threads_of(args.threads or config.threads)  # before anything is written
     check_extras([(SENSITIVITY, "Sobol' indices", "")])
     with OutputDirectory(args.out, overwrite=args.overwrite) as out:
         out.prepare(dict.fromkeys(SOBOL_FILES, "the Sobol' indices"))
-        result, seconds = compute(config, sobol, args.threads or config.threads)
+        result, seconds = compute(config, sobol, threads)
         print(report(result, seconds))
         with SignalsHeld() as writing:  # SIGINT and SIGTERM wait for both files
             write_indices(out, result)
