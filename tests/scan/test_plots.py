@@ -259,3 +259,33 @@ def test_the_output_table_log_y_key_asks_for_log_bands_and_must_be_a_boolean():
     assert parse_config(base + "[output]\nlog_y = true\n").log_y is True
     with pytest.raises(ConfigError, match=r"output.*log_y.*'yes'.*true or false"):
         parse_config(base + "[output]\nlog_y = \"yes\"\n")
+
+
+def test_the_scan_command_draws_its_bands_with_conditions_pixel_counts_and_log_y(
+        tmp_path, monkeypatch, capsys):
+    from epc_fast import scan as scan_package  # noqa: F401  (epc_fast.scan.plots loaded)
+    from epc_fast.__main__ import main
+    import epc_fast.scan.plots as plots
+
+    drawn = {}
+    original = plots.bands_figure
+
+    def recording(*args, **kwargs):
+        drawn.update(kwargs)
+        figure = original(*args, **kwargs)
+        drawn["figure"] = figure
+        return figure
+
+    monkeypatch.setattr(plots, "bands_figure", recording)
+    config = tmp_path / "scan.toml"
+    config.write_text('[scan]\npoints = 3000\nseed = 4\n[design]\npresets = ["HIGH_TIER"]\n'
+                      '[parameters]\nilluminance_lux = { distribution = "log_uniform", '
+                      'low = 10, high = 100_000 }\n[reductions.bands]\nkind = "quantiles"\n'
+                      'q = [0.1, 0.5, 0.9]\nby = ["design", { parameter = "illuminance_lux", '
+                      'log_bins = [10, 100_000, 4] }]\n[output]\nlog_y = true\n')
+    assert main(["scan", str(config), "--out", str(tmp_path / "out"), "--no-progress"]) == 0
+    assert (tmp_path / "out" / "bands.png").is_file()
+    assert drawn["log_y"] is True
+    assert set(drawn["pixel_counts"]) == {d.name for d in HIGH_TIER}
+    assert "3,000 points, seed 4" in drawn["conditions"]
+    assert {ax.get_yscale() for ax in drawn["figure"].axes} == {"log"}
