@@ -179,7 +179,8 @@ def test_each_scan_figure_carries_its_designs_snr_target_scene_points_seed_and_b
 
     for name, figure in _conditioned_figures(result).items():
         text = figure_text(figure)
-        assert "Designs: 1/3.2\" 2.8 µm, 1/3.2\" 2.2 µm, 1/3.2\" 1.75 µm, 1/3.2\" 1.4 µm" in text
+        assert "Designs: " + ", ".join(f'1/3.2" {pitch} µm'
+                                       for pitch in ("2.8", "2.2", "1.75", "1.4")) in text
         assert "SNR target: 30 dB at corner (27.03 deg, default)" in text
         assert "shake_deg_per_s LogNormal(median=4.39, sigma=0.5)" in text
         assert f"{POINTS:,} points, seed 7" in text
