@@ -47,7 +47,8 @@ def labels_outside(boxes: dict, figure, ax) -> list:
 
 def text_boxes(figure) -> dict:
     """{where: display box} of every text drawn on ``figure``: its title, each axes' title,
-    axis labels and the tick labels inside its view, and the legends' entries."""
+    axis labels and the tick labels inside its view, the legends' entries and the figure's own
+    texts (its conditions)."""
     renderer = figure.canvas.get_renderer()
     texts = {"suptitle": figure._suptitle} if figure._suptitle is not None else {}
     for n, ax in enumerate(figure.axes):
@@ -62,6 +63,9 @@ def text_boxes(figure) -> dict:
     for n, legend in enumerate(figure.legends):
         for text in legend.get_texts():
             texts[f"legend {n} {text.get_text()}"] = text
+    titles = (figure._suptitle, figure._supxlabel, figure._supylabel)
+    for n, text in enumerate(t for t in figure.texts if not any(t is s for s in titles)):
+        texts[f"figure text {n}"] = text
     return {where: text.get_window_extent(renderer) for where, text in texts.items()
             if text.get_visible() and text.get_text()}
 
@@ -72,3 +76,16 @@ def boxes_outside(boxes: dict, figure) -> list:
     return [name for name, box in boxes.items()
             if box.x0 < frame.x0 or box.x1 > frame.x1 or box.y0 < frame.y0
             or box.y1 > frame.y1]
+
+
+def figure_text(figure) -> str:
+    """Every text drawn on ``figure`` and its axes, one a line: titles, labels, legends, the
+    figure's own texts (its conditions) and the axes' annotations."""
+    parts = [text.get_text() for text in figure.findobj(Text) if text.get_visible()]
+    return "\n".join(part for part in parts if part)
+
+
+def legend_boxes(figure) -> list:
+    """The display box of each of ``figure``'s legends."""
+    renderer = figure.canvas.get_renderer()
+    return [legend.get_window_extent(renderer) for legend in figure.legends]

@@ -96,3 +96,23 @@ def test_the_legend_sits_outside_the_axes():
     legend = figure.legends[0].get_window_extent(renderer)
     frame = figure.axes[0].get_tightbbox(renderer)
     assert legend.y1 <= frame.y0  # below the axes, their tick labels and x label
+
+
+def test_a_figure_carries_its_designs_snr_target_scene_points_and_build_under_the_legend():
+    pytest.importorskip("matplotlib")
+    import epc_fast
+    from epc_fast import _core
+    from helpers.figures import (boxes_outside, figure_text, legend_boxes, overlapping_pairs,
+                                 text_boxes)
+
+    figure = plot_epc_over_illuminance(HIGH_TIER, title="Figure 1")
+    text = figure_text(figure)
+    assert "Designs: " + ", ".join(d.name.replace(" um", " µm") for d in HIGH_TIER) in text
+    assert "SNR target: 30 dB at corner (27.03 deg, default)" in text
+    assert "Scene: illuminance 100 to 100000 lux (the x axis)" in text
+    assert f"{4 * 241:,} points" in text  # 80 a decade over three decades, both ends
+    assert f"epc_fast {epc_fast.__version__}, core {_core.isa}" in text
+    boxes = text_boxes(figure)
+    assert overlapping_pairs(boxes) == []
+    assert boxes_outside(boxes, figure) == []
+    assert boxes["figure text 0"].y1 < legend_boxes(figure)[0].y0

@@ -120,8 +120,8 @@ def test_no_text_touches_another_or_leaves_the_figure(figure_spec):
     figure = plot_limits_over_illuminance(figure_spec.designs, title=figure_spec.limits_title)
     boxes = text_boxes(figure)
     # The title, four panel titles, two axis labels a panel on the outside, 4 x 4 lux ticks
-    # on the bottom row, 2 x 6 share ticks on the left, three legend entries.
-    assert len(boxes) == 1 + 4 + 4 + 8 + 12 + 3, sorted(boxes)
+    # on the bottom row, 2 x 6 share ticks on the left, three legend entries, the conditions.
+    assert len(boxes) == 1 + 4 + 4 + 8 + 12 + 3 + 1, sorted(boxes)
     assert overlapping_pairs(boxes) == []
     assert boxes_outside(boxes, figure) == []
     renderer = figure.canvas.get_renderer()
@@ -160,3 +160,20 @@ def test_plotting_the_limits_without_matplotlib_names_the_plot_extra(monkeypatch
     monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
     with pytest.raises(ImportError, match=r"epc-fast\[plot\]"):
         plot_limits_over_illuminance(HIGH_TIER)
+
+
+def test_a_limits_figure_carries_its_designs_snr_target_scene_points_and_build():
+    pytest.importorskip("matplotlib")
+    import epc_fast
+    from epc_fast import _core
+    from helpers.figures import figure_text, legend_boxes
+
+    figure = plot_limits_over_illuminance(LOW_TIER[:3])
+    text = figure_text(figure)
+    assert "Designs: " + ", ".join(d.name.replace(" um", " µm") for d in LOW_TIER[:3]) in text
+    assert "SNR target: " in text and " dB at " in text
+    assert "Scene: illuminance 100 to 100000 lux (the x axis)" in text
+    assert f"{3 * 241:,} points" in text  # 80 a decade over three decades, both ends: 241
+    assert f"epc_fast {epc_fast.__version__}, core {_core.isa}" in text
+    renderer = figure.canvas.get_renderer()
+    assert figure.texts[-1].get_window_extent(renderer).y1 < legend_boxes(figure)[0].y0

@@ -84,3 +84,28 @@ def test_plot_legend_sits_below_the_axes_and_ticks_are_plain_numbers():
     ticks = [t.get_text() for t in ax.get_yticklabels() if t.get_text()]
     assert ticks and all("times" not in t and "^" not in t for t in ticks)
     assert ax.get_ylabel() == "Throughput (M points/s, 2 threads)"
+
+
+def test_the_plot_carries_its_conditions_under_the_legend_clear_of_every_text():
+    pytest.importorskip("matplotlib")
+    import epc_fast
+    from epc_fast import _core
+    from epc_fast.plotting.common import conditions_lines
+    from epc_fast.tradeoff import plot_tradeoff
+    from helpers.figures import (boxes_outside, figure_text, legend_boxes, overlapping_pairs,
+                                 text_boxes)
+
+    rows = [measurement(name, error, speed * 1e6, samples)
+            for name, error, speed, samples in CROWDED_RUN]
+    default = figure_text(plot_tradeoff(rows, front_of(rows)))
+    assert f"{len(rows)} settings drawn" in default
+    assert f"epc_fast {epc_fast.__version__}, core {_core.isa}" in default
+    figure = plot_tradeoff(rows, front_of(rows), conditions=conditions_lines(
+        scene="random designs: f50 error on 2,000, speed on 100,000", seed=11))
+    text = figure_text(figure)
+    assert "Scene: random designs: f50 error on 2,000, speed on 100,000" in text
+    assert "seed 11" in text
+    boxes = text_boxes(figure)
+    assert overlapping_pairs(boxes) == []
+    assert not boxes_outside({"conditions": boxes["figure text 0"]}, figure)
+    assert boxes["figure text 0"].y1 < legend_boxes(figure)[0].y0

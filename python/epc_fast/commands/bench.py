@@ -137,12 +137,12 @@ def _progress(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
 
-def _write_plot(measurements, front, path: Path, title: str) -> bool:
+def _write_plot(measurements, front, path: Path, title: str, conditions=None) -> bool:
     from ..plotting import save_figure
     from ..tradeoff import plot_tradeoff
 
     try:
-        figure = plot_tradeoff(measurements, front, title=title)
+        figure = plot_tradeoff(measurements, front, title=title, conditions=conditions)
     except ImportError as exc:
         print(f"no plot: {exc}")
         return False
@@ -183,7 +183,15 @@ def run(args) -> int:
     # the build and the CPUs name what the speeds were measured on
     title = (f"epc_fast {__version__} on {_core.isa}, {os.cpu_count()} CPUs: speed against "
              f"accuracy (f50 error on {error_points:,} points, speed on {points:,})")
-    if not args.no_plot and _write_plot(measurements, front, args.out / "trade.png", title):
+    from ..plotting.common import conditions_lines
+
+    conditions = conditions_lines(
+        scene=f"random designs: f50 error on {error_points:,}, speed on {points:,}, median of "
+              f"{rounds} round{'s' if rounds > 1 else ''} after a warm-up",
+        seed=args.seed, extra=[f"{os.cpu_count()} CPUs, OpenMP "
+                               f"{'on' if _core.openmp_enabled() else 'off'}"])
+    if not args.no_plot and _write_plot(measurements, front, args.out / "trade.png", title,
+                                        conditions):
         written.append(args.out / "trade.png")
     for path in written:
         print(f"wrote {path}")

@@ -87,6 +87,7 @@ def run(args) -> int:
                  + [(PLOT, "the optimiser's curve plot", "--no-plot")] * plot)
     if plot:
         from ..optimize.plot import curve_figure
+        from ..plotting.common import space_conditions
     with OutputDirectory(args.out, overwrite=args.overwrite) as out:
         out.prepare({name: what for name, what in FILES.items() if plot or name != "curve.png"})
         problem = Problem(**config.problem_kwargs())
@@ -107,7 +108,10 @@ def run(args) -> int:
                                                                  encoding="utf-8"))
             out.write("curve.csv", lambda path: _write_curves(path, curves))
             if plot:
-                figure = curve_figure(curves, optimum)
+                figure = curve_figure(curves, optimum, conditions=space_conditions(
+                    problem.space, points=optimum.points, seed=optimum.seed,
+                    skip=tuple(config.bounds), extra=[f"Objective: {optimum.objective.label}, "
+                                                      f"held: {optimum.held}"]))
                 out.write("curve.png", lambda path: figure.savefig(path, dpi=120, format="png"))
         print()
         for name in out.written:

@@ -100,7 +100,7 @@ def _quantile_notes(result) -> list[str]:
             if hasattr(r, "error_statement")]
 
 
-def _write_outputs(result, out, plots: bool) -> None:
+def _write_outputs(result, out, plots: bool, log_y: bool = False) -> None:
     """Every table, top-k list and plot of ``result``, each written atomically in ``out``."""
     from ..scan import tables
 
@@ -117,10 +117,10 @@ def _write_outputs(result, out, plots: bool) -> None:
         out.write(f"{name}.csv",
                   lambda path: tables.write_csv(path, tables.marked_partial(columns, result)))
     if plots:
-        _write_plots(result, out, note)
+        _write_plots(result, out, note, log_y)
 
 
-def _write_plots(result, out, partial: str = "") -> None:
+def _write_plots(result, out, partial: str = "", log_y: bool = False) -> None:
     from ..scan import plots
     from ..scan.histograms import HistogramResult, QuantilesResult
     from ..scan.summaries import FractionBelowResult
@@ -129,9 +129,13 @@ def _write_plots(result, out, partial: str = "") -> None:
     for name, r in result.results.items():
         if isinstance(r, HistogramResult):
             out.write(f"{name}.png",
-                      lambda path: plots.plot_distributions(r, path, below, partial))
+                      lambda path: plots.plot_distributions(
+                          r, path, below, partial, conditions=plots.scan_conditions(result)))
         elif isinstance(r, QuantilesResult) and plots.bands_parameter(r):
-            out.write(f"{name}.png", lambda path: plots.plot_bands(r, path, below, partial))
+            conditions = plots.scan_conditions(result, skip=(plots.bands_parameter(r),))
+            out.write(f"{name}.png", lambda path: plots.plot_bands(
+                r, path, below, partial, conditions=conditions,
+                pixel_counts=plots.scan_pixel_counts(result.space), log_y=log_y))
 
 
 def _planned(config, plots: bool) -> dict:
@@ -289,7 +293,7 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
         print()
         for note in _quantile_notes(result):
             print(note)
-        _write_outputs(result, out, plots=plots)
+        _write_outputs(result, out, plots=plots, log_y=config.log_y)
         if sobol is not None:
             write_indices(out, sobol[0])
     except BaseException as error:

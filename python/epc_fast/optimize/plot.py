@@ -16,7 +16,8 @@ import math
 from .checks import unit_of
 from .result import Optimum
 from ..plotting import common
-from ..plotting.common import save_figure
+from ..plotting.common import add_conditions, conditions_lines, save_figure
+from ..plotting.layout import freeze_layout
 from ..plotting.text import output_scale, quantity_label, quantity_unit, unit_text
 
 __all__ = ["figure_class", "curve_figure", "plot_curves", "BAND_ERRORS"]
@@ -38,9 +39,13 @@ def figure_class():
     return common.figure_class("the optimiser's curve plot", without="--no-plot on the command line")
 
 
-def curve_figure(curves, optimum: Optimum):
-    """A matplotlib Figure: one panel per :class:`~epc_fast.optimize.Curve` in ``curves``."""
-    figure = figure_class()(figsize=(7.5, 4.8 * len(curves)), layout="constrained")
+def curve_figure(curves, optimum: Optimum, *, conditions=None):
+    """A matplotlib Figure: one panel per :class:`~epc_fast.optimize.Curve` in ``curves``.
+
+    ``conditions`` (lines, :func:`epc_fast.plotting.common.space_conditions` of the problem's
+    space) are written under the panels; by default the draws, their seed, the version and
+    the build."""
+    figure = figure_class()(figsize=(7.5, 4.8 * len(curves) + 0.6), layout="constrained")
     scale, ylabel = _objective_axis(optimum)
     for axes, curve in zip(figure.subplots(len(curves), 1, squeeze=False)[:, 0], curves):
         y = curve.objective / scale
@@ -63,9 +68,12 @@ def curve_figure(curves, optimum: Optimum):
                        + (f"; {others}" if others else ""), fontsize=10)
         axes.grid(alpha=0.3)
         axes.legend(loc="best", fontsize=9)
+    add_conditions(figure, conditions_lines(points=optimum.points, seed=optimum.seed)
+                   if conditions is None else conditions)
+    freeze_layout(figure)
     return figure
 
 
-def plot_curves(curves, optimum: Optimum, path) -> None:
+def plot_curves(curves, optimum: Optimum, path, *, conditions=None) -> None:
     """Write :func:`curve_figure` as a PNG to ``path``, atomically."""
-    save_figure(curve_figure(curves, optimum), path, dpi=120)
+    save_figure(curve_figure(curves, optimum, conditions=conditions), path, dpi=120)

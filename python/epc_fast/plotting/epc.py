@@ -3,7 +3,8 @@ functions)."""
 
 from __future__ import annotations
 
-from .common import figure_class, illuminance_lux, shared_reading
+from .common import (add_conditions, designs_conditions, figure_class, illuminance_lux,
+                     shared_reading)
 from .layout import freeze_layout, place_line_labels
 from .text import quantity_label, unit_text
 from ..presets import READINGS, evaluate_over_illuminance
@@ -11,7 +12,7 @@ from ..presets import READINGS, evaluate_over_illuminance
 __all__ = ["plot_epc_over_illuminance"]
 
 def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0), backend="core",
-                              threads=None):
+                              threads=None, conditions=None):
     """A figure of EPC against illuminance, one curve per design.
 
     The x axis is illuminance in lux on a log scale, the y axis EPC in megapixels; each design's
@@ -29,6 +30,10 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
         lux, the x axis.
     backend, threads
         Passed to :func:`epc_fast.evaluate`.
+    conditions : sequence of str, optional
+        The lines written under the legend; by default the designs, their SNR targets, the
+        scene, the points, the version and the build
+        (:func:`epc_fast.plotting.common.designs_conditions`).
 
     Returns
     -------
@@ -51,6 +56,8 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     ax.grid(which="major", alpha=0.4)
     ax.grid(which="minor", alpha=0.15)
     figure.legend(loc="outside lower center", ncols=3, fontsize=9, frameon=False)
+    add_conditions(figure, designs_conditions(designs, lux) if conditions is None
+                   else conditions)
     renderer = freeze_layout(figure)
     place_line_labels(ax, levels, [f"{level:.2f} Mpixel" for level in levels],
                       renderer=renderer, fontsize=8, colors=colors, lines=curves)

@@ -34,15 +34,31 @@ _PAD_PT = 1.5
 _LEADER_FROM_PT = 7.0
 
 
-def freeze_layout(figure):
-    """Run ``figure``'s layout once, keep the positions it gives, and return a renderer whose
-    measures are those of the saved figure."""
+def _renderer_of(figure):
+    """``figure``'s renderer, an Agg canvas given to a figure without one."""
     if not hasattr(figure.canvas, "get_renderer"):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
 
         FigureCanvasAgg(figure)
+    return figure.canvas.get_renderer()
+
+
+def freeze_layout(figure):
+    """Run ``figure``'s layout once, keep the positions it gives, and return a renderer whose
+    measures are those of the saved figure. A constrained layout confined to part of the
+    figure (its ``rect``: room left below for the conditions,
+    :func:`epc_fast.plotting.common.add_conditions`) has its legends placed outside the axes
+    moved into that part, into the margin the layout made for them."""
+    _renderer_of(figure)
+    engine = figure.get_layout_engine()
+    rect = engine.get().get("rect") if engine is not None else None
     figure.draw_without_rendering()
     figure.set_layout_engine("none")
+    if rect is not None and tuple(rect) != (0, 0, 1, 1):
+        for legend in figure.legends:
+            if getattr(legend, "_outside_loc", None) and legend._bbox_to_anchor is None:
+                legend.set_bbox_to_anchor(tuple(rect), transform=figure.transFigure)
+        figure.draw_without_rendering()  # the legends' texts where they are drawn
     return figure.canvas.get_renderer()
 
 

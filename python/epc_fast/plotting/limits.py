@@ -9,7 +9,8 @@ from __future__ import annotations
 import math
 
 from ..presets import READINGS, evaluate_over_illuminance
-from .common import figure_class, illuminance_lux, shared_reading
+from .common import (add_conditions, designs_conditions, figure_class, illuminance_lux,
+                     shared_reading)
 from .layout import freeze_layout
 from .text import quantity_label, unit_text
 
@@ -32,7 +33,7 @@ WIDTH_IN, ROW_HEIGHT_IN, MARGINS_IN = 7.0, 2.4, 1.4
 
 
 def plot_limits_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
-                                 backend="core", threads=None):
+                                 backend="core", threads=None, conditions=None):
     """A figure of what limits each design: the shares of diffraction, the pixel aperture and
     motion blur in the loss at f50 (ln MTF_i(f50) / ln c, which sum to 1; a design has no
     jitter), stacked over illuminance, one panel per design.
@@ -51,6 +52,10 @@ def plot_limits_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.
         lux, the x axes.
     backend, threads
         Passed to :func:`epc_fast.evaluate`.
+    conditions : sequence of str, optional
+        The lines written under the legend; by default the designs, their SNR targets, the
+        scene, the points, the version and the build
+        (:func:`epc_fast.plotting.common.designs_conditions`).
 
     Returns
     -------
@@ -86,5 +91,7 @@ def plot_limits_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.
     axes[0, 0].set_ylim(0.0, 1.0)
     figure.suptitle(unit_text(f"{title}\n{READINGS[reading].meaning}"), fontsize=10)
     figure.legend(loc="outside lower center", ncols=len(FACTORS), fontsize=9, frameon=False)
+    add_conditions(figure, designs_conditions(designs, lux) if conditions is None
+                   else conditions)
     freeze_layout(figure)
     return figure

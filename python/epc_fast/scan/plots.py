@@ -19,13 +19,15 @@ import math
 
 import numpy as np
 
-from ..plotting.common import figure_class, save_figure
+from ..plotting.common import (add_conditions, conditions_lines, figure_class, save_figure,
+                               space_conditions)
 from ..plotting.layout import freeze_layout, place_line_labels, place_vertical_line_label
 from ..plotting.text import output_scale, quantity_label, quantity_unit, unit_text
 from .histograms import HistogramResult, QuantilesResult
 
 __all__ = ["plot_distributions", "plot_bands", "distribution_figure", "bands_figure",
-           "bands_parameter", "bands_parameter_of", "plain_text"]
+           "bands_parameter", "bands_parameter_of", "plain_text", "scan_conditions",
+           "scan_pixel_counts"]
 
 #: The colour of threshold lines and their labels.
 THRESHOLD_COLOR = "0.15"
@@ -84,19 +86,30 @@ def _share(count: int, total: int) -> str:
     return "0%" if count == 0 else (f"{share:.2%}" if share < 0.001 else f"{share:.1%}")
 
 
-def plot_distributions(histogram: HistogramResult, path, fractions_below=(), partial="") -> None:
+def scan_conditions(result, skip=()) -> list[str]:
+    """The conditions a scan's figure carries (:func:`epc_fast.plotting.common.add_conditions`)
+    of ``result`` (ScanResult): its designs, where each meets its SNR target, the other
+    parameters (``skip`` left out), the points reduced and the seed."""
+    return space_conditions(result.space, points=result.points, seed=result.seed, skip=skip)
+
+
+def plot_distributions(histogram: HistogramResult, path, fractions_below=(), partial="", *,
+                       conditions=()) -> None:
     """Write :func:`distribution_figure` to ``path`` (PNG)."""
-    _save(distribution_figure(histogram, fractions_below, partial), path)
+    _save(distribution_figure(histogram, fractions_below, partial, conditions=conditions), path)
 
 
-def distribution_figure(histogram: HistogramResult, fractions_below=(), partial=""):
+def distribution_figure(histogram: HistogramResult, fractions_below=(), partial="", *,
+                        conditions=()):
     """One curve per group: the fraction of its finite points whose output is below x (log x).
 
     The x axis spans the histogram's bins: each curve starts at its group's share of points
     below the low edge, which the legend gives and a note under the axes explains. Each
     threshold of ``fractions_below`` (FractionBelowResult, those of the same output) is a
     labelled vertical line; where such a result has the histogram's groups, each group's
-    fraction below the threshold is a dot on the line and a number in the legend.
+    fraction below the threshold is a dot on the line and a number in the legend. The
+    ``conditions`` (lines, :func:`scan_conditions`) are written under the legend, with the
+    version and build.
 
     Returns
     -------
@@ -149,6 +162,7 @@ def distribution_figure(histogram: HistogramResult, fractions_below=(), partial=
         notes.append("Points whose value is not finite are not counted.")
     figure.legend(loc="outside lower center", ncols=1, fontsize="small", frameon=False,
                   title="\n".join(notes) or None, title_fontsize="small")
+    add_conditions(figure, conditions or conditions_lines())
     renderer = freeze_layout(figure)
     for threshold in thresholds:
         place_vertical_line_label(axes, threshold / divisor,
@@ -171,9 +185,24 @@ def bands_parameter_of(labels) -> str | None:
     return None
 
 
-def plot_bands(quantiles: QuantilesResult, path, fractions_below=(), partial="") -> None:
+def plot_bands(quantiles: QuantilesResult, path, fractions_below=(), partial="", *,
+               conditions=(), pixel_counts=None, log_y=False) -> None:
     """Write :func:`bands_figure` to ``path`` (PNG)."""
-    _save(bands_figure(quantiles, fractions_below, partial), path)
+    _save(bands_figure(quantiles, fractions_below, partial, conditions=conditions,
+                       pixel_counts=pixel_counts, log_y=log_y), path)
+
+
+def scan_pixel_counts(space) -> dict:
+    """{design name: physical pixel count} of ``space``'s designs whose sensor area and pixel
+    pitch are their own (not a scanned parameter): area / pitch²."""
+    table = space.design_table
+    if not space.design_names or any(name in space.axes or name not in table
+                                     for name in ("sensor_area_mm2", "pixel_pitch_um")):
+        return {}
+    counts = (np.asarray(table["sensor_area_mm2"], dtype=float) * 1e6
+              / np.asarray(table["pixel_pitch_um"], dtype=float) ** 2)
+    return {name: float(count) for name, count in zip(space.design_names, counts)
+            if np.isfinite(count)}
 
 
 def _partial_line(partial: str) -> str:
@@ -182,12 +211,22 @@ def _partial_line(partial: str) -> str:
     return f"\n{plain_text(partial)}" if partial else ""
 
 
-def bands_figure(quantiles: QuantilesResult, fractions_below=(), partial=""):
+def bands_figure(quantiles: QuantilesResult, fractions_below=(), partial="", *, conditions=(),
+                 pixel_counts=None, log_y=False):
     """The quantiles against the binned parameter (log axis, bin centres), one panel per other
     group: the middle quantile a line, shaded between the outermost quantiles and, lighter
     outside darker, the next pair in; the other groups' middle quantiles thin and grey for
-    comparison. Each threshold of ``fractions_below`` (FractionBelowResult, those of the
-    same output) is a labelled horizontal line in every panel.
+    comparison, a legend entry saying so. Each threshold of ``fractions_below``
+    (FractionBelowResult, those of the same output) is a labelled horizontal line in every
+    panel. Panels beyond the groups are removed.
+
+    Parameters
+    ----------
+    conditions : sequence of str, lines written under the legend (:func:`scan_conditions`),
+        with the version and build.
+    pixel_counts : {design name: pixels}, optional (:func:`scan_pixel_counts`): where the
+        output is EPC, each panel's design has a dotted line at its physical pixel count.
+    log_y : bool, a log output axis (EPC spans decades over illuminance).
 
     Returns
     -------
@@ -210,15 +249,25 @@ def bands_figure(quantiles: QuantilesResult, fractions_below=(), partial=""):
     figure = _figure(size)
     panels = figure.subplots(rows, columns, sharex=True, sharey=True, squeeze=False).ravel()
     thresholds = _thresholds(fractions_below, of)
+    designs = list(quantiles.labels.get("design", ()))
+    counts = pixel_counts if of == "epc" and pixel_counts else {}
+    count_levels = {}
     for index, (axes, group) in enumerate(zip(panels, groups)):
         color = f"C{index % 10}"
         others = [other for other in groups if other != group]
         for k, other in enumerate(others):
             rows_of = names == other
             axes.plot(centres[rows_of], values[rows_of, middle], color="0.6", lw=0.8,
-                      label=f"q {q[middle]:g} of the other groups"
+                      label=f"other groups' q {q[middle]:g}"
+                      + (" (median)" if q[middle] == 0.5 else "")
                       if index == 0 and k == 0 else None)
         rows_of = names == group
+        design = designs[int(np.flatnonzero(rows_of)[0])] if designs else None
+        if design in counts:
+            level = counts[design] / output_scale(of)
+            axes.axhline(level, color=color, ls=":", lw=1.2,
+                         label="physical pixel count" if not count_levels else None)
+            count_levels[index] = level
         for outer in range(min(2, middle)):
             axes.fill_between(centres[rows_of], values[rows_of, outer],
                               values[rows_of, -1 - outer], color=color, linewidth=0,
@@ -232,21 +281,29 @@ def bands_figure(quantiles: QuantilesResult, fractions_below=(), partial=""):
             axes.axhline(threshold / output_scale(of), color=THRESHOLD_COLOR, ls="--", lw=1.0)
         axes.set_title(group, fontsize=9)
         axes.set_xscale("log")
+        if log_y:
+            axes.set_yscale("log")
         axes.grid(True, alpha=0.3)
         if index + columns >= len(groups):  # no panel below: this one carries the x axis
             axes.set_xlabel(quantity_label(parameter))
             axes.xaxis.set_tick_params(labelbottom=True)
     for axes in panels[len(groups):]:
-        axes.set_visible(False)
+        axes.remove()
     figure.supylabel(quantity_label(of), fontsize=10)
     figure.suptitle(f"{quantity_label(of)} against {_in_sentence(quantity_label(parameter))}: "
                     f"quantiles per bin" + (", one panel per group" if len(groups) > 1 else "")
                     + _partial_line(partial), fontsize=11)
-    figure.legend(loc="outside lower center", ncols=4, fontsize="small", frameon=False)
+    figure.legend(loc="outside lower center", ncols=3, fontsize="small", frameon=False)
+    add_conditions(figure, conditions or conditions_lines())
     renderer = freeze_layout(figure)
-    for axes in panels[:len(groups)]:
+    for index, axes in enumerate(panels[:len(groups)]):
         levels = [t / output_scale(of) for t in thresholds]
-        place_line_labels(axes, levels, [_value_text(t, of) for t in thresholds],
-                          renderer=renderer, fontsize=8, colors=[THRESHOLD_COLOR] * len(levels),
+        texts = [_value_text(t, of) for t in thresholds]
+        colors = [THRESHOLD_COLOR] * len(levels)
+        if index in count_levels:
+            levels.append(count_levels[index])
+            texts.append(f"{count_levels[index]:.2f} Mpixel")
+            colors.append(f"C{index % 10}")
+        place_line_labels(axes, levels, texts, renderer=renderer, fontsize=8, colors=colors,
                           lines=[line for line in axes.lines if line.get_linestyle() == "-"])
     return figure

@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from ..plotting.common import figure_class
+from ..plotting.common import add_conditions, conditions_lines, figure_class
 from ..plotting.layout import freeze_layout, marker_boxes, place_point_labels
 from .measurements import THREADS, Measurement
 
@@ -25,7 +25,7 @@ Y_ROOM_DECADES = (0.12, 0.1)
 
 
 def plot_tradeoff(measurements: Sequence[Measurement], front: Sequence[int], *, title="",
-                  threads: int = THREADS[-1]):
+                  threads: int = THREADS[-1], conditions=None):
     """Points/s on ``threads`` threads (y, log) against max relative error of f50 (x, log),
     each setting a labelled point, the Pareto front ``front`` (indices, by error) a line.
 
@@ -34,6 +34,8 @@ def plot_tradeoff(measurements: Sequence[Measurement], front: Sequence[int], *, 
     label, marker or the front (:func:`epc_fast.plotting.layout.place_point_labels`), joined to
     its point by a thin line when it had to move away; the legend is below the axes. The
     figure's layout is fixed when it is returned. Needs matplotlib (ImportError otherwise).
+    ``conditions`` (lines) are written under the legend, by default the settings drawn, the
+    version and the build (:func:`epc_fast.plotting.common.conditions_lines`).
 
     Returns
     -------
@@ -76,6 +78,8 @@ def plot_tradeoff(measurements: Sequence[Measurement], front: Sequence[int], *, 
     ax.grid(which="major", alpha=0.4)
     ax.grid(which="minor", alpha=0.15)
     figure.legend(loc="outside lower center", ncols=2, fontsize=8, frameon=False)
+    add_conditions(figure, conditions_lines(extra=[f"{len(shown)} settings drawn"])
+                   if conditions is None else conditions)
     renderer = freeze_layout(figure)
     anchors = [(x[i], y[i]) for i in shown]
     place_point_labels(ax, anchors, [measurements[i].setting.name for i in shown],

@@ -24,7 +24,8 @@ The format, section by section (every value in the unit of the parameter it sets
                                  #   by = "design" | [part, ...] where a part is a name or
                                  #   {parameter = "illuminance_lux", log_bins = [low, high, n]}
                                  #   or {parameter = ..., edges = [...]}
-    [output]                     # parquet = "directory" (a name inside the output directory)
+    [output]                     # parquet = "directory" (a name inside the output directory),
+                                 #   log_y = true: the bands plots' output on a log axis
     [sobol]                      # points, seed, of = "epc" | "log_epc" | [...], confidence,
                                  #   resamples, not_ok = "raise" | "zero": Sobol' indices of
                                  #   the space (config_sobol.py)
@@ -51,8 +52,8 @@ from ..distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Nor
 from ..errors import ConfigError
 from ..runner import DEFAULT_CHUNK_POINTS
 from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
-                     check_size, choice, file_name, integer, number, number_list, short, string,
-                     table_of, take, wrapped)
+                     boolean, check_size, choice, file_name, integer, number, number_list, short,
+                     string, table_of, take, wrapped)
 from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
 from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
@@ -131,6 +132,7 @@ class ScanConfig:
     source : str, the file it came from ("built-in default" for :data:`DEFAULT_CONFIG`).
     text : str, the TOML it was read from (recorded in the output's manifest).
     sobol : SobolConfig or None, the ``[sobol]`` table: Sobol' indices of the space.
+    log_y : bool, ``[output] log_y``: the bands plots draw the output on a log axis.
     """
 
     space: Space
@@ -143,6 +145,7 @@ class ScanConfig:
     source: str
     text: str = ""
     sobol: SobolConfig | None = None
+    log_y: bool = False
 
     def run_kwargs(self) -> dict:
         """Keyword arguments for :func:`epc_fast.scan.run` (all but ``parquet``)."""
@@ -381,7 +384,8 @@ def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfi
          optional=("design", "parameters", "evaluate", "reductions", "output", "sobol"))
     counts = _scan_table(document["scan"])
     output = take(table_of("output", document.get("output", {})), "output",
-                  optional=("parquet",))
+                  optional=("parquet", "log_y"))
+    log_y = boolean("output", "log_y", output.get("log_y", False))
     parquet = output.get("parquet")
     if parquet is not None:
         parquet = file_name("output", "parquet", parquet)
@@ -392,7 +396,8 @@ def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfi
     sobol = (parse_sobol(document["sobol"], counts["seed"], space) if "sobol" in document
              else None)
     return ScanConfig(space, counts["points"], counts["seed"], reductions or None,
-                      counts["chunk_points"], counts["threads"], parquet, source, text, sobol)
+                      counts["chunk_points"], counts["threads"], parquet, source, text, sobol,
+                      log_y)
 
 
 def load_config(path) -> ScanConfig:
