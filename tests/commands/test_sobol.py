@@ -3,6 +3,8 @@ themselves are tested with their config in tests/scan/test_config_sobol.py)."""
 
 import os
 
+import pytest
+
 from epc_fast.__main__ import main
 from epc_fast.scan.output import OutputLock
 
@@ -46,8 +48,6 @@ k = 3
 
 
 def test_overwrite_into_a_scans_out_leaves_no_file_of_that_scan(tmp_path, capsys):
-    import pytest
-
     pytest.importorskip("pyarrow")
     config = tmp_path / "scan.toml"
     config.write_text(SCAN + '[output]\nparquet = "points"\n')

@@ -87,6 +87,7 @@ def run(args) -> int:
                  + [(PLOT, "the optimiser's curve plot", "--no-plot")] * plot)
     if plot:
         from ..optimize.plot import curve_figure
+        from ..plotting import save_figure
         from ..plotting.common import space_conditions
     with OutputDirectory(args.out, overwrite=args.overwrite) as out:
         out.prepare({name: what for name, what in FILES.items() if plot or name != "curve.png"})
@@ -112,7 +113,8 @@ def run(args) -> int:
                     problem.space, points=optimum.points, seed=optimum.seed,
                     skip=tuple(config.bounds), extra=[f"Objective: {optimum.objective.label}, "
                                                       f"held: {optimum.held}"]))
-                out.write("curve.png", lambda path: figure.savefig(path, dpi=120, format="png"))
+                out.write("curve.png", lambda path: save_figure(figure, path, dpi=120,
+                                                                file_format="png"))
         print()
         for name in out.written:
             print(f"wrote {out.path / name}")
