@@ -1,0 +1,295 @@
+"""A capture of a chart by one design at one light level, simulated from the physics of the
+image: the scene's irradiance on the sensor, the lens's OTF from its pupil, the image moving
+during the exposure, jitter, each pixel integrating the image over its aperture, and the
+sensor's noise drawn from a seed.
+
+The continuous image is carried on a fine grid of spacing p/q. The lens passes no frequency
+above its cut-off 1/(lambda F), so once 1/spacing exceeds that cut-off plus the chart's own
+band, the grid's samples hold the image without loss: every later step (moving, averaging over
+the aperture, sampling at the pixels' centres) is then exact, and the grid adds no error at
+all, not merely a small one. q is the smallest odd integer that does it (odd, so that the
+pixels' centres are grid points and the grid's cells tile the pixels).
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import api, spectra
+from .._validation import short, threads_of
+from ..status import Status
+from .blur import aperture_transfer, jitter_transfer, motion_transfer
+from .charts import Chart
+from .optics import cutoff_cyc_per_mm, diffraction_transfer
+from .readout import read_out
+
+__all__ = ["Capture", "capture", "grid_oversample", "BAND_FACTOR"]
+
+#: The grid's sampling rate over the lens's cut-off: 1/spacing >= BAND_FACTOR / (lambda F).
+#: Above 2 the chart's band (1/spacing - cut-off) exceeds the cut-off, as the slanted edge's
+#: exact rendering needs (charts.Chart.reflectance_at).
+BAND_FACTOR = 2.05
+#: Bytes a fine-grid sample costs at the peak (the reflectance, its spectrum, the transfer and
+#: the image at once, in float64 and complex128).
+BYTES_PER_SAMPLE = 56
+#: Pixels added round the chart on each side beyond the blur's reach, so that the FFT's
+#: wrapping round the grid never reaches the chart.
+MARGIN_PX = 4
+#: The lens's reach counted into the margin, in units of lambda F, by chart. The FFT's grid
+#: wraps round, so the chart's far side meets its near side across the margin, and the Airy
+#: pattern's line spread falls only as 2 lambda F / (pi^3 x^2): a step of the chart leaks
+#: 2 lambda F / (pi^3 x) of itself to a distance x. For the slanted edge, whose MTF is measured,
+#: 200 lambda F keeps that leak under 3.3e-4 of the edge's contrast; pictures and flat patches
+#: (where the wrap joins equal values) take 16.
+PSF_REACH = {"slanted_edge": 200.0, "image": 16.0, "flat": 16.0}
+
+_EVALUATE = inspect.signature(api.evaluate).parameters
+_NOT_DESIGN = {"out", "outputs", "illuminance_lux"}
+
+
+@dataclass(frozen=True, eq=False)
+class Capture:
+    """One simulated capture.
+
+    Attributes
+    ----------
+    image_e : 2-D float64, e- per output pixel: the linear signal with its noise, the mean
+        dark signal subtracted.
+    expected_e : 2-D float64, e-: the photo-electrons each pixel expects (no noise).
+    pitch_um : µm, the output pixel pitch.
+    exposure_s : s, the exposure (T_MPE unless one was given).
+    illuminance_lux : lux, the scene's illuminance.
+    field_angle_deg : degrees, where on the sensor the chart sits (cos^4 falloff).
+    blur_mm : mm, how far the image travels during the exposure.
+    oversample : the fine grid's samples per pixel a side.
+    seed : the seed the noise was drawn from.
+    chart : the chart captured.
+    result : :class:`epc_fast.Result`, ``evaluate``'s outputs for this design and light.
+    readout : the sensor's noise parameters the image was read out with.
+    """
+
+    image_e: np.ndarray
+    expected_e: np.ndarray
+    pitch_um: float
+    exposure_s: float
+    illuminance_lux: float
+    field_angle_deg: float
+    blur_mm: float
+    oversample: int
+    seed: object
+    chart: Chart
+    result: object
+    readout: dict = None
+
+    def redraw(self, seed) -> "Capture":
+        """The same capture with the noise drawn again from ``seed``: the expected image is
+        reused, so repeats over seeds cost only their noise."""
+        rng = np.random.default_rng(seed)
+        image_e = read_out(self.expected_e, exposure_s=self.exposure_s, rng=rng, **self.readout)
+        return dataclasses.replace(self, image_e=image_e, seed=seed)
+
+
+def grid_oversample(pixel_pitch_um: float, f_number: float,
+                    shortest_wavelength_nm: float) -> int:
+    """The smallest odd q with q / p >= BAND_FACTOR / (lambda F): the fine grid's samples per
+    pixel a side that carry the image without loss."""
+    cutoff = cutoff_cyc_per_mm(f_number, shortest_wavelength_nm)
+    q = max(1, math.ceil(BAND_FACTOR * cutoff * pixel_pitch_um * 1e-3 - 1e-9))
+    return q if q % 2 == 1 else q + 1
+
+
+def _design(design: dict) -> dict:
+    """Every parameter of the design, the caller's or evaluate's default."""
+    unknown = sorted(set(design) - set(_EVALUATE) | (set(design) & _NOT_DESIGN))
+    if unknown:
+        raise TypeError(f"capture() got keyword(s) it does not take: {', '.join(unknown)} "
+                        "(it takes the design's keywords of epc_fast.evaluate)")
+    values = {k: p.default for k, p in _EVALUATE.items()
+              if p.default is not inspect.Parameter.empty}
+    values.update(design)
+    return values
+
+
+def _scalar(name, value) -> float:
+    a = np.asarray(value)
+    if a.size != 1:
+        raise ValueError(f"{name}: capture simulates one design, got shape {a.shape}")
+    return float(a.reshape(()))
+
+
+def _spectrum(d: dict):
+    """The wavelengths the lens images and their weights (evaluate has checked them)."""
+    if d["spectrum"] is None:
+        return np.array([_scalar("wavelength_nm", d["wavelength_nm"])]), np.array([1.0])
+    spec = api._spectrum_of(d["spectrum"], 550.0)
+    return np.asarray(spec.wavelengths_nm), np.asarray(spec.weights)
+
+
+def _exposure(exposure_s, result, shake_rad_per_s) -> float:
+    if exposure_s is None:
+        status = Status(int(np.asarray(result.status)))
+        if status == Status.UNREACHABLE:
+            raise ValueError(f"the design cannot reach its SNR target here "
+                             f"({np.asarray(result.cause).item()!r}): there is no T_MPE to "
+                             "capture at; give exposure_s")
+        if status == Status.BLUR_UNBOUNDED:
+            raise ValueError("the camera turns through 90 degrees or more during T_MPE "
+                             f"({float(result.t_mpe_s):.4g} s): no image to capture")
+        return float(result.t_mpe_s)
+    t = np.asarray(exposure_s)
+    if t.size != 1 or t.dtype.kind not in "iuf" or not (math.isfinite(float(t)) and float(t) >= 0):
+        raise ValueError(f"exposure_s: a finite time >= 0 in seconds, got {short(exposure_s)}")
+    t = float(t)
+    if shake_rad_per_s * t >= math.pi / 2:
+        raise ValueError(f"exposure_s: the camera turns through 90 degrees or more in "
+                         f"{t!r} s: no image to capture")
+    return t
+
+
+def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversample=None,
+            **design) -> Capture:
+    """Simulate ``chart`` captured by one design at ``illuminance_lux``.
+
+    Parameters
+    ----------
+    chart : :class:`Chart`, from :func:`slanted_edge`, :func:`flat` or :func:`image`.
+    illuminance_lux : lux, the scene's illuminance, a scalar.
+    seed : int or numpy.random.SeedSequence, optional
+        The noise's seed: the same seed gives the same image.
+    exposure_s : s, optional. Default: T_MPE from :func:`epc_fast.evaluate`, the exposure at
+        which a flat patch of the design's ``reflectance`` at its field angle has the target
+        SNR.
+    oversample : odd int, optional
+        The fine grid's samples per pixel a side; default and minimum
+        :func:`grid_oversample`, the least that carries the image without loss.
+    **design
+        Every keyword of :func:`epc_fast.evaluate` for one design (scalars), e.g. a preset's
+        ``evaluate_kwargs()``. The chart sits at the design's field angle (where its SNR target
+        is met), and the image moves along the rows.
+
+    Returns
+    -------
+    Capture
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a bad chart or argument, naming it and its value; for a design that cannot reach
+        its SNR target (no T_MPE) unless ``exposure_s`` is given; for an exposure during
+        which the camera turns 90 degrees; MemoryError for a grid larger than the memory.
+    """
+    if not isinstance(chart, Chart):
+        raise TypeError(f"chart: an epc_fast.simulate chart (slanted_edge, flat or image), "
+                        f"got {type(chart).__name__}")
+    lux = _scalar("illuminance_lux", illuminance_lux)
+    d = _design(design)
+    d.pop("invalid", None)
+    result = api.evaluate(lux, **{k: v for k, v in d.items() if k in design}, invalid="raise")
+    for name in ("pixel_pitch_um", "f_number", "focal_length_mm"):
+        _scalar(name, d[name])
+    if np.ndim(result.epc) != 0:
+        raise ValueError(f"capture simulates one design, got arrays broadcasting to "
+                         f"{np.shape(result.epc)}")
+    p = float(d["pixel_pitch_um"])
+    f_number = float(d["f_number"])
+    focal = float(d["focal_length_mm"])
+    _, angle = api._sensor_of(d["pixel_count"], d["sensor_area_mm2"], d["sensor_width_mm"],
+                              d["sensor_height_mm"], d["sensor_diagonal_mm"], d["aspect"],
+                              d["snr_at"], d["field_angle_deg"], focal)
+    angle = _scalar("field_angle_deg", angle)
+    shake = float(d["shake_deg_per_s"]) * math.pi / 180.0 / float(d["stabilization"])
+    t = _exposure(exposure_s, result, shake)
+    wavelengths, weights = _spectrum(d)
+    q_min = grid_oversample(p, f_number, float(wavelengths.min()))
+    q = q_min if oversample is None else _oversample(oversample, q_min)
+    threads = threads_of(d.get("threads"))
+
+    image, blur = _expected_irradiance(chart, lux, d, p, f_number, focal, angle, shake, t,
+                                       wavelengths, weights, q, threads)
+    k = float(d["electrons_per_lux_s_m2"] or spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2)
+    area_m2 = float(d["fill_factor"]) * (p * 1e-6) ** 2
+    expected = image * (k * t * area_m2)
+    sensor = {"dark_current_e_per_s": float(d["dark_current_e_per_s"]),
+              "read_noise_e": float(d["read_noise_e"]), "prnu": float(d["prnu"]),
+              "full_well_e": float(d["full_well_e"])}
+    image_e = read_out(expected, exposure_s=t, rng=np.random.default_rng(seed), **sensor)
+    return Capture(image_e=image_e, expected_e=expected, pitch_um=p, exposure_s=t,
+                   illuminance_lux=lux, field_angle_deg=angle, blur_mm=blur, oversample=q,
+                   seed=seed, chart=chart, result=result, readout=sensor)
+
+
+def _oversample(value, minimum: int) -> int:
+    if (isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer))
+            or value < minimum or value % 2 == 0):
+        raise ValueError(f"oversample: an odd integer >= {minimum} (the least that carries "
+                         f"this design's image without loss), got {short(value)}")
+    return int(value)
+
+
+def _expected_irradiance(chart, lux, d, p, f_number, focal, angle, shake, t, wavelengths,
+                         weights, q, threads):
+    """lux, the focal-plane illuminance each pixel sees on average over its aperture and the
+    exposure; and the distance the image travels, mm."""
+    from scipy import fft
+
+    dx = p * 1e-3 / q  # mm, the fine grid's spacing
+    cutoff = cutoff_cyc_per_mm(f_number, float(wavelengths.min()))
+    band = 1.0 / dx - cutoff
+    blur = abs(float(focal * math.tan(shake * t)))
+    lambda_f = float(wavelengths.max()) * 1e-6 * f_number
+    jitter = float(d["jitter_um"]) * 1e-3
+    reach = PSF_REACH[chart.kind] * lambda_f + 6.0 * jitter + 2.0 * p * 1e-3
+    rows, cols = chart.shape
+    margin_y = MARGIN_PX + math.ceil(reach / (p * 1e-3))
+    margin_x = MARGIN_PX + math.ceil((reach + blur) / (p * 1e-3))
+    ny = fft.next_fast_len(q * (rows + 2 * margin_y), real=True)
+    nx = fft.next_fast_len(q * (cols + 2 * margin_x), real=True)
+    _check_memory(ny * nx, chart)
+
+    offset = (np.arange(max(ny, nx), dtype=float) - (q - 1) / 2.0) / q
+    y = (offset[:ny] - margin_y)[:, None]
+    x = (offset[:nx] - margin_x)[None, :]
+    reflectance = chart.reflectance_at(y, x, pitch_um=p, band_cyc_per_mm=band, cell_px=1.0 / q)
+    scale = (lux * float(d["lens_transmittance"]) * math.cos(math.radians(angle)) ** 4
+             / (4.0 * f_number ** 2))
+    spectrum = fft.rfft2(reflectance, workers=threads)
+    del reflectance
+
+    fy = fft.fftfreq(ny, dx)
+    fx = fft.rfftfreq(nx, dx)
+    keep_y = np.abs(fy) < cutoff
+    keep_x = fx < cutoff
+    iy, ix = np.nonzero(keep_y)[0], np.nonzero(keep_x)[0]
+    fyk, fxk = fy[keep_y], fx[keep_x]
+    transfer = diffraction_transfer(np.hypot(fyk[:, None], fxk[None, :]), f_number,
+                                    wavelengths, weights).astype(complex)
+    moving, blur, _ = motion_transfer(fxk, t, focal, shake)
+    transfer *= moving[None, :]
+    width = math.sqrt(float(d["fill_factor"])) * p * 1e-3
+    transfer *= (aperture_transfer(fyk, width) * jitter_transfer(fyk, jitter))[:, None]
+    transfer *= (aperture_transfer(fxk, width) * jitter_transfer(fxk, jitter))[None, :]
+    filtered = np.zeros_like(spectrum)
+    filtered[np.ix_(iy, ix)] = spectrum[np.ix_(iy, ix)] * transfer
+    del spectrum, transfer
+    image = fft.irfft2(filtered, s=(ny, nx), workers=threads)
+    start_y = q * margin_y + (q - 1) // 2
+    start_x = q * margin_x + (q - 1) // 2
+    pixels = image[start_y:start_y + q * rows:q, start_x:start_x + q * cols:q]
+    return np.ascontiguousarray(pixels) * scale, blur
+
+
+def _check_memory(samples: int, chart) -> None:
+    from .. import _limits
+
+    limit = _limits.memory_limit_bytes()
+    needed = samples * BYTES_PER_SAMPLE
+    if limit is not None and needed > limit:
+        raise MemoryError(f"a capture of a {chart.shape[0]} x {chart.shape[1]} chart needs a "
+                          f"fine grid of {samples:,} samples, about {needed / 2**30:.1f} GiB, "
+                          f"more than the {limit / 2**30:.1f} GiB of memory here: capture a "
+                          "smaller chart")
