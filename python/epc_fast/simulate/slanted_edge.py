@@ -44,15 +44,20 @@ import numpy as np
 from .._validation import as_float_array, integer, short
 
 __all__ = ["EdgeSFR", "esfr", "mtf50", "image_in_roi", "MIN_SIDE_PIXELS",
-           "ANGLE_RANGE_DEG", "DERIVATIVE_CORRECTION_CAP"]
+           "ANGLE_RANGE_DEG", "DERIVATIVE_CORRECTION_CAP", "MIN_SHARED_PIXELS"]
 
 #: The fewest rows and columns an image (after its roi) must have.
 MIN_SIDE_PIXELS = 16
+#: The fewest pixels along the edge's normal that every row must share (where the ESF is
+#: binned): fewer leave no room for the edge's transition and the flat sides around it.
+MIN_SHARED_PIXELS = 4
 #: The edge angles from the vertical (degrees, either sign) the measurement accepts: below
 #: 1 degree the rows meet the edge at too few phases, above 30 it is no near-vertical edge.
 ANGLE_RANGE_DEG = (1.0, 30.0)
 #: The largest factor the derivative's correction multiplies the MTF by (sfrmat's cap).
 DERIVATIVE_CORRECTION_CAP = 10.0
+#: Terms (frequencies x bins) :meth:`EdgeSFR.mtf_at` sums at a time: 16 MiB of complex phases.
+_DTFT_TERMS = 2**20
 #: Bisection steps of :meth:`EdgeSFR.crossing`: the bracket shrinks by 2**-60.
 _BISECTIONS = 60
 
@@ -97,8 +102,13 @@ class EdgeSFR:
         LSF's transform evaluated directly (not interpolated on the grid)."""
         f = as_float_array("frequency_cyc_per_mm", frequency_cyc_per_mm)
         x = np.arange(self.lsf.size) * self.bin_width_mm
-        phase = np.exp(-2j * np.pi * np.multiply.outer(f, x))
-        magnitude = np.abs(phase @ self.lsf) / abs(self.lsf.sum())
+        flat = f.reshape(-1)
+        transform = np.empty(flat.size, dtype=complex)
+        step = max(1, _DTFT_TERMS // self.lsf.size)
+        for start in range(0, flat.size, step):
+            phase = np.exp(-2j * np.pi * np.multiply.outer(flat[start:start + step], x))
+            transform[start:start + step] = phase @ self.lsf
+        magnitude = np.abs(transform).reshape(f.shape) / abs(self.lsf.sum())
         return magnitude * _correction(f, self.bin_width_mm, self.bin_correction)
 
     @property
@@ -168,14 +178,14 @@ def esfr(image, pitch_um, *, roi=None, oversampling=4, window="hamming",
     if not isinstance(bin_correction, (bool, np.bool_)):
         raise TypeError(f"bin_correction must be True or False, got {short(bin_correction)}")
 
-    transposed = _is_horizontal(data)
+    transposed = bool(_is_horizontal(data))
     if transposed:
         data = data.T
     slope, offset = _edge_line(data)
     angle_deg = math.degrees(math.atan(slope))
     low, high = ANGLE_RANGE_DEG
     if not low <= abs(angle_deg) <= high:
-        raise ValueError(f"image: the edge is {angle_deg:.3g} degrees from the "
+        raise ValueError(f"image: the edge is {angle_deg:.2f} degrees from the "
                          f"{'horizontal' if transposed else 'vertical'}; the e-SFR needs "
                          f"{low:g} to {high:g} degrees (fewer phases below, no near-"
                          f"{'horizontal' if transposed else 'vertical'} edge above)")
@@ -293,9 +303,10 @@ def _binned_esf(data: np.ndarray, slope: float, offset: float, bins_a_pixel: int
     stop = distance[:, -1].min()
     first = math.ceil(start * bins_a_pixel)
     count = math.floor(stop * bins_a_pixel) - first
-    if count < 4:
+    if stop - start < MIN_SHARED_PIXELS:
         raise ValueError(f"image: the rows share only {stop - start:.3g} pixels along the edge "
-                         "normal; pass more columns or a smaller edge angle")
+                         f"normal, fewer than {MIN_SHARED_PIXELS}; pass more columns or a "
+                         "smaller edge angle")
     index = np.floor(distance * bins_a_pixel).astype(np.int64) - first
     inside = (index >= 0) & (index < count)
     index, values = index[inside], data[:used][inside]
