@@ -304,6 +304,7 @@ def test_a_bad_roi_is_refused_naming_it(roi, error, match):
     ("oversampling", 0, ValueError), ("oversampling", -4, ValueError),
     ("oversampling", 4.0, TypeError), ("oversampling", True, TypeError),
     ("window", "hann", ValueError), ("window", 1, ValueError),
+    ("window", np.hamming(16), ValueError),
     ("bin_correction", "yes", TypeError), ("bin_correction", None, TypeError),
 ])
 def test_a_bad_option_is_refused_naming_it(keyword, value, error):

@@ -165,15 +165,17 @@ def esfr(image, pitch_um, *, roi=None, oversampling=4, window="hamming",
     Raises
     ------
     TypeError, ValueError
-        naming the argument and its value; a ValueError when no edge is found or its angle is
-        outside 1 to 30 degrees.
+        naming the argument and its value; a ValueError naming the image when no edge is
+        found (a row whose signal does not change, or rows that change in opposite
+        directions), when its angle is outside 1 to 30 degrees, or when the rows share fewer
+        than 4 pixels along the normal.
     """
     data = image_in_roi(image, roi, MIN_SIDE_PIXELS)
     pitch = _pitch(pitch_um)
     bins_a_pixel = integer("oversampling", oversampling)
     if bins_a_pixel < 1:
         raise ValueError(f"oversampling must be an integer >= 1, got {bins_a_pixel}")
-    if window not in ("hamming", None):
+    if not (window is None or (isinstance(window, str) and window == "hamming")):
         raise ValueError(f"window must be 'hamming' or None, got {short(window)}")
     if not isinstance(bin_correction, (bool, np.bool_)):
         raise TypeError(f"bin_correction must be True or False, got {short(bin_correction)}")
