@@ -1,7 +1,12 @@
-"""The capture simulator: test charts captured by a design from the physics of the image, and
-the measurements (ISO 12233 e-SFR, flat-patch SNR) that check the model against them."""
+"""The capture simulator: test charts captured by a design from the physics of the image,
+and the measurements that check the model against them: the slanted-edge e-SFR of
+ISO 12233:2017 (:mod:`~epc_fast.simulate.edge_sfr`) and the SNR of a flat patch
+(:mod:`~epc_fast.simulate.flat_patch`)."""
 
 from .capture import Capture, capture
 from .charts import Chart, flat, image, slanted_edge
+from .edge_sfr import EdgeSFR, esfr, mtf50
+from .flat_patch import FlatSNR, snr
 
-__all__ = ["Capture", "capture", "Chart", "flat", "image", "slanted_edge"]
+__all__ = ["Capture", "capture", "Chart", "flat", "image", "slanted_edge", "EdgeSFR", "esfr",
+           "mtf50", "FlatSNR", "snr"]

@@ -16,8 +16,8 @@ from .. import api
 from ..status import Status
 from .capture import capture
 from .charts import flat, slanted_edge
-from .esfr import esfr
-from .snr import snr
+from .edge_sfr import esfr
+from .flat_patch import snr
 
 __all__ = ["Agreement", "agreement", "EDGE_ROWS", "FLAT_PX", "EDGE_SPAN", "MAX_EDGE_COLUMNS",
            "EDGE_ANGLE_DEG"]
