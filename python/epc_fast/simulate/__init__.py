@@ -3,7 +3,7 @@ and the measurements that check the model against them: the slanted-edge e-SFR o
 ISO 12233:2017 (:mod:`~epc_fast.simulate.edge_sfr`) and the SNR of a flat patch
 (:mod:`~epc_fast.simulate.flat_patch`)."""
 
-from .capture import Capture, capture
+from .camera import Capture, capture
 from .charts import Chart, flat, image, slanted_edge
 from .edge_sfr import EdgeSFR, esfr, mtf50
 from .flat_patch import FlatSNR, snr

@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import api
 from ..status import Status
-from .capture import capture
+from .camera import capture
 from .charts import flat, slanted_edge
 from .edge_sfr import esfr
 from .flat_patch import snr
