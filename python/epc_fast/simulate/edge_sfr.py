@@ -265,8 +265,12 @@ def _centroids(derivative: np.ndarray) -> np.ndarray:
 
 
 def _edge_line(data: np.ndarray) -> tuple:
-    """(slope, offset) of x_edge(row) = offset + slope row, the least-squares line through the
-    rows' centroids of the derivative, the second pass Hamming-windowed about the first."""
+    """(slope, offset) of x_edge(row) = offset + slope row: the least-squares line through the
+    rows' centroids of the derivative, each row's derivative Hamming-windowed about a first
+    line. The first line goes through each row's crossing of its mid-level (the row smoothed
+    over 9 pixels), which noise far from the edge cannot move as it moves an unwindowed
+    centroid; the window's half-width is twice the edge's 10-90% rise, at least 8 pixels
+    (the whole row at most), and the fit is made twice."""
     derivative = 0.5 * np.diff(data, axis=1)
     step = derivative.sum(axis=1)
     contrast = np.abs(data).max()
@@ -276,18 +280,60 @@ def _edge_line(data: np.ndarray) -> tuple:
     if (np.sign(step) != np.sign(step.mean())).any():
         raise ValueError("image: no single edge found (the rows' signals change in opposite "
                          "directions); pass a roi around one edge")
-    derivative *= np.sign(step.mean())
+    sign = np.sign(step.mean())
+    derivative *= sign
     rows = np.arange(data.shape[0])
-    slope, offset = np.polyfit(rows, _centroids(derivative), 1)
     cols = derivative.shape[1]
+    slope, offset = np.polyfit(rows, _mid_crossings(data * sign), 1)
     x = np.arange(cols) + 0.5
-    distance = x[None, :] - (offset + slope * rows)[:, None]
-    weights = 0.54 + 0.46 * np.cos(np.pi * np.clip(distance / (cols / 2), -1.0, 1.0))
-    centroids = _centroids(derivative * weights)
-    if not np.isfinite(centroids).all():
-        raise ValueError("image: no edge found (a row's windowed derivative sums to 0)")
-    slope, offset = np.polyfit(rows, centroids, 1)
+    for _ in range(2):
+        half = min(cols / 2.0, max(8.0, 2.0 * _rise_px(data * sign, slope, offset)))
+        distance = x[None, :] - (offset + slope * rows)[:, None]
+        inside = np.abs(distance) < half
+        weights = np.where(inside, 0.54 + 0.46 * np.cos(np.pi * distance / half), 0.0)
+        centroids = _centroids(derivative * weights)
+        if not np.isfinite(centroids).all():
+            raise ValueError("image: no edge found (a row's windowed derivative sums to 0)")
+        slope, offset = np.polyfit(rows, centroids, 1)
     return float(slope), float(offset)
+
+
+def _mid_crossings(data: np.ndarray) -> np.ndarray:
+    """Columns: where each row, smoothed over 9 pixels, first rises through the level midway
+    between its first and last tenths' means (the signal rising along the row)."""
+    cols = data.shape[1]
+    k = min(9, cols)
+    kernel = np.ones(k) / k
+    smooth = np.array([np.convolve(row, kernel, mode="valid") for row in data])
+    tenth = max(1, cols // 10)
+    mid = 0.5 * (data[:, :tenth].mean(axis=1) + data[:, -tenth:].mean(axis=1))
+    above = smooth >= mid[:, None]
+    first = np.argmax(above, axis=1)
+    first = np.maximum(first, 1)
+    lo = smooth[np.arange(len(first)), first - 1]
+    hi = smooth[np.arange(len(first)), first]
+    frac = np.where(hi > lo, (mid - lo) / np.where(hi > lo, hi - lo, 1.0), 0.5)
+    return first - 1 + np.clip(frac, 0.0, 1.0) + (k - 1) / 2.0
+
+
+def _rise_px(data: np.ndarray, slope: float, offset: float) -> float:
+    """Pixels: the 10-90% rise of the ESF binned a pixel wide along the rows about the line."""
+    rows, cols = data.shape
+    distance = np.arange(cols)[None, :] - (offset + slope * np.arange(rows))[:, None]
+    index = np.floor(distance).astype(np.int64)
+    index -= index.min()
+    counts = np.bincount(index.ravel())
+    esf = np.bincount(index.ravel(), weights=data.ravel()) / np.maximum(counts, 1)
+    esf = esf[counts >= max(1, rows // 2)]
+    if esf.size < 3:
+        return cols / 4.0
+    lo, hi = esf[: max(1, esf.size // 10)].mean(), esf[-max(1, esf.size // 10):].mean()
+    level = (esf - lo) / (hi - lo) if hi != lo else np.zeros_like(esf)
+    above10 = np.flatnonzero(level >= 0.1)
+    above90 = np.flatnonzero(level >= 0.9)
+    if above10.size == 0 or above90.size == 0:
+        return cols / 4.0
+    return float(max(1, above90[0] - above10[0]))
 
 
 def _binned_esf(data: np.ndarray, slope: float, offset: float, bins_a_pixel: int) -> np.ndarray:
