@@ -1,8 +1,13 @@
 """The model against the simulator: a design's f50 and target SNR from ``evaluate`` beside the
 MTF50 (ISO 12233 e-SFR) and the SNR measured on its simulated captures, repeated over seeds.
 
-The edge chart is sized to the blur: the e-SFR's window and the chart's width must hold the
-line spread many times over, or the measurement, not the model, sets the answer.
+The edge chart is sized to the blur: the e-SFR must see the whole line spread, or the
+measurement, not the model, sets the answer. Two MTF50s are measured: the noise-free
+capture's, which holds the model's MTF (the physics of the image) to the e-SFR's own accuracy,
+and the noisy captures', which is what a camera test at T_MPE would find: each capture's MTF50
+scatters, and the first crossing of a noisy MTF curve lies early, so the noisy figure is the
+e-SFR of the seeds' pooled images (their mean, whose noise is 1/sqrt(n) of one capture's), with
+its standard error from the captures' own scatter.
 """
 
 from __future__ import annotations
@@ -19,24 +24,26 @@ from .charts import flat, slanted_edge
 from .edge_sfr import esfr
 from .flat_patch import snr
 
-__all__ = ["Agreement", "agreement", "EDGE_ROWS", "FLAT_PX", "EDGE_SPAN", "MAX_EDGE_COLUMNS",
-           "EDGE_ANGLE_DEG", "MIN_EDGE_SPAN"]
+__all__ = ["Agreement", "agreement", "edge_chart", "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX",
+           "MIN_EDGE_SPAN", "DIFFRACTION_SPAN", "MAX_EDGE_COLUMNS", "EDGE_ANGLE_DEG"]
 
 #: Rows of the edge chart: at 5 degrees the edge crosses 33 pixels over them, and each of the
-#: e-SFR's quarter-pixel bins averages 96 rows' samples, which keeps one capture's MTF50
-#: scatter near 1.5% at the target SNR of 30 dB (its noise, not the model, sets that).
+#: e-SFR's quarter-pixel bins averages 96 rows' samples.
 EDGE_ROWS = 384
+#: Rows of the edge chart when the blur is long (the span over MIN_EDGE_SPAN): half as many
+#: keep the fine grid within memory; a wide line spread needs fewer rows for the same noise.
+LONG_BLUR_ROWS = 192
 #: Pixels a side of the flat patch: the SNR of 16,384 pixels has a relative scatter of
 #: 1/sqrt(2 n) = 0.55% (0.048 dB).
 FLAT_PX = 128
-#: The span along the edge's normal that every row holds, in pixels of blur, at least
-#: MIN_EDGE_SPAN: the e-SFR's Hamming window as wide as the span then leaves the box of the
-#: motion within 0.2% of its MTF50. The chart has that many columns more than the edge
-#: crosses over its rows.
-EDGE_SPAN = 24
-#: Pixels, the narrowest span: 64 hold the line spread of diffraction and the pixel (every
-#: column adds noise to the e-SFR, so no more than the spread needs).
-MIN_EDGE_SPAN = 64
+#: Pixels along the edge's normal that every row holds, when the blur is short, and at least
+#: DIFFRACTION_SPAN lambda F: they hold the line spread of diffraction and the pixel with its
+#: tails, and ISO's Hamming window over them leaves a noise-free edge's MTF50 within 0.35% of
+#: the infinite edge's (over 58 lambda F it bends it by 0.8%). A longer blur b (pixels) gets
+#: 2 b + the span and no window: the box of the motion then lies whole inside the span, which
+#: the window would bend by 0.76 (b / span)^2.
+MIN_EDGE_SPAN = 128
+DIFFRACTION_SPAN = 120.0
 #: The widest edge chart: a longer blur is reported as not measured (NaN).
 MAX_EDGE_COLUMNS = 16384
 #: Degrees, the edge's slant (ISO 12233's about 5).
@@ -51,36 +58,41 @@ class Agreement:
     ----------
     illuminance_lux : lux.
     status : the model's :class:`Status` at this point.
-    f50_model_cyc_per_mm : cycles/mm, evaluate's f50 (MTF along the rows).
+    f50_model_cyc_per_mm : cycles/mm, evaluate's f50 (the MTF along the rows).
     f50_normal_cyc_per_mm : cycles/mm, evaluate's f50 with the motion the edge's normal sees
-        (the shake times cos of the edge's slant): what the e-SFR, which measures across the
-        edge, should find.
-    f50_sim_cyc_per_mm, f50_sim_std : the e-SFR's MTF50 over the seeds' captures, their mean
-        and standard deviation.
-    f50_noiseless_cyc_per_mm : the e-SFR's MTF50 of the expected (noise-free) capture.
+        (the shake times the cosine of the edge's slant): what the e-SFR, which measures across
+        the edge, should find.
+    f50_noiseless_cyc_per_mm : the e-SFR's MTF50 of the noise-free capture.
+    f50_sim_cyc_per_mm : the e-SFR's MTF50 of the seeds' pooled noisy captures.
+    f50_sim_std : cycles/mm, the standard deviation of one noisy capture's MTF50.
     snr_db_model : dB, the target SNR evaluate meets at T_MPE.
     snr_db_sim, snr_db_std : dB, the SNR measured on the flat patch's captures, mean and
         standard deviation over the seeds.
-    seeds : the number of captures each mean is over.
-    edge_columns : the edge chart's width, pixels.
+    seeds : the number of captures.
+    edge_shape : (rows, columns) of the edge chart; window: the e-SFR's window.
+    epc_model : pixels, evaluate's EPC; epc_sim: 4 S f50_sim^2 on the same sensor area.
     """
 
     illuminance_lux: float
     status: Status
     f50_model_cyc_per_mm: float
     f50_normal_cyc_per_mm: float
+    f50_noiseless_cyc_per_mm: float
     f50_sim_cyc_per_mm: float
     f50_sim_std: float
-    f50_noiseless_cyc_per_mm: float
     snr_db_model: float
     snr_db_sim: float
     snr_db_std: float
     seeds: int
-    edge_columns: int
+    edge_shape: tuple
+    window: str | None
+    epc_model: float
+    epc_sim: float
 
     @property
     def f50_sem(self) -> float:
-        """cycles/mm, the standard error of the simulated mean MTF50."""
+        """cycles/mm, the standard error of the pooled MTF50: one capture's scatter over
+        sqrt(seeds)."""
         return self.f50_sim_std / math.sqrt(self.seeds)
 
     @property
@@ -89,21 +101,36 @@ class Agreement:
         return self.snr_db_std / math.sqrt(self.seeds)
 
 
-def _edge_columns(blur_mm: float, pitch_um: float) -> int:
+def edge_chart(blur_mm: float, pitch_um: float, lambda_f_um: float):
+    """The slanted edge an e-SFR of this blur needs, and the window to measure it with:
+    ((rows, columns), window); ``lambda_f_um`` the longest wavelength times the f-number."""
     blur_px = blur_mm / (pitch_um * 1e-3)
-    crossed = EDGE_ROWS * math.tan(math.radians(EDGE_ANGLE_DEG))
-    span = max(MIN_EDGE_SPAN, EDGE_SPAN * blur_px)
-    return int(math.ceil((crossed + span) / 2.0)) * 2
+    slope = math.tan(math.radians(EDGE_ANGLE_DEG))
+    least = max(MIN_EDGE_SPAN, DIFFRACTION_SPAN * lambda_f_um / pitch_um)
+    if 24.0 * blur_px <= least:
+        rows, span, window = EDGE_ROWS, least, "hamming"
+    else:
+        rows, span, window = LONG_BLUR_ROWS, 2.0 * blur_px + least, None
+    columns = int(math.ceil((rows * slope + span) / 2.0)) * 2
+    return (rows, columns), window
 
 
-def agreement(illuminance_lux: float, *, seeds: int = 8, seed: int = 0, **design) -> Agreement:
+def _longest_wavelength_um(design) -> float:
+    spectrum = design.get("spectrum")
+    if spectrum is None:
+        return float(design.get("wavelength_nm", 550.0)) * 1e-3
+    wavelengths = getattr(spectrum, "wavelengths_nm", None)
+    return float(np.max(spectrum[0] if wavelengths is None else wavelengths)) * 1e-3
+
+
+def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **design) -> Agreement:
     """Compare the model with simulated captures of one design at one light level.
 
     Parameters
     ----------
     illuminance_lux : lux.
-    seeds : int, the captures each simulated figure is the mean of (the noise drawn anew,
-        the expected image computed once).
+    seeds : int, >= 2: the noisy captures (the noise drawn anew each time, the expected image
+        computed once).
     seed : int, the first seed; the captures use seed, seed + 1, ...
     **design : the design's keywords of :func:`epc_fast.evaluate` (scalars).
 
@@ -115,28 +142,34 @@ def agreement(illuminance_lux: float, *, seeds: int = 8, seed: int = 0, **design
     """
     if isinstance(seeds, bool) or not isinstance(seeds, (int, np.integer)) or seeds < 2:
         raise ValueError(f"seeds: an integer >= 2 (the scatter needs two), got {seeds!r}")
-    model = api.evaluate(illuminance_lux, **design)
+    model = api.evaluate(illuminance_lux, **design, invalid="raise")
     status = Status(int(np.asarray(model.status)))
     shake = design.get("shake_deg_per_s", 4.39)
     normal = api.evaluate(illuminance_lux, **{
         **design, "shake_deg_per_s": shake * math.cos(math.radians(EDGE_ANGLE_DEG))})
     snr_target = float(design.get("snr_db", 30.0))
-    nan = math.nan
-    columns = (_edge_columns(float(model.blur_mm), float(design["pixel_pitch_um"]))
-               if status == Status.OK else 0)
-    if status != Status.OK or columns > MAX_EDGE_COLUMNS:
-        return Agreement(float(illuminance_lux), status, float(model.f50_cyc_per_mm),
+    f50_model, epc_model = float(model.f50_cyc_per_mm), float(model.epc)
+    area_mm2 = epc_model / (4.0 * f50_model ** 2) if f50_model > 0 else math.nan
+    shape, window = ((0, 0), None)
+    if status == Status.OK:
+        shape, window = edge_chart(float(model.blur_mm), float(design["pixel_pitch_um"]),
+                                   _longest_wavelength_um(design) * float(design["f_number"]))
+    if status != Status.OK or shape[1] > MAX_EDGE_COLUMNS:
+        nan = math.nan
+        return Agreement(float(illuminance_lux), status, f50_model,
                          float(normal.f50_cyc_per_mm), nan, nan, nan, snr_target, nan, nan,
-                         int(seeds), columns)
-    edge = capture(slanted_edge((EDGE_ROWS, columns), EDGE_ANGLE_DEG),
-                   illuminance_lux=illuminance_lux, seed=seed, **design)
+                         int(seeds), shape, window, epc_model, nan)
+    edge = capture(slanted_edge(shape, EDGE_ANGLE_DEG), illuminance_lux=illuminance_lux,
+                   seed=seed, **design)
     patch = capture(flat(FLAT_PX, design.get("reflectance", 0.4)),
                     illuminance_lux=illuminance_lux, seed=seed, **design)
     pitch = edge.pitch_um
-    f50s = [esfr(edge.redraw(seed + i).image_e, pitch).mtf50_cyc_per_mm for i in range(seeds)]
+    images = [edge.redraw(seed + i).image_e for i in range(seeds)]
+    each = [esfr(im, pitch, window=window).mtf50_cyc_per_mm for im in images]
+    pooled = esfr(np.mean(images, axis=0), pitch, window=window).mtf50_cyc_per_mm
+    noiseless = esfr(edge.expected_e, pitch, window=window).mtf50_cyc_per_mm
     snrs = [snr(patch.redraw(seed + i).image_e).snr_db for i in range(seeds)]
-    noiseless = esfr(edge.expected_e, pitch).mtf50_cyc_per_mm
-    return Agreement(float(illuminance_lux), status, float(model.f50_cyc_per_mm),
-                     float(normal.f50_cyc_per_mm), float(np.mean(f50s)),
-                     float(np.std(f50s, ddof=1)), float(noiseless), snr_target,
-                     float(np.mean(snrs)), float(np.std(snrs, ddof=1)), int(seeds), columns)
+    return Agreement(float(illuminance_lux), status, f50_model, float(normal.f50_cyc_per_mm),
+                     float(noiseless), float(pooled), float(np.std(each, ddof=1)), snr_target,
+                     float(np.mean(snrs)), float(np.std(snrs, ddof=1)), int(seeds), shape,
+                     window, epc_model, 4.0 * area_mm2 * float(pooled) ** 2)

@@ -254,8 +254,14 @@ def _pitch(pitch_um) -> float:
 
 
 def _is_horizontal(data: np.ndarray) -> bool:
-    """Whether the signal changes more down the columns than along the rows."""
-    return np.abs(np.diff(data, axis=0)).sum() > np.abs(np.diff(data, axis=1)).sum()
+    """Whether the signal changes more from the first row to the last, summed over the
+    columns, than from the first column to the last, summed over the rows. The ends' differences
+    count the edge's step once a line, and a pixel's noise only at the ends: summing every
+    neighbour's absolute difference instead would count the noise of every pixel, and noise
+    of a few percent would outweigh the edge."""
+    down = np.abs(data[-1, :] - data[0, :]).sum() / data.shape[1]
+    along = np.abs(data[:, -1] - data[:, 0]).sum() / data.shape[0]
+    return down > along
 
 
 def _centroids(derivative: np.ndarray) -> np.ndarray:
