@@ -1,0 +1,157 @@
+"""The capture (epc_fast.simulate.capture): its image against the exact image of an edge, the
+photo-electrons the model needs at T_MPE, its noise's statistics, reproducibility from a seed,
+and every bad input refused with a message naming it."""
+
+import math
+
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast import presets, simulate
+from epc_fast.simulate import camera
+from helpers.edges import edge_spread
+
+DESIGN = presets.HIGH_TIER[0].evaluate_kwargs()  # 2.8 um, F/2.8, the SNR met at the corner
+
+
+def per_reflectance(c, design):
+    """e- a pixel collects per unit reflectance: the model's r T over its target's reflectance."""
+    r = c.result
+    return float(r.electron_rate_e_per_s) * c.exposure_s / design.get("reflectance", 0.4)
+
+
+@pytest.mark.parametrize("extra, lux", [
+    ({}, 1e5),                                               # diffraction and the pixel
+    ({"fill_factor": 0.5, "jitter_um": 0.7}, 1e5),           # a small aperture and jitter
+    ({}, 300.0),                                             # 10 pixels of motion
+    ({"pixel_pitch_um": 1.1, "f_number": 2.0}, 1e4),         # q = 3 samples a pixel
+])
+def test_an_edges_capture_is_the_exact_image_of_the_edge(extra, lux):
+    design = {**DESIGN, **extra}
+    chart = simulate.slanted_edge((48, 96), 5.0)
+    c = simulate.capture(chart, illuminance_lux=lux, seed=1, **design)
+    rows, cols = chart.shape
+    y, x = np.mgrid[0:rows, 0:cols].astype(float)
+    a = math.radians(5.0)
+    p = design["pixel_pitch_um"]
+    d = ((x - (cols - 1) / 2) * math.cos(a) - (y - (rows - 1) / 2) * math.sin(a)) * p * 1e-3
+    omega = math.radians(design.get("shake_deg_per_s", 4.39)) / design.get("stabilization", 1.0)
+    esf = edge_spread(d, angle_deg=5.0, f_number=design["f_number"], wavelength_nm=550.0,
+                      pitch_um=p, fill_factor=design.get("fill_factor", 1.0),
+                      jitter_mm=design.get("jitter_um", 0.0) * 1e-3,
+                      motion=(c.exposure_s, design["focal_length_mm"], omega))
+    want = 0.1 + 0.3 * esf
+    got = c.expected_e / per_reflectance(c, design)
+    # The 2-D grid wraps round 200 lambda F beyond the chart: the far side leaks under 3.3e-4
+    # of the contrast (0.3) into it (camera.PSF_REACH); the 1-D edge, on a 40 mm period,
+    # under 1e-5. Measured: 1.3e-4 at most.
+    assert np.max(np.abs(got - want)) < 3.3e-4 * 0.3
+    assert c.oversample == camera.grid_oversample(p, design["f_number"], 550.0)
+
+
+def test_a_flat_patch_at_t_mpe_collects_the_electrons_the_target_needs():
+    design = {**DESIGN, "read_noise_e": 2.0, "dark_current_e_per_s": 30.0, "prnu": 0.005}
+    c = simulate.capture(simulate.flat(64), illuminance_lux=200.0, seed=3, **design)
+    # A uniform patch passes the optics at f = 0 only: each pixel expects r T exactly.
+    assert np.allclose(c.expected_e, float(c.result.electrons), rtol=1e-12)
+    assert c.exposure_s == float(c.result.t_mpe_s)
+
+
+def test_the_noise_has_the_models_mean_and_variance():
+    design = {**DESIGN, "read_noise_e": 3.0, "dark_current_e_per_s": 200.0, "prnu": 0.01}
+    c = simulate.capture(simulate.flat(256), illuminance_lux=500.0, seed=5, **design)
+    s, t = float(c.result.electrons), c.exposure_s
+    var = s + 200.0 * t + 9.0 + (0.01 * s) ** 2
+    n = c.image_e.size
+    # The sample mean within 5 standard errors; the sample variance within 5 of its own
+    # (sqrt(2 / n) of the variance for a near-normal count).
+    assert abs(c.image_e.mean() - s) < 5 * math.sqrt(var / n)
+    assert abs(c.image_e.var(ddof=1) / var - 1) < 5 * math.sqrt(2 / n)
+    target = 10 ** (float(design["snr_db"]) / 20)
+    assert abs(s / math.sqrt(var) / target - 1) < 1e-9  # the model meets its target at T_MPE
+
+
+def test_the_same_seed_gives_the_same_image_and_another_seed_another():
+    chart = simulate.slanted_edge(32)
+    a = simulate.capture(chart, illuminance_lux=1000.0, seed=11, **DESIGN)
+    b = simulate.capture(chart, illuminance_lux=1000.0, seed=11, **DESIGN)
+    c = simulate.capture(chart, illuminance_lux=1000.0, seed=12, **DESIGN)
+    assert np.array_equal(a.image_e, b.image_e)
+    assert not np.array_equal(a.image_e, c.image_e)
+    assert np.array_equal(a.redraw(12).image_e, c.image_e)
+    assert np.array_equal(a.expected_e, c.expected_e)
+
+
+def test_the_full_well_clips_the_signal():
+    design = {**DESIGN, "full_well_e": 1500.0, "dark_current_e_per_s": 10.0}
+    c = simulate.capture(simulate.flat(32), illuminance_lux=1000.0, exposure_s=1.0,
+                         seed=0, **design)
+    assert c.image_e.max() <= 1500.0 - 10.0 * 1.0
+    assert c.exposure_s == 1.0
+
+
+def test_a_spectrums_image_is_its_wavelengths_images_weighted():
+    chart = simulate.slanted_edge((32, 48))
+    spectrum = epc_fast.Spectrum([480.0, 620.0], [0.25, 0.75])
+    q = camera.grid_oversample(DESIGN["pixel_pitch_um"], DESIGN["f_number"], 480.0)
+    both = simulate.capture(chart, illuminance_lux=1e4, spectrum=spectrum, oversample=q,
+                            **DESIGN)
+    parts = [simulate.capture(chart, illuminance_lux=1e4, wavelength_nm=w, oversample=q,
+                              exposure_s=both.exposure_s, **DESIGN).expected_e
+             for w in (480.0, 620.0)]
+    # Electrons add over wavelengths; the combined profile is one interpolation of the
+    # weighted profiles (1e-5 of the transfer, optics.diffraction_transfer).
+    assert np.allclose(both.expected_e, 0.25 * parts[0] + 0.75 * parts[1], rtol=2e-5)
+
+
+def test_a_picture_keeps_its_shape_and_its_mean_light():
+    rng = np.random.default_rng(0)
+    values = rng.uniform(0.1, 0.8, (40, 60))
+    c = simulate.capture(simulate.image(values), illuminance_lux=1000.0, seed=0, **DESIGN)
+    assert c.image_e.shape == (40, 60) and c.image_e.dtype == np.float64
+    assert c.pitch_um == DESIGN["pixel_pitch_um"]
+    # The optics move light around but lose none: the mean over the interior holds (the
+    # picture's border repeats beyond it, so the blur at the edges borrows from no one).
+    inner = (slice(8, -8), slice(8, -8))
+    ratio = c.expected_e[inner].mean() / (values[inner].mean() * per_reflectance(c, DESIGN))
+    assert abs(ratio - 1) < 0.02
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    ({"chart": np.ones((8, 8))}, TypeError, "chart"),
+    ({"outputs": "epc"}, TypeError, "outputs"),
+    ({"not_a_keyword": 1}, TypeError, "not_a_keyword"),
+    ({"illuminance_lux": [1.0, 2.0]}, ValueError, "illuminance_lux"),
+    ({"f_number": [2.0, 2.8]}, ValueError, "capture simulates one design"),
+    ({"pixel_pitch_um": -1.0}, ValueError, "pixel_pitch_um"),
+    ({"prnu": 0.05}, ValueError, "cannot reach its SNR target"),
+    ({"illuminance_lux": 0.05}, ValueError, "90 degrees"),
+    ({"exposure_s": -1.0}, ValueError, "exposure_s"),
+    ({"exposure_s": math.nan}, ValueError, "exposure_s"),
+    ({"exposure_s": 1e4}, ValueError, "90 degrees"),
+    ({"oversample": 4}, ValueError, "oversample"),
+    ({"oversample": 1}, ValueError, "oversample"),
+    ({"oversample": 5.0}, ValueError, "oversample"),
+])
+def test_bad_input_is_refused_by_name(kwargs, error, match):
+    call = {"chart": simulate.flat(8), "illuminance_lux": 100.0, **DESIGN, **kwargs}
+    with pytest.raises(error, match=match):
+        simulate.capture(call.pop("chart"), **call)
+
+
+def test_a_grid_beyond_the_memory_is_refused_before_it_is_made(monkeypatch):
+    from epc_fast import _limits
+
+    monkeypatch.setattr(_limits, "memory_limit_bytes", lambda: 2**20)
+    with pytest.raises(MemoryError, match="smaller chart"):
+        simulate.capture(simulate.flat(256), illuminance_lux=100.0, **DESIGN)
+
+
+@pytest.mark.parametrize("pitch, f_number, wavelength, q", [
+    (2.8, 2.8, 550.0, 5), (1.4, 2.8, 550.0, 3), (0.5, 2.8, 550.0, 1), (1.0, 2.0, 400.0, 3)])
+def test_the_grid_is_the_least_odd_one_that_carries_the_image(pitch, f_number, wavelength, q):
+    got = camera.grid_oversample(pitch, f_number, wavelength)
+    assert got == q and got % 2 == 1
+    assert got / pitch >= camera.BAND_FACTOR / (wavelength * 1e-3 * f_number)
+    assert got == 1 or (got - 2) / pitch < camera.BAND_FACTOR / (wavelength * 1e-3 * f_number)
