@@ -38,6 +38,21 @@ def test_paper_command_writes_three_pngs_their_limits_and_the_statements(tmp_pat
     assert all(float(row["preset_value"]) > 0 for row in rows)
     assert (out / "statements.md").read_text(encoding="utf-8").startswith("| id |")
     assert "does not hold: fraction_2.8_100klux" in printed
+    # The statements checked on simulated captures, as the paper checked them.
+    simulated = {row["id"]: float(row["simulated_value"]) for row in rows}
+    model = {row["id"]: float(row["preset_value"]) for row in rows}
+    # The first dark ring of the PSF from the pupil: 1.21967 lambda F (the first zero of J1 over
+    # pi), found on a grid of 1e-3 lambda F and refined by a parabola.
+    assert abs(simulated["rayleigh_f2.8"] / (1.21967 * 0.55 * 2.8) - 1) < 1e-4
+    # EPC goes as f50^2: twice the simulated MTF50's agreement (tests/simulate/test_agreement.py)
+    # with the pooled captures' scatter, 3% in all.
+    for sid in ("fraction_1.4_100klux", "fraction_2.8_100klux"):
+        assert abs(simulated[sid] / model[sid] - 1) < 0.03, sid
+    # 4x IS with 4x less light is the same capture: the same exposure times shake.
+    assert abs(simulated["is_4x_light"] - 4.0) < 1e-6
+    assert all(simulated[sid] != simulated[sid] for sid in ("fov_normal", "fov_zoom"))
+    md = (out / "statements.md").read_text(encoding="utf-8")
+    assert "Checked on simulated captures" in md and "| simulated captures |" in md
 
 
 def test_python_dash_m_knows_the_paper_command():
@@ -49,7 +64,7 @@ def test_python_dash_m_knows_the_paper_command():
 def test_paper_command_without_matplotlib_still_writes_the_table(tmp_path, monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "matplotlib", None)
     monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
-    assert main(["paper", "--out", str(tmp_path)]) == 1
+    assert main(["paper", "--out", str(tmp_path), "--no-simulate"]) == 1
     assert (tmp_path / "statements.csv").stat().st_size > 0
     assert not (tmp_path / "fig1.png").exists()
     assert not (tmp_path / "fig1_limits.png").exists()

@@ -17,7 +17,7 @@ image corner) and the literal 30 dB and 33 dB on the optical axis. Claims come i
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -84,6 +84,9 @@ class Statement:
     tolerance : 1, relative, for "≈".
     preset_value, on_axis_30db_value, on_axis_33db_value : the model's value under each reading
         (NaN where the quantity does not exist, e.g. a level never reached).
+    simulated_value : the value checked on simulated captures of the preset
+        (:mod:`epc_fast.paper.simulated`); NaN where not simulated, where a capture cannot check
+        it (geometry) or where the simulated EPC never reaches it near the model's value.
     """
 
     id: str
@@ -96,11 +99,27 @@ class Statement:
     preset_value: float
     on_axis_30db_value: float
     on_axis_33db_value: float
+    simulated_value: float = math.nan
 
     @property
     def deviation(self) -> float:
         """1: the preset's relative deviation from the paper, preset / paper - 1 (NaN: none)."""
         return self.preset_value / self.paper_value - 1.0
+
+    @property
+    def simulated_deviation(self) -> float:
+        """1: the simulated value's relative deviation from the model's preset value."""
+        return self.simulated_value / self.preset_value - 1.0
+
+    @property
+    def simulated_holds(self) -> bool | None:
+        """Whether the simulated value satisfies the relation to the paper; None without a
+        paper value or a simulated value."""
+        if math.isnan(self.paper_value) or math.isnan(self.simulated_value):
+            return None
+        value, paper = self.simulated_value, self.paper_value
+        return bool({"≈": abs(value / paper - 1.0) <= self.tolerance, "<": value < paper,
+                     ">": value > paper, "≥": value >= paper}[self.relation])
 
     @property
     def holds(self) -> bool | None:
@@ -215,7 +234,7 @@ CLAIMS = (
 )
 
 
-def statements(*, backend="core", threads=None) -> tuple:
+def statements(*, backend="core", threads=None, simulate=False) -> tuple:
     """Every claim of :data:`CLAIMS`, evaluated under the three readings.
 
     Parameters
@@ -223,6 +242,9 @@ def statements(*, backend="core", threads=None) -> tuple:
     backend : {"core", "reference"}
         Passed to :func:`epc_fast.evaluate` and the inverse solvers.
     threads : int, optional
+    simulate : bool
+        Also check each claim on simulated captures of the preset
+        (:func:`epc_fast.paper.simulated.simulated_values`: about 20 s, SciPy needed).
 
     Returns
     -------
@@ -233,4 +255,9 @@ def statements(*, backend="core", threads=None) -> tuple:
         values = np.asarray(claim.value(backend=backend, threads=threads), dtype=np.float64)
         out.append(Statement(claim.id, claim.text, claim.kind, claim.unit, claim.relation,
                              claim.paper_value, claim.tolerance, *map(float, values)))
+    if simulate:
+        from .simulated import simulated_values
+
+        values = simulated_values(out)
+        out = [replace(s, simulated_value=values[s.id]) for s in out]
     return tuple(out)

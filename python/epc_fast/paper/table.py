@@ -5,10 +5,11 @@ from __future__ import annotations
 import csv
 import math
 
-__all__ = ["CSV_COLUMNS", "write_csv", "markdown_table"]
+__all__ = ["CSV_COLUMNS", "write_csv", "markdown_table", "simulated_markdown_table"]
 
 CSV_COLUMNS = ("id", "kind", "statement", "unit", "relation", "paper_value", "tolerance",
-               "preset_value", "on_axis_30db_value", "on_axis_33db_value", "deviation", "holds")
+               "preset_value", "on_axis_30db_value", "on_axis_33db_value", "deviation", "holds",
+               "simulated_value", "simulated_holds")
 
 
 def _csv_row(s) -> dict:
@@ -18,7 +19,9 @@ def _csv_row(s) -> dict:
             "tolerance": repr(s.tolerance), "preset_value": repr(s.preset_value),
             "on_axis_30db_value": repr(s.on_axis_30db_value),
             "on_axis_33db_value": repr(s.on_axis_33db_value),
-            "deviation": repr(s.deviation), "holds": holds}
+            "deviation": repr(s.deviation), "holds": holds,
+            "simulated_value": repr(s.simulated_value),
+            "simulated_holds": "" if s.simulated_holds is None else str(s.simulated_holds).lower()}
 
 
 def write_csv(statements, path) -> None:
@@ -58,4 +61,20 @@ def markdown_table(statements) -> str:
         lines.append(f"| {s.id} | {s.kind} | {s.text} | {s.unit} | {_paper(s)} "
                      f"| {_number(s.preset_value)} | {_number(s.on_axis_30db_value)} "
                      f"| {_number(s.on_axis_33db_value)} | {_deviation(s)} | {holds} |")
+    return "\n".join(lines) + "\n"
+
+
+def simulated_markdown_table(statements) -> str:
+    """A Markdown table of the statements checked on simulated captures: the paper's value, the
+    model's (the preset), the simulated one, its deviation from the model and whether it holds
+    against the paper."""
+    lines = ["| id | statement | unit | paper | model (preset) | simulated captures "
+             "| simulated vs model | holds (simulated) |",
+             "|---|---|---|---|---|---|---|---|"]
+    for s in statements:
+        holds = {None: "—", True: "yes", False: "**no**"}[s.simulated_holds]
+        deviation = ("—" if math.isnan(s.simulated_deviation)
+                     else f"{round(100 * s.simulated_deviation, 1) + 0.0:+.1f}%")
+        lines.append(f"| {s.id} | {s.text} | {s.unit} | {_paper(s)} | {_number(s.preset_value)} "
+                     f"| {_number(s.simulated_value)} | {deviation} | {holds} |")
     return "\n".join(lines) + "\n"
