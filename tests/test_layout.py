@@ -133,13 +133,16 @@ def test_no_binding_file_is_over_400_lines(path):
     assert len(path.read_text().splitlines()) <= MAX_CPP_LINES
 
 
-def test_importing_epc_fast_loads_neither_the_scan_nor_the_optimiser():
+def test_importing_epc_fast_loads_neither_the_scan_nor_the_optimiser_nor_the_simulator():
     code = ("import sys, epc_fast\n"
             "loaded = sorted(m for m in sys.modules if m.split('.')[:2] in "
-            "(['epc_fast', 'scan'], ['epc_fast', 'optimize'], ['epc_fast', 'reference']))\n"
+            "(['epc_fast', 'scan'], ['epc_fast', 'optimize'], ['epc_fast', 'reference'], "
+            "['epc_fast', 'simulate']))\n"
             "assert not loaded, loaded\n"
             "assert epc_fast.scan.Space and epc_fast.optimize.maximize\n"
-            "assert 'epc_fast.scan' in sys.modules and 'epc_fast.optimize' in sys.modules\n")
+            "assert epc_fast.simulate.capture\n"
+            "assert 'epc_fast.scan' in sys.modules and 'epc_fast.optimize' in sys.modules\n"
+            "assert 'epc_fast.simulate' in sys.modules\n")
     env = dict(os.environ)
     proc = subprocess.run([sys.executable, "-c", "import conftest\n" + code],
                           cwd=Path(__file__).parent, env=env, capture_output=True, text=True)
@@ -149,7 +152,7 @@ def test_importing_epc_fast_loads_neither_the_scan_nor_the_optimiser():
 def test_the_package_lists_scan_and_optimize_alike():
     import epc_fast
 
-    assert {"scan", "optimize"} <= set(epc_fast.__all__) <= set(dir(epc_fast))
+    assert {"scan", "optimize", "simulate"} <= set(epc_fast.__all__) <= set(dir(epc_fast))
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         epc_fast.nothing  # noqa: B018
 
@@ -171,7 +174,10 @@ PUBLIC_PATHS = [
     "epc_fast.tradeoff:pareto_front", "epc_fast.tradeoff:plot_tradeoff",
     "epc_fast.tradeoff:markdown_columns", "epc_fast.tradeoff:csv_columns",
     "epc_fast.paper:statements", "epc_fast.paper:FIGURES", "epc_fast.paper:write_csv",
-    "epc_fast.paper:markdown_table",
+    "epc_fast.paper:markdown_table", "epc_fast.paper:simulated_markdown_table",
+    "epc_fast:simulate", "epc_fast.simulate:capture", "epc_fast.simulate:slanted_edge",
+    "epc_fast.simulate:flat", "epc_fast.simulate:image", "epc_fast.simulate:esfr",
+    "epc_fast.simulate:snr", "epc_fast.simulate.agreement:agreement",
     "epc_fast.reference:mtf_diffraction", "epc_fast.reference:evaluate_points",
     "epc_fast.reference.sensitivity:sensitivity_points",
     "epc_fast.scan:run", "epc_fast.scan:Space", "epc_fast.scan:LogUniform",

@@ -32,9 +32,9 @@ try:
 except _metadata.PackageNotFoundError:  # pragma: no cover - a bare source checkout
     __version__ = "0+unknown"
 
-#: The subsystems loaded on first use (``epc_fast.scan``, ``epc_fast.optimize``): importing
-#: epc_fast for evaluate loads neither.
-_SUBPACKAGES = ("scan", "optimize")
+#: The subsystems loaded on first use (``epc_fast.scan``, ``epc_fast.optimize``,
+#: ``epc_fast.simulate``): importing epc_fast for evaluate loads none of them.
+_SUBPACKAGES = ("scan", "optimize", "simulate")
 
 __all__ = [
     "evaluate",
@@ -51,6 +51,7 @@ __all__ = [
     "DEFAULT_ELECTRONS_PER_LUX_S_M2",
     "scan",
     "optimize",
+    "simulate",
     "__version__",
     "BuildInfo",
     "build_info",
