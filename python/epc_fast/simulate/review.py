@@ -80,8 +80,9 @@ class Cell:
 
     @property
     def mtf50_fraction(self) -> float:
-        """1, the simulated MTF50 over the model's f50."""
-        return self.mtf50_cyc_per_mm / self.f50_model_cyc_per_mm
+        """1, the simulated MTF50 over the model's f50 (NaN where either is not positive)."""
+        f50 = self.f50_model_cyc_per_mm
+        return self.mtf50_cyc_per_mm / f50 if f50 > 0 else math.nan
 
 
 @dataclass(frozen=True, eq=False)
