@@ -98,6 +98,10 @@ def _number(value: float, digits: int = 4) -> str:
     return "—" if math.isnan(value) else f"{value:.{digits}g}"
 
 
+def _fraction(value: float) -> str:
+    return "—" if math.isnan(value) else f"{value:.3f}"
+
+
 def markdown(rows, seed) -> str:
     """agreement.md: the model beside one simulated capture a design and light."""
     lines = [f"Model against simulated captures (one capture each, seed {seed}): MTF50 of the "
@@ -109,7 +113,7 @@ def markdown(rows, seed) -> str:
         lines.append(
             f"| {r['design']} | {r['illuminance_lux']:g} | {_number(r['epc_model'] / 1e6, 3)} "
             f"| {_number(r['f50_model_cyc_per_mm'])} | {_number(r['mtf50_sim_cyc_per_mm'])} | "
-            f"{_number(r['mtf50_over_f50'], 3)} | {r['snr_target_db']:g} | "
+            f"{_fraction(r['mtf50_over_f50'])} | {r['snr_target_db']:g} | "
             f"{_number(r['snr_sim_db'])} | {r['note'].replace('|', '/')} |")
     return "\n".join(lines) + "\n"
 

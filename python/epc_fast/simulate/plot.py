@@ -45,7 +45,8 @@ def conditions(review, extra=()) -> list[str]:
 def _caption(cell) -> str:
     if cell.why:
         return "no image"
-    epc = f"EPC {cell.epc / 1e6:.3g} Mpx (model)"
+    epc = (f"EPC {cell.epc / 1e6:.3g} Mpx (model)" if cell.epc >= 1e5
+           else f"EPC {cell.epc:,.0f} pixels (model)")
     if math.isnan(cell.mtf50_cyc_per_mm):
         mtf = "MTF50 not measured"
     else:
@@ -116,7 +117,6 @@ def _mtf_panel(ax, review, i):
     pitch = float(review.kwargs[i]["pixel_pitch_um"])
     top = 1e3 / pitch  # cycles/mm, twice Nyquist
     f = np.linspace(0.0, top, CURVE_POINTS)
-    drawn = 0
     for j, cell in enumerate(review.cells[i]):
         color = f"C{j}"
         lux = f"{cell.illuminance_lux:g} lux"
@@ -129,17 +129,17 @@ def _mtf_panel(ax, review, i):
         ax.plot([f50], [0.5], marker="x", color=color, ms=7, mew=1.5, ls="none", zorder=5)
         if cell.sfr is None:
             ax.plot([], [], color=color, label=f"{lux}: MTF50 not measured")
-            drawn += 1
             continue
-        keep = cell.sfr.frequency_cyc_per_mm <= top
-        ax.plot(cell.sfr.frequency_cyc_per_mm[keep], cell.sfr.mtf[keep], color=color, lw=1.0,
-                alpha=0.8, zorder=2, label=f"{lux}: MTF50 {cell.mtf50_cyc_per_mm:.3g} (model {f50:.3g})")
+        for sfr, style in ((cell.sfr, {"lw": 0.7, "alpha": 0.35, "zorder": 1}),
+                           (cell.sfr_noiseless, {"lw": 1.6, "zorder": 3, "label": (
+                               f"{lux}: MTF50 {cell.mtf50_cyc_per_mm:.3g} (model {f50:.3g})")})):
+            keep = sfr.frequency_cyc_per_mm <= top
+            ax.plot(sfr.frequency_cyc_per_mm[keep], sfr.mtf[keep], color=color, **style)
         ax.plot([cell.mtf50_cyc_per_mm], [0.5], marker="o", color=color, ms=6, mfc="white",
                 mew=1.5, ls="none", zorder=5)
-        drawn += 1
     ax.axhline(0.5, color="0.6", lw=0.8, ls=":")
     ax.axvline(top / 2.0, color="0.6", lw=0.8)
-    ax.text(top / 2.0, 0.02, "Nyquist ", fontsize=7, color="0.4", va="bottom", ha="right")
+    ax.text(top / 2.0, 1.02, "Nyquist ", fontsize=7, color="0.4", va="bottom", ha="right")
     ax.set_xlim(0.0, top)
     ax.set_ylim(0.0, 1.08)
     ax.set_xlabel("Frequency (cycles/mm)", fontsize=8)
@@ -148,19 +148,20 @@ def _mtf_panel(ax, review, i):
     ax.tick_params(labelsize=7)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=6.5, loc="upper right", title="cycles/mm", title_fontsize=6.5)
-    return drawn
 
 
 def mtf_figure(review, *, conditions_text=None):
     """A matplotlib Figure: one panel per design, a colour per light level; solid the e-SFR MTF
-    of the simulated slanted edge (its MTF50 a circle), dashed the model's system MTF with
-    evaluate's blur there (its f50 a cross), from 0 to twice the design's Nyquist
-    frequency."""
+    of the simulated slanted edge without its noise, faint that of the noisy capture (its MTF50
+    a circle: beyond the blur's first zeros the noise is most of it), dashed the model's
+    system MTF with evaluate's blur there (its f50 a cross), from 0 to twice the design's
+    Nyquist frequency."""
     n = len(review.designs)
     cols = 1 if n == 1 else 2
     rows = -(-n // cols)
-    extra = ["Solid: e-SFR (ISO 12233) of the simulated slanted edge, o its MTF50; dashed: the "
-             "model's system MTF with evaluate's blur, x its f50"]
+    extra = ["Solid: e-SFR (ISO 12233) of the simulated slanted edge without its noise; faint: "
+             "of the noisy capture, o its MTF50; dashed: the model's system MTF with evaluate's "
+             "blur, x its f50"]
     lines = conditions(review, extra) if conditions_text is None else conditions_text
     figure = figure_class()(figsize=(4.6 * cols + 0.4, 3.4 * rows + 0.7 + 0.16 * len(lines)),
                             layout="constrained")

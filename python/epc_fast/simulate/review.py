@@ -46,6 +46,8 @@ class Cell:
     star : :class:`~epc_fast.simulate.Capture` of the star, or None (no image: ``why``).
     white_e : e-, the star's lightest reflectance without noise: the picture's white.
     sfr : :class:`~epc_fast.simulate.EdgeSFR` of the edge's capture, or None (``mtf_why``).
+    sfr_noiseless : :class:`~epc_fast.simulate.EdgeSFR` of the same capture without its noise
+        (its expected electrons), or None: the curve the noise scatters round.
     snr_db : dB, measured on the flat patch's capture (NaN without an image).
     snr_target_db : dB, the design's SNR target.
     why : str, why there is no image ("" when there is one).
@@ -58,6 +60,7 @@ class Cell:
     star: object = None
     white_e: float = math.nan
     sfr: object = None
+    sfr_noiseless: object = None
     snr_db: float = math.nan
     snr_target_db: float = math.nan
     why: str = ""
@@ -147,7 +150,7 @@ def _cell(name, kwargs, lux, indices, s) -> Cell:
     white = float(np.mean(patch.expected_e)) * float(star_chart.values.max()) / reflectance
     rows = s["edge_rows"]
     columns = max(MIN_EDGE_PX, _edge_columns(star.blur_mm, pitch, rows))
-    sfr, mtf_why = None, ""
+    sfr, noiseless, mtf_why = None, None, ""
     if columns > s["max_edge_columns"]:
         mtf_why = (f"blur {star.blur_mm / (pitch * 1e-3):.0f} px needs a {columns}-column edge "
                    f"(max_edge_columns {s['max_edge_columns']})")
@@ -156,9 +159,10 @@ def _cell(name, kwargs, lux, indices, s) -> Cell:
                        seed=_seed(s["seed"], *indices, "edge"), **kwargs)
         try:
             sfr = esfr(edge.image_e, pitch)
+            noiseless = esfr(edge.expected_e, pitch)
         except ValueError as error:
             mtf_why = str(error)
-    return Cell(name, lux, result, star=star, white_e=white, sfr=sfr,
+    return Cell(name, lux, result, star=star, white_e=white, sfr=sfr, sfr_noiseless=noiseless,
                 snr_db=float(snr(patch.image_e).snr_db), snr_target_db=target,
                 mtf_why=mtf_why)
 
