@@ -31,7 +31,7 @@ max_edge_columns = 512
 DESIGN = {"pixel_pitch_um": 2.8, "f_number": 2.8, "focal_length_mm": 5.6,
           "sensor_area_mm2": 4.57 * 3.43}
 SETTINGS = {"seed": 5, "star_width_um": 67.2, "spokes": 12, "edge_rows": 32, "flat_px": 32,
-            "max_edge_columns": 512}
+            "max_edge_columns": 512, "max_blur_px": 1500}
 ALL_FILES = ["agreement.csv", "agreement.md", "contact_sheet.png", "mtf.png"]
 
 
@@ -57,7 +57,7 @@ def test_the_command_writes_the_pictures_and_the_table(tmp_path, capsys):
     for name in ALL_FILES:
         assert f"wrote {written / name}" in out
     assert (written / "contact_sheet.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    assert "| big pixel | 1000 |" in (written / "agreement.md").read_text()
+    assert "| big pixel | 1000 | 1,003,584 | 126.5 |" in (written / "agreement.md").read_text()
 
 
 def test_the_table_holds_the_numbers_of_the_python_api(tmp_path, capsys):
@@ -120,6 +120,8 @@ BAD_CONFIGS = [
     (("star_width_um = 67.2", "star_width_um = 14"),
      "[simulate]: star_width_um = 14.0: expected a width of 8 to 4,096 pixels of every design, "
      "got 5 pixels of 'big pixel' (2.8 um)"),
+    (("flat_px = 32", "flat_px = 32\nmax_blur_px = -1"),
+     "[simulate]: max_blur_px = -1: expected an integer between 0 and 100,000"),
     (("edge_rows = 32", "edge_rows = 8"), "[simulate]: edge_rows = 8: expected an integer "
                                           "between 16"),
     (("[[design.custom]]", "[design]\npresets = [\"NOPE\"]\n[[design.custom]]"),

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from epc_fast.simulate.review import review
+from epc_fast.simulate.review import DEFAULTS, review
 from helpers.reviews import DESIGNS, LUX, SETTINGS, small_review
 
 
@@ -15,7 +15,7 @@ def test_the_review_holds_every_design_at_every_light_level():
     r = small_review()
     assert r.designs == tuple(d.name for d in DESIGNS) and r.illuminance_lux == LUX
     assert [[c.illuminance_lux for c in row] for row in r.cells] == [list(LUX)] * 2
-    assert r.settings == SETTINGS
+    assert r.settings == {**DEFAULTS, **SETTINGS}
 
 
 def test_every_design_sees_the_same_width_of_star():
@@ -59,6 +59,13 @@ def test_the_pictures_white_is_the_stars_lightest_reflectance_without_noise():
     expected = cell.star.expected_e
     assert expected.mean() == pytest.approx(cell.white_e * 0.25 / 0.4, rel=0.02)
     assert expected.max() <= cell.white_e * 1.02
+
+
+def test_a_blur_longer_than_max_blur_px_is_not_captured_and_says_why():
+    design = [(DESIGNS[0].name, DESIGNS[0].evaluate_kwargs())]
+    (cell,) = review(design, [100.0], **{**SETTINGS, "max_blur_px": 5}).cells[0]
+    assert cell.star is None and math.isnan(cell.snr_db)
+    assert cell.why == "the image moves 10 px during T_MPE, more than max_blur_px 5"
 
 
 def test_the_same_seed_gives_the_same_pictures_and_another_seed_others():

@@ -106,12 +106,12 @@ def markdown(rows, seed) -> str:
     """agreement.md: the model beside one simulated capture a design and light."""
     lines = [f"Model against simulated captures (one capture each, seed {seed}): MTF50 of the "
              "slanted edge's e-SFR, SNR of the flat patch.", "",
-             "| design | lux | EPC model (Mpx) | f50 model (cyc/mm) | MTF50 sim (cyc/mm) | "
+             "| design | lux | EPC model (pixels) | f50 model (cyc/mm) | MTF50 sim (cyc/mm) | "
              "sim / model | SNR target (dB) | SNR sim (dB) | note |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---|"]
     for r in rows:
         lines.append(
-            f"| {r['design']} | {r['illuminance_lux']:g} | {_number(r['epc_model'] / 1e6, 3)} "
+            f"| {r['design']} | {r['illuminance_lux']:g} | {r['epc_model']:,.0f} "
             f"| {_number(r['f50_model_cyc_per_mm'])} | {_number(r['mtf50_sim_cyc_per_mm'])} | "
             f"{_fraction(r['mtf50_over_f50'])} | {r['snr_target_db']:g} | "
             f"{_number(r['snr_sim_db'])} | {r['note'].replace('|', '/')} |")

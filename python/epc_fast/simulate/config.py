@@ -5,7 +5,8 @@ The designs are a scan config's ``[design]`` table (``presets = [...]`` and
 (:func:`epc_fast.scan.config.parse_space`); ``[simulate]`` sets the charts and the seed::
 
     [simulate]                   # seed, star_width_um (µm of scene the star covers), spokes,
-                                 #   edge_rows, max_edge_columns, flat_px (pixels)
+                                 #   edge_rows, max_edge_columns, flat_px, max_blur_px
+                                 #   (pixels)
 
 Every key is checked before any capture; a mistake raises
 :class:`~epc_fast.scan.errors.ConfigError` naming the table, the key, the value and what is
@@ -35,7 +36,7 @@ MAX_CHART_PX = 4096
 #: lux, the light levels without ``--lux``: a dim room, an office, an overcast day.
 DEFAULT_LUX = (10.0, 100.0, 1000.0)
 #: The integer keys of [simulate] and their bounds (low, high).
-INTEGER_KEYS = {"seed": (0, 2**64 - 1), "spokes": (4, 720),
+INTEGER_KEYS = {"seed": (0, 2**64 - 1), "spokes": (4, 720), "max_blur_px": (0, 100_000),
                 "edge_rows": (MIN_EDGE_PX, MAX_CHART_PX),
                 "max_edge_columns": (MIN_EDGE_PX, MAX_EDGE_COLUMNS),
                 "flat_px": (2, MAX_CHART_PX)}

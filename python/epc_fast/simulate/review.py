@@ -6,7 +6,8 @@ writes them.
 The edge chart is sized to the blur as :mod:`~epc_fast.simulate.agreement` sizes it (its
 columns hold EDGE_SPAN blur lengths, at least MIN_EDGE_SPAN pixels, beside the edge's run over
 the rows), up to ``max_edge_columns``: a longer blur's MTF50 is not measured, and the cell says
-why.
+why. A blur longer than ``max_blur_px`` is not captured at all (no picture, no SNR), and the
+cell says so.
 """
 
 from __future__ import annotations
@@ -27,9 +28,11 @@ __all__ = ["Cell", "Review", "review", "DEFAULTS"]
 
 #: The review's charts and seed, as ``[simulate]`` gives them: the star's width (µm of the
 #: scene: 256 pixels of a 1.4 µm design) and spokes, the edge's rows, its widest chart
-#: (pixels) and the flat patch's side (pixels).
+#: (pixels), the flat patch's side (pixels) and the longest blur captured (pixels: a capture's
+#: grid reaches a blur's length beyond the chart on either side, so its time and memory grow
+#: with the blur; 1,500 pixels take a few seconds).
 DEFAULTS = {"seed": 0, "star_width_um": 358.4, "spokes": 36, "edge_rows": 128,
-            "max_edge_columns": 4096, "flat_px": 128}
+            "max_edge_columns": 4096, "flat_px": 128, "max_blur_px": 1500}
 #: The noise streams of a cell's three captures, spawned from the seed.
 _STREAMS = {"star": 0, "edge": 1, "flat": 2}
 
@@ -137,6 +140,11 @@ def _cell(name, kwargs, lux, indices, s) -> Cell:
     target = float(kwargs.get("snr_db", 30.0))
     result = api.evaluate(lux, **kwargs)
     pitch = float(kwargs["pixel_pitch_um"])
+    blur_px = float(result.blur_mm) / (pitch * 1e-3)
+    if math.isfinite(blur_px) and blur_px > s["max_blur_px"]:
+        return Cell(name, lux, result, snr_target_db=target, mtf_why="no image",
+                    why=f"the image moves {blur_px:,.0f} px during T_MPE, more than "
+                        f"max_blur_px {s['max_blur_px']:,}")
     star_chart = siemens_star(spokes=s["spokes"], width_um=s["star_width_um"], pitch_um=pitch)
     try:
         star = capture(star_chart, illuminance_lux=lux,
