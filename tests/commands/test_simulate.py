@@ -157,3 +157,9 @@ def test_a_bad_light_level_is_refused_by_argparse(tmp_path, capsys, lux):
         main(["simulate", str(path), "--lux", lux, "--out", str(tmp_path / "out")])
     assert stop.value.code == 2
     assert f"--lux {lux!r}: expected an illuminance in lux" in capsys.readouterr().err
+
+
+def test_more_light_levels_than_a_sheet_holds_are_refused(tmp_path, capsys):
+    code, out, err = _simulate(tmp_path, capsys, CONFIG, "--lux", *["100"] * 13)
+    assert code == 2 and out == ""
+    assert err == "epc-fast simulate: error: --lux: at most 12 light levels, got 13\n"

@@ -94,12 +94,8 @@ def _write_csv(path, rows) -> None:
                              for v in (row[c] for c in COLUMNS)])
 
 
-def _number(value: float, digits: int = 4) -> str:
-    return "—" if math.isnan(value) else f"{value:.{digits}g}"
-
-
-def _fraction(value: float) -> str:
-    return "—" if math.isnan(value) else f"{value:.3f}"
+def _number(value: float, spec: str = ".4g") -> str:
+    return "—" if math.isnan(value) else format(value, spec)
 
 
 def markdown(rows, seed) -> str:
@@ -113,7 +109,7 @@ def markdown(rows, seed) -> str:
         lines.append(
             f"| {r['design']} | {r['illuminance_lux']:g} | {r['epc_model']:,.0f} "
             f"| {_number(r['f50_model_cyc_per_mm'])} | {_number(r['mtf50_sim_cyc_per_mm'])} | "
-            f"{_fraction(r['mtf50_over_f50'])} | {r['snr_target_db']:g} | "
+            f"{_number(r['mtf50_over_f50'], '.3f')} | {r['snr_target_db']:g} | "
             f"{_number(r['snr_sim_db'])} | {r['note'].replace('|', '/')} |")
     return "\n".join(lines) + "\n"
 
