@@ -1,0 +1,108 @@
+"""Simulator configurations in TOML, for ``epc-fast simulate``.
+
+The designs are a scan config's ``[design]`` table (``presets = [...]`` and
+``[[design.custom]]`` tables), read by the scan's own parser
+(:func:`epc_fast.scan.config.parse_space`); ``[simulate]`` sets the charts and the seed::
+
+    [simulate]                   # seed, star_width_um (µm of scene the star covers), spokes,
+                                 #   edge_rows, max_edge_columns, flat_px, max_blur_px
+                                 #   (pixels)
+
+Every key is checked before any capture; a mistake raises
+:class:`~epc_fast.scan.errors.ConfigError` naming the table, the key, the value and what is
+expected.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..scan.config import parse_space, toml_document
+from ..scan.config.files import read_text
+from ..scan.errors import ConfigError
+from ..scan.schema import MAX_CONFIG_BYTES, integer, number, short, table_of, take
+from .agreement import MAX_EDGE_COLUMNS
+from .charts import MIN_EDGE_PX
+from .review import DEFAULTS
+from .star import MIN_STAR_PX
+
+__all__ = ["SimulateConfig", "parse_simulate_config", "load_simulate_config", "MAX_CHART_PX",
+           "DEFAULT_LUX"]
+
+#: Pixels, the largest side of a star or a flat patch, and the most rows of an edge: a
+#: picture for a review, not a benchmark.
+MAX_CHART_PX = 4096
+#: lux, the light levels without ``--lux``: a dim room, an office, an overcast day.
+DEFAULT_LUX = (10.0, 100.0, 1000.0)
+#: The integer keys of [simulate] and their bounds (low, high).
+INTEGER_KEYS = {"seed": (0, 2**64 - 1), "spokes": (4, 720), "max_blur_px": (0, 100_000),
+                "edge_rows": (MIN_EDGE_PX, MAX_CHART_PX),
+                "max_edge_columns": (MIN_EDGE_PX, MAX_EDGE_COLUMNS),
+                "flat_px": (2, MAX_CHART_PX)}
+
+
+@dataclass
+class SimulateConfig:
+    """A parsed simulator configuration.
+
+    Attributes
+    ----------
+    designs : list of (name, kwargs): each design's name and its keywords of
+        :func:`epc_fast.evaluate`.
+    snr_target : list of str, each design's SNR target and where it is met, for people.
+    settings : dict, ``[simulate]`` over :data:`epc_fast.simulate.review.DEFAULTS`.
+    source : str, the file it came from.
+    text : str, the TOML it was read from.
+    """
+
+    designs: list
+    snr_target: list
+    settings: dict = field(default_factory=dict)
+    source: str = "<string>"
+    text: str = ""
+
+
+def _settings(table) -> dict:
+    table = take(table_of("simulate", table), "simulate", optional=tuple(DEFAULTS))
+    settings = dict(DEFAULTS)
+    for key, value in table.items():
+        if key in INTEGER_KEYS:
+            settings[key] = integer("simulate", key, value, *INTEGER_KEYS[key])
+        else:
+            settings[key] = number("simulate", key, value, low=0.0, low_open=True)
+    return settings
+
+
+def _check_star(settings: dict, designs) -> None:
+    """A ConfigError when the star is under MIN_STAR_PX or over MAX_CHART_PX pixels for a
+    design: the same width is fewer pixels at a larger pitch."""
+    width = settings["star_width_um"]
+    for name, kwargs in designs:
+        pitch = float(kwargs["pixel_pitch_um"])
+        pixels = round(width / pitch)
+        if not MIN_STAR_PX <= pixels <= MAX_CHART_PX:
+            raise ConfigError(f"scan config [simulate]: star_width_um = {short(width)}: "
+                              f"expected a width of {MIN_STAR_PX} to {MAX_CHART_PX:,} pixels "
+                              f"of every design, got {pixels:,} pixels of {name!r} "
+                              f"({pitch:g} um)")
+
+
+def parse_simulate_config(text: str, source: str = "<string>") -> SimulateConfig:
+    """A :class:`SimulateConfig` from TOML text, every key checked."""
+    document = toml_document(text, source)
+    take(document, "top level", required=("design",), optional=("simulate",))
+    settings = _settings(document.get("simulate", {}))
+    # The scan's parser reads the designs; a space needs an illuminance, which the
+    # simulator's --lux replaces.
+    space = parse_space({"design": document["design"], "parameters": {"illuminance_lux": 1.0}})
+    designs = [(name, {key: float(values[i]) for key, values in space.design_table.items()})
+               for i, name in enumerate(space.design_names)]
+    _check_star(settings, designs)
+    return SimulateConfig(designs, list(space.snr_target_text()), settings, source, text)
+
+
+def load_simulate_config(path) -> SimulateConfig:
+    """A :class:`SimulateConfig` from a TOML file (UTF-8, at most 16 MB)."""
+    path = Path(path)
+    return parse_simulate_config(read_text(path, MAX_CONFIG_BYTES), str(path))

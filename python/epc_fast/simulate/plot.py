@@ -1,0 +1,178 @@
+"""The design review's two figures of a :class:`~epc_fast.simulate.review.Review`: the contact
+sheet (the Siemens star as each design captures it at each light level, captioned with the
+model's EPC, the edge's measured MTF50 and the flat patch's SNR) and the edges' e-SFR MTF
+against the model's system MTF. Both carry their conditions
+(:func:`epc_fast.plotting.common.add_conditions`); matplotlib is imported only here, inside the
+functions.
+"""
+
+from __future__ import annotations
+
+import math
+import textwrap
+
+import numpy as np
+
+from ..plotting import common
+from ..plotting.common import add_conditions, conditions_lines
+from ..plotting.layout import freeze_layout
+from ..plotting.text import unit_text
+
+__all__ = ["contact_sheet_figure", "mtf_figure", "conditions", "figure_class", "model_mtf"]
+
+#: Inches: the side of one picture of the contact sheet.
+CELL_IN = 2.3
+#: Characters a line of a cell's "no image" text holds.
+WHY_WIDTH = 30
+#: Points of the model's MTF curve over 0 to twice Nyquist.
+CURVE_POINTS = 400
+
+
+def figure_class():
+    """matplotlib's Figure, or an ImportError that says which extra to install."""
+    return common.figure_class("the simulator's figures", without="--no-plots on the command "
+                               "line")
+
+
+def conditions(review, extra=()) -> list[str]:
+    """The conditions of a review's figures: its designs, their SNR targets and where they
+    are met, the scene in one line, the seed, ``extra``, the version and the build."""
+    return conditions_lines(designs=review.designs, snr_target=review.snr_target,
+                            scene=review.scene_text(), seed=review.settings["seed"],
+                            extra=extra)
+
+
+def _caption(cell) -> str:
+    if cell.why:
+        return "no image"
+    epc = (f"EPC {cell.epc / 1e6:.3g} Mpx (model)" if cell.epc >= 1e5
+           else f"EPC {cell.epc:,.0f} pixels (model)")
+    if math.isnan(cell.mtf50_cyc_per_mm):
+        mtf = "MTF50 not measured"
+    else:
+        mtf = (f"MTF50 {cell.mtf50_cyc_per_mm:.3g} cyc/mm = {cell.mtf50_fraction:.2f} f50")
+    return f"{epc}\n{mtf}\nSNR {cell.snr_db:.1f} dB (target {cell.snr_target_db:g})"
+
+
+def contact_sheet_figure(review, *, conditions_text=None):
+    """A matplotlib Figure: rows the designs, columns the light levels, each picture the
+    star's noisy capture in electrons, linear from 0 (black) to the star's lightest
+    reflectance without noise (white), pixels drawn as squares, every picture the same patch
+    of scene at the same size; under each, the model's EPC, the edge's MTF50 (cycles/mm and a
+    fraction of the model's f50) and the flat patch's SNR. A design without an image at a
+    light level says why in its place."""
+    rows, cols = len(review.designs), len(review.illuminance_lux)
+    width_um = review.settings["star_width_um"]
+    lines = conditions(review) if conditions_text is None else conditions_text
+    figure = figure_class()(figsize=(1.2 + CELL_IN * cols, 0.9 + (CELL_IN + 0.75) * rows
+                                     + 0.16 * len(lines)), layout="constrained")
+    axes = figure.subplots(rows, cols, squeeze=False)
+    for i, name in enumerate(review.designs):
+        for j, lux in enumerate(review.illuminance_lux):
+            ax, cell = axes[i, j], review.cells[i][j]
+            ax.set_xticks([])
+            ax.set_yticks([])
+            ax.set_xlim(0.0, width_um)
+            ax.set_ylim(width_um, 0.0)
+            ax.set_aspect("equal")
+            if cell.why:
+                ax.set_facecolor("0.92")
+                ax.text(0.5, 0.5, "no image:\n" + textwrap.fill(cell.why, WHY_WIDTH),
+                        transform=ax.transAxes, ha="center", va="center", fontsize=7,
+                        color="0.2")
+            else:
+                star = cell.star
+                extent = star.image_e.shape[1] * star.pitch_um
+                offset = (width_um - extent) / 2.0
+                ax.imshow(star.image_e, cmap="gray", vmin=0.0, vmax=cell.white_e,
+                          interpolation="nearest",
+                          extent=(offset, offset + extent, offset + extent, offset))
+            ax.set_xlabel(_caption(cell), fontsize=7.5, linespacing=1.3)
+            if i == 0:
+                ax.set_title(f"{lux:g} lux", fontsize=10)
+            if j == 0:
+                ax.set_ylabel(unit_text(name), fontsize=9)
+    figure.suptitle(unit_text(f"The same {width_um:g} um of scene, a Siemens star, as each "
+                              "design captures it at T_MPE\n(electrons: black 0, white the "
+                              "star's lightest reflectance without noise)"), fontsize=10)
+    add_conditions(figure, lines)
+    freeze_layout(figure)
+    return figure
+
+
+def model_mtf(frequency_cyc_per_mm, kwargs: dict, blur_mm: float) -> np.ndarray:
+    """1: the model's system MTF (:func:`epc_fast.reference.model.mtf_system`) of the design
+    ``kwargs`` (keywords of :func:`epc_fast.evaluate`) with evaluate's ``blur_mm`` (mm)."""
+    from ..reference.model import mtf_system
+    from .camera import _design, _spectrum
+
+    d = _design(kwargs)
+    wavelengths, weights = _spectrum(d)
+    return mtf_system(np.asarray(frequency_cyc_per_mm, dtype=float), float(d["f_number"]),
+                      float(d["pixel_pitch_um"]), float(d["fill_factor"]), float(blur_mm),
+                      float(d["jitter_um"]), wavelengths, weights)
+
+
+def _mtf_panel(ax, review, i):
+    pitch = float(review.kwargs[i]["pixel_pitch_um"])
+    top = 1e3 / pitch  # cycles/mm, twice Nyquist
+    f = np.linspace(0.0, top, CURVE_POINTS)
+    for j, cell in enumerate(review.cells[i]):
+        color = f"C{j}"
+        lux = f"{cell.illuminance_lux:g} lux"
+        if cell.why:
+            ax.plot([], [], color=color, label=f"{lux}: no image")
+            continue
+        ax.plot(f, model_mtf(f, review.kwargs[i], float(cell.result.blur_mm)), color=color,
+                ls="--", lw=1.5, zorder=4)
+        f50 = cell.f50_model_cyc_per_mm
+        ax.plot([f50], [0.5], marker="x", color=color, ms=7, mew=1.5, ls="none", zorder=5)
+        if cell.sfr is None:
+            ax.plot([], [], color=color, label=f"{lux}: MTF50 not measured")
+            continue
+        for sfr, style in ((cell.sfr, {"lw": 0.7, "alpha": 0.35, "zorder": 1}),
+                           (cell.sfr_noiseless, {"lw": 1.6, "zorder": 3, "label": (
+                               f"{lux}: MTF50 {cell.mtf50_cyc_per_mm:.3g} (model {f50:.3g})")})):
+            keep = sfr.frequency_cyc_per_mm <= top
+            ax.plot(sfr.frequency_cyc_per_mm[keep], sfr.mtf[keep], color=color, **style)
+        ax.plot([cell.mtf50_cyc_per_mm], [0.5], marker="o", color=color, ms=6, mfc="white",
+                mew=1.5, ls="none", zorder=5)
+    ax.axhline(0.5, color="0.6", lw=0.8, ls=":")
+    ax.axvline(top / 2.0, color="0.6", lw=0.8)
+    ax.text(top / 2.0, 1.02, "Nyquist ", fontsize=7, color="0.4", va="bottom", ha="right")
+    ax.set_xlim(0.0, top)
+    ax.set_ylim(0.0, 1.08)
+    ax.set_xlabel("Frequency (cycles/mm)", fontsize=8)
+    ax.set_ylabel("MTF", fontsize=8)
+    ax.set_title(unit_text(review.designs[i]), fontsize=9)
+    ax.tick_params(labelsize=7)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=6.5, loc="upper right", title="cycles/mm", title_fontsize=6.5)
+
+
+def mtf_figure(review, *, conditions_text=None):
+    """A matplotlib Figure: one panel per design, a colour per light level; solid the e-SFR MTF
+    of the simulated slanted edge without its noise, faint that of the noisy capture (its MTF50
+    a circle: beyond the blur's first zeros the noise is most of it), dashed the model's
+    system MTF with evaluate's blur there (its f50 a cross), from 0 to twice the design's
+    Nyquist frequency."""
+    n = len(review.designs)
+    cols = 1 if n == 1 else 2
+    rows = -(-n // cols)
+    extra = ["Solid: e-SFR (ISO 12233) of the simulated slanted edge without its noise; faint: "
+             "of the noisy capture, o its MTF50; dashed: the model's system MTF with evaluate's "
+             "blur, x its f50"]
+    lines = conditions(review, extra) if conditions_text is None else conditions_text
+    figure = figure_class()(figsize=(4.6 * cols + 0.4, 3.4 * rows + 0.7 + 0.16 * len(lines)),
+                            layout="constrained")
+    axes = figure.subplots(rows, cols, squeeze=False)
+    for k, ax in enumerate(axes.flat):
+        if k < n:
+            _mtf_panel(ax, review, k)
+        else:
+            ax.remove()
+    figure.suptitle("MTF of each design: the simulated capture against the model",
+                    fontsize=10)
+    add_conditions(figure, lines)
+    freeze_layout(figure)
+    return figure

@@ -1,0 +1,206 @@
+"""A design review's captures: each design at each light level captures a Siemens star of one
+physical width, a slanted edge (its e-SFR MTF50) and a flat patch (its SNR), beside the model's
+EPC, f50 and SNR target. :mod:`~epc_fast.simulate.plot` draws them; ``epc-fast simulate``
+writes them.
+
+The edge chart is sized to the blur as :mod:`~epc_fast.simulate.agreement` sizes it (its
+columns hold EDGE_SPAN blur lengths, at least MIN_EDGE_SPAN pixels, beside the edge's run over
+the rows), up to ``max_edge_columns``: a longer blur's MTF50 is not measured, and the cell says
+why. A blur longer than ``max_blur_px`` is not captured at all (no picture, no SNR), and the
+cell says so.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .agreement import EDGE_ANGLE_DEG, EDGE_SPAN, MIN_EDGE_SPAN
+from .camera import capture
+from .charts import MIN_EDGE_PX, flat, slanted_edge
+from .edge_sfr import esfr
+from .flat_patch import snr
+from .star import siemens_star
+
+__all__ = ["Cell", "Review", "review", "DEFAULTS"]
+
+#: The review's charts and seed, as ``[simulate]`` gives them: the star's width (µm of the
+#: scene: 256 pixels of a 1.4 µm design) and spokes, the edge's rows, its widest chart
+#: (pixels), the flat patch's side (pixels) and the longest blur captured (pixels: a capture's
+#: grid reaches a blur's length beyond the chart on either side, so its time and memory grow
+#: with the blur; 1,500 pixels take a few seconds).
+DEFAULTS = {"seed": 0, "star_width_um": 358.4, "spokes": 36, "edge_rows": 128,
+            "max_edge_columns": 4096, "flat_px": 128, "max_blur_px": 1500}
+#: The noise streams of a cell's three captures, spawned from the seed.
+_STREAMS = {"star": 0, "edge": 1, "flat": 2}
+
+
+@dataclass(frozen=True, eq=False)
+class Cell:
+    """One design at one light level.
+
+    Attributes
+    ----------
+    design : str, the design's name.
+    illuminance_lux : lux.
+    result : evaluate's :class:`~epc_fast.Result` here (epc, f50_cyc_per_mm, blur_mm, status).
+    star : :class:`~epc_fast.simulate.Capture` of the star, or None (no image: ``why``).
+    white_e : e-, the star's lightest reflectance without noise: the picture's white.
+    sfr : :class:`~epc_fast.simulate.EdgeSFR` of the edge's capture, or None (``mtf_why``).
+    sfr_noiseless : :class:`~epc_fast.simulate.EdgeSFR` of the same capture without its noise
+        (its expected electrons), or None: the curve the noise scatters round.
+    snr_db : dB, measured on the flat patch's capture (NaN without an image).
+    snr_target_db : dB, the design's SNR target.
+    why : str, why there is no image ("" when there is one).
+    mtf_why : str, why the MTF50 is not measured ("" when it is).
+    """
+
+    design: str
+    illuminance_lux: float
+    result: object
+    star: object = None
+    white_e: float = math.nan
+    sfr: object = None
+    sfr_noiseless: object = None
+    snr_db: float = math.nan
+    snr_target_db: float = math.nan
+    why: str = ""
+    mtf_why: str = ""
+
+    @property
+    def epc(self) -> float:
+        """pixels, the model's EPC."""
+        return float(self.result.epc)
+
+    @property
+    def f50_model_cyc_per_mm(self) -> float:
+        """cycles/mm, the model's f50."""
+        return float(self.result.f50_cyc_per_mm)
+
+    @property
+    def mtf50_cyc_per_mm(self) -> float:
+        """cycles/mm, the simulated edge's MTF50 (NaN when not measured)."""
+        return math.nan if self.sfr is None else float(self.sfr.mtf50_cyc_per_mm)
+
+    @property
+    def mtf50_fraction(self) -> float:
+        """1, the simulated MTF50 over the model's f50 (NaN where either is not positive)."""
+        f50 = self.f50_model_cyc_per_mm
+        return self.mtf50_cyc_per_mm / f50 if f50 > 0 else math.nan
+
+
+@dataclass(frozen=True, eq=False)
+class Review:
+    """Every design at every light level.
+
+    Attributes
+    ----------
+    designs : tuple of str, the designs' names (rows).
+    kwargs : tuple of dict, each design's keywords of :func:`epc_fast.evaluate`.
+    snr_target : tuple of str, each design's SNR target and where it is met, for people.
+    illuminance_lux : tuple of float (columns).
+    cells : tuple of tuples of :class:`Cell`, ``cells[design][light]``.
+    settings : dict, the charts and seed (:data:`DEFAULTS`' keys).
+    """
+
+    designs: tuple
+    kwargs: tuple
+    snr_target: tuple
+    illuminance_lux: tuple
+    cells: tuple
+    settings: dict
+
+    def scene_text(self) -> str:
+        """The scene in one line, for a figure's conditions."""
+        s = self.settings
+        lux = ", ".join(f"{x:g}" for x in self.illuminance_lux)
+        return (f"{lux} lux; Siemens star of {s['spokes']} sine spokes, {s['star_width_um']:g} "
+                f"um wide, reflectance 0.1 to 0.4; slanted edge {EDGE_ANGLE_DEG:g} deg, 0.1 to "
+                f"0.4, {s['edge_rows']} rows; flat patch {s['flat_px']} px at the design's "
+                "reflectance; captured at T_MPE, the chart at the field angle where the SNR "
+                "target is met")
+
+
+def _edge_columns(blur_mm: float, pitch_um: float, rows: int) -> int:
+    blur_px = blur_mm / (pitch_um * 1e-3)
+    crossed = rows * math.tan(math.radians(EDGE_ANGLE_DEG))
+    span = max(MIN_EDGE_SPAN, EDGE_SPAN * blur_px)
+    return int(math.ceil((crossed + span) / 2.0)) * 2
+
+
+def _seed(seed: int, design: int, light: int, chart: str) -> np.random.SeedSequence:
+    return np.random.SeedSequence(seed, spawn_key=(design, light, _STREAMS[chart]))
+
+
+def _cell(name, kwargs, lux, indices, s) -> Cell:
+    from .. import api
+
+    target = float(kwargs.get("snr_db", 30.0))
+    result = api.evaluate(lux, **kwargs)
+    pitch = float(kwargs["pixel_pitch_um"])
+    blur_px = float(result.blur_mm) / (pitch * 1e-3)
+    if math.isfinite(blur_px) and blur_px > s["max_blur_px"]:
+        return Cell(name, lux, result, snr_target_db=target, mtf_why="no image",
+                    why=f"the image moves {blur_px:,.0f} px during T_MPE, more than "
+                        f"max_blur_px {s['max_blur_px']:,}")
+    star_chart = siemens_star(spokes=s["spokes"], width_um=s["star_width_um"], pitch_um=pitch)
+    try:
+        star = capture(star_chart, illuminance_lux=lux,
+                       seed=_seed(s["seed"], *indices, "star"), **kwargs)
+    except ValueError as error:
+        return Cell(name, lux, result, snr_target_db=target, why=str(error),
+                    mtf_why="no image")
+    reflectance = float(kwargs.get("reflectance", 0.4))
+    patch = capture(flat(s["flat_px"], reflectance), illuminance_lux=lux,
+                    seed=_seed(s["seed"], *indices, "flat"), **kwargs)
+    white = float(np.mean(patch.expected_e)) * float(star_chart.values.max()) / reflectance
+    rows = s["edge_rows"]
+    columns = max(MIN_EDGE_PX, _edge_columns(star.blur_mm, pitch, rows))
+    sfr, noiseless, mtf_why = None, None, ""
+    if columns > s["max_edge_columns"]:
+        mtf_why = (f"blur {star.blur_mm / (pitch * 1e-3):.0f} px needs a {columns}-column edge "
+                   f"(max_edge_columns {s['max_edge_columns']})")
+    else:
+        edge = capture(slanted_edge((rows, columns), EDGE_ANGLE_DEG), illuminance_lux=lux,
+                       seed=_seed(s["seed"], *indices, "edge"), **kwargs)
+        try:
+            sfr = esfr(edge.image_e, pitch)
+            noiseless = esfr(edge.expected_e, pitch)
+        except ValueError as error:
+            mtf_why = str(error)
+    return Cell(name, lux, result, star=star, white_e=white, sfr=sfr, sfr_noiseless=noiseless,
+                snr_db=float(snr(patch.image_e).snr_db), snr_target_db=target,
+                mtf_why=mtf_why)
+
+
+def review(designs, illuminance_lux, *, snr_target=None, **settings) -> Review:
+    """Capture every design at every light level.
+
+    Parameters
+    ----------
+    designs : sequence of (name, kwargs): each design's name and its keywords of
+        :func:`epc_fast.evaluate` (scalars), e.g. ``(d.name, d.evaluate_kwargs())``.
+    illuminance_lux : sequence of lux, the light levels.
+    snr_target : sequence of str, optional: each design's SNR target and where it is met,
+        for the figures (default: the target alone).
+    **settings : the charts and seed, :data:`DEFAULTS`' keys (checked by the caller's config).
+
+    Returns
+    -------
+    Review
+    """
+    unknown = sorted(set(settings) - set(DEFAULTS))
+    if unknown:
+        raise TypeError(f"review() got unknown setting(s) {', '.join(unknown)}; the settings "
+                        f"are {', '.join(DEFAULTS)}")
+    s = {**DEFAULTS, **settings}
+    names = tuple(str(name) for name, _ in designs)
+    kwargs = tuple(dict(k) for _, k in designs)
+    lux = tuple(float(x) for x in illuminance_lux)
+    if snr_target is None:
+        snr_target = tuple(f"{float(k.get('snr_db', 30.0)):g} dB" for k in kwargs)
+    cells = tuple(tuple(_cell(name, k, x, (i, j), s) for j, x in enumerate(lux))
+                  for i, (name, k) in enumerate(zip(names, kwargs)))
+    return Review(names, kwargs, tuple(snr_target), lux, cells, s)

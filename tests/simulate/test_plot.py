@@ -1,0 +1,124 @@
+"""The design review's figures, read back from the renderer: every picture the same patch of
+scene drawn pixel by pixel from black to the star's white, captions with the model's EPC and the
+measured MTF50 and SNR, a cell without an image saying why, the MTF panels with the simulated
+edge against the model's system MTF, and the conditions on both; no panel empty and no text
+outside the figure."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("matplotlib")
+
+from epc_fast.plotting.common import build_text  # noqa: E402
+from epc_fast.reference.model import mtf_system  # noqa: E402
+from epc_fast.simulate.plot import contact_sheet_figure, model_mtf, mtf_figure  # noqa: E402
+from helpers.figures import boxes_outside, text_boxes  # noqa: E402
+from helpers.reviews import DESIGNS, LUX, small_review  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def sheet():
+    return contact_sheet_figure(small_review())
+
+
+@pytest.fixture(scope="module")
+def curves():
+    return mtf_figure(small_review())
+
+
+def _conditions(figure) -> str:
+    return "\n".join(t.get_text() for t in figure.texts)
+
+
+@pytest.mark.parametrize("name", ["sheet", "curves"])
+def test_both_figures_carry_their_conditions(name, request):
+    figure = request.getfixturevalue(name)
+    text = _conditions(figure)
+    assert "Designs: 1/3.2\" 2.8 µm, 1/3.2\" 2.2 µm" in text
+    assert "SNR target: 30 dB at corner (27.03 deg" in text
+    assert "Scene: 0.1, 100, 1000 lux; Siemens star of 12 sine spokes, 67.2 µm wide" in text
+    assert "seed 11" in text and build_text() in text
+
+
+@pytest.mark.parametrize("name", ["sheet", "curves"])
+def test_no_text_leaves_the_figure(name, request):
+    figure = request.getfixturevalue(name)
+    assert boxes_outside(text_boxes(figure), figure) == []
+
+
+def test_the_sheet_has_a_row_a_design_and_a_column_a_light_level(sheet):
+    axes = np.array(sheet.axes).reshape(len(DESIGNS), len(LUX))
+    assert [ax.get_title() for ax in axes[0]] == ["0.1 lux", "100 lux", "1000 lux"]
+    assert [ax.get_ylabel() for ax in axes[:, 0]] == ['1/3.2" 2.8 µm', '1/3.2" 2.2 µm']
+
+
+def test_no_picture_is_empty_and_a_cell_without_an_image_says_why(sheet):
+    review = small_review()
+    for ax, cell in zip(sheet.axes, (c for row in review.cells for c in row)):
+        if cell.why:
+            assert not ax.images and "no image:" in ax.texts[0].get_text()
+            assert "90 degrees" in ax.texts[0].get_text().replace("\n", " ")
+        else:
+            (image,) = ax.images
+            np.testing.assert_array_equal(image.get_array(), cell.star.image_e)
+
+
+def test_every_picture_is_the_same_patch_of_scene_pixel_by_pixel_from_black_to_white(sheet):
+    review = small_review()
+    for ax, cell in zip(sheet.axes, (c for row in review.cells for c in row)):
+        assert ax.get_xlim() == (0.0, 67.2) and ax.get_ylim() == (67.2, 0.0)
+        assert ax.get_position().width == pytest.approx(sheet.axes[0].get_position().width)
+        for image in ax.images:
+            left, right, _, _ = image.get_extent()
+            assert right - left == pytest.approx(cell.star.image_e.shape[1] * cell.star.pitch_um)
+            assert (left + right) / 2 == pytest.approx(33.6)
+            assert image.get_clim() == (0.0, cell.white_e)
+            assert image.get_interpolation() == "nearest" and image.get_cmap().name == "gray"
+
+
+def test_each_caption_gives_the_models_epc_and_the_measured_mtf50_and_snr(sheet):
+    review = small_review()
+    captions = [ax.get_xlabel() for ax in sheet.axes]
+    bright = review.cells[0][2]
+    assert captions[2] == (f"EPC {bright.epc / 1e6:.3g} Mpx (model)\n"
+                           f"MTF50 {bright.mtf50_cyc_per_mm:.3g} cyc/mm = "
+                           f"{bright.mtf50_fraction:.2f} f50\nSNR {bright.snr_db:.1f} dB "
+                           "(target 30)")
+    assert captions[0] == "no image"
+    assert "MTF50 not measured" in captions[4]
+
+
+def test_the_mtf_figure_has_a_panel_a_design_none_empty(curves):
+    assert [ax.get_title() for ax in curves.axes] == ['1/3.2" 2.8 µm', '1/3.2" 2.2 µm']
+    for ax in curves.axes:
+        assert len([line for line in ax.lines if len(line.get_xdata()) > 1]) >= 2
+
+
+def test_each_panel_runs_to_twice_nyquist_with_the_edges_and_the_models_curves(curves):
+    review = small_review()
+    for i, ax in enumerate(curves.axes):
+        pitch = DESIGNS[i].pixel_pitch_um
+        assert ax.get_xlim() == pytest.approx((0.0, 1e3 / pitch))
+        cell = review.cells[i][2]  # 1000 lux, measured in both designs
+        model = [line for line in ax.lines if line.get_linestyle() == "--"
+                 and line.get_color() == "C2"][0]
+        f = model.get_xdata()
+        np.testing.assert_allclose(model.get_ydata(), model_mtf(f, review.kwargs[i],
+                                                                float(cell.result.blur_mm)))
+        edge = [line for line in ax.lines if line.get_linestyle() == "-"
+                and line.get_color() == "C2" and len(line.get_xdata()) > 1][0]
+        assert edge.get_xdata().max() <= 1e3 / pitch
+        circles = [line for line in ax.lines if line.get_marker() == "o"
+                   and line.get_color() == "C2"]
+        assert circles[0].get_xdata()[0] == cell.mtf50_cyc_per_mm
+        assert circles[0].get_ydata()[0] == 0.5
+        legend = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert legend[0] == "0.1 lux: no image"
+        assert legend[2].startswith(f"1000 lux: MTF50 {cell.mtf50_cyc_per_mm:.3g} (model ")
+
+
+def test_the_models_mtf_is_the_references_system_mtf():
+    kwargs = DESIGNS[0].evaluate_kwargs()
+    f = np.linspace(0.0, 400.0, 9)
+    np.testing.assert_array_equal(model_mtf(f, kwargs, 0.01), mtf_system(
+        f, 2.8, 2.8, 1.0, 0.01, 0.0, np.array([550.0]), np.array([1.0])))
