@@ -7,13 +7,14 @@ from functools import lru_cache
 from epc_fast.presets import HIGH_TIER
 
 #: lux: 0.1 (the camera turns 90 degrees during T_MPE: no image), 100 (the 2.2 um design's
-#: 20-pixel blur needs more edge columns than SETTINGS allow), 1000 (every cell measured).
+#: 20-pixel blur needs 174 edge columns, more than SETTINGS allow; the 2.8 um design's 10-pixel
+#: blur 154), 1000 (every cell measured).
 LUX = (0.1, 100.0, 1000.0)
 DESIGNS = HIGH_TIER[:2]
 #: Tiny charts: a 67.2 um star (24 pixels at 2.8 um, 31 at 2.2 um), 64-row edges and 32-pixel
 #: flat patches.
 SETTINGS = {"seed": 11, "star_width_um": 67.2, "spokes": 12, "edge_rows": 64,
-            "max_edge_columns": 300, "flat_px": 32}
+            "max_edge_columns": 160, "flat_px": 32}
 
 
 @lru_cache(maxsize=None)

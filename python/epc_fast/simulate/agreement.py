@@ -24,7 +24,7 @@ from .charts import flat, slanted_edge
 from .edge_sfr import esfr
 from .flat_patch import snr
 
-__all__ = ["Agreement", "agreement", "edge_chart", "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX",
+__all__ = ["Agreement", "agreement", "edge_chart", "longest_wavelength_um", "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX",
            "MIN_EDGE_SPAN", "DIFFRACTION_SPAN", "MAX_EDGE_COLUMNS", "EDGE_ANGLE_DEG"]
 
 #: Rows of the edge chart: at 5 degrees the edge crosses 33 pixels over them, and each of the
@@ -101,21 +101,24 @@ class Agreement:
         return self.snr_db_std / math.sqrt(self.seeds)
 
 
-def edge_chart(blur_mm: float, pitch_um: float, lambda_f_um: float):
+def edge_chart(blur_mm: float, pitch_um: float, lambda_f_um: float, rows: int | None = None):
     """The slanted edge an e-SFR of this blur needs, and the window to measure it with:
-    ((rows, columns), window); ``lambda_f_um`` the longest wavelength times the f-number."""
+    ((rows, columns), window); ``lambda_f_um`` the longest wavelength times the f-number,
+    ``rows`` the chart's rows (default EDGE_ROWS, or LONG_BLUR_ROWS for a long blur)."""
     blur_px = blur_mm / (pitch_um * 1e-3)
     slope = math.tan(math.radians(EDGE_ANGLE_DEG))
     least = max(MIN_EDGE_SPAN, DIFFRACTION_SPAN * lambda_f_um / pitch_um)
     if 24.0 * blur_px <= least:
-        rows, span, window = EDGE_ROWS, least, "hamming"
+        default, span, window = EDGE_ROWS, least, "hamming"
     else:
-        rows, span, window = LONG_BLUR_ROWS, 2.0 * blur_px + least, None
+        default, span, window = LONG_BLUR_ROWS, 2.0 * blur_px + least, None
+    rows = default if rows is None else rows
     columns = int(math.ceil((rows * slope + span) / 2.0)) * 2
     return (rows, columns), window
 
 
-def _longest_wavelength_um(design) -> float:
+def longest_wavelength_um(design) -> float:
+    """µm, the longest wavelength a design's keywords image (its spectrum's or wavelength_nm)."""
     spectrum = design.get("spectrum")
     if spectrum is None:
         return float(design.get("wavelength_nm", 550.0)) * 1e-3
@@ -153,7 +156,7 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     shape, window = ((0, 0), None)
     if status == Status.OK:
         shape, window = edge_chart(float(model.blur_mm), float(design["pixel_pitch_um"]),
-                                   _longest_wavelength_um(design) * float(design["f_number"]))
+                                   longest_wavelength_um(design) * float(design["f_number"]))
     if status != Status.OK or shape[1] > MAX_EDGE_COLUMNS:
         nan = math.nan
         return Agreement(float(illuminance_lux), status, f50_model,

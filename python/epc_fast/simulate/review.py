@@ -3,9 +3,9 @@ physical width, a slanted edge (its e-SFR MTF50) and a flat patch (its SNR), bes
 EPC, f50 and SNR target. :mod:`~epc_fast.simulate.plot` draws them; ``epc-fast simulate``
 writes them.
 
-The edge chart is sized to the blur as :mod:`~epc_fast.simulate.agreement` sizes it (its
-columns hold EDGE_SPAN blur lengths, at least MIN_EDGE_SPAN pixels, beside the edge's run over
-the rows), up to ``max_edge_columns``: a longer blur's MTF50 is not measured, and the cell says
+The edge chart is sized to the blur as :mod:`~epc_fast.simulate.agreement` sizes it
+(:func:`~epc_fast.simulate.agreement.edge_chart`: the line spread whole inside its columns,
+beside the edge's run over the rows), up to ``max_edge_columns``: a longer blur's MTF50 is not measured, and the cell says
 why. A blur longer than ``max_blur_px`` is not captured at all (no picture, no SNR), and the
 cell says so.
 """
@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .agreement import EDGE_ANGLE_DEG, EDGE_SPAN, MIN_EDGE_SPAN
+from .agreement import EDGE_ANGLE_DEG, edge_chart, longest_wavelength_um
 from .camera import capture
 from .charts import MIN_EDGE_PX, flat, slanted_edge
 from .edge_sfr import esfr
@@ -123,13 +123,6 @@ class Review:
                 "target is met")
 
 
-def _edge_columns(blur_mm: float, pitch_um: float, rows: int) -> int:
-    blur_px = blur_mm / (pitch_um * 1e-3)
-    crossed = rows * math.tan(math.radians(EDGE_ANGLE_DEG))
-    span = max(MIN_EDGE_SPAN, EDGE_SPAN * blur_px)
-    return int(math.ceil((crossed + span) / 2.0)) * 2
-
-
 def _seed(seed: int, design: int, light: int, chart: str) -> np.random.SeedSequence:
     return np.random.SeedSequence(seed, spawn_key=(design, light, _STREAMS[chart]))
 
@@ -156,8 +149,9 @@ def _cell(name, kwargs, lux, indices, s) -> Cell:
     patch = capture(flat(s["flat_px"], reflectance), illuminance_lux=lux,
                     seed=_seed(s["seed"], *indices, "flat"), **kwargs)
     white = float(np.mean(patch.expected_e)) * float(star_chart.values.max()) / reflectance
-    rows = s["edge_rows"]
-    columns = max(MIN_EDGE_PX, _edge_columns(star.blur_mm, pitch, rows))
+    lambda_f = longest_wavelength_um(kwargs) * float(kwargs["f_number"])
+    (rows, columns), window = edge_chart(star.blur_mm, pitch, lambda_f, rows=s["edge_rows"])
+    columns = max(MIN_EDGE_PX, columns)
     sfr, noiseless, mtf_why = None, None, ""
     if columns > s["max_edge_columns"]:
         mtf_why = (f"blur {star.blur_mm / (pitch * 1e-3):.0f} px needs a {columns}-column edge "
@@ -166,8 +160,8 @@ def _cell(name, kwargs, lux, indices, s) -> Cell:
         edge = capture(slanted_edge((rows, columns), EDGE_ANGLE_DEG), illuminance_lux=lux,
                        seed=_seed(s["seed"], *indices, "edge"), **kwargs)
         try:
-            sfr = esfr(edge.image_e, pitch)
-            noiseless = esfr(edge.expected_e, pitch)
+            sfr = esfr(edge.image_e, pitch, window=window)
+            noiseless = esfr(edge.expected_e, pitch, window=window)
         except ValueError as error:
             mtf_why = str(error)
     return Cell(name, lux, result, star=star, white_e=white, sfr=sfr, sfr_noiseless=noiseless,
