@@ -44,7 +44,7 @@ def test_an_edges_capture_is_the_exact_image_of_the_edge(extra, lux):
     want = 0.1 + 0.3 * esf
     got = c.expected_e / per_reflectance(c, design)
     # The 2-D grid wraps round 200 lambda F beyond the chart: the far side leaks under 3.3e-4
-    # of the contrast (0.3) into it (camera.PSF_REACH); the 1-D edge, on a 40 mm period,
+    # of the contrast (0.3) into it (focal_plane.PSF_REACH); the 1-D edge, on a 40 mm period,
     # under 1e-5. Measured: 1.3e-4 at most.
     assert np.max(np.abs(got - want)) < 3.3e-4 * 0.3
     assert c.oversample == camera.grid_oversample(p, design["f_number"], 550.0)

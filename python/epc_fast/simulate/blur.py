@@ -32,13 +32,14 @@ def _legendre(n):
 
 
 def motion_transfer(frequency_cyc_per_mm, exposure_s: float, focal_length_mm: float,
-                    shake_rad_per_s: float) -> tuple[np.ndarray, float, float]:
-    """The spectrum's factor from the image moving along the rows during the exposure.
+                    shake_rad_per_s: float, start_s: float = 0.0):
+    """The spectrum's factor from the image moving along the rows during an exposure.
 
-    The time average over [0, T] of exp(-2 pi i f (s(t) - s_mean)), s the path of
-    :func:`motion_path_mm` and s_mean its time average (the capture keeps the chart where it
-    is on average), by composite Gauss-Legendre quadrature in time with segments short enough
-    that the phase at the highest frequency turns under one cycle in each.
+    The time average over [t0, t0 + T] (t0 = ``start_s``, T = ``exposure_s``) of
+    exp(-2 pi i f (s(t) - s_mean)), s the path of :func:`motion_path_mm` and s_mean its time
+    average (the capture registers each frame on its mean position), by composite
+    Gauss-Legendre quadrature in time with segments short enough that the phase at the highest
+    frequency turns under one cycle in each.
 
     Returns
     -------
@@ -46,16 +47,18 @@ def motion_transfer(frequency_cyc_per_mm, exposure_s: float, focal_length_mm: fl
         image travels, and its mean position.
     """
     f = np.asarray(frequency_cyc_per_mm, dtype=float)
-    angle = shake_rad_per_s * exposure_s
     if exposure_s == 0.0 or shake_rad_per_s == 0.0:
         return np.ones(f.shape, dtype=complex), 0.0, 0.0
-    extent = float(motion_path_mm(exposure_s, focal_length_mm, shake_rad_per_s))
-    # The path is fastest at its end: sec^2 of the angle against its mean speed.
-    peak_over_mean = angle / (math.cos(angle) ** 2 * math.tan(angle))
+    end = start_s + exposure_s
+    ends = motion_path_mm(np.array([start_s, end]), focal_length_mm, shake_rad_per_s)
+    extent = float(ends[1] - ends[0])
+    # The path is fastest at its end: sec^2 of the angle there against its mean speed.
+    peak_over_mean = (shake_rad_per_s * exposure_s * focal_length_mm
+                      / (math.cos(shake_rad_per_s * end) ** 2 * extent))
     f_max = float(np.max(np.abs(f))) if f.size else 0.0
     segments = max(1, math.ceil(f_max * extent * peak_over_mean))
     x, w = _legendre(_NODES)
-    edges = np.linspace(0.0, exposure_s, segments + 1)
+    edges = np.linspace(start_s, end, segments + 1)
     times = (edges[:-1, None] + (x[None, :] + 0.5) * (edges[1] - edges[0])).ravel()
     weights = np.tile(w, segments) / segments
     path = motion_path_mm(times, focal_length_mm, shake_rad_per_s)

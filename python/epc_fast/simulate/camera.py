@@ -23,10 +23,10 @@ import numpy as np
 from .. import api, spectra
 from .._validation import short, threads_of
 from ..status import Status
-from .blur import aperture_transfer, jitter_transfer, motion_transfer
 from .charts import Chart
-from .optics import cutoff_cyc_per_mm, diffraction_transfer
-from .readout import read_out
+from .focal_plane import Optics, frame_irradiance
+from .optics import cutoff_cyc_per_mm
+from .readout import bin_sum, read_out
 
 __all__ = ["Capture", "capture", "grid_oversample", "BAND_FACTOR"]
 
@@ -34,20 +34,6 @@ __all__ = ["Capture", "capture", "grid_oversample", "BAND_FACTOR"]
 #: Above 2 the chart's band (1/spacing - cut-off) exceeds the cut-off, as the slanted edge's
 #: exact rendering needs (charts.Chart.reflectance_at).
 BAND_FACTOR = 2.05
-#: Bytes a fine-grid sample costs at the peak (the reflectance, its spectrum, the transfer and
-#: the image at once, in float64 and complex128).
-BYTES_PER_SAMPLE = 56
-#: Pixels added round the chart on each side beyond the blur's reach, so that the FFT's
-#: wrapping round the grid never reaches the chart.
-MARGIN_PX = 4
-#: The lens's reach counted into the margin, in units of lambda F, by chart. The FFT's grid
-#: wraps round, so the chart's far side meets its near side across the margin, and the Airy
-#: pattern's line spread falls only as 2 lambda F / (pi^3 x^2): a step of the chart leaks
-#: 2 lambda F / (pi^3 x) of itself to a distance x. For the slanted edge, whose MTF is measured,
-#: 200 lambda F keeps that leak under 3.3e-4 of the edge's contrast; pictures and flat patches
-#: (where the wrap joins equal values) take 16.
-PSF_REACH = {"slanted_edge": 200.0, "image": 16.0, "flat": 16.0}
-
 _EVALUATE = inspect.signature(api.evaluate).parameters
 _NOT_DESIGN = {"out", "outputs", "illuminance_lux"}
 
@@ -60,8 +46,8 @@ class Capture:
     ----------
     image_e : 2-D float64, e- per output pixel: the linear signal with its noise, the mean
         dark signal subtracted.
-    expected_e : 2-D float64, e-: the photo-electrons each pixel expects (no noise).
-    pitch_um : µm, the output pixel pitch.
+    expected_e : 2-D float64, e-: the photo-electrons each output pixel expects (no noise).
+    pitch_um : µm, the output pixel pitch: the sensor's pitch times the binning.
     exposure_s : s, the exposure (T_MPE unless one was given).
     illuminance_lux : lux, the scene's illuminance.
     field_angle_deg : degrees, where on the sensor the chart sits (cos^4 falloff).
@@ -71,6 +57,7 @@ class Capture:
     chart : the chart captured.
     result : :class:`epc_fast.Result`, ``evaluate``'s outputs for this design and light.
     readout : the sensor's noise parameters the image was read out with.
+    frames_e : each frame's expected photo-electrons per sensor pixel (before binning).
     """
 
     image_e: np.ndarray
@@ -85,12 +72,17 @@ class Capture:
     chart: Chart
     result: object
     readout: dict = None
+    frames_e: list = None
+    recapture: object = None
 
     def redraw(self, seed) -> "Capture":
         """The same capture with the noise drawn again from ``seed``: the expected image is
-        reused, so repeats over seeds cost only their noise."""
+        reused, so repeats over seeds cost only their noise (unless the frames' alignment
+        errors, which the seed draws too, move the image: then it is captured again)."""
+        if self.recapture is not None:
+            return self.recapture(seed)
         rng = np.random.default_rng(seed)
-        image_e = read_out(self.expected_e, exposure_s=self.exposure_s, rng=rng, **self.readout)
+        image_e = read_out(self.frames_e, exposure_s=self.exposure_s, rng=rng, **self.readout)
         return dataclasses.replace(self, image_e=image_e, seed=seed)
 
 
@@ -208,19 +200,47 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     q_min = grid_oversample(p, f_number, float(wavelengths.min()))
     q = q_min if oversample is None else _oversample(oversample, q_min)
     threads = threads_of(d.get("threads"))
+    k, n = int(d.get("binning", 1)), int(d.get("frames", 1))
+    alignment = float(d.get("alignment_error_um", 0.0)) * 1e-3
+    offsets = _alignment_offsets(seed, n, alignment)
 
-    image, blur = _expected_irradiance(chart, lux, d, p, f_number, focal, angle, shake, t,
-                                       wavelengths, weights, q, threads)
-    k = float(d["electrons_per_lux_s_m2"] or spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2)
-    area_m2 = float(d["fill_factor"]) * (p * 1e-6) ** 2
-    expected = image * (k * t * area_m2)
+    optics = Optics(pitch_mm=p * 1e-3, binning=k, q=q, f_number=f_number,
+                    wavelengths_nm=wavelengths, weights=weights, focal_mm=focal,
+                    shake_rad_per_s=shake, jitter_mm=float(d["jitter_um"]) * 1e-3,
+                    aperture_mm=math.sqrt(float(d["fill_factor"])) * p * 1e-3,
+                    irradiance_lux=(lux * float(d["lens_transmittance"])
+                                    * math.cos(math.radians(angle)) ** 4 / (4.0 * f_number ** 2)))
+    images, blur = frame_irradiance(chart, optics, t, n, offsets, threads)
+    yield_e = (float(d["electrons_per_lux_s_m2"] or spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2)
+               * (t / n) * float(d["fill_factor"]) * (p * 1e-6) ** 2)
+    frames_e = [image * yield_e for image in images]
     sensor = {"dark_current_e_per_s": float(d["dark_current_e_per_s"]),
               "read_noise_e": float(d["read_noise_e"]), "prnu": float(d["prnu"]),
-              "full_well_e": float(d["full_well_e"])}
-    image_e = read_out(expected, exposure_s=t, rng=np.random.default_rng(seed), **sensor)
-    return Capture(image_e=image_e, expected_e=expected, pitch_um=p, exposure_s=t,
-                   illuminance_lux=lux, field_angle_deg=angle, blur_mm=blur, oversample=q,
-                   seed=seed, chart=chart, result=result, readout=sensor)
+              "full_well_e": float(d["full_well_e"]), "binning": k,
+              "binning_readout": d.get("binning_readout", "digital")}
+    image_e = read_out(frames_e, exposure_s=t, rng=np.random.default_rng(seed), **sensor)
+    recapture = None
+    if n > 1 and alignment > 0.0:
+        def recapture(new_seed):
+            return capture(chart, illuminance_lux=illuminance_lux, seed=new_seed,
+                           exposure_s=exposure_s, oversample=oversample, **design)
+    return Capture(image_e=image_e, expected_e=sum(bin_sum(f, k) for f in frames_e),
+                   pitch_um=p * k, exposure_s=t, illuminance_lux=lux, field_angle_deg=angle,
+                   blur_mm=blur, oversample=q, seed=seed, chart=chart, result=result,
+                   readout=sensor, frames_e=frames_e, recapture=recapture)
+
+
+def _alignment_offsets(seed, frames: int, alignment_mm: float) -> np.ndarray:
+    """mm, (dy, dx) of each frame: its alignment error, Gaussian of rms ``alignment_mm`` a
+    side, taken about the frames' mean (the stack's position is arbitrary; its frames' spread
+    about it is what blurs). Drawn from its own stream of ``seed``, so that the noise's stream
+    is the same with and without a burst."""
+    if frames == 1 or alignment_mm == 0.0:
+        return np.zeros((frames, 2))
+    root = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    stream = np.random.SeedSequence(root.entropy, spawn_key=tuple(root.spawn_key) + (1,))
+    drawn = np.random.default_rng(stream).normal(0.0, alignment_mm, (frames, 2))
+    return drawn - drawn.mean(axis=0)
 
 
 def _oversample(value, minimum: int) -> int:
@@ -229,67 +249,3 @@ def _oversample(value, minimum: int) -> int:
         raise ValueError(f"oversample: an odd integer >= {minimum} (the least that carries "
                          f"this design's image without loss), got {short(value)}")
     return int(value)
-
-
-def _expected_irradiance(chart, lux, d, p, f_number, focal, angle, shake, t, wavelengths,
-                         weights, q, threads):
-    """lux, the focal-plane illuminance each pixel sees on average over its aperture and the
-    exposure; and the distance the image travels, mm."""
-    from scipy import fft
-
-    dx = p * 1e-3 / q  # mm, the fine grid's spacing
-    cutoff = cutoff_cyc_per_mm(f_number, float(wavelengths.min()))
-    band = 1.0 / dx - cutoff
-    blur = abs(float(focal * math.tan(shake * t)))
-    lambda_f = float(wavelengths.max()) * 1e-6 * f_number
-    jitter = float(d["jitter_um"]) * 1e-3
-    reach = PSF_REACH[chart.kind] * lambda_f + 6.0 * jitter + 2.0 * p * 1e-3
-    rows, cols = chart.shape
-    margin_y = MARGIN_PX + math.ceil(reach / (p * 1e-3))
-    margin_x = MARGIN_PX + math.ceil((reach + blur) / (p * 1e-3))
-    ny = fft.next_fast_len(q * (rows + 2 * margin_y), real=True)
-    nx = fft.next_fast_len(q * (cols + 2 * margin_x), real=True)
-    _check_memory(ny * nx, chart)
-
-    offset = (np.arange(max(ny, nx), dtype=float) - (q - 1) / 2.0) / q
-    y = (offset[:ny] - margin_y)[:, None]
-    x = (offset[:nx] - margin_x)[None, :]
-    reflectance = chart.reflectance_at(y, x, pitch_um=p, band_cyc_per_mm=band, cell_px=1.0 / q)
-    scale = (lux * float(d["lens_transmittance"]) * math.cos(math.radians(angle)) ** 4
-             / (4.0 * f_number ** 2))
-    spectrum = fft.rfft2(reflectance, workers=threads)
-    del reflectance
-
-    fy = fft.fftfreq(ny, dx)
-    fx = fft.rfftfreq(nx, dx)
-    keep_y = np.abs(fy) < cutoff
-    keep_x = fx < cutoff
-    iy, ix = np.nonzero(keep_y)[0], np.nonzero(keep_x)[0]
-    fyk, fxk = fy[keep_y], fx[keep_x]
-    transfer = diffraction_transfer(np.hypot(fyk[:, None], fxk[None, :]), f_number,
-                                    wavelengths, weights).astype(complex)
-    moving, blur, _ = motion_transfer(fxk, t, focal, shake)
-    transfer *= moving[None, :]
-    width = math.sqrt(float(d["fill_factor"])) * p * 1e-3
-    transfer *= (aperture_transfer(fyk, width) * jitter_transfer(fyk, jitter))[:, None]
-    transfer *= (aperture_transfer(fxk, width) * jitter_transfer(fxk, jitter))[None, :]
-    filtered = np.zeros_like(spectrum)
-    filtered[np.ix_(iy, ix)] = spectrum[np.ix_(iy, ix)] * transfer
-    del spectrum, transfer
-    image = fft.irfft2(filtered, s=(ny, nx), workers=threads)
-    start_y = q * margin_y + (q - 1) // 2
-    start_x = q * margin_x + (q - 1) // 2
-    pixels = image[start_y:start_y + q * rows:q, start_x:start_x + q * cols:q]
-    return np.ascontiguousarray(pixels) * scale, blur
-
-
-def _check_memory(samples: int, chart) -> None:
-    from .. import _limits
-
-    limit = _limits.memory_limit_bytes()
-    needed = samples * BYTES_PER_SAMPLE
-    if limit is not None and needed > limit:
-        raise MemoryError(f"a capture of a {chart.shape[0]} x {chart.shape[1]} chart needs a "
-                          f"fine grid of {samples:,} samples, about {needed / 2**30:.1f} GiB, "
-                          f"more than the {limit / 2**30:.1f} GiB of memory here: capture a "
-                          "smaller chart")

@@ -1,11 +1,11 @@
 """The sensor's side of a capture: photo-electrons, dark electrons, their noise, PRNU, the full
-well and the read-out, drawn from a seeded generator."""
+well, binning and the read-out of each frame, drawn from a seeded generator."""
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["read_out", "POISSON_NORMAL_ABOVE"]
+__all__ = ["read_out", "bin_sum", "POISSON_NORMAL_ABOVE"]
 
 #: e-, a mean above which a count is drawn from the normal distribution of the same mean and
 #: variance instead of Poisson's (NumPy's Poisson refuses means near 1e19; at 1e12 the two
@@ -24,31 +24,52 @@ def _counts(rng, mean):
     return out
 
 
+def bin_sum(image, binning: int) -> np.ndarray:
+    """The sums of ``image``'s k x k blocks (its sides are multiples of k)."""
+    if binning == 1:
+        return image
+    rows, cols = image.shape
+    return image.reshape(rows // binning, binning, cols // binning, binning).sum(axis=(1, 3))
+
+
 def read_out(photo_mean_e, *, exposure_s: float, dark_current_e_per_s: float,
-             read_noise_e: float, prnu: float, full_well_e: float,
-             rng: np.random.Generator) -> np.ndarray:
-    """e-, each pixel's signal as the camera reports it.
+             read_noise_e: float, prnu: float, full_well_e: float, rng: np.random.Generator,
+             binning: int = 1, binning_readout: str = "digital") -> np.ndarray:
+    """e-, each output pixel's signal as the camera reports it.
 
-    Each pixel's photo-response is scaled by 1 + u g (g a standard normal drawn per pixel: the
-    PRNU's fixed pattern); it then collects a Poisson number of photo-electrons of that mean
-    and a Poisson number of dark electrons of mean D T; the well holds at most
-    ``full_well_e``; the read-out adds Gaussian noise of rms ``read_noise_e``; the mean dark
-    signal D T is subtracted (the camera's black level), its noise stays.
-
-    Parameters
-    ----------
-    photo_mean_e : array, e-, the expected photo-electrons of each pixel.
+    ``photo_mean_e`` is one frame's expected photo-electrons per sensor pixel, or a list of
+    frames' (the exposure split evenly among them). Each sensor pixel's photo-response is
+    scaled by 1 + u g (g a standard normal drawn once per pixel: the PRNU's fixed pattern,
+    the same in every frame). In each frame it collects a Poisson number of photo-electrons of
+    that mean and a Poisson number of dark electrons of mean D T / n. Read digitally, each
+    sensor pixel's well holds at most ``full_well_e`` and its read-out adds Gaussian noise of
+    rms ``read_noise_e``, and the k x k read values are summed; binned in charge, the k x k
+    charges are summed first, into a well of k^2 ``full_well_e``, and read once. The frames'
+    values are summed and the mean dark signal k^2 D T subtracted (the camera's black level);
+    its noise stays.
     """
-    mean = np.asarray(photo_mean_e, dtype=float)
+    frames = list(photo_mean_e) if isinstance(photo_mean_e, (list, tuple)) else [photo_mean_e]
+    frames = [np.asarray(m, dtype=float) for m in frames]
+    k = int(binning)
+    gain = None
     if prnu > 0.0:
-        gain = 1.0 + prnu * rng.standard_normal(mean.shape)
-        mean = mean * np.maximum(gain, 0.0)
-    electrons = _counts(rng, mean)
-    dark = dark_current_e_per_s * exposure_s
-    if dark > 0.0:
-        electrons += _counts(rng, np.full(mean.shape, dark))
-    if np.isfinite(full_well_e):
-        np.minimum(electrons, full_well_e, out=electrons)
-    if read_noise_e > 0.0:
-        electrons += rng.normal(0.0, read_noise_e, mean.shape)
-    return electrons - dark
+        gain = np.maximum(1.0 + prnu * rng.standard_normal(frames[0].shape), 0.0)
+    dark = dark_current_e_per_s * exposure_s / len(frames)
+    total = 0.0
+    for mean in frames:
+        electrons = _counts(rng, mean if gain is None else mean * gain)
+        if dark > 0.0:
+            electrons += _counts(rng, np.full(mean.shape, dark))
+        if binning_readout == "charge" and k > 1:
+            electrons = bin_sum(electrons, k)
+            well = full_well_e * k * k
+        else:
+            well = full_well_e
+        if np.isfinite(well):
+            np.minimum(electrons, well, out=electrons)
+        if read_noise_e > 0.0:
+            electrons += rng.normal(0.0, read_noise_e, electrons.shape)
+        if binning_readout != "charge":
+            electrons = bin_sum(electrons, k)
+        total = total + electrons
+    return total - dark * len(frames) * k * k
