@@ -1,5 +1,10 @@
-"""A Dask scan never mixes in another epc_fast build's numbers, and a cluster that loses every
-worker ends the scan with a clear error that keeps the prefix merged before, marked partial."""
+"""A Dask scan never mixes in another epc_fast build's numbers; workers that die one after the
+other (one alive at every moment) cost nothing; a cluster that loses every worker ends the scan
+with a clear error that keeps the prefix merged before, marked partial."""
+
+import os
+import signal
+import time
 
 import pytest
 
@@ -7,6 +12,8 @@ import epc_fast.scan.dask_backend as dask_backend
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import BLOCK_POINTS, LogUniform, Space, Summary, run
 from epc_fast.scan.errors import ScanAborted
+from helpers.scan import SPACE as EVERY_KIND_SPACE
+from helpers.scan import assert_same_numbers, every_reduction
 
 distributed = pytest.importorskip("distributed")
 
@@ -57,3 +64,49 @@ def test_losing_every_worker_ends_with_a_clear_error_and_the_partial_prefix(monk
     assert result.partial and BLOCK_POINTS <= result.points < 40 * BLOCK_POINTS
     assert result.points % BLOCK_POINTS == 0
     assert int(result["s"].points.sum()) == result.points
+
+
+def _worker_pids(client) -> dict:
+    return client.run(os.getpid, on_error="ignore")
+
+
+def _kill_and_wait_for_its_replacement(client, pid, killed, timeout=15.0):
+    """SIGKILL a worker process; return once the nanny's new worker has joined (two workers,
+    none of them killed)."""
+    os.kill(pid, signal.SIGKILL)
+    killed.add(pid)
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        pids = set(_worker_pids(client).values())
+        if len(pids) == 2 and not pids & killed:
+            return
+        time.sleep(0.05)
+    raise AssertionError("the nanny did not restart the killed worker")
+
+
+def test_workers_killed_one_after_the_other_cost_no_point(tmp_path):
+    # Each worker is killed in turn, the second as soon as the first's replacement joined (one
+    # worker alive at every moment; the new one has not run a task yet): the scan's space and
+    # plan, and the chunks done on the killed workers, are computed again elsewhere, and the
+    # scan ends with every point and the same numbers as an undisturbed local run.
+    import pyarrow.parquet as pq
+
+    points, chunk = 12 * BLOCK_POINTS, BLOCK_POINTS
+    with _cluster() as cluster, distributed.Client(cluster) as client:
+        killed = set()
+
+        def kill_each_worker_in_turn(done, total):
+            if done == chunk:
+                for pid in sorted(_worker_pids(client).values()):
+                    _kill_and_wait_for_its_replacement(client, pid, killed)
+
+        on_cluster = run(EVERY_KIND_SPACE, points, seed=5, reductions=every_reduction(),
+                         chunk_points=chunk, progress=kill_each_worker_in_turn, client=client,
+                         parquet=tmp_path / "cluster")
+        assert len(killed) == 2
+    local = run(EVERY_KIND_SPACE, points, seed=5, reductions=every_reduction(),
+                chunk_points=chunk, progress=False, parquet=tmp_path / "local")
+    assert not on_cluster.partial and on_cluster.points == points
+    assert_same_numbers(on_cluster, local)
+    assert sorted(os.listdir(tmp_path / "cluster")) == sorted(os.listdir(tmp_path / "local"))
+    assert pq.read_table(tmp_path / "cluster").equals(pq.read_table(tmp_path / "local"))
