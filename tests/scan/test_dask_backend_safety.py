@@ -110,3 +110,102 @@ def test_workers_killed_one_after_the_other_cost_no_point(tmp_path):
     assert_same_numbers(on_cluster, local)
     assert sorted(os.listdir(tmp_path / "cluster")) == sorted(os.listdir(tmp_path / "local"))
     assert pq.read_table(tmp_path / "cluster").equals(pq.read_table(tmp_path / "local"))
+
+
+LATE_CONFIG = """\
+[scan]
+points = 262_144
+seed = 3
+
+[design]
+presets = ["HIGH_TIER"]
+
+[parameters]
+illuminance_lux = { distribution = "log_uniform", low = 10, high = 100_000 }
+
+[reductions.summary]
+kind = "summary"
+by = "design"
+
+[output]
+parquet = "points"
+"""
+
+
+def test_no_worker_writes_into_the_parquet_directory_after_the_command_returns(
+        tmp_path, monkeypatch, capsys):
+    # The third chunk's task is slow: it is still running when Ctrl-C stops the scan, and a
+    # second Ctrl-C arrives while the scan cancels its tasks. The command returns; then the
+    # task finishes and tries to write its part: points/ holds exactly the committed parts.
+    import json
+    import threading
+
+    import epc_fast.scan.manifest as manifest_module
+    import epc_fast.scan.parquet as parquet
+    from epc_fast.__main__ import main
+
+    started, release, finished = threading.Event(), threading.Event(), threading.Event()
+    late = []
+    real_write_part = parquet.write_part
+
+    def slow_write_part(directory, space, points, result):
+        if points.start != 2 * BLOCK_POINTS:
+            return real_write_part(directory, space, points, result)
+        started.set()
+        try:
+            release.wait(30)
+            return real_write_part(directory, space, points, result)
+        except Exception as error:
+            late.append(error)
+            raise
+        finally:
+            finished.set()
+
+    real_write_manifest = manifest_module.write_manifest
+
+    def write_manifest_then_ctrl_c(directory, manifest):
+        path = real_write_manifest(directory, manifest)
+        if manifest["points_done"] == 2 * BLOCK_POINTS:
+            assert started.wait(30)
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the third chunk's task runs
+        return path
+
+    real_cancel = distributed.Future.cancel
+    second = []
+
+    def cancel_after_a_second_ctrl_c(self, *args, **kwargs):
+        if not second and threading.current_thread() is threading.main_thread():
+            second.append(True)
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C again, while the tasks are cancelled
+        return real_cancel(self, *args, **kwargs)
+
+    monkeypatch.setattr(parquet, "write_part", slow_write_part)
+    monkeypatch.setattr(distributed.Future, "cancel", cancel_after_a_second_ctrl_c)
+    monkeypatch.setattr(manifest_module, "write_manifest", write_manifest_then_ctrl_c)
+    config = tmp_path / "scan.toml"
+    config.write_text(LATE_CONFIG)
+    out = tmp_path / "out"
+    try:
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                      dashboard_address=None) as cluster:
+            try:
+                code = main(["scan", str(config), "--out", str(out), "--no-progress",
+                             "--no-plots", "--chunk-points", str(BLOCK_POINTS),
+                             "--scheduler", cluster.scheduler_address])
+            except KeyboardInterrupt:
+                code = "KeyboardInterrupt"
+            assert started.is_set() and second
+            release.set()
+            assert finished.wait(30)
+            time.sleep(0.2)  # the task's last file operations
+    finally:
+        release.set()
+    capsys.readouterr()
+    assert code == 130
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["state"] == "interrupted" and manifest["stopped_by"] == "SIGINT"
+    committed = sorted(name for name in manifest["files"] if name.startswith("points/"))
+    assert sorted(f"points/{name}" for name in os.listdir(out / "points")) == committed
+    assert manifest["points_done"] == 2 * BLOCK_POINTS and len(committed) == 2
+    assert "summary_by_design.csv" in manifest["files"]  # the merged prefix's tables
+    assert isinstance(late[0], FileNotFoundError)  # the late part is discarded

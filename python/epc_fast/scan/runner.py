@@ -2,7 +2,9 @@
 merged in block order as they arrive, so memory stays bounded whatever the point count.
 
 Ctrl-C (KeyboardInterrupt) or SIGTERM stops the scan between chunks: the result holds the
-chunks merged so far, a prefix of the points, and is marked ``partial``. An error between
+chunks merged so far, a prefix of the points, and is marked ``partial``. While the scan stops
+(its tasks cancelled, its Parquet staging directory removed) both signals are held, so a second
+Ctrl-C cannot leave a staging directory for a task still running to write into. An error between
 merges (a chunk's task failing, a full disk under its Parquet part or ``on_chunk``) is raised
 with that prefix as its ``scan_result``, so a caller can still write what was merged.
 """
@@ -233,10 +235,16 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
                 raise
             failure, partial = error, True
         finally:
-            outcomes.close()
-            reporter.close()
-            if parquet_dir is not None:
-                discard_uncommitted(parquet_dir, done)
+            # The scan stops whole: a signal now (a second Ctrl-C) waits until the tasks are
+            # cancelled and the staging directory is gone, then stops the scan as the first.
+            try:
+                with _interrupts_deferred():
+                    outcomes.close()
+                    reporter.close()
+                    if parquet_dir is not None:
+                        discard_uncommitted(parquet_dir, done)
+            except KeyboardInterrupt:
+                partial = done < points
     timing.wall_s = time.perf_counter() - started
     results = {item.name: item.reduction.finish(states[item.name], item.key, space)
                for item in plan}
