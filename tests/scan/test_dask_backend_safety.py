@@ -209,3 +209,69 @@ def test_no_worker_writes_into_the_parquet_directory_after_the_command_returns(
     assert manifest["points_done"] == 2 * BLOCK_POINTS and len(committed) == 2
     assert "summary_by_design.csv" in manifest["files"]  # the merged prefix's tables
     assert isinstance(late[0], FileNotFoundError)  # the late part is discarded
+
+
+def _exit_on_the_third_chunk():
+    import epc_fast.scan.dask_backend as worker_backend
+
+    real = worker_backend.reduce_chunk
+
+    def exit_on_the_third_chunk(space, plan, seed, start, *args):
+        if start == 2 * BLOCK_POINTS:
+            os._exit(1)  # the worker process dies with the task
+        return real(space, plan, seed, start, *args)
+
+    worker_backend.reduce_chunk = exit_on_the_third_chunk
+
+
+def test_a_chunk_that_kills_its_workers_past_the_allowed_failures_ends_with_the_prefix():
+    import dask
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
+            _cluster() as cluster, distributed.Client(cluster) as client:
+        client.run(_exit_on_the_third_chunk)
+        with pytest.raises(ScanAborted, match=r"^the Dask cluster failed the scan's tasks "
+                                              r"\(KilledWorker: .*\), after [\d,]+ points were "
+                                              r"merged$") as error:
+            run(SPACE, 8 * BLOCK_POINTS, seed=1, reductions={"s": Summary()},
+                chunk_points=BLOCK_POINTS, progress=False, client=client)
+    # The tasks that shared the dying worker fail with it: the prefix ends at the third chunk
+    # or before it.
+    result = error.value.result
+    assert result.partial and result.points in (0, BLOCK_POINTS, 2 * BLOCK_POINTS)
+    assert int(result["s"].points.sum()) == result.points
+
+
+@pytest.mark.parametrize("times", [1, dask_backend.RESUBMITS + 1])
+def test_a_chunk_whose_task_the_cluster_lost_is_submitted_again_a_few_times(times):
+    # The cluster cancels the second chunk's task `times` times (as when the data it needs is
+    # forgotten): the scan submits it again, and gives up only past RESUBMITS.
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        real_submit, lost = client.submit, []
+
+        def submit_losing_the_second_chunk(function, *args, **kwargs):
+            future = real_submit(function, *args, **kwargs)
+            if function is dask_backend.checked_reduce_chunk and args[4] == BLOCK_POINTS \
+                    and len(lost) < times:
+                lost.append(future)
+                future.cancel()
+            return future
+
+        client.submit = submit_losing_the_second_chunk
+        reductions = {"s": Summary(by="design")}
+        if times <= dask_backend.RESUBMITS:
+            on_cluster = run(SPACE, 4 * BLOCK_POINTS, seed=2, reductions=reductions,
+                             chunk_points=BLOCK_POINTS, progress=False, client=client)
+            local = run(SPACE, 4 * BLOCK_POINTS, seed=2, reductions=reductions,
+                        chunk_points=BLOCK_POINTS, progress=False)
+            assert_same_numbers(on_cluster, local)
+        else:
+            with pytest.raises(ScanAborted, match=r"^the Dask cluster lost the task of points "
+                                                  r"65,536 to 131,071 4 times, after [\d,]+ "
+                                                  r"points were merged$") as error:
+                run(SPACE, 4 * BLOCK_POINTS, seed=2, reductions=reductions,
+                    chunk_points=BLOCK_POINTS, progress=False, client=client)
+            assert error.value.result.points in (0, BLOCK_POINTS)
+    assert len(lost) == times

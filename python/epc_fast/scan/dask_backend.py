@@ -140,8 +140,9 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
             submit(submitted, span)
             submitted += 1
 
-    def take(future):
-        """Keep a finished chunk's outcome; submit a lost one again."""
+    def take(future) -> bool:
+        """Keep a finished chunk's outcome or submit a lost one again (True); False when its
+        result was lost after it finished and the cluster is computing it again."""
         number = number_of.pop(future)
         if _lost(future):
             resubmitted[number] = resubmitted.get(number, 0) + 1
@@ -154,12 +155,16 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
                 submit(number, span_of[number])
             except Exception as error:  # e.g. the client lost its scheduler
                 raise _aborted(error, merged_points) from error
-            return
+            return True
         try:
-            arrived[number] = future.result()
+            arrived[number] = future.result(timeout=POLL_S)
+        except TimeoutError:  # its worker left with the result: waited for again
+            number_of[future] = number
+            return False
         except Exception as error:
             raise _aborted(error, merged_points) from error
         del span_of[number]
+        return True
 
     top_up()
     try:
@@ -174,7 +179,7 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
             finished = [future for future in number_of if future.status != "pending"]
             if failure is not None and not finished:
                 raise _aborted(failure, merged_points) from failure
-            if not finished:
+            if not [future for future in finished if take(future)]:
                 if client.nthreads():
                     workerless_since = None
                 elif workerless_since is None:
@@ -183,8 +188,6 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
                     raise ScanAborted(f"the Dask cluster has had no worker for {WORKERLESS_S:g} "
                                       f"s, after {merged_points:,} points were merged")
                 continue
-            for future in finished:
-                take(future)
             while expected_number in arrived:
                 outcome = arrived.pop(expected_number)
                 yield outcome
