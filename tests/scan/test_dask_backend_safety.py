@@ -1,5 +1,10 @@
-"""A Dask scan never mixes in another epc_fast build's numbers, and a cluster that loses every
-worker ends the scan with a clear error that keeps the prefix merged before, marked partial."""
+"""A Dask scan never mixes in another epc_fast build's numbers; workers that die one after the
+other (one alive at every moment) cost nothing; a cluster that loses every worker ends the scan
+with a clear error that keeps the prefix merged before, marked partial."""
+
+import os
+import signal
+import time
 
 import pytest
 
@@ -7,6 +12,8 @@ import epc_fast.scan.dask_backend as dask_backend
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import BLOCK_POINTS, LogUniform, Space, Summary, run
 from epc_fast.scan.errors import ScanAborted
+from helpers.scan import SPACE as EVERY_KIND_SPACE
+from helpers.scan import assert_same_numbers, every_reduction
 
 distributed = pytest.importorskip("distributed")
 
@@ -57,3 +64,214 @@ def test_losing_every_worker_ends_with_a_clear_error_and_the_partial_prefix(monk
     assert result.partial and BLOCK_POINTS <= result.points < 40 * BLOCK_POINTS
     assert result.points % BLOCK_POINTS == 0
     assert int(result["s"].points.sum()) == result.points
+
+
+def _worker_pids(client) -> dict:
+    return client.run(os.getpid, on_error="ignore")
+
+
+def _kill_and_wait_for_its_replacement(client, pid, killed, timeout=15.0):
+    """SIGKILL a worker process; return once the nanny's new worker has joined (two workers,
+    none of them killed)."""
+    os.kill(pid, signal.SIGKILL)
+    killed.add(pid)
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        pids = set(_worker_pids(client).values())
+        if len(pids) == 2 and not pids & killed:
+            return
+        time.sleep(0.05)
+    raise AssertionError("the nanny did not restart the killed worker")
+
+
+def test_workers_killed_one_after_the_other_cost_no_point(tmp_path):
+    # Each worker is killed in turn, the second as soon as the first's replacement joined (one
+    # worker alive at every moment; the new one has not run a task yet): the scan's space and
+    # plan, and the chunks done on the killed workers, are computed again elsewhere, and the
+    # scan ends with every point and the same numbers as an undisturbed local run.
+    import pyarrow.parquet as pq
+
+    points, chunk = 12 * BLOCK_POINTS, BLOCK_POINTS
+    with _cluster() as cluster, distributed.Client(cluster) as client:
+        killed = set()
+
+        def kill_each_worker_in_turn(done, total):
+            if done == chunk:
+                for pid in sorted(_worker_pids(client).values()):
+                    _kill_and_wait_for_its_replacement(client, pid, killed)
+
+        on_cluster = run(EVERY_KIND_SPACE, points, seed=5, reductions=every_reduction(),
+                         chunk_points=chunk, progress=kill_each_worker_in_turn, client=client,
+                         parquet=tmp_path / "cluster")
+        assert len(killed) == 2
+    local = run(EVERY_KIND_SPACE, points, seed=5, reductions=every_reduction(),
+                chunk_points=chunk, progress=False, parquet=tmp_path / "local")
+    assert not on_cluster.partial and on_cluster.points == points
+    assert_same_numbers(on_cluster, local)
+    assert sorted(os.listdir(tmp_path / "cluster")) == sorted(os.listdir(tmp_path / "local"))
+    assert pq.read_table(tmp_path / "cluster").equals(pq.read_table(tmp_path / "local"))
+
+
+LATE_CONFIG = """\
+[scan]
+points = 262_144
+seed = 3
+
+[design]
+presets = ["HIGH_TIER"]
+
+[parameters]
+illuminance_lux = { distribution = "log_uniform", low = 10, high = 100_000 }
+
+[reductions.summary]
+kind = "summary"
+by = "design"
+
+[output]
+parquet = "points"
+"""
+
+
+def test_no_worker_writes_into_the_parquet_directory_after_the_command_returns(
+        tmp_path, monkeypatch, capsys):
+    # The third chunk's task is slow: it is still running when Ctrl-C stops the scan, and a
+    # second Ctrl-C arrives while the scan cancels its tasks. The command returns; then the
+    # task finishes and tries to write its part: points/ holds exactly the committed parts.
+    import json
+    import threading
+
+    import epc_fast.scan.manifest as manifest_module
+    import epc_fast.scan.parquet as parquet
+    from epc_fast.__main__ import main
+
+    started, release, finished = threading.Event(), threading.Event(), threading.Event()
+    late = []
+    real_write_part = parquet.write_part
+
+    def slow_write_part(directory, space, points, result):
+        if points.start != 2 * BLOCK_POINTS:
+            return real_write_part(directory, space, points, result)
+        started.set()
+        try:
+            release.wait(30)
+            return real_write_part(directory, space, points, result)
+        except Exception as error:
+            late.append(error)
+            raise
+        finally:
+            finished.set()
+
+    real_write_manifest = manifest_module.write_manifest
+
+    def write_manifest_then_ctrl_c(directory, manifest):
+        path = real_write_manifest(directory, manifest)
+        if manifest["points_done"] == 2 * BLOCK_POINTS:
+            assert started.wait(30)
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C while the third chunk's task runs
+        return path
+
+    real_cancel = distributed.Future.cancel
+    second = []
+
+    def cancel_after_a_second_ctrl_c(self, *args, **kwargs):
+        if not second and threading.current_thread() is threading.main_thread():
+            second.append(True)
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C again, while the tasks are cancelled
+        return real_cancel(self, *args, **kwargs)
+
+    monkeypatch.setattr(parquet, "write_part", slow_write_part)
+    monkeypatch.setattr(distributed.Future, "cancel", cancel_after_a_second_ctrl_c)
+    monkeypatch.setattr(manifest_module, "write_manifest", write_manifest_then_ctrl_c)
+    config = tmp_path / "scan.toml"
+    config.write_text(LATE_CONFIG)
+    out = tmp_path / "out"
+    try:
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                      dashboard_address=None) as cluster:
+            try:
+                code = main(["scan", str(config), "--out", str(out), "--no-progress",
+                             "--no-plots", "--chunk-points", str(BLOCK_POINTS),
+                             "--scheduler", cluster.scheduler_address])
+            except KeyboardInterrupt:
+                code = "KeyboardInterrupt"
+            assert started.is_set() and second
+            release.set()
+            assert finished.wait(30)
+            time.sleep(0.2)  # the task's last file operations
+    finally:
+        release.set()
+    capsys.readouterr()
+    assert code == 130
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["state"] == "interrupted" and manifest["stopped_by"] == "SIGINT"
+    committed = sorted(name for name in manifest["files"] if name.startswith("points/"))
+    assert sorted(f"points/{name}" for name in os.listdir(out / "points")) == committed
+    assert manifest["points_done"] == 2 * BLOCK_POINTS and len(committed) == 2
+    assert "summary_by_design.csv" in manifest["files"]  # the merged prefix's tables
+    assert isinstance(late[0], FileNotFoundError)  # the late part is discarded
+
+
+def _exit_on_the_third_chunk():
+    import epc_fast.scan.dask_backend as worker_backend
+
+    real = worker_backend.reduce_chunk
+
+    def exit_on_the_third_chunk(space, plan, seed, start, *args):
+        if start == 2 * BLOCK_POINTS:
+            os._exit(1)  # the worker process dies with the task
+        return real(space, plan, seed, start, *args)
+
+    worker_backend.reduce_chunk = exit_on_the_third_chunk
+
+
+def test_a_chunk_that_kills_its_workers_past_the_allowed_failures_ends_with_the_prefix():
+    import dask
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
+            _cluster() as cluster, distributed.Client(cluster) as client:
+        client.run(_exit_on_the_third_chunk)
+        with pytest.raises(ScanAborted, match=r"^the Dask cluster failed the scan's tasks "
+                                              r"\(KilledWorker: .*\), after [\d,]+ points were "
+                                              r"merged$") as error:
+            run(SPACE, 8 * BLOCK_POINTS, seed=1, reductions={"s": Summary()},
+                chunk_points=BLOCK_POINTS, progress=False, client=client)
+    # The tasks that shared the dying worker fail with it: the prefix ends at the third chunk
+    # or before it.
+    result = error.value.result
+    assert result.partial and result.points in (0, BLOCK_POINTS, 2 * BLOCK_POINTS)
+    assert int(result["s"].points.sum()) == result.points
+
+
+@pytest.mark.parametrize("times", [1, dask_backend.RESUBMITS + 1])
+def test_a_chunk_whose_task_the_cluster_lost_is_submitted_again_a_few_times(times):
+    # The cluster cancels the second chunk's task `times` times (as when the data it needs is
+    # forgotten): the scan submits it again, and gives up only past RESUBMITS.
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        real_submit, lost = client.submit, []
+
+        def submit_losing_the_second_chunk(function, *args, **kwargs):
+            future = real_submit(function, *args, **kwargs)
+            if function is dask_backend.checked_reduce_chunk and args[4] == BLOCK_POINTS \
+                    and len(lost) < times:
+                lost.append(future)
+                future.cancel()
+            return future
+
+        client.submit = submit_losing_the_second_chunk
+        reductions = {"s": Summary(by="design")}
+        if times <= dask_backend.RESUBMITS:
+            on_cluster = run(SPACE, 4 * BLOCK_POINTS, seed=2, reductions=reductions,
+                             chunk_points=BLOCK_POINTS, progress=False, client=client)
+            local = run(SPACE, 4 * BLOCK_POINTS, seed=2, reductions=reductions,
+                        chunk_points=BLOCK_POINTS, progress=False)
+            assert_same_numbers(on_cluster, local)
+        else:
+            with pytest.raises(ScanAborted, match=r"^the Dask cluster lost the task of points "
+                                                  r"65,536 to 131,071 4 times, after [\d,]+ "
+                                                  r"points were merged$") as error:
+                run(SPACE, 4 * BLOCK_POINTS, seed=2, reductions=reductions,
+                    chunk_points=BLOCK_POINTS, progress=False, client=client)
+            assert error.value.result.points in (0, BLOCK_POINTS)
+    assert len(lost) == times

@@ -647,3 +647,53 @@ def test_a_complete_scans_files_carry_no_partial_mark(tmp_path, capsys):
     assert _cli(capsys, _config(tmp_path), "--out", out, "--no-plots")[0] == 0
     assert all(PARTIAL_COLUMN not in row for path in out.glob("*.csv") for row in _rows(path))
     assert not any("PARTIAL" in path.read_text() for path in out.glob("*.md"))
+
+
+#: Where a signal may arrive between the --out lock and the scan's first chunk: the module,
+#: the function and whether the signal comes after it ran (else before it runs).
+START_PHASES = {
+    "the lock just taken": ("epc_fast.scan.output.lock", "OutputLock.acquire", True),
+    "the first manifest written": ("epc_fast.scan.manifest", "write_manifest", True),
+    "the cluster connected": ("epc_fast.commands.scan", "_client", False),
+    "the Parquet staging made": ("epc_fast.scan.parquet", "prepare_directory", True),
+}
+
+
+@pytest.mark.parametrize("phase", START_PHASES)
+@pytest.mark.parametrize("signame, code", [("SIGTERM", 143), ("SIGINT", 130)])
+def test_a_signal_between_the_lock_and_the_first_chunk_leaves_a_true_manifest(
+        tmp_path, phase, signame, code):
+    module, function, after = START_PHASES[phase]
+    owner, _, name = function.rpartition(".")
+    config = _config(tmp_path, '[output]\nparquet = "points"\n')
+    out = tmp_path / "out"
+    script = tmp_path / "signalled.py"
+    script.write_text(f"""
+import importlib, os, signal, sys
+from epc_fast.__main__ import main
+
+module = importlib.import_module({module!r})
+owner = getattr(module, {owner!r}) if {owner!r} else module
+real = getattr(owner, {name!r})
+signalled = []
+
+def signalled_once(*args, **kwargs):
+    if {after!r}:
+        value = real(*args, **kwargs)
+    if not signalled:
+        signalled.append(True)
+        os.kill(os.getpid(), signal.{signame})
+    return value if {after!r} else real(*args, **kwargs)
+
+setattr(owner, {name!r}, signalled_once)
+sys.exit(main(["scan", {str(config)!r}, "--out", {str(out)!r}, "--no-progress", "--no-plots",
+               "--chunk-points", "{CHUNK}"]))
+""")
+    finished = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                              timeout=120)
+    assert finished.returncode == code, finished.stderr
+    manifest = _manifest(out)
+    assert manifest["state"] == "interrupted" and manifest["stopped_by"] == signame
+    assert manifest["points_done"] == 0 and manifest["partial"] is True
+    left = sorted(str(p.relative_to(out)) for p in out.rglob("*"))
+    assert not [p for p in left if p.endswith(".tmp") or "/.run-" in p or ".lock" in p], left

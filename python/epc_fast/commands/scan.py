@@ -191,24 +191,27 @@ def run(args) -> int:
     plots = not args.no_plots
     planned = _planned(config, plots)
     check_extras(scan_extras(config, planned, cluster=args.scheduler is not None))
-    with OutputDirectory(args.out, overwrite=args.overwrite) as out:
+    # SIGINT and SIGTERM are held from before the lock to the manifest's last write, and stop
+    # the scan only between them (StopSignals): the directory is made ready and the results
+    # are written whole, and every signal leaves a manifest that says how the scan ended.
+    writing, stops = SignalsHeld(), StopSignals()
+    with writing, OutputDirectory(args.out, overwrite=args.overwrite) as out:
         out.prepare(planned, config.parquet, _parquet_bytes(config))
         manifest = new_manifest(config, _overrides(args), config.points)
         write_manifest(out.path, manifest)
+        if writing.name is not None:  # a signal since the lock was taken
+            return _interrupted_before_the_first_point(out, manifest, writing.name)
 
         def on_chunk(done: int) -> None:
             manifest["points_done"] = done
             manifest["files"] = _parquet_files(out, config)
             write_manifest(out.path, manifest)
 
-        client = _client(args.scheduler)
-        failure = sobol = None
-        # From the scan's end to the manifest's last write, SIGINT and SIGTERM are held: every
-        # file is written whole, then the command ends as they asked.
-        writing, stops = SignalsHeld(), StopSignals()
+        client = failure = sobol = None
         try:
             try:
                 with stops:
+                    client = _client(args.scheduler)
                     if config.sobol is not None:
                         sobol = compute(config, config.sobol, config.threads)
                     parquet = None if config.parquet is None else out.path / config.parquet
@@ -216,32 +219,24 @@ def run(args) -> int:
                                       progress=False if args.no_progress else None,
                                       parquet=parquet, client=client, on_chunk=on_chunk)
             finally:
-                writing.__enter__()
                 if client is not None:
                     client.close()
         except ScanAborted as error:
             if error.result is None:
-                with writing:
-                    manifest.update(state="failed", stopped_by=_stopped_by(error))
-                    write_manifest(out.path, manifest)
+                manifest.update(state="failed", stopped_by=_stopped_by(error))
+                write_manifest(out.path, manifest)
                 raise
             failure, result = error, error.result
-        except KeyboardInterrupt:  # before the scan's first point: the [sobol] indices
-            with writing:
-                manifest.update(state="interrupted", stopped_by=stops.name)
-                write_manifest(out.path, manifest)
-            print("epc-fast scan: interrupted before the first point", file=sys.stderr)
-            return EXIT_INTERRUPTED[stops.name]
+        except KeyboardInterrupt:  # before the scan's first point: the cluster, [sobol] indices
+            return _interrupted_before_the_first_point(out, manifest, stops.name)
         except BaseException as error:
             result = getattr(error, "scan_result", None)
             if result is None:
-                with writing:
-                    manifest.update(state="failed", stopped_by=_stopped_by(error))
-                    write_manifest(out.path, manifest)
+                manifest.update(state="failed", stopped_by=_stopped_by(error))
+                write_manifest(out.path, manifest)
                 raise
             failure = error
-        with writing:
-            _finish(config, out, manifest, result, sobol, failure, stops, plots)
+        _finish(config, out, manifest, result, sobol, failure, stops, plots)
         if failure is not None:
             print(f"epc-fast scan: error: {_one_line(failure)}; the {result.points:,} points "
                   "merged before it are written, marked partial", file=sys.stderr)
@@ -253,6 +248,16 @@ def run(args) -> int:
                   "is written whole, the scan is complete", file=sys.stderr)
             return EXIT_INTERRUPTED[writing.name]
         return 0
+
+
+def _interrupted_before_the_first_point(out, manifest: dict, name: str) -> int:
+    """Record a scan stopped by the signal ``name`` before its first point; its exit code."""
+    from ..scan.manifest import write_manifest
+
+    manifest.update(state="interrupted", stopped_by=name)
+    write_manifest(out.path, manifest)
+    print("epc-fast scan: interrupted before the first point", file=sys.stderr)
+    return EXIT_INTERRUPTED[name]
 
 
 def _one_line(error) -> str:

@@ -8,9 +8,18 @@ has worker threads are submitted or waiting to be merged at a time, so memory st
 
 Every worker must run the client's epc_fast build (version and core level): the workers
 present are asked before the first task, and each task checks the worker it lands on (one
-that joins later), so another build's numbers are never merged in. A cluster that fails (no
-worker left for :data:`WORKERLESS_S` seconds, tasks cancelled or killing their workers) ends
-the scan with :class:`~epc_fast.scan.errors.ScanAborted`, which keeps the prefix merged before.
+that joins later), so another build's numbers are never merged in.
+
+Workers may die and join while the scan runs. The space and the plan reach the workers as the
+results of two small tasks, not as scattered data: when every worker holding them is gone, the
+cluster computes them again for the workers left or new, where scattered data would be lost and
+take every chunk with it. A chunk whose worker dies is run again by the cluster (up to its
+``distributed.scheduler.allowed-failures``); a chunk whose task is lost all the same (cancelled)
+is submitted again by the scan, up to :data:`RESUBMITS` times. The scan ends with
+:class:`~epc_fast.scan.errors.ScanAborted`, which keeps the prefix merged before, only when the
+cluster is lost: no worker for :data:`WORKERLESS_S` seconds, a chunk that killed its workers
+more often than the cluster allows (``KilledWorker``) or was lost more than :data:`RESUBMITS`
+times, or a task that fails.
 """
 
 from __future__ import annotations
@@ -20,12 +29,14 @@ import time
 from .errors import ScanAborted
 from .tasks import reduce_chunk
 
-__all__ = ["dask_outcomes", "WorkerMismatch", "build", "WORKERLESS_S"]
+__all__ = ["dask_outcomes", "WorkerMismatch", "build", "WORKERLESS_S", "RESUBMITS"]
 
 #: s, how long a scan waits with no worker in the cluster before it gives up.
 WORKERLESS_S = 60.0
 #: s, how often a waiting scan checks that the cluster still has workers.
 POLL_S = 1.0
+#: Times a chunk whose task the cluster lost (cancelled) is submitted again.
+RESUBMITS = 3
 
 
 class WorkerMismatch(RuntimeError):
@@ -76,12 +87,14 @@ def _aborted(error: Exception, merged_points: int) -> ScanAborted:
                        f"{text}), after {merged_points:,} points were merged")
 
 
-def _outcome(future, merged_points: int):
-    """The future's outcome; a task or cluster failure as ScanAborted."""
-    try:
-        return future.result()
-    except Exception as error:
-        raise _aborted(error, merged_points) from error
+def _value(value):
+    """``value``, as a task's result: data the cluster can compute again when it is lost."""
+    return value
+
+
+def _lost(future) -> bool:
+    """Whether the cluster lost the future's task or result (cancelled, forgotten)."""
+    return future.status in ("cancelled", "lost")
 
 
 def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_dir,
@@ -94,14 +107,29 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
                           ) from None
     expected = build()
     _check_workers(client, expected)
-    space_future, plan_future = client.scatter([space, plan], broadcast=True)
+    sources = []
+
+    def sources_now():
+        if not sources or any(_lost(source) for source in sources):
+            sources[:] = [client.submit(_value, space, pure=False),
+                          client.submit(_value, plan, pure=False)]
+        return sources
+
     limit = 2 * max(1, sum(client.nthreads().values()))
     ranges = iter(ranges)
     number_of = {}
+    span_of = {}
+    resubmitted = {}
     arrived = {}
     submitted = expected_number = 0
     merged_points = 0
     workerless_since = None
+
+    def submit(number, span):
+        future = client.submit(checked_reduce_chunk, expected, *sources_now(), seed, *span,
+                               points, threads, parquet_dir, backend, pure=False)
+        number_of[future] = number
+        span_of[number] = span
 
     def top_up():
         nonlocal submitted
@@ -109,23 +137,49 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
             span = next(ranges, None)
             if span is None:
                 return
-            future = client.submit(checked_reduce_chunk, expected, space_future, plan_future,
-                                   seed, *span, points, threads, parquet_dir, backend,
-                                   pure=False)
-            number_of[future] = submitted
+            submit(submitted, span)
             submitted += 1
+
+    def take(future) -> bool:
+        """Keep a finished chunk's outcome or submit a lost one again (True); False when its
+        result was lost after it finished and the cluster is computing it again."""
+        number = number_of.pop(future)
+        if _lost(future):
+            resubmitted[number] = resubmitted.get(number, 0) + 1
+            if resubmitted[number] > RESUBMITS:
+                raise ScanAborted(
+                    f"the Dask cluster lost the task of points {span_of[number][0]:,} to "
+                    f"{span_of[number][1] - 1:,} {resubmitted[number]} times, after "
+                    f"{merged_points:,} points were merged")
+            try:
+                submit(number, span_of[number])
+            except Exception as error:  # e.g. the client lost its scheduler
+                raise _aborted(error, merged_points) from error
+            return True
+        try:
+            arrived[number] = future.result(timeout=POLL_S)
+        except TimeoutError:  # its worker left with the result: waited for again
+            number_of[future] = number
+            return False
+        except Exception as error:
+            raise _aborted(error, merged_points) from error
+        del span_of[number]
+        return True
 
     top_up()
     try:
         while number_of:
+            failure = None
             try:
-                finished, _ = wait(list(number_of), timeout=POLL_S,
-                                   return_when="FIRST_COMPLETED")
+                wait(list(number_of), timeout=POLL_S, return_when="FIRST_COMPLETED")
             except TimeoutError:
-                finished = ()
-            except Exception as error:  # e.g. the futures cancelled: their workers are gone
-                raise _aborted(error, merged_points) from error
-            if not finished:
+                pass
+            except Exception as error:  # futures cancelled (their task lost): submitted again
+                failure = error
+            finished = [future for future in number_of if future.status != "pending"]
+            if failure is not None and not finished:
+                raise _aborted(failure, merged_points) from failure
+            if not [future for future in finished if take(future)]:
                 if client.nthreads():
                     workerless_since = None
                 elif workerless_since is None:
@@ -134,8 +188,6 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
                     raise ScanAborted(f"the Dask cluster has had no worker for {WORKERLESS_S:g} "
                                       f"s, after {merged_points:,} points were merged")
                 continue
-            for future in finished:
-                arrived[number_of.pop(future)] = _outcome(future, merged_points)
             while expected_number in arrived:
                 outcome = arrived.pop(expected_number)
                 yield outcome
@@ -143,5 +195,5 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
                 expected_number += 1
             top_up()
     finally:
-        for future in number_of:
+        for future in [*number_of, *sources]:
             future.cancel()

@@ -14,6 +14,12 @@ a temporary file and a rename) in the run's own hidden staging directory
 (:func:`commit_parts`). An interrupted or killed scan leaves at most hidden files beyond its
 prefix, which Parquet readers skip; :func:`discard_uncommitted` removes the run's staging
 directory, and only it: never a part, nor what another run stages beside it.
+
+Only the scan's own process moves parts into the directory. A task still running when the scan
+ends (a Dask worker's, which cancelling cannot stop) finds the staging directory gone: it
+discards its part and never creates the directory again, so nothing it writes lands in the
+directory after the scan has returned. The staging directory is renamed away before it is
+removed, so a task cannot write into it while it is being removed either.
 """
 
 from __future__ import annotations
@@ -54,7 +60,7 @@ def prepare_directory(directory) -> str:
     return the staging directory's path (where the chunks' tasks write); refuse a symlink
     (never written through) and a directory that already holds parts."""
     _pyarrow()
-    path = Path(directory)
+    path = Path(directory).absolute()  # the same on a worker whose directory is another
     if path.is_symlink():
         raise FileExistsError(f"{path} is a symlink; a scan writes its parts into a real "
                               "directory only")
@@ -70,7 +76,12 @@ def prepare_directory(directory) -> str:
 
 def write_part(directory: str, space: Space, points: Points, result: Result) -> None:
     """Write one chunk's points and outputs, whole, under its hidden ready name in the run's
-    staging ``directory``."""
+    staging ``directory``; a staging directory that is gone (the scan has ended) is not made
+    again: the part is discarded, with FileNotFoundError."""
+    if not os.path.isdir(directory):
+        raise FileNotFoundError(f"the scan's staging directory {directory} is gone (the scan "
+                                f"has ended): the part of points {points.start:,} on is "
+                                "discarded")
     pa = _pyarrow()
     columns = {"point": pa.array(points.index)}
     if space.design_names:
@@ -107,5 +118,16 @@ def committed_parts(directory: str) -> list[str]:
 def discard_uncommitted(directory: str, done: int) -> None:
     """Remove the run's staging ``directory``: its ready parts beyond the merged prefix of
     ``done`` points and its temporary files. Nothing outside it is touched: the parts this
-    run committed stay, and so does whatever another run writes beside them."""
-    shutil.rmtree(directory, ignore_errors=True)
+    run committed stay, and so does whatever another run writes beside them.
+
+    It is first renamed to a name no task writes to (still a staging name, which the next
+    ``--overwrite`` run clears should its removal fail): a task writing now fails instead of
+    adding a file after the removal has listed the directory."""
+    doomed = f"{directory}.discarded-{secrets.token_hex(4)}"
+    try:
+        os.rename(directory, doomed)
+    except FileNotFoundError:
+        return
+    except OSError:
+        doomed = directory
+    shutil.rmtree(doomed, ignore_errors=True)

@@ -2,7 +2,9 @@
 merged in block order as they arrive, so memory stays bounded whatever the point count.
 
 Ctrl-C (KeyboardInterrupt) or SIGTERM stops the scan between chunks: the result holds the
-chunks merged so far, a prefix of the points, and is marked ``partial``. An error between
+chunks merged so far, a prefix of the points, and is marked ``partial``. While the scan stops
+(its tasks cancelled, its Parquet staging directory removed) both signals are held, so a second
+Ctrl-C cannot leave a staging directory for a task still running to write into. An error between
 merges (a chunk's task failing, a full disk under its Parquet part or ``on_chunk``) is raised
 with that prefix as its ``scan_result``, so a caller can still write what was merged.
 """
@@ -183,30 +185,31 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     reductions = default_reductions(space) if reductions is None else dict(reductions)
     plan = tuple(PlanItem(name, r, group_key(space, r.by)) for name, r in reductions.items())
     states = {item.name: item.reduction.start(item.key, points) for item in plan}
-    parquet_dir = None
     if parquet is not None:
         from .parquet import commit_parts, discard_uncommitted, prepare_directory
-
-        parquet_dir = prepare_directory(parquet)
     ranges = ((start, min(start + chunk_points, points))
               for start in range(0, points, chunk_points))
-    if client is None:
-        outcomes = _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir,
-                                   backend)
-    else:
-        from .dask_backend import dask_outcomes
-
-        outcomes = dask_outcomes(client, space, plan, seed, ranges, points, threads,
-                                 parquet_dir, backend)
     reporter = progress_reporter(progress, points)
     timing = Timing()
     done = 0
     partial = False
     aborted = failure = None
     merging = False
+    parquet_dir = outcomes = None
     started = time.perf_counter()
     with terminate_as_interrupt():
         try:
+            if parquet is not None:
+                with _interrupts_deferred():  # its staging directory is made and known, or not
+                    parquet_dir = prepare_directory(parquet)
+            if client is None:
+                outcomes = _local_outcomes(space, plan, seed, ranges, points, threads,
+                                           parquet_dir, backend)
+            else:
+                from .dask_backend import dask_outcomes
+
+                outcomes = dask_outcomes(client, space, plan, seed, ranges, points, threads,
+                                         parquet_dir, backend)
             for outcome in outcomes:
                 merge_started = time.perf_counter()
                 with _interrupts_deferred():
@@ -231,12 +234,21 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
         except Exception as error:
             if merging:  # the states may hold part of a chunk: no prefix to give
                 raise
+            if parquet is not None and parquet_dir is None:  # refused before the first point
+                raise
             failure, partial = error, True
         finally:
-            outcomes.close()
-            reporter.close()
-            if parquet_dir is not None:
-                discard_uncommitted(parquet_dir, done)
+            # The scan stops whole: a signal now (a second Ctrl-C) waits until the tasks are
+            # cancelled and the staging directory is gone, then stops the scan as the first.
+            try:
+                with _interrupts_deferred():
+                    if outcomes is not None:
+                        outcomes.close()
+                    reporter.close()
+                    if parquet_dir is not None:
+                        discard_uncommitted(parquet_dir, done)
+            except KeyboardInterrupt:
+                partial = done < points
     timing.wall_s = time.perf_counter() - started
     results = {item.name: item.reduction.finish(states[item.name], item.key, space)
                for item in plan}

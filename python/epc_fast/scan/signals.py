@@ -5,8 +5,9 @@ for SIGINT) while a scan runs, so a ``kill`` stops the scan like Ctrl-C and its 
 :func:`signals_deferred` holds both signals while a chunk is merged and delivers them after.
 Both act only in the main thread (the only one Python delivers signals to) and only where the
 handler is Python's own, leaving a handler the application installed alone.
-:class:`SignalsHeld` holds both, whatever their handlers, while a finished run writes its
-results, and says which arrived: the command line then ends as they asked, every file written.
+:class:`SignalsHeld` holds both, whatever their handlers, while a run makes its directory ready
+and while a finished run writes its results, and says which arrived: the command line then ends
+as they asked, every file written. :class:`StopSignals`, inside it, lets both stop the scan.
 """
 
 from __future__ import annotations
@@ -65,27 +66,33 @@ def signals_deferred():
 
 
 class StopSignals:
-    """A context in which SIGTERM raises KeyboardInterrupt, whatever its handler was, and which
-    remembers the signal that stopped the block (``name``: "SIGTERM", else "SIGINT", the one
-    Python itself turns into KeyboardInterrupt): the command line's exit code and manifest
-    say which it was."""
+    """A context in which SIGINT and SIGTERM raise KeyboardInterrupt, whatever SIGTERM's handler
+    was (an ignored SIGINT stays ignored), and which remembers the signal that stopped the block
+    (``name``; "SIGINT" for a KeyboardInterrupt no signal raised): the command line's exit code
+    and manifest say which it was. Inside a :class:`SignalsHeld`, it stops the block, and from
+    its end the signals are held again: at no moment does a signal fall to its default action.
+    """
 
     def __init__(self):
         self.received = []
-        self.previous = None
+        self.previous = {}
 
     def __enter__(self):
-        if _main_thread():
-            self.previous = signal.signal(signal.SIGTERM, self._terminate)
+        if _main_thread() and not self.previous:
+            for signum in STOP_SIGNALS:
+                if signum == signal.SIGTERM or signal.getsignal(signum) is not signal.SIG_IGN:
+                    self.previous[signum] = signal.signal(signum, self._stop)
         return self
 
-    def _terminate(self, signum, frame):
-        self.received.append("SIGTERM")
-        raise KeyboardInterrupt("SIGTERM")
+    def _stop(self, signum, frame):
+        name = signal.Signals(signum).name
+        self.received.append(name)
+        raise KeyboardInterrupt(name)
 
     def __exit__(self, *exc):
-        if self.previous is not None:
-            signal.signal(signal.SIGTERM, self.previous)
+        for signum, handler in self.previous.items():
+            signal.signal(signum, handler if handler is not None else signal.SIG_DFL)
+        self.previous = {}
 
     @property
     def name(self) -> str:
@@ -95,9 +102,9 @@ class StopSignals:
 class SignalsHeld:
     """A context in which SIGINT and SIGTERM do nothing but be recorded (``received``: their
     names, in order), whatever their handlers were (the default action included; an ignored
-    signal stays ignored): a run's tables and manifest are written whole, then the caller ends
-    as the signal asked. In a thread other than the main one it holds nothing (Python runs
-    handlers in the main thread only)."""
+    signal stays ignored): a run's directory is made ready, and its tables and manifest are
+    written, whole; then the caller ends as the signal asked. In a thread other than the main
+    one it holds nothing (Python runs handlers in the main thread only)."""
 
     def __init__(self):
         self.received = []
