@@ -62,7 +62,8 @@ class Agreement:
     f50_normal_cyc_per_mm : cycles/mm, evaluate's f50 with the motion the edge's normal sees
         (the shake times the cosine of the edge's slant): what the e-SFR, which measures across
         the edge, should find.
-    f50_noiseless_cyc_per_mm : the e-SFR's MTF50 of the noise-free capture.
+    f50_noiseless_cyc_per_mm : the e-SFR's MTF50 of the noise-free capture (of the seeds'
+        noise-free captures' mean for a burst with alignment errors, which each seed draws).
     f50_sim_cyc_per_mm : the e-SFR's MTF50 of the seeds' pooled noisy captures.
     f50_sim_std : cycles/mm, the standard deviation of one noisy capture's MTF50.
     snr_db_model : dB, the target SNR evaluate meets at T_MPE.
@@ -155,7 +156,8 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     area_mm2 = epc_model / (4.0 * f50_model ** 2) if f50_model > 0 else math.nan
     shape, window = ((0, 0), None)
     if status == Status.OK:
-        shape, window = edge_chart(float(model.blur_mm), float(design["pixel_pitch_um"]),
+        output_pitch = float(design["pixel_pitch_um"]) * int(design.get("binning", 1))
+        shape, window = edge_chart(float(model.blur_mm), output_pitch,
                                    longest_wavelength_um(design) * float(design["f_number"]))
     if status != Status.OK or shape[1] > MAX_EDGE_COLUMNS:
         nan = math.nan
@@ -167,10 +169,14 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     patch = capture(flat(FLAT_PX, design.get("reflectance", 0.4)),
                     illuminance_lux=illuminance_lux, seed=seed, **design)
     pitch = edge.pitch_um
-    images = [edge.redraw(seed + i).image_e for i in range(seeds)]
-    each = [esfr(im, pitch, window=window).mtf50_cyc_per_mm for im in images]
-    pooled = esfr(np.mean(images, axis=0), pitch, window=window).mtf50_cyc_per_mm
-    noiseless = esfr(edge.expected_e, pitch, window=window).mtf50_cyc_per_mm
+    captures = [edge.redraw(seed + i) for i in range(seeds)]
+    each = [esfr(c.image_e, pitch, window=window).mtf50_cyc_per_mm for c in captures]
+    pooled = esfr(np.mean([c.image_e for c in captures], axis=0), pitch,
+                  window=window).mtf50_cyc_per_mm
+    # A burst's alignment errors are drawn with its noise: the noise-free image is then their
+    # captures' mean expected image, the expectation over the alignment the model describes.
+    expected = np.mean([c.expected_e for c in captures], axis=0)
+    noiseless = esfr(expected, pitch, window=window).mtf50_cyc_per_mm
     snrs = [snr(patch.redraw(seed + i).image_e).snr_db for i in range(seeds)]
     return Agreement(float(illuminance_lux), status, f50_model, float(normal.f50_cyc_per_mm),
                      float(noiseless), float(pooled), float(np.std(each, ddof=1)), snr_target,
