@@ -36,6 +36,7 @@ def evaluate(
     chunk_points: int,
     out: dict[str, np.ndarray] | None = None,
     allocate: Sequence[str] | None = None,
+    binning_readout: str = "digital",
 ) -> dict[str, np.ndarray]:
     """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: the eight
     default ones when ``out`` is None, else none), written; the outputs in neither are not
