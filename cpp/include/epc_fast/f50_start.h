@@ -446,6 +446,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     if (any_alignment) {
         const double* __restrict residual = x[alignment_error_um];
         const double* __restrict frames_in = x[frames];
+        EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i)
             jit[i] = gaussian_blur_mm(jitter_um_[i], residual[i], frames_in[i]);
     }
@@ -453,7 +454,6 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     // 1 / (k p) where a < 1 (the array factor's, below sqrt(a) p's), 1 / ap elsewhere. A lane
     // with an array factor takes the start of the pixel alone, never certified: not settled.
     alignas(64) double bin_pitch[n], zero_length[n];
-    const double* __restrict pixel_zero_length = ap;
     if (any_binning) {
         const double* __restrict k = x[binning];
         for (std::size_t i = 0; i < n; ++i) {
@@ -462,7 +462,6 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
             bin_pitch[i] = l.pitch_mm;
             zero_length[i] = l.pitch_mm > 0.0 ? k[i] * l.pitch_mm : l.aperture_mm;
         }
-        pixel_zero_length = zero_length;
     }
 
     // The accurate start's row each lane takes, as accurate_start_code (float64, one
@@ -485,8 +484,9 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     // solve takes the cubic start.
     const unsigned certified = !poly ? certified_rows<T>(settle_rtol) : 0u;
     if (!poly && (!narrow || certified != 0) && b.is_broadcast(mtf_threshold) &&
-        b.is_broadcast(jitter_um)) {
-        // one row for every lane (the lanes' own choice, made once)
+        b.is_broadcast(jitter_um) && !any_alignment) {
+        // one row for every lane (the lanes' own choice, made once; a burst's alignment
+        // residual joins the jitter lane by lane)
         const unsigned char code = accurate_start_code(b.broadcast[jitter_um] * um_to_mm,
                                                        b.broadcast[mtf_threshold]);
         const int row = int{code} - 1;
@@ -567,24 +567,26 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         // the spectrum's wavelengths and the f-number enter the polychromatic MTF as separate
         // float32 factors, so they too must fit (2^-60..2^60); settled lanes need no float32
         // lengths
-        if (!any_binning)
-            for (std::size_t i = 0; i < n; ++i) bin_pitch[i] = 0.0;
         bool lambdas_fit = true;
         for (const double nm : spectrum.wavelengths_nm) lambdas_fit &= float32_factor(nm * nm_to_mm);
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
-            const bool fits = float32_length(lf_short[i]) & float32_length(lf_long) &
-                              float32_length(ap[i]) & float32_length(pixel_zero_length[i]) &
-                              float32_length(bin_pitch[i]) &
-                              float32_length(blur_in[i]) &
-                              float32_length(jit[i]) & lambdas_fit &
-                              (!poly | float32_factor(f_num_in[i]));
-            const bool s_i = settled[i] != 0;
-            wide[i] = (solve[i] != 0) & !s_i & !fits;
-            solve[i] = (solve[i] != 0) & (s_i | fits);
-            b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
-        }
+        auto fit_lanes = [&](auto binned) EPC_FAST_LAMBDA_INLINE {
+            constexpr bool Binned = decltype(binned)::value;  // the array factor's lengths too
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
+                bool fits = float32_length(lf_short[i]) & float32_length(lf_long) &
+                            float32_length(ap[i]) & float32_length(blur_in[i]) &
+                            float32_length(jit[i]) & lambdas_fit &
+                            (!poly | float32_factor(f_num_in[i]));
+                if (Binned) fits &= float32_length(zero_length[i]) & float32_length(bin_pitch[i]);
+                const bool s_i = settled[i] != 0;
+                wide[i] = (solve[i] != 0) & !s_i & !fits;
+                solve[i] = (solve[i] != 0) & (s_i | fits);
+                b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
+            }
+        };
+        if (any_binning) fit_lanes(std::true_type{});
+        else fit_lanes(std::false_type{});
     } else {
         for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
     }
@@ -606,8 +608,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
             aperture[i] = static_cast<T>(ap[i]);
             jitter_mm[i] = static_cast<T>(jit[i]);
             lo[i] = T(0);
-            const T f_hi = f50_bracket<J>(static_cast<T>(lf_short[i]),
-                                          static_cast<T>(pixel_zero_length[i]), blur[i],
+            const T f_hi = f50_bracket<J>(static_cast<T>(lf_short[i]), aperture[i], blur[i],
                                           jitter_mm[i], ln_inv_c[i]);
             hi[i] = f_hi;
             // neither start: every lane to solve takes a spectrum's start, from its pass below
@@ -656,12 +657,20 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     if (any_jitter) starts(yes{});
     else starts(no{});
     if (any_binning) {
+        // the array factor's lengths in T; where there is one, the bracket ends at its zero
+        // 1 / (k p), below the aperture's, and a start past it becomes the bracket's middle
         const double* __restrict k = x[binning];
         T* __restrict bin_pitch_t = b.bin_pitch_mm;
         T* __restrict bin_k = b.bin_k;
         for (std::size_t i = 0; i < n; ++i) {
             bin_pitch_t[i] = static_cast<T>(bin_pitch[i]);
             bin_k[i] = static_cast<T>(k[i]);
+            const T f_hi = f50_bracket<true>(static_cast<T>(lf_short[i]),
+                                             static_cast<T>(zero_length[i]), blur[i],
+                                             jitter_mm[i], ln_inv_c[i]);
+            const bool array = bin_pitch[i] > 0.0;
+            hi[i] = array ? f_hi : hi[i];
+            at[i] = !array || ((at[i] > T(0)) & (at[i] < f_hi)) ? at[i] : T(0.5) * f_hi;
         }
     }
     extra_row(std::integral_constant<int, 1>{});
