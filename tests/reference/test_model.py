@@ -619,3 +619,23 @@ def test_a_bursts_alignment_blurs_as_jitter_of_its_residual_rms(options):
     residual_mm = mpmath.mpf(sigma_um) / 1000 * mpmath.sqrt(1 - 1 / mpmath.mpf(n))
     expected = mpmath.sqrt(mpmath.log(2) / (2 * mpmath.pi**2)) / residual_mm
     assert r.f50_cyc_per_mm == pytest.approx(float(expected), rel=1e-14)
+
+
+def test_the_cores_binned_pixel_alignment_and_gaussian_are_the_references():
+    f = np.linspace(0.0, 1.0 / (3 * 1.4e-3), 201)
+    for fill, k in ((1.0, 3.0), (0.5, 3.0), (0.5, 1.0)):
+        aperture_mm = math.sqrt(fill) * 1.4e-3
+        pitch_mm = 1.4e-3 if k > 1 else 0.0  # the core's array factor: none at k = 1
+        # the core's sinc(k p f) / sinc(p f) against sin(k pi p f) / (k sin(pi p f)): 1e-14
+        np.testing.assert_allclose(_core.testing.mtf_binned_pixel(f, aperture_mm, pitch_mm, k),
+                                   reference.mtf_binned_pixel(f, 1.4, fill, k), rtol=1e-14,
+                                   atol=1e-15)
+    # exp_poly against NumPy's exp: a few ulp
+    np.testing.assert_allclose(_core.testing.mtf_alignment(f, 2e-3, 8.0),
+                               reference.mtf_alignment(f, 2.0, 8.0), rtol=1e-15)
+    jitter, residual, frames = np.array([0.0, 0.3, 5.0, 1e300]), 1.0, 4.0
+    np.testing.assert_allclose(_core.testing.gaussian_blur_mm(jitter, residual, frames),
+                               reference.gaussian_blur_mm(jitter, residual, frames), rtol=4e-16)
+    # without a residual, the jitter itself
+    np.testing.assert_array_equal(_core.testing.gaussian_blur_mm(jitter, 0.0, frames),
+                                  jitter * 1e-3)
