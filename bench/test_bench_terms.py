@@ -4,7 +4,8 @@ wavelength), on the core at 10^5 points and 1 thread:
     python -m pytest bench/test_bench_terms.py --benchmark-only --benchmark-group-by=group
 
 A term the scene does not use must cost nothing: the kernel compiles the motion and jitter
-factors out of blocks that do not need them and never loops over a spectrum for one wavelength.
+factors out of blocks that do not need them, takes binning and bursts only into blocks that
+have them and never loops over a spectrum for one wavelength.
 """
 
 import numpy as np
@@ -41,6 +42,12 @@ SCENES = {
     "poly 4": {"spectrum": diffraction_spectrum(4)},
     "poly 16": {"spectrum": diffraction_spectrum(16)},
     "poly 64": {"spectrum": diffraction_spectrum(64)},
+    # binning and bursts (docs/model.md): the exposure of the output pixel of the burst, the
+    # binned pixel's aperture (sinc(k p f) at a fill factor of 1) and the alignment residual
+    "binning 2": {"binning": 2.0},
+    "binning 4 charge": {"binning": 4.0, "binning_readout": "charge", "read_noise_e": 3.0},
+    "frames 8": {"frames": 8.0, "read_noise_e": 3.0},
+    "frames 8 + alignment": {"frames": 8.0, "read_noise_e": 3.0, "alignment_error_um": 1.0},
 }
 
 

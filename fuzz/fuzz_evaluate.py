@@ -234,7 +234,7 @@ def _core_call(fdp):
     if flaw == 1 and columns:
         columns[fdp.ConsumeIntInRange(0, len(columns) - 1)] = _array(fdp, max(n, 0))
     domains = params.domain_table() if flaw != 2 else np.array(
-        [[fdp.ConsumeFloat() for _ in range(4)] for _ in range(fdp.ConsumeIntInRange(0, 21))])
+        [[fdp.ConsumeFloat() for _ in range(5)] for _ in range(fdp.ConsumeIntInRange(0, 24))])
     k = fdp.ConsumeIntInRange(0, 4)
     wavelengths = np.array([fdp.ConsumeFloat() for _ in range(k)])
     weights = np.array([fdp.ConsumeFloat() for _ in range(k + (flaw == 3))])

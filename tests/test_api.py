@@ -72,6 +72,22 @@ def test_two_threads_give_bit_identical_results_to_one(many_points, one_thread):
     assert_results_identical(epc_fast.evaluate(**many_points, threads=2), one_thread)
 
 
+@pytest.mark.parametrize("binning_readout", ["digital", "charge"])
+@pytest.mark.parametrize("precision", ["float64", "float32"])
+def test_binning_and_bursts_give_the_same_bits_on_any_thread_count(binning_readout, precision):
+    points = random_design_points(50_000, seed=39, sensor_terms=True)
+    kwargs = dict(binning_readout=binning_readout, precision=precision)
+    one = epc_fast.evaluate(**points, threads=1, **kwargs)
+    for threads in (2, 7):
+        assert_results_identical(epc_fast.evaluate(**points, threads=threads, **kwargs), one)
+
+
+def test_a_bad_binning_readout_is_a_value_error_naming_it():
+    with pytest.raises(ValueError, match="binning_readout must be one of 'digital', 'charge'; "
+                                         "got 'analog'"):
+        epc_fast.evaluate(**DESIGN, binning=2.0, binning_readout="analog")
+
+
 def test_seven_threads_give_bit_identical_results_to_two(many_points, one_thread):
     # 7 threads on fewer cores: oversubscribed, and 200,000 / 64 blocks do not split evenly.
     two = epc_fast.evaluate(**many_points, threads=2)
@@ -323,6 +339,8 @@ def _outside_values(param):
         values.append(math.inf)
     if param.lo == -math.inf:
         values.append(-math.inf)
+    if param.integer:  # binning and frames: whole numbers only
+        values.append(param.lo + 0.5)
     return values
 
 

@@ -32,7 +32,8 @@ DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8, focal_le
               field_angle_deg=20.0, fill_factor=0.8, electrons_per_lux_s_m2=2.5577e15,
               read_noise_e=3.0, dark_current_e_per_s=10.0, prnu=0.005, full_well_e=1e5,
               snr_db=30.0, shake_deg_per_s=4.39, stabilization=2.0, jitter_um=0.5,
-              wavelength_nm=550.0, mtf_threshold=0.5)
+              wavelength_nm=550.0, mtf_threshold=0.5, binning=2.0, frames=4.0,
+              alignment_error_um=0.5)
 TABLE = {p.name: p for p in params.PARAMETERS}
 #: Every keyword that carries a model parameter (the size slot under both of its names).
 KEYWORDS = [name for name in DESIGN] + ["pixel_count"]
@@ -69,6 +70,8 @@ def _bad_values(param):
         values.append(float(np.nextafter(param.lo, -math.inf)) if param.lo_closed else param.lo)
     if math.isfinite(param.hi):
         values.append(float(np.nextafter(param.hi, math.inf)) if param.hi_closed else param.hi)
+    if param.integer:  # binning and frames: whole numbers only (k = 2.5, n = 0.5)
+        values += [param.lo + 1.5, param.lo - 0.5]
     return sorted(set(values), key=repr)
 
 

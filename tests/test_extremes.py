@@ -311,7 +311,7 @@ def test_a_subnormal_input_gives_the_status_and_values_mpmath_gives(options):
     # point's conditioning allows (the products are scaled_products, so a subnormal factor
     # loses no digit of the others).
     designs = [full(**{name: value}) for name, value in SUBNORMAL_CASES]
-    assert len(designs) == 28  # the 14 parameters whose domain reaches 0, two values each
+    assert len(designs) == 30  # the 15 parameters whose domain reaches 0, two values each
     points = points_of(designs)
     r = evaluate_quietly(**points, **options)
     kappa = condition_numbers(points)
@@ -514,3 +514,37 @@ def test_a_spectrum_whose_start_cannot_be_fitted_has_none_and_is_solved_from_the
     assert _core.testing.spectrum_start(subnormal, np.array([0.5, 0.5])) is None
     start = _core.testing.f50_spectrum_start(subnormal, np.array([0.5, 0.5]), 1e-3, 1e-3, 0.0, 0.5)
     assert start == _core.testing.f50_cubic_start(1e-3, 1e-3, 0.0, 0.0, 0.5)
+
+
+# --- Binning and bursts at their extremes -------------------------------------------------------
+
+#: Huge binning and bursts (inside their domains, below 1e30): the output pixel's rate k^2 r,
+#: its read noise sigma_r k sqrt(n) and full well n k^2 W grow past anything physical, and f50
+#: shrinks as 1/(k p) or as the alignment residual's Gaussian, but nothing overflows.
+HUGE_SENSOR = {
+    "binning 1e29": dict(binning=1e29),
+    "binning 1e15, fill 0.3": dict(binning=1e15, fill_factor=0.3),
+    "frames 1e29": dict(frames=1e29),
+    "2^60 x 2^60 binned, 2^70 frames, 1e20 um misaligned": dict(
+        binning=2.0**60, frames=2.0**70, alignment_error_um=1e20),
+    "frames 1e29, charge binning 2": dict(frames=1e29, binning=2.0),
+}
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+@pytest.mark.parametrize("case", HUGE_SENSOR)
+def test_huge_binning_and_bursts_give_what_mpmath_gives(case, options):
+    design = full(read_noise_e=3.0, dark_current_e_per_s=10.0, prnu=0.005, full_well_e=6000.0,
+                  jitter_um=0.5, **HUGE_SENSOR[case])
+    readout = "charge" if "charge" in case else "digital"
+    r = evaluate_quietly(**points_of([design]), binning_readout=readout, **options)
+    model = mp_model({**design, "binning_readout": readout})
+    assert (Status(r.status[0]), Cause(r.cause[0])) == expected_status(model)
+    assert r.status[0] == Status.OK
+    for out in ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
+                "epc"):
+        value = getattr(r, out)[0]
+        assert math.isfinite(value), out
+        # a few roundings in each of k^2, sqrt(n k^2) and the quadratic's root, and f50 to the
+        # core's tolerance: well-conditioned points, 1e-13
+        assert relative_error(value, model[out]) <= 1e-13, (out, value, model[out])

@@ -76,13 +76,17 @@ def mp_elasticity(inputs, name, spectrum=None):
 
 def differentiable(inputs, spectrum):
     """The parameters of a point whose elasticity a central difference gives: those set to a
-    non-zero value (an elasticity at 0 is 0), not the full well (it only decides the status)
-    and not the wavelength when a spectrum replaces it."""
+    non-zero value (an elasticity at 0 is 0), not the full well (it only decides the status),
+    not the wavelength when a spectrum replaces it and not binning or frames (whole numbers:
+    they have none)."""
     names = []
     for name in ELASTICITY_PARAMETERS:
         key = size_key(inputs) if name == "size" else name
-        value = inputs.get(key, params.PARAMETERS[params.PARAMETER_NAMES.index(name)].default)
+        param = params.PARAMETERS[params.PARAMETER_NAMES.index(name)]
+        value = inputs.get(key, param.default)
         if name == "full_well_e" or (name == "wavelength_nm" and spectrum is not None):
+            continue
+        if param.integer:
             continue
         if key == "electrons_per_lux_s_m2" and value is None:
             continue
@@ -194,7 +198,9 @@ def test_shares_match_the_golden_factors(point, backend):
                           **BACKENDS[backend])
     outputs = point["outputs"]
     with mpmath.workdps(30):
-        logs = [mpmath.log(mpmath.mpf(outputs[f"mtf_{name}_at_f50"])) for name in SHARE_NAMES]
+        # the golden set has no burst: its alignment factor is 1
+        logs = [mpmath.log(mpmath.mpf(outputs.get(f"mtf_{name}_at_f50", 1.0)))
+                for name in SHARE_NAMES]
         total = sum(logs)
         expected = [float(v / total) for v in logs]
     got = [getattr(r, name) for name in SHARE_OUTPUTS]
@@ -298,11 +304,11 @@ def test_statuses_give_the_documented_values(backend):
                               Status.INVALID, Status.UNREACHABLE]
     shares = np.stack([getattr(r, name) for name in SHARE_OUTPUTS])
     assert np.all(np.isnan(shares[:, [0, 3, 4]]))
-    assert list(shares[:, 2]) == [0.0, 0.0, 1.0, 0.0]
+    assert list(shares[:, 2]) == [0.0, 0.0, 1.0, 0.0, 0.0]
     assert np.all(np.isfinite(shares[:, 1]))
     for name, values in r.elasticities.items():
         assert np.isnan(values[[0, 2, 3, 4]]).all(), name
-        assert np.isfinite(values[1]), name
+        assert np.isfinite(values[1]) != (name in WHOLE_NUMBERS), name
 
 
 def test_the_default_outputs_leave_the_sensitivities_out():
@@ -327,9 +333,22 @@ def test_scalar_input_gives_floats_and_arrays_broadcast():
     assert grid.elasticities["f_number"][1, 2] == one.elasticities["f_number"]
 
 
+#: The parameters that are whole numbers: they have no elasticity (NaN).
+WHOLE_NUMBERS = {p.name for p in params.PARAMETERS if p.integer}
+
+
+def test_binning_and_frames_have_no_elasticity():
+    e = epc_fast.evaluate(300.0, **BASE, binning=2.0, frames=4.0, alignment_error_um=1.0,
+                          outputs="elasticities").elasticities
+    assert WHOLE_NUMBERS == {"binning", "frames"}
+    assert all(math.isnan(e[name]) for name in WHOLE_NUMBERS)
+    assert all(math.isfinite(v) for name, v in e.items() if name not in WHOLE_NUMBERS)
+
+
 @pytest.mark.parametrize("precision", ["float64", "float32"])
-def test_core_and_reference_agree_across_the_domain(precision):
-    design = random_design_points(20000, 11)
+@pytest.mark.parametrize("sensor_terms", [False, True])
+def test_core_and_reference_agree_across_the_domain(precision, sensor_terms):
+    design = random_design_points(20000, 11, sensor_terms=sensor_terms)
     core = epc_fast.evaluate(**design, outputs=SENSITIVITY + ("status",), precision=precision)
     ref = epc_fast.evaluate(**design, outputs=SENSITIVITY + ("status",), backend="reference")
     np.testing.assert_array_equal(core.status, ref.status)
@@ -341,14 +360,18 @@ def test_core_and_reference_agree_across_the_domain(precision):
                                    atol=rtol, equal_nan=True, err_msg=name)
     for name in core.elasticities:
         a, b = core.elasticities[name], ref.elasticities[name]
+        if name in WHOLE_NUMBERS:
+            assert np.isnan(a).all() and np.isnan(b).all()
+            continue
         scale = np.maximum(np.abs(b), 1e-3)
         bad = ok & ~(np.abs(a - b) <= rtol * scale)
         assert not bad.any(), (name, a[bad][:3], b[bad][:3])
         assert np.isnan(a[~ok]).all() and np.isnan(b[~ok]).all()
 
 
-def test_results_do_not_depend_on_the_thread_count():
-    design = random_design_points(50000, 3)
+@pytest.mark.parametrize("sensor_terms", [False, True])
+def test_results_do_not_depend_on_the_thread_count(sensor_terms):
+    design = random_design_points(50000, 3, sensor_terms=sensor_terms)
     one = epc_fast.evaluate(**design, outputs=SENSITIVITY, threads=1)
     two = epc_fast.evaluate(**design, outputs=SENSITIVITY, threads=2)
     for name in SHARE_OUTPUTS:
@@ -441,7 +464,11 @@ SWEEPS = {
     "prnu": _sweep(1e-29, 0.0316), "snr_db": np.linspace(-3000.0, 1000.0, 300),
     "mtf_threshold": _sweep(1e-300, 0.999999), "wavelength_nm": _sweep(1e-29, 9e29),
     "fill_factor": _sweep(1e-300, 1.0), "field_angle_deg": np.linspace(-89.999999, 89.999999, 300),
+    "binning": np.unique(np.round(_sweep(1.0, 9e29))), "frames": np.unique(np.round(_sweep(1.0, 9e29))),
+    "alignment_error_um": _sweep(1e-29, 9e29),
 }
+#: What a sweep needs beside its parameter: a burst, for the alignment error to matter.
+SWEEP_WITH = {"alignment_error_um": {"frames": 8.0}}
 
 
 @pytest.mark.parametrize("backend", ["core", "reference"])
@@ -449,7 +476,7 @@ SWEEPS = {
 @pytest.mark.parametrize("name", SWEEPS)
 def test_every_ok_point_across_the_domain_has_finite_sensitivities(name, shake, backend):
     r = epc_fast.evaluate(**{**BASE, "illuminance_lux": 1000.0, "shake_deg_per_s": shake,
-                             name: SWEEPS[name]},
+                             **SWEEP_WITH.get(name, {}), name: SWEEPS[name]},
                           outputs=SENSITIVITY + ("status",), backend=backend)
     ok = r.status == Status.OK
     assert ok.any()
@@ -457,4 +484,6 @@ def test_every_ok_point_across_the_domain_has_finite_sensitivities(name, shake, 
     assert np.all((shares >= 0.0) & (shares <= 1.0))
     np.testing.assert_allclose(shares.sum(axis=0), 1.0, rtol=0, atol=1e-15)
     for key, values in r.elasticities.items():
+        if key in WHOLE_NUMBERS:
+            continue
         assert np.isfinite(values[ok]).all(), (key, SWEEPS[name][ok & ~np.isfinite(values)][:3])

@@ -79,8 +79,8 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
                  const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n) {
     if (static_cast<int>(columns.size()) != n_params)
         throw std::invalid_argument("expected " + std::to_string(n_params) + " columns");
-    if (domains.ndim() != 2 || domains.shape(0) != n_params || domains.shape(1) != 4)
-        throw std::invalid_argument("domains must have shape (n_params, 4)");
+    if (domains.ndim() != 2 || domains.shape(0) != n_params || domains.shape(1) != 5)
+        throw std::invalid_argument("domains must have shape (n_params, 5)");
     if (wavelengths_nm.size() != weights.size())
         throw std::invalid_argument("wavelengths_nm and weights differ in length");
     if (n < 0) throw std::invalid_argument("n must be >= 0");
@@ -89,7 +89,7 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
     auto d = domains.unchecked<2>();
     for (int j = 0; j < n_params; ++j) {
         in.columns[j] = column_of(columns[j], j, n);
-        in.domains[j] = Domain{d(j, 0), d(j, 1), d(j, 2) != 0.0, d(j, 3) != 0.0};
+        in.domains[j] = Domain{d(j, 0), d(j, 1), d(j, 2) != 0.0, d(j, 3) != 0.0, d(j, 4) != 0.0};
     }
     if (wavelengths_nm.size() != 0) {  // none: monochromatic at each point's wavelength
         in.spectrum = spectrum_of(wavelengths_nm, weights);
@@ -100,7 +100,7 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
 
 Options options_of(const std::string& f50_solver, double f50_rtol,
                    const std::string& t_mpe_solver, double t_mpe_rtol,
-                   const std::string& precision) {
+                   const std::string& precision, const std::string& binning_readout) {
     if (!(f50_rtol >= 0.0) || !(t_mpe_rtol >= 0.0))
         throw std::invalid_argument("tolerances must be >= 0");
     Options opt;
@@ -109,6 +109,10 @@ Options options_of(const std::string& f50_solver, double f50_rtol,
     opt.t_mpe_solver = solver_of(t_mpe_solver);
     opt.t_mpe_rtol = t_mpe_rtol;
     opt.precision = precision_of(precision);
+    if (binning_readout != "digital" && binning_readout != "charge")
+        throw std::invalid_argument("binning_readout must be 'digital' or 'charge', got '" +
+                                    binning_readout + "'");
+    opt.charge_binning = binning_readout == "charge";
     return opt;
 }
 

@@ -92,6 +92,12 @@ void register_testing(py::module_& parent) {
     // Single formulas, elementwise, so that tests can hold the C++ against known values.
     m.def("sinc", py::vectorize(&sinc<double>));
     m.def("mtf_diffraction", py::vectorize(&mtf_diffraction<double>), py::arg("nu"));
+    m.def("mtf_binned_pixel", py::vectorize(&mtf_binned_pixel<double>), py::arg("f_cyc_per_mm"),
+          py::arg("aperture_mm"), py::arg("pitch_mm"), py::arg("binning"));
+    m.def("mtf_alignment", py::vectorize(&mtf_alignment<double>), py::arg("f_cyc_per_mm"),
+          py::arg("alignment_error_mm"), py::arg("frames"));
+    m.def("gaussian_blur_mm", py::vectorize(&gaussian_blur_mm), py::arg("jitter_um"),
+          py::arg("alignment_error_um"), py::arg("frames"));
     m.def("signal_electrons",
           py::vectorize([](double rate, double snr_db, double read, double dark, double prnu) {
               return signal_electrons(rate, SnrTarget(snr_db), read, dark, prnu);

@@ -36,6 +36,7 @@ def evaluate(
     chunk_points: int,
     out: dict[str, np.ndarray] | None = None,
     allocate: Sequence[str] | None = None,
+    binning_readout: str = "digital",
 ) -> dict[str, np.ndarray]:
     """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: the eight
     default ones when ``out`` is None, else none), written; the outputs in neither are not
@@ -96,6 +97,17 @@ class _Testing(Protocol):
 
     def sinc(self, x: npt.ArrayLike) -> np.ndarray: ...
     def mtf_diffraction(self, nu: npt.ArrayLike) -> np.ndarray: ...
+    def mtf_binned_pixel(
+        self, f_cyc_per_mm: npt.ArrayLike, aperture_mm: npt.ArrayLike, pitch_mm: npt.ArrayLike,
+        binning: npt.ArrayLike,
+    ) -> np.ndarray: ...
+    def mtf_alignment(
+        self, f_cyc_per_mm: npt.ArrayLike, alignment_error_mm: npt.ArrayLike,
+        frames: npt.ArrayLike,
+    ) -> np.ndarray: ...
+    def gaussian_blur_mm(
+        self, jitter_um: npt.ArrayLike, alignment_error_um: npt.ArrayLike, frames: npt.ArrayLike,
+    ) -> np.ndarray: ...
     def signal_electrons(
         self,
         rate: npt.ArrayLike, snr_db: npt.ArrayLike, read: npt.ArrayLike, dark: npt.ArrayLike,

@@ -30,6 +30,8 @@ F50_SOLVERS = ("halley", "newton", "brent", "bisection")
 #: The floating-point types f50 can be solved in (``precision=``).
 PRECISIONS = ("float64", "float32")
 INVALID_POLICIES = ("status", "raise")
+#: How a binned pixel's k x k pixels are read (``binning_readout=``): k^2 reads, or one.
+BINNING_READOUTS = ("digital", "charge")
 
 
 def _one_wavelength(spec: Spectrum | None, arrays: list) -> tuple:
@@ -169,6 +171,7 @@ class _Options:
     t_mpe_rtol: float
     precision: str
     selected: tuple
+    binning_readout: str = "digital"
 
     @property
     def computed(self) -> tuple:
@@ -178,15 +181,16 @@ class _Options:
 
 
 def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
-                outputs, is_pixel_count=False) -> _Options:
+                outputs, is_pixel_count=False, binning_readout="digital") -> _Options:
     choice("backend", backend, BACKENDS)
+    choice("binning_readout", binning_readout, BINNING_READOUTS)
     choice("invalid", invalid, INVALID_POLICIES)
     choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
     choice("f50_solver", f50_solver, F50_SOLVERS)
     choice("precision", precision, PRECISIONS)
     return _Options(backend, invalid, f50_solver, tolerance("f50_rtol", f50_rtol),
                     t_mpe_solver, tolerance("t_mpe_rtol", t_mpe_rtol), precision,
-                    selected_outputs(outputs, is_pixel_count))
+                    selected_outputs(outputs, is_pixel_count), binning_readout)
 
 
 def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, given) -> dict:
@@ -199,11 +203,13 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
         return _run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
                          options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
                          out=flat, precision=options.precision,
+                         binning_readout=options.binning_readout,
                          allocate=[k for k in options.computed if k not in flat and
                                    not (k == elasticity_outputs.ALL and given is not None)])
     if threads is not None:
         threads_of(threads)
-    result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed)
+    result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed,
+                            options.binning_readout)
     if given is not None:  # the caller's arrays: every elasticity in one, or one row each
         rows = dict(zip(elasticity_outputs.ROWS, result.get(elasticity_outputs.ALL, ())))
         for name, array in given.items():
@@ -237,7 +243,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              field_angle_deg=0.0, fill_factor=1.0, electrons_per_lux_s_m2=None,
              read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0, full_well_e=math.inf,
              snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
-             wavelength_nm=550.0, mtf_threshold=0.5, spectrum=None, threads=None,
+             wavelength_nm=550.0, mtf_threshold=0.5, binning=1.0, frames=1.0,
+             alignment_error_um=0.0, binning_readout="digital", spectrum=None, threads=None,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
              t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None) -> Result:
@@ -283,6 +290,15 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     jitter_um : um, rms Gaussian jitter (0: off).
     wavelength_nm : nm, wavelength for monochromatic diffraction.
     mtf_threshold : 1, MTF level defining the cut-off frequency, in (0, 1).
+    binning : 1, pixel binning k, a whole number >= 1: k x k pixels read as one output pixel
+        (1: off; docs/model.md, "Exposure" and "System MTF").
+    frames : 1, burst capture n, a whole number >= 1: the exposure split into n frames,
+        aligned and summed (1: off).
+    alignment_error_um : um, rms alignment error of each frame of a burst (0: off).
+    binning_readout : {"digital", "charge"}
+        How a binned pixel is read, for the whole call: k^2 reads summed digitally (read noise
+        variance k^2 sigma_r^2, the default), or the k x k pixels' charge summed before one
+        read (sigma_r^2).
     spectrum : Spectrum or (wavelengths_nm, weights), optional
         Polychromatic diffraction, D(f) = sum_i w_i D_i(f), shared by every point (weights
         normalised to sum 1); see :func:`epc_fast.spectra.diffraction_spectrum`. Replaces
@@ -367,11 +383,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         "dark_current_e_per_s": dark_current_e_per_s, "prnu": prnu, "full_well_e": full_well_e,
         "snr_db": snr_db, "shake_deg_per_s": shake_deg_per_s, "stabilization": stabilization,
         "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
+        "binning": binning, "frames": frames, "alignment_error_um": alignment_error_um,
     }
     names, arrays, shape = _broadcast_inputs(values, sensor.name)
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                          precision, outputs, sensor.is_pixel_count)
+                          precision, outputs, sensor.is_pixel_count, binning_readout)
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
     if options.backend == "core":  # the threads first: their stacks take memory too
@@ -425,7 +442,8 @@ def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPE
 
 
 def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
-              t_mpe_rtol, threads, out=None, precision="float64", allocate=None):
+              t_mpe_rtol, threads, out=None, precision="float64", allocate=None,
+              binning_readout="digital"):
     from . import _core
 
     n = math.prod(shape)
@@ -441,10 +459,11 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_
                           np.ascontiguousarray(wavelengths, dtype=np.float64),
                           np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
                           f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, CHUNK_POINTS,
-                          out, allocate)
+                          out, allocate, binning_readout)
 
 
-def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=()):
+def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
+                   binning_readout="digital"):
     from . import reference  # the NumPy reference, loaded only by calls that ask for it
     from .reference import sensitivity
 
@@ -457,13 +476,15 @@ def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=()):
     wavelengths = weights = None
     if spec is not None:
         wavelengths, weights = spec.wavelengths_nm, spec.weights
-    result = reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid)
+    charge = binning_readout == "charge"
+    result = reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid,
+                                       charge_binning=charge)
     shares = any(name in computed for name in SHARE_OUTPUTS)
     rows = elasticity_outputs.rows_in(computed)
     if shares or rows:
         result.update(sensitivity.sensitivity_points(
             p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
-            elasticities=bool(rows)))
+            elasticities=bool(rows), charge_binning=charge))
     if rows and elasticity_outputs.ALL not in computed:  # the rows asked for, one output each
         every = dict(zip(elasticity_outputs.ROWS, result.pop(elasticity_outputs.ALL)))
         result.update({row: every[row] for row in rows})

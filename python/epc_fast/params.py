@@ -57,6 +57,9 @@ class Param:
         Whether ``lo`` / ``hi`` belong to the domain.
     meaning : str
         One line: what it is, unit first.
+    integer : bool
+        Whether only the whole numbers of the interval belong to the domain (``binning``,
+        ``frames``).
     """
 
     name: str
@@ -66,11 +69,13 @@ class Param:
     lo_closed: bool
     hi_closed: bool
     meaning: str
+    integer: bool = False
 
     def domain_text(self) -> str:
         left = "[" if self.lo_closed else "("
         right = "]" if self.hi_closed else ")"
-        return f"{left}{self.lo:g}, {self.hi:g}{right}"
+        whole = " integers" if self.integer else ""
+        return f"{left}{self.lo:g}, {self.hi:g}{right}{whole}"
 
     @property
     def keywords(self) -> tuple[str, ...]:
@@ -106,8 +111,8 @@ class ParameterTable(tuple):
         return str(self)
 
 
-def _p(name, default, lo, hi, lo_closed, hi_closed, meaning):
-    return Param(name, default, float(lo), float(hi), lo_closed, hi_closed, meaning)
+def _p(name, default, lo, hi, lo_closed, hi_closed, meaning, integer=False):
+    return Param(name, default, float(lo), float(hi), lo_closed, hi_closed, meaning, integer)
 
 
 # The order is the core's parameter order (cpp/include/epc_fast/params.h, enum ParamIndex).
@@ -141,6 +146,13 @@ PARAMETERS: tuple[Param, ...] = ParameterTable((
     _p("jitter_um", 0.0, 0, INF, True, False, "um: rms Gaussian jitter (0: off)"),
     _p("wavelength_nm", 550.0, TINY, INF, False, False, "nm: wavelength for diffraction"),
     _p("mtf_threshold", 0.5, 0, 1, False, False, "1: MTF level defining the cut-off (0.5: f50)"),
+    _p("binning", 1.0, 1, BIG, True, False,
+       "1: pixel binning k, k x k pixels read as one output pixel (1: off)", integer=True),
+    _p("frames", 1.0, 1, BIG, True, False,
+       "1: burst capture, the exposure split into n frames aligned and summed (1: off)",
+       integer=True),
+    _p("alignment_error_um", 0.0, 0, BIG, True, False,
+       "um: rms alignment error of each frame of a burst (0: off)"),
 ))
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)
@@ -157,15 +169,20 @@ def in_domain(param: Param, values) -> np.ndarray:
     v = np.asarray(values, dtype=np.float64)
     above = (v >= param.lo) if param.lo_closed else (v > param.lo)
     below = (v <= param.hi) if param.hi_closed else (v < param.hi)
+    if param.integer:
+        with np.errstate(invalid="ignore"):
+            return above & below & (v == np.floor(v))
     return above & below
 
 
 def domain_table() -> np.ndarray:
-    """The domains as a float64 array of shape (n_params, 4): lo, hi, lo_closed, hi_closed.
+    """The domains as a float64 array of shape (n_params, 5): lo, hi, lo_closed, hi_closed,
+    integer.
 
     This is what the C++ core receives with every call.
     """
     return np.array(
-        [[p.lo, p.hi, float(p.lo_closed), float(p.hi_closed)] for p in PARAMETERS],
+        [[p.lo, p.hi, float(p.lo_closed), float(p.hi_closed), float(p.integer)]
+         for p in PARAMETERS],
         dtype=np.float64,
     )

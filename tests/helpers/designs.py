@@ -28,7 +28,8 @@ def _half_zero(rng, values, zero_fraction=0.5):
     return np.where(rng.random(values.shape) < zero_fraction, 0.0, values)
 
 
-def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=INVALID_FRACTION):
+def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=INVALID_FRACTION,
+                         sensor_terms=False):
     """``n`` random design points spread over the whole domain, as keyword arrays for evaluate.
 
     Illuminance is log-uniform on 1e-3..1e7 lux with a few exact zeros; the sensor terms (read
@@ -37,6 +38,11 @@ def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=IN
     gets one parameter replaced by a value outside its domain (NaN, a negative pitch,
     reflectance 1.5, an infinite f-number, ...), so that every status occurs. ``size`` is
     "sensor_area_mm2" or "pixel_count".
+
+    ``sensor_terms`` adds binning (k = 1 to 8, 1 on about half the points), bursts (n = 1 to 32,
+    1 on about half) and the alignment error (0 to 5 um, 0 on a third), drawn from a stream of
+    their own: the other parameters are the same points either way. Their invalid values (k = 0,
+    2.5, NaN; n = 0.5; a negative or NaN alignment error) then take part in the invalid points.
     """
     rng = np.random.default_rng(seed)
     illuminance = log_uniform(rng, 1e-3, 1e7, n)
@@ -92,6 +98,13 @@ def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=IN
         "wavelength_nm": [np.nan, 0.0, np.inf],
         "mtf_threshold": [np.nan, 0.0, 1.0],
     }
+    if sensor_terms:
+        terms = np.random.default_rng([seed, 39])
+        p["binning"] = np.where(terms.random(n) < 0.5, 1.0, terms.integers(2, 9, n).astype(float))
+        p["frames"] = np.where(terms.random(n) < 0.5, 1.0, terms.integers(2, 33, n).astype(float))
+        p["alignment_error_um"] = _half_zero(terms, terms.uniform(0.0, 5.0, n), zero_fraction=1 / 3)
+        bad_values.update(binning=[0.0, 2.5, np.nan, -2.0], frames=[0.5, 0.0, np.nan],
+                          alignment_error_um=[-0.5, np.nan, np.inf])
     names = sorted(bad_values)
     for i in np.flatnonzero(rng.random(n) < invalid_fraction):
         name = names[rng.integers(len(names))]

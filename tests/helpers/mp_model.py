@@ -26,7 +26,8 @@ MP_DPS = 50
 MODEL_DEFAULTS = dict(reflectance=0.4, lens_transmittance=1.0, field_angle_deg=0.0,
                       fill_factor=1.0, read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0,
                       full_well_e=math.inf, snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0,
-                      jitter_um=0.0, wavelength_nm=550.0, mtf_threshold=0.5)
+                      jitter_um=0.0, wavelength_nm=550.0, mtf_threshold=0.5, binning=1.0,
+                      frames=1.0, alignment_error_um=0.0)
 
 #: The smallest normal double and the largest double (the engine's conventions at its ends).
 SMALLEST_NORMAL = sys.float_info.min
@@ -60,45 +61,52 @@ def mp_signal_electrons(rate, snr_db, read_noise_e, dark_current_e_per_s, prnu):
 def mp_model(inputs, spectrum=None):
     """docs/model.md from Exposure to EPC at MP_DPS digits, from `inputs` (evaluate's keywords:
     floats, or mpf values such as a central difference's steps) taken exactly; `spectrum` is
-    (wavelengths_nm, weights) or None for inputs["wavelength_nm"].
+    (wavelengths_nm, weights) or None for inputs["wavelength_nm"]. ``inputs["binning_readout"]``
+    ("digital" or "charge") is binning's read-out, digital when not given.
 
     Returns a dict with "status" ("ok", "unreachable", "blur_unbounded"), "cause" for
     unreachable points ("no_light", "prnu", "full_well"), and the mpf outputs as far as the
     status defines them: "electron_rate_e_per_s", "electrons", "t_mpe_s", then for OK points
-    "blur_mm", "f50_cyc_per_mm", "epc" and "mtf_factors" (diffraction, pixel aperture, motion
-    and jitter at f50). Cached: the backends of a parametrised test share one evaluation.
+    "blur_mm", "f50_cyc_per_mm", "epc" and "mtf_factors" (diffraction, the binned pixel
+    aperture, motion, jitter and alignment at f50). Cached: the backends of a parametrised test
+    share one evaluation.
     """
+    inputs = dict(inputs)
+    charge = inputs.pop("binning_readout", "digital") == "charge"
     items = tuple(sorted((name, value if isinstance(value, mp.mpf) else float(value))
                          for name, value in inputs.items()))
     lines = None if spectrum is None else (tuple(spectrum[0]), tuple(spectrum[1]))
-    return _mp_model(items, lines)
+    return _mp_model(items, lines, charge)
 
 
 @functools.lru_cache(maxsize=4096)
-def _mp_model(items, spectrum):
+def _mp_model(items, spectrum, charge):
     with mp.workdps(MP_DPS):
         v = {**MODEL_DEFAULTS, **dict(items)}
         x = {name: mp.mpf(value) for name, value in v.items() if name != "full_well_e"}
         pi = mp.pi
 
-        # Exposure: the electron rate, the statuses that need no T_MPE, then T_MPE.
+        # Exposure of one output pixel (k x k pixels) over the burst of n frames: the electron
+        # rate, the statuses that need no T_MPE, then T_MPE.
+        k, n = x["binning"], x["frames"]
         cos = mp.cos(x["field_angle_deg"] * pi / 180)
         rate = (x["illuminance_lux"] * x["reflectance"] * x["lens_transmittance"] * cos**4
                 / (4 * x["f_number"] ** 2) * x["electrons_per_lux_s_m2"] * x["fill_factor"]
-                * (x["pixel_pitch_um"] / 10**6) ** 2)
+                * (x["pixel_pitch_um"] / 10**6) ** 2) * k**2
         out = {"electron_rate_e_per_s": rate}
-        s, u = mp.mpf(10) ** (x["snr_db"] / 10), x["prnu"]
+        s, u = mp.mpf(10) ** (x["snr_db"] / 10), x["prnu"] / k
         if rate == 0:
             return dict(out, status="unreachable", cause="no_light")
         if u * mp.sqrt(s) >= 1:
             return dict(out, status="unreachable", cause="prnu")
-        t = mp_t_mpe(rate, x["snr_db"], x["read_noise_e"], x["dark_current_e_per_s"], u)
+        read = x["read_noise_e"] * mp.sqrt(n * (1 if charge else k**2))
+        t = mp_t_mpe(rate, x["snr_db"], read, x["dark_current_e_per_s"] * k**2, u)
         out.update(t_mpe_s=t, electrons=rate * t)
-        if rate * t > v["full_well_e"]:
+        if rate * t / n > v["full_well_e"] * k**2:  # the full well of each frame
             return dict(out, status="unreachable", cause="full_well")
 
-        # Blur during the exposure: the tangent, unbounded from a quarter turn on.
-        angle = x["shake_deg_per_s"] * pi / 180 / x["stabilization"] * t
+        # Blur during each frame, T/n: the tangent, unbounded from a quarter turn on.
+        angle = x["shake_deg_per_s"] * pi / 180 / x["stabilization"] * t / n
         if angle >= pi / 2:
             return dict(out, status="blur_unbounded")
         blur = x["focal_length_mm"] * mp.tan(angle)
@@ -110,15 +118,28 @@ def _mp_model(items, spectrum):
             total = sum(mp.mpf(w) for w in spectrum[1])
             lines = [(mp.mpf(lam) / 10**6 * x["f_number"], mp.mpf(w) / total)
                      for lam, w in zip(*spectrum)]
-        aperture = mp.sqrt(x["fill_factor"]) * x["pixel_pitch_um"] / 1000
+        pitch = x["pixel_pitch_um"] / 1000
+        aperture = mp.sqrt(x["fill_factor"]) * pitch
         sigma = x["jitter_um"] / 1000
+        residual = x["alignment_error_um"] / 1000 * mp.sqrt(1 - 1 / n)
+
+        def binned(f):  # sin(k pi p f) / (k sin(pi p f)), +-1 where sin(pi p f) = 0; 1 at k = 1
+            if k == 1:
+                return mp.mpf(1)
+            one = mp.sinpi(pitch * f)
+            if one == 0:
+                return mp.cospi(k * pitch * f) / mp.cospi(pitch * f)
+            return mp.sinpi(k * pitch * f) / (k * one)
 
         def factors(f):
             return (sum(w * mp_diffraction(f * lam_f) for lam_f, w in lines),
-                    abs(mp.sincpi(aperture * f)), abs(mp.sincpi(blur * f)),
-                    mp.exp(-2 * pi**2 * (sigma * f) ** 2))
+                    abs(mp.sincpi(aperture * f) * binned(f)), abs(mp.sincpi(blur * f)),
+                    mp.exp(-2 * pi**2 * (sigma * f) ** 2), mp.exp(-2 * pi**2 * (residual * f) ** 2))
 
-        f50 = _mp_f50(factors, x["mtf_threshold"], lines, aperture, blur, sigma)
+        # the binned pixel's first zero: 1 / (k p) for k >= 2
+        pixel_zero = 1 / (k * pitch) if k > 1 else 1 / aperture
+        gaussian = mp.sqrt(sigma**2 + residual**2)
+        f50 = _mp_f50(factors, x["mtf_threshold"], lines, pixel_zero, blur, gaussian)
 
         # EPC.
         if "pixel_count" in x:
@@ -129,16 +150,16 @@ def _mp_model(items, spectrum):
                     mtf_factors=factors(f50))
 
 
-def _mp_f50(factors, threshold, lines, aperture, blur, sigma):
+def _mp_f50(factors, threshold, lines, pixel_zero, blur, sigma):
     """The first f with MTF_sys(f) = c, bracketed as docs/model.md says (f_hi the smallest
-    first zero of the factors, or jitter's own crossing)."""
+    first zero of the factors, or the Gaussians' (jitter and alignment) own crossing)."""
     pi = mp.pi
 
     def excess(f):
-        d, p, m, j = factors(f)
-        return d * p * m * j - threshold
+        d, p, m, j, a = factors(f)
+        return d * p * m * j * a - threshold
 
-    zeros = [1 / min(lam_f for lam_f, w in lines if w > 0), 1 / aperture]
+    zeros = [1 / min(lam_f for lam_f, w in lines if w > 0), pixel_zero]
     if blur > 0:
         zeros.append(1 / blur)
     if sigma > 0:

@@ -453,3 +453,189 @@ def test_evaluate_gives_the_same_epc_for_pixel_count_and_its_area(options):
                                 sensor_area_mm2=n_pixels * (pitch_um * 1e-3) ** 2, **options)
     # 1e-15 relative: the two areas are N p^2 rounded in different orders.
     assert by_count.epc == pytest.approx(by_area.epc, rel=1e-15)
+
+
+# --- Binning and bursts (docs/model.md, "Exposure", "Blur", "System MTF") ------------------------
+
+#: The paper's 1.4 um design with every sensor term on, over a range of light.
+SENSOR = dict(illuminance_lux=np.geomspace(1.0, 1e5, 41), pixel_pitch_um=1.4, f_number=2.8,
+              focal_length_mm=5.6, sensor_area_mm2=15.6751, read_noise_e=2.5,
+              dark_current_e_per_s=20.0, prnu=0.01, full_well_e=6000.0, jitter_um=0.3,
+              fill_factor=0.8)
+DEFAULT_OUTPUTS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
+                   "epc", "status", "cause")
+PRECISIONS = [pytest.param(dict(backend="core"), id="core"),
+              pytest.param(dict(backend="core", precision="float32"), id="core-float32"),
+              pytest.param(dict(backend="reference"), id="reference")]
+
+
+@pytest.mark.parametrize("options", PRECISIONS)
+@pytest.mark.parametrize("off", [dict(binning=1.0, frames=1.0),
+                                 dict(binning=np.ones(41), frames=np.ones(41)),
+                                 dict(frames=1.0, alignment_error_um=3.0)],
+                         ids=["broadcast", "per point", "one frame, misaligned"])
+def test_one_pixel_and_one_frame_are_todays_model_bit_for_bit(off, options):
+    # k = n = 1, broadcast or per point (a block that then takes the binning and burst path),
+    # and an alignment error with one frame (never blurred by its alignment): the same bits
+    today = epc_fast.evaluate(**SENSOR, **options)
+    same = epc_fast.evaluate(**SENSOR, **off, **options)
+    for name in DEFAULT_OUTPUTS:
+        np.testing.assert_array_equal(getattr(same, name), getattr(today, name), err_msg=name)
+
+
+@pytest.mark.parametrize("k", [2.0, 3.0, 4.0, 7.0])
+def test_the_binned_pixel_at_full_fill_is_sinc_of_k_pitches(k):
+    f = np.linspace(0.0, 1.0 / (k * 1.4e-3), 1001)  # up to its first zero 1/(k p)
+    got = reference.mtf_binned_pixel(f, 1.4, 1.0, k)
+    expected = np.abs(reference.sinc(k * 1.4e-3 * f))
+    # sinc(p f) sin(k pi p f) / (k sin(pi p f)): a few roundings from the one sinc, and near
+    # the zero the rounding of k p f (an absolute 1e-16 there)
+    np.testing.assert_allclose(got, expected, rtol=1e-14, atol=4e-16)
+
+
+def test_the_binned_pixel_takes_its_limit_where_sin_pi_p_f_vanishes():
+    # p f = 1, 2: sin(k pi p f) / (k sin(pi p f)) -> cos(k pi p f) / cos(pi p f) = +-1
+    f = np.array([1.0, 2.0]) / 1.4e-3
+    for k in (2.0, 3.0):
+        ratio = reference.mtf_binned_pixel(f, 1.4, 0.36, k) / reference.mtf_pixel(f, 1.4, 0.36)
+        np.testing.assert_allclose(ratio, 1.0, rtol=1e-15)
+    assert reference.mtf_binned_pixel(0.0, 1.4, 0.6, 4.0) == 1.0
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+@pytest.mark.parametrize("k", [2.0, 4.0])
+def test_binning_at_full_fill_gives_the_pixel_f50_of_k_pitches(options, k):
+    # no diffraction (1e-20 nm), no motion, no jitter: f50 = X50 / (k p)
+    r = epc_fast.evaluate(1000.0, 1.75, 2.8, 5.6, pixel_count=1e6, binning=k,
+                          shake_deg_per_s=0.0, wavelength_nm=1e-20, **options)
+    expected = X50 / (k * mpmath.mpf(1.75) / 1000)
+    assert r.f50_cyc_per_mm == pytest.approx(float(expected), rel=1e-14)  # as for one pixel
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_binning_below_full_fill_gives_the_f50_of_the_binned_aperture(options):
+    k, a, p_mm = 3.0, 0.5, mpmath.mpf(1.75) / 1000
+    r = epc_fast.evaluate(1000.0, 1.75, 2.8, 5.6, pixel_count=1e6, binning=k, fill_factor=a,
+                          shake_deg_per_s=0.0, wavelength_nm=1e-20, **options)
+
+    def binned(f):
+        return (mpmath.sincpi(mpmath.sqrt(a) * p_mm * f) * mpmath.sinpi(k * p_mm * f)
+                / (k * mpmath.sinpi(p_mm * f)))
+
+    expected = mpmath.findroot(lambda f: binned(f) - mpmath.mpf(1) / 2, 0.5 / (k * p_mm))
+    assert r.f50_cyc_per_mm == pytest.approx(float(expected), rel=1e-13)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_charge_binning_reads_once_where_digital_binning_reads_k_squared_times(options):
+    # read noise alone: digital binning's k^2 reads of sigma_r are one read of k sigma_r
+    k, read = 3.0, 2.0
+    base = dict(illuminance_lux=np.geomspace(1.0, 1e4, 9), pixel_pitch_um=1.4, f_number=2.8,
+                focal_length_mm=5.6, pixel_count=8e6, binning=k, **options)
+    digital = epc_fast.evaluate(**base, read_noise_e=read)
+    charge = epc_fast.evaluate(**base, read_noise_e=read, binning_readout="charge")
+    charge_of_k_sigma = epc_fast.evaluate(**base, read_noise_e=k * read,
+                                          binning_readout="charge")
+    np.testing.assert_allclose(digital.electrons, charge_of_k_sigma.electrons, rtol=4e-16)
+    assert np.all(charge.electrons < digital.electrons)
+    # without read noise the read-out does not matter, bit for bit
+    quiet = epc_fast.evaluate(**base)
+    quiet_charge = epc_fast.evaluate(**base, binning_readout="charge")
+    np.testing.assert_array_equal(quiet.t_mpe_s, quiet_charge.t_mpe_s)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_binning_sums_the_rate_and_dark_current_and_divides_the_prnu(options):
+    k = 2.0
+    one = epc_fast.evaluate(**SENSOR, **options)
+    binned = epc_fast.evaluate(**SENSOR, binning=k, **options)
+    np.testing.assert_array_equal(binned.electron_rate_e_per_s,
+                                  one.electron_rate_e_per_s * (k * k))
+    # PRNU 0.04 caps 30 dB (0.04 sqrt(1000) = 1.26 > 1); binned 2 x 2 it is 0.02: reachable
+    capped = epc_fast.evaluate(1000.0, 1.4, 2.8, 5.6, pixel_count=8e6, prnu=0.04, **options)
+    freed = epc_fast.evaluate(1000.0, 1.4, 2.8, 5.6, pixel_count=8e6, prnu=0.04, binning=k,
+                              **options)
+    assert (capped.status, capped.cause) == (Status.UNREACHABLE, Cause.PRNU)
+    assert freed.status == Status.OK
+    # the electrons the binned pixel needs: the quadratic with k^2 r, k^2 D, u / k, k^2 sigma^2
+    rate = binned.electron_rate_e_per_s
+    expected = [mp_signal_electrons(r, 30.0, 2.5 * k, 20.0 * k * k, 0.01 / k) for r in rate]
+    np.testing.assert_allclose(binned.electrons, [float(e) for e in expected], rtol=1e-14)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+@pytest.mark.parametrize("n", [2.0, 8.0, 1e6])
+def test_a_burst_without_read_noise_or_motion_needs_the_time_of_one_frame(options, n):
+    # shot, dark and PRNU noise are those of the total time: only the reads depend on n
+    base = dict(SENSOR, read_noise_e=0.0, shake_deg_per_s=0.0, full_well_e=math.inf)
+    one = epc_fast.evaluate(**base, **options)
+    burst = epc_fast.evaluate(**base, frames=n, **options)
+    np.testing.assert_array_equal(burst.t_mpe_s, one.t_mpe_s)
+    np.testing.assert_array_equal(burst.electrons, one.electrons)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_a_burst_reads_n_times_and_fills_each_frame_with_its_share(options):
+    n, read = 4.0, 3.0
+    base = dict(illuminance_lux=100.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
+                pixel_count=8e6, **options)
+    burst = epc_fast.evaluate(**base, read_noise_e=read, frames=n)
+    one_read_of_2_sigma = epc_fast.evaluate(**base, read_noise_e=read * math.sqrt(n))
+    assert burst.electrons == pytest.approx(one_read_of_2_sigma.electrons, rel=4e-16)
+    # 1000 e- at 30 dB: a full well of 999 e- is too small for one frame, not for two
+    assert epc_fast.evaluate(**base, full_well_e=999.0).cause == Cause.FULL_WELL
+    assert epc_fast.evaluate(**base, full_well_e=999.0, frames=2.0).status == Status.OK
+    assert epc_fast.evaluate(**base, full_well_e=499.0, frames=2.0).cause == Cause.FULL_WELL
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_each_frame_is_blurred_by_its_own_share_of_the_exposure(options):
+    # b = f_L tan(omega / k_IS T / n): n frames blur as a stabilisation n times stronger
+    base = dict(illuminance_lux=np.geomspace(1.0, 1e4, 9), pixel_pitch_um=1.4, f_number=2.8,
+                focal_length_mm=5.6, pixel_count=8e6, **options)
+    burst = epc_fast.evaluate(**base, frames=8.0, stabilization=2.0)
+    stabilised = epc_fast.evaluate(**base, stabilization=16.0)
+    np.testing.assert_array_equal(burst.blur_mm, stabilised.blur_mm)
+    np.testing.assert_array_equal(burst.f50_cyc_per_mm, stabilised.f50_cyc_per_mm)
+
+
+def test_the_alignment_factor_is_the_gaussian_of_the_frames_offsets_about_their_mean():
+    f = np.linspace(0.0, 400.0, 81)
+    sigma_um, n = 1.5, 8.0
+    expected = np.exp(-2.0 * np.pi**2 * (sigma_um * 1e-3) ** 2 * (1.0 - 1.0 / n) * f**2)
+    np.testing.assert_allclose(reference.mtf_alignment(f, sigma_um, n), expected, rtol=1e-15)
+    # one frame is never blurred by its alignment
+    np.testing.assert_array_equal(reference.mtf_alignment(f, sigma_um, 1.0), 1.0)
+
+
+@pytest.mark.parametrize("options", BACKENDS)
+def test_a_bursts_alignment_blurs_as_jitter_of_its_residual_rms(options):
+    # no diffraction, a vanishing pixel, no motion: f50 of the Gaussian of rms
+    # sigma_a sqrt(1 - 1/n) alone, sqrt(ln 2 / (2 pi^2)) / sigma
+    sigma_um, n = 1.5, 4.0
+    r = epc_fast.evaluate(1000.0, 1e-9, 2.8, 5.6, pixel_count=1e6, frames=n,
+                          alignment_error_um=sigma_um, shake_deg_per_s=0.0, wavelength_nm=1e-20,
+                          **options)
+    residual_mm = mpmath.mpf(sigma_um) / 1000 * mpmath.sqrt(1 - 1 / mpmath.mpf(n))
+    expected = mpmath.sqrt(mpmath.log(2) / (2 * mpmath.pi**2)) / residual_mm
+    assert r.f50_cyc_per_mm == pytest.approx(float(expected), rel=1e-14)
+
+
+def test_the_cores_binned_pixel_alignment_and_gaussian_are_the_references():
+    f = np.linspace(0.0, 1.0 / (3 * 1.4e-3), 201)
+    for fill, k in ((1.0, 3.0), (0.5, 3.0), (0.5, 1.0)):
+        aperture_mm = math.sqrt(fill) * 1.4e-3
+        pitch_mm = 1.4e-3 if k > 1 else 0.0  # the core's array factor: none at k = 1
+        # the core's sinc(k p f) / sinc(p f) against sin(k pi p f) / (k sin(pi p f)): 1e-14
+        np.testing.assert_allclose(_core.testing.mtf_binned_pixel(f, aperture_mm, pitch_mm, k),
+                                   reference.mtf_binned_pixel(f, 1.4, fill, k), rtol=1e-14,
+                                   atol=1e-15)
+    # exp_poly against NumPy's exp: a few ulp
+    np.testing.assert_allclose(_core.testing.mtf_alignment(f, 2e-3, 8.0),
+                               reference.mtf_alignment(f, 2.0, 8.0), rtol=1e-15)
+    jitter, residual, frames = np.array([0.0, 0.3, 5.0, 1e300]), 1.0, 4.0
+    np.testing.assert_allclose(_core.testing.gaussian_blur_mm(jitter, residual, frames),
+                               reference.gaussian_blur_mm(jitter, residual, frames), rtol=4e-16)
+    # without a residual, the jitter itself
+    np.testing.assert_array_equal(_core.testing.gaussian_blur_mm(jitter, 0.0, frames),
+                                  jitter * 1e-3)

@@ -49,6 +49,10 @@ struct alignas(64) Block {
     unsigned char valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
     unsigned char capped[block_size];
+    // binning and bursts (exposure_stage.h sensor_terms): the read noise, dark current, PRNU,
+    // full well and stabilisation as the exposure sees them, and k^2, in a block that has them
+    double sensor_store[6][block_size];
+    bool sensor = false;
     // what the exposure stage decides (exposure_stage.h): each lane's Status and Cause codes
     // (status.h), the blur as written out (NaN where undefined, +inf where unbounded), the
     // lanes to solve
@@ -64,6 +68,8 @@ struct alignas(64) Block {
     // solve, the bracket, the iterate
     T lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm[block_size];
     T blur_mm[block_size], threshold[block_size], f_number[block_size];
+    // binning where a < 1 (mtf.h binned_lengths_mm): the array factor's pitch (0: none) and k
+    T bin_pitch_mm[block_size], bin_k[block_size];
     T lo[block_size], hi[block_size], at[block_size];
     // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
     // over the factors, so that M''/M = R^2 + S

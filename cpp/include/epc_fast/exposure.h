@@ -48,6 +48,23 @@ inline double electron_rate(double illuminance_lux, double reflectance, double l
     return rate >= std::numeric_limits<double>::min() ? rate : 0.0;
 }
 
+// Binning and bursts (MODEL.md, "Exposure"): the sensor reads k x k pixels as one output pixel
+// and sums n frames of T/n each. The output pixel's rate is k^2 r and its dark current k^2 D;
+// the PRNU of the sum of k^2 pixels is u / k; the full well is k^2 W a frame, n k^2 W over the
+// burst; the read noise is that of n reads of k^2 pixels each (digital binning) or of one
+// (charge binning); each frame moves by its own T/n of shake, as a stabilisation n times k.
+// With k = n = 1 every one of these is its input, bit for bit.
+
+// 1: k^2, the pixels read as one output pixel.
+inline double binned_pixels(double binning) { return binning * binning; }
+
+// e- rms: the read noise of one output pixel of the burst, sigma_r sqrt(n k^2) (digital) or
+// sigma_r sqrt(n) (charge).
+inline double burst_read_noise_e(double read_noise_e, double binning, double frames,
+                                 bool charge_binning) {
+    return read_noise_e * std::sqrt(frames * (charge_binning ? 1.0 : binned_pixels(binning)));
+}
+
 // The SNR target as the solvers use it: sqrt(s) = 10^(snr_db/20). s itself is never formed: it
 // would underflow below -3080 dB and overflow above +3080 dB, where its square root is fine.
 struct SnrTarget {

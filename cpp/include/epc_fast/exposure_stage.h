@@ -109,6 +109,9 @@ EPC_FAST_INLINE double hypot_moderate(double x, double y) {
 #endif
 }
 
+// The rows of Block::sensor_store (sensor_terms, below).
+enum SensorRow : int { sensor_read, sensor_dark, sensor_prnu, sensor_well, sensor_stab, sensor_pixels };
+
 // T_MPE, blur and the unreachable causes of one lane by the general formulas of exposure.h
 // (scaled products, the C library's pow, sin and tan, Brent when asked): for the lanes the
 // vector path below cannot vouch for.
@@ -119,6 +122,7 @@ void exposure_lane(const Options& opt, Block<T>& b, std::size_t i) {
                               x[field_angle_deg][i], x[f_number][i],
                               x[electrons_per_lux_s_m2][i], x[fill_factor][i],
                               x[pixel_pitch_um][i]);
+    if (b.sensor) b.rate[i] *= b.sensor_store[sensor_pixels][i];  // the output pixel's rate
     const SnrTarget target(x[snr_db][i]);
     b.capped[i] = b.rate[i] > 0.0 && target.capped_by(x[prnu][i]);
     if (opt.t_mpe_solver == TMpeSolver::closed_form)
@@ -138,6 +142,43 @@ void exposure_lane(const Options& opt, Block<T>& b, std::size_t i) {
                                              x[stabilization][i], t);
 }
 
+// Binning and bursts (exposure.h): a block whose binning or frames are not a broadcast 1 reads
+// the read noise, dark current, PRNU, full well and stabilisation as the output pixel of the
+// burst sees them (sensor_store's rows), and multiplies the rate by k^2; every other block
+// reads its inputs as they are. With k = n = 1 in a lane, its row values are its inputs.
+
+// The sensor rows of a block that has binning or bursts; x[] points at them for the exposure
+// stage (restore_inputs puts the inputs back). Returns whether the block has them.
+template <class T>
+bool sensor_terms(const Options& opt, Block<T>& b, const double* (&saved)[5]) {
+    b.sensor = !(b.broadcast_is(binning, 1.0) && b.broadcast_is(frames, 1.0));
+    if (!b.sensor) return false;
+    constexpr int inputs[5] = {read_noise_e, dark_current_e_per_s, prnu, full_well_e, stabilization};
+    for (int r = 0; r < 5; ++r) saved[r] = b.x[inputs[r]];
+    const double* __restrict k = b.x[binning];
+    const double* __restrict n = b.x[frames];
+    const bool charge = opt.charge_binning;
+    auto& row = b.sensor_store;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const double pixels = binned_pixels(k[i]);
+        row[sensor_pixels][i] = pixels;
+        row[sensor_read][i] = burst_read_noise_e(saved[0][i], k[i], n[i], charge);
+        row[sensor_dark][i] = saved[1][i] * pixels;
+        row[sensor_prnu][i] = saved[2][i] / k[i];
+        row[sensor_well][i] = saved[3][i] * (pixels * n[i]);
+        row[sensor_stab][i] = saved[4][i] * n[i];
+    }
+    for (int r = 0; r < 5; ++r) b.x[inputs[r]] = row[r];
+    return true;
+}
+
+template <class T>
+void restore_inputs(Block<T>& b, const double* (&saved)[5]) {
+    constexpr int inputs[5] = {read_noise_e, dark_current_e_per_s, prnu, full_well_e, stabilization};
+    for (int r = 0; r < 5; ++r) b.x[inputs[r]] = saved[r];
+}
+
 // The terms of T_MPE and blur a block uses: a broadcast dark current, read noise or PRNU of 0
 // drops that term, and so does a broadcast shake of 0 (motion 0); motion 1 is shake with a
 // broadcast stabilisation of 1, 2 any other.
@@ -148,9 +189,11 @@ struct ExposureTerms {
 
 template <class T>
 ExposureTerms exposure_terms(const Block<T>& b) {
+    // a burst divides the shake by n too (sensor_terms): stabilisation 1 is not the whole of it
     const bool shake = !b.broadcast_is(shake_deg_per_s, 0.0);
+    const bool unstabilised = b.broadcast_is(stabilization, 1.0) && b.broadcast_is(frames, 1.0);
     return {!b.broadcast_is(dark_current_e_per_s, 0.0), !b.broadcast_is(read_noise_e, 0.0),
-            !b.broadcast_is(prnu, 0.0), !shake ? 0 : b.broadcast_is(stabilization, 1.0) ? 1 : 2};
+            !b.broadcast_is(prnu, 0.0), !shake ? 0 : unstabilised ? 1 : 2};
 }
 
 // signal_electrons and blur_length_mm for every lane, from the rate, sqrt(s) and the PRNU margin
@@ -230,8 +273,9 @@ void electrons_and_blur(Block<T>& b, const double* __restrict root_s,
 // and vectorised hypot and tan; a lane whose products leave the normal range, or any lane
 // when Brent is asked for, is redone by exposure_lane. cos(theta) and 10^(snr/20) are computed once for a
 // block when their columns are broadcast.
+// T_MPE and blur for every lane, on the inputs as x[] holds them (sensor_terms').
 template <class T>
-void exposure(const Options& opt, Block<T>& b) {
+void exposure_of_inputs(const Options& opt, Block<T>& b) {
     constexpr std::size_t n = block_size;
     const auto& x = b.x;
     double* __restrict cos2 = b.scratch[0];
@@ -324,6 +368,15 @@ void exposure(const Options& opt, Block<T>& b) {
         rate[i] = rv;
         rate_normal[i] = ok;
     }
+    if (b.sensor) {  // the output pixel's rate, k^2 r (exposure_lane's too)
+        const double* __restrict pixels = b.sensor_store[sensor_pixels];
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const double rk = rate[i] * pixels[i];
+            rate[i] = rk;
+            rate_normal[i] &= moderate(rk);
+        }
+    }
     const ExposureTerms terms = exposure_terms(b);
     if (terms.prnu) {
         const double* __restrict u = x[prnu];
@@ -414,6 +467,16 @@ void exposure(const Options& opt, Block<T>& b) {
         solve[i] = s;
         blur[i] = s ? blur[i] : 0.0;
     }
+}
+
+// T_MPE and blur for every lane: exposure_of_inputs on the inputs, or on the output pixel of the
+// burst where the block bins or bursts (sensor_terms).
+template <class T>
+void exposure(const Options& opt, Block<T>& b) {
+    const double* saved[5];
+    const bool sensor = sensor_terms(opt, b, saved);
+    exposure_of_inputs(opt, b);
+    if (sensor) restore_inputs(b, saved);
 }
 
 }  // namespace detail

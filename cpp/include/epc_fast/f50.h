@@ -49,7 +49,7 @@ constexpr double f50_rtol_floor_float32 = 4.76837158203125e-07;  // 2^-21
 namespace detail {
 
 // b.mtf = MTF_sys(b.at) for every lane (threshold and solve masks are the caller's).
-template <bool Motion, bool Jitter, bool Poly, class T>
+template <bool Motion, bool Jitter, bool Binning, bool Poly, class T>
 void system_mtf(const Spectrum& spectrum, Block<T>& b) {
     constexpr std::size_t n = block_size;
     const T* __restrict at = b.at;
@@ -71,10 +71,13 @@ void system_mtf(const Spectrum& spectrum, Block<T>& b) {
     const T* __restrict aperture = b.aperture_mm;
     const T* __restrict blur = b.blur_mm;
     const T* __restrict jitter = b.jitter_mm;
+    const T* __restrict bin_pitch = b.bin_pitch_mm;
+    const T* __restrict bin_k = b.bin_k;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         const T f = at[i];
-        T m = mtf[i] * mtf_pixel(f, aperture[i]);
+        T m = mtf[i] * (Binning ? mtf_binned_pixel(f, aperture[i], bin_pitch[i], bin_k[i])
+                                : mtf_pixel(f, aperture[i]));
         if (Motion) m *= mtf_motion(f, blur[i]);
         if (Jitter) m *= mtf_jitter(f, jitter[i]);
         mtf[i] = m;
@@ -105,7 +108,7 @@ void diffraction_factor(Block<T>& b) {
 
 // b.mtf, b.slope = M'/M and b.curvature = sum_i (M_i''/M_i - (M_i'/M_i)^2) at b.at, so that
 // M''/M = slope^2 + curvature (M the product of the factors M_i). Newton skips the curvature.
-template <bool Motion, bool Jitter, bool Poly, bool Curvature, class T>
+template <bool Motion, bool Jitter, bool Binning, bool Poly, bool Curvature, class T>
 void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
     constexpr std::size_t n = block_size;
     const T* __restrict at = b.at;
@@ -147,6 +150,8 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
     const T* __restrict aperture = b.aperture_mm;
     const T* __restrict blur = b.blur_mm;
     const T* __restrict jitter = b.jitter_mm;
+    const T* __restrict bin_pitch = b.bin_pitch_mm;
+    const T* __restrict bin_k = b.bin_k;
     const T* __restrict denominator = b.denominator;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
@@ -170,6 +175,14 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
             r += l * q.r;
             if (Curvature) s += (l * l) * q.dr;
         }
+        if (Binning) {  // the array factor sinc(k p f) / sinc(p f): its log-slopes subtract
+            const T lp = bin_pitch[i], lk = bin_k[i] * lp;
+            const SlopesShared<T> g = sinc_slopes<true>(lk * f, lp * f, T(1));
+            const Slopes<T> whole = g.sincs.first, one = g.sincs.second;
+            m *= whole.value / one.value;
+            r += lk * whole.r - lp * one.r;
+            if (Curvature) s += (lk * lk) * whole.dr - (lp * lp) * one.dr;
+        }
         if (Jitter) {  // J = exp(-k f^2), k = 2 pi^2 sigma^2: J'/J = -2 k f, (J''/J - (J'/J)^2) = -2 k
             const T sigma = jitter[i];
             const T two_k = T(4.0 * pi * pi) * (sigma * sigma);
@@ -184,7 +197,7 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
 }
 
 // Bisection: lo, hi hold the bracket; the answer is written to b.f50.
-template <bool Motion, bool Jitter, bool Poly, class T>
+template <bool Motion, bool Jitter, bool Binning, bool Poly, class T>
 void bisect(const Spectrum& spectrum, T rtol, Block<T>& b) {
     constexpr std::size_t n = block_size;
     const unsigned char* __restrict solve = b.solve;
@@ -206,7 +219,7 @@ void bisect(const Spectrum& spectrum, T rtol, Block<T>& b) {
             n_active += a;
         }
         if (n_active == 0) break;
-        system_mtf<Motion, Jitter, Poly>(spectrum, b);
+        system_mtf<Motion, Jitter, Binning, Poly>(spectrum, b);
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
             const bool above = mtf[i] > threshold[i];
@@ -219,7 +232,7 @@ void bisect(const Spectrum& spectrum, T rtol, Block<T>& b) {
 }
 
 // Newton (Halley = false) or Halley steps from b.at, safeguarded by the bracket [lo, hi].
-template <bool Motion, bool Jitter, bool Poly, bool Halley, class T>
+template <bool Motion, bool Jitter, bool Binning, bool Poly, bool Halley, class T>
 void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     constexpr std::size_t n = block_size;
     // Convergence test, on the last step d and the one before, p. In the cubic (Halley) or
@@ -321,7 +334,7 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
         return n_active;
     };
     for (int step = 0; step < max_bisection_steps; ++step) {
-        system_mtf_slopes<Motion, Jitter, Poly, Halley>(spectrum, b);
+        system_mtf_slopes<Motion, Jitter, Binning, Poly, Halley>(spectrum, b);
         const int n_active = step == 0 ? take_steps(std::true_type{}, true)
                                        : take_steps(std::false_type{}, step < max_derivative_steps);
         if (n_active == 0) break;
@@ -338,12 +351,12 @@ inline double past_root_below(double h) {
 
 // Brent's method per lane, in lockstep: each round proposes an abscissa per active lane, the
 // MTF is evaluated for all lanes at once, and each lane takes its value.
-template <bool Motion, bool Jitter, bool Poly, class T>
+template <bool Motion, bool Jitter, bool Binning, bool Poly, class T>
 void brent(const Spectrum& spectrum, T rtol, Block<T>& b) {
     constexpr std::size_t n = block_size;
     BrentState state[n];
     for (std::size_t i = 0; i < n; ++i) b.at[i] = b.hi[i];
-    system_mtf<Motion, Jitter, Poly>(spectrum, b);
+    system_mtf<Motion, Jitter, Binning, Poly>(spectrum, b);
     for (std::size_t i = 0; i < n; ++i) {
         const double c = b.threshold[i];
         const double f_hi = past_root_below(double{b.mtf[i]} - c);
@@ -365,7 +378,7 @@ void brent(const Spectrum& spectrum, T rtol, Block<T>& b) {
             }
         }
         if (n_active == 0) break;
-        system_mtf<Motion, Jitter, Poly>(spectrum, b);
+        system_mtf<Motion, Jitter, Binning, Poly>(spectrum, b);
         for (std::size_t i = 0; i < n; ++i)
             if (b.active[i]) state[i].accept(past_root_below(double{b.mtf[i]} - double{b.threshold[i]}));
     }
@@ -379,14 +392,14 @@ T effective_rtol(double rtol) {
     return static_cast<T>(rtol > f50_rtol_floor_float32 ? rtol : f50_rtol_floor_float32);
 }
 
-template <bool Motion, bool Jitter, bool Poly, class T>
+template <bool Motion, bool Jitter, bool Binning, bool Poly, class T>
 void solve_f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
     const T rtol = effective_rtol<T>(opt.f50_rtol);
     switch (opt.f50_solver) {
-        case F50Solver::halley: polish<Motion, Jitter, Poly, true>(spectrum, rtol, b); break;
-        case F50Solver::newton: polish<Motion, Jitter, Poly, false>(spectrum, rtol, b); break;
-        case F50Solver::brent: brent<Motion, Jitter, Poly>(spectrum, rtol, b); break;
-        case F50Solver::bisection: bisect<Motion, Jitter, Poly>(spectrum, rtol, b); break;
+        case F50Solver::halley: polish<Motion, Jitter, Binning, Poly, true>(spectrum, rtol, b); break;
+        case F50Solver::newton: polish<Motion, Jitter, Binning, Poly, false>(spectrum, rtol, b); break;
+        case F50Solver::brent: brent<Motion, Jitter, Binning, Poly>(spectrum, rtol, b); break;
+        case F50Solver::bisection: bisect<Motion, Jitter, Binning, Poly>(spectrum, rtol, b); break;
     }
 }
 
@@ -402,19 +415,24 @@ double settle_rtol(const Options& opt) {
 template <class T>
 void f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
     const int terms = start_f50(spectrum, settle_rtol<T>(opt), b);
-    const bool motion = terms & 1, jitter = terms & 2;
     // One instantiation per combination of the terms a block uses.
-    if (spectrum.polychromatic()) {
-        if (motion && jitter) solve_f50<true, true, true>(spectrum, opt, b);
-        else if (motion) solve_f50<true, false, true>(spectrum, opt, b);
-        else if (jitter) solve_f50<false, true, true>(spectrum, opt, b);
-        else solve_f50<false, false, true>(spectrum, opt, b);
-    } else {
-        if (motion && jitter) solve_f50<true, true, false>(spectrum, opt, b);
-        else if (motion) solve_f50<true, false, false>(spectrum, opt, b);
-        else if (jitter) solve_f50<false, true, false>(spectrum, opt, b);
-        else solve_f50<false, false, false>(spectrum, opt, b);
-    }
+    auto with = [&](auto motion, auto jitter, auto binning) {
+        constexpr bool M = decltype(motion)::value, J = decltype(jitter)::value,
+                       B = decltype(binning)::value;
+        if (spectrum.polychromatic()) solve_f50<M, J, B, true>(spectrum, opt, b);
+        else solve_f50<M, J, B, false>(spectrum, opt, b);
+    };
+    using yes = std::true_type;
+    using no = std::false_type;
+    auto with_binning = [&](auto motion, auto jitter) {
+        if (terms & 4) with(motion, jitter, yes{});
+        else with(motion, jitter, no{});
+    };
+    const bool motion = terms & 1, jitter = terms & 2;
+    if (motion && jitter) with_binning(yes{}, yes{});
+    else if (motion) with_binning(yes{}, no{});
+    else if (jitter) with_binning(no{}, yes{});
+    else with_binning(no{}, no{});
 }
 
 }  // namespace detail

@@ -367,9 +367,9 @@ unsigned certified_rows(double settle_rtol) {
 }
 
 // Sets lo = 0, hi = f_hi, the starting abscissa and the solve's inputs in T for every lane;
-// returns which terms the block's lanes to solve use, as bits (1 motion, 2 jitter). With T =
-// float32, a lane to solve whose lengths float32 cannot hold is marked `wide` and taken out of
-// the solve (kernel.h redoes it in float64).
+// returns which terms the block's lanes to solve use, as bits (1 motion, 2 jitter, 4 binning's
+// array factor). With T = float32, a lane to solve whose lengths float32 cannot hold is marked
+// `wide` and taken out of the solve (kernel.h redoes it in float64).
 //
 // settle_rtol: the tolerance of a solver that takes a start as f50 when it is certified within
 // it (Halley and Newton, at their effective f50_rtol; -1 for the others). A monochromatic lane
@@ -397,7 +397,10 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) start_scale[i] = start_scale_of(ln_inv_c[i]);
     }
-    const bool any_jitter = !b.broadcast_is(jitter_um, 0.0);
+    // a burst's alignment residual is a Gaussian, as jitter is: the two are one (gaussian_blur_mm)
+    const bool any_alignment = !(b.broadcast_is(alignment_error_um, 0.0) || b.broadcast_is(frames, 1.0));
+    const bool any_jitter = !b.broadcast_is(jitter_um, 0.0) || any_alignment;
+    const bool any_binning = !b.broadcast_is(binning, 1.0);
     const double* __restrict wavelength = x[wavelength_nm];
     const double* __restrict f_num_in = x[f_number];
     const double* __restrict pitch = x[pixel_pitch_um];
@@ -440,6 +443,27 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         jit[i] = jitter_um_[i] * um_to_mm;
         d_length[i] = poly ? mean_mm * f_number_i : lf[i];
     }
+    if (any_alignment) {
+        const double* __restrict residual = x[alignment_error_um];
+        const double* __restrict frames_in = x[frames];
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i)
+            jit[i] = gaussian_blur_mm(jitter_um_[i], residual[i], frames_in[i]);
+    }
+    // Binning: the binned pixel's lengths (binned_lengths_mm); the bracket's pixel zero is at
+    // 1 / (k p) where a < 1 (the array factor's, below sqrt(a) p's), 1 / ap elsewhere. A lane
+    // with an array factor takes the start of the pixel alone, never certified: not settled.
+    alignas(64) double bin_pitch[n], zero_length[n];
+    if (any_binning) {
+        const double* __restrict k = x[binning];
+        for (std::size_t i = 0; i < n; ++i) {
+            const BinnedLengths<double> l = binned_lengths_mm(ap[i], pitch[i], fill[i], k[i]);
+            ap[i] = l.aperture_mm;
+            bin_pitch[i] = l.pitch_mm;
+            zero_length[i] = l.pitch_mm > 0.0 ? k[i] * l.pitch_mm : l.aperture_mm;
+        }
+    }
+
     // The accurate start's row each lane takes, as accurate_start_code (float64, one
     // wavelength; no jitter and a threshold with a row, or jitter at MTF50), 0 for the cubic
     // start: a lane's start depends on its own inputs only. A block
@@ -460,8 +484,9 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     // solve takes the cubic start.
     const unsigned certified = !poly ? certified_rows<T>(settle_rtol) : 0u;
     if (!poly && (!narrow || certified != 0) && b.is_broadcast(mtf_threshold) &&
-        b.is_broadcast(jitter_um)) {
-        // one row for every lane (the lanes' own choice, made once)
+        b.is_broadcast(jitter_um) && !any_alignment) {
+        // one row for every lane (the lanes' own choice, made once; a burst's alignment
+        // residual joins the jitter lane by lane)
         const unsigned char code = accurate_start_code(b.broadcast[jitter_um] * um_to_mm,
                                                        b.broadcast[mtf_threshold]);
         const int row = int{code} - 1;
@@ -490,6 +515,15 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     }
     unsigned char* __restrict settled = b.settled;
     int n_settled = 0;
+    // a binned lane with an array factor is never settled (its start is not certified)
+    auto unsettle_binned = [&]() {
+        if (!any_binning) return;
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool s_i = settled[i] != 0 && bin_pitch[i] == 0.0;
+            n_settled -= (settled[i] != 0) - s_i;
+            settled[i] = s_i;
+        }
+    };
     // float32: the lanes to solve whose row is certified take their start in float64, from the
     // float64 lengths (certified_start_error), rounded once to T: they need neither the bracket
     // nor T's lengths. A block whose every lane to solve is settled so skips `finish` below.
@@ -523,6 +557,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         narrow_row(std::integral_constant<int, 2>{});
         narrow_row(std::integral_constant<int, 3>{});
         narrow_row(std::integral_constant<int, jitter_start_row>{});
+        unsettle_binned();
         int n_solve = 0;
         EPC_FAST_SIMD_REDUCTION(+ : n_solve)
         for (std::size_t i = 0; i < n; ++i) n_solve += solve[i] != 0;
@@ -534,18 +569,24 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         // lengths
         bool lambdas_fit = true;
         for (const double nm : spectrum.wavelengths_nm) lambdas_fit &= float32_factor(nm * nm_to_mm);
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
-            const bool fits = float32_length(lf_short[i]) & float32_length(lf_long) &
-                              float32_length(ap[i]) & float32_length(blur_in[i]) &
-                              float32_length(jit[i]) & lambdas_fit &
-                              (!poly | float32_factor(f_num_in[i]));
-            const bool s_i = settled[i] != 0;
-            wide[i] = (solve[i] != 0) & !s_i & !fits;
-            solve[i] = (solve[i] != 0) & (s_i | fits);
-            b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
-        }
+        auto fit_lanes = [&](auto binned) EPC_FAST_LAMBDA_INLINE {
+            constexpr bool Binned = decltype(binned)::value;  // the array factor's lengths too
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                const double lf_long = (poly ? longest_nm : wavelength[i]) * nm_to_mm * f_num_in[i];
+                bool fits = float32_length(lf_short[i]) & float32_length(lf_long) &
+                            float32_length(ap[i]) & float32_length(blur_in[i]) &
+                            float32_length(jit[i]) & lambdas_fit &
+                            (!poly | float32_factor(f_num_in[i]));
+                if (Binned) fits &= float32_length(zero_length[i]) & float32_length(bin_pitch[i]);
+                const bool s_i = settled[i] != 0;
+                wide[i] = (solve[i] != 0) & !s_i & !fits;
+                solve[i] = (solve[i] != 0) & (s_i | fits);
+                b.f50[i] = T(0);  // what a wide lane's float32 pass writes out before it is redone
+            }
+        };
+        if (any_binning) fit_lanes(std::true_type{});
+        else fit_lanes(std::false_type{});
     } else {
         for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
     }
@@ -615,6 +656,23 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     }
     if (any_jitter) starts(yes{});
     else starts(no{});
+    if (any_binning) {
+        // the array factor's lengths in T; where there is one, the bracket ends at its zero
+        // 1 / (k p), below the aperture's, and a start past it becomes the bracket's middle
+        const double* __restrict k = x[binning];
+        T* __restrict bin_pitch_t = b.bin_pitch_mm;
+        T* __restrict bin_k = b.bin_k;
+        for (std::size_t i = 0; i < n; ++i) {
+            bin_pitch_t[i] = static_cast<T>(bin_pitch[i]);
+            bin_k[i] = static_cast<T>(k[i]);
+            const T f_hi = f50_bracket<true>(static_cast<T>(lf_short[i]),
+                                             static_cast<T>(zero_length[i]), blur[i],
+                                             jitter_mm[i], ln_inv_c[i]);
+            const bool array = bin_pitch[i] > 0.0;
+            hi[i] = array ? f_hi : hi[i];
+            at[i] = !array || ((at[i] > T(0)) & (at[i] < f_hi)) ? at[i] : T(0.5) * f_hi;
+        }
+    }
     extra_row(std::integral_constant<int, 1>{});
     extra_row(std::integral_constant<int, 2>{});
     extra_row(std::integral_constant<int, 3>{});
@@ -658,6 +716,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                 settled[i] = s_i;
                 n_settled += s_i;
             }
+            unsettle_binned();
         }
     }
     b.n_settled = n_settled;
@@ -666,7 +725,10 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));
     EPC_FAST_SIMD_REDUCTION(+ : jitter)
     for (std::size_t i = 0; i < n; ++i) jitter += (solve[i] != 0) & (jitter_mm[i] > T(0));
-    return (motion > 0 ? 1 : 0) | (jitter > 0 ? 2 : 0);
+    int binned = 0;
+    if (any_binning)
+        for (std::size_t i = 0; i < n; ++i) binned += (solve[i] != 0) & (bin_pitch[i] > 0.0);
+    return (motion > 0 ? 1 : 0) | (jitter > 0 ? 2 : 0) | (binned > 0 ? 4 : 0);
 }
 
 }  // namespace detail

@@ -10,6 +10,7 @@
 // loops vectorise to the width the build targets.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -45,6 +46,10 @@ inline void check_domain(const Domain& d, const double* __restrict x, unsigned c
     } else {
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] > lo) & (x[i] < hi);
+    }
+    if (d.integer) {  // binning and frames: whole numbers only
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= x[i] == std::floor(x[i]);
     }
 }
 

@@ -49,6 +49,56 @@ EPC_FAST_INLINE T mtf_pixel(T f_cyc_per_mm, T aperture_mm) {
     return std::fabs(sinc(aperture_mm * f_cyc_per_mm));
 }
 
+// 1: the binned pixel, k x k pixels of pitch p read as one: |sinc(sqrt(a) p f) sin(k pi p f) /
+// (k sin(pi p f))|, the second factor written as sinc(k p f) / sinc(p f) (which tends to +-1
+// where sin(pi p f) -> 0 at k p f integer too). Takes the aperture sqrt(a) p and the pitch p in
+// mm: a pitch of 0 leaves the pixel alone (sinc(0) / sinc(0) = 1), as at k = 1, and as the
+// kernel passes it where a = 1 (binned_aperture_mm). For f below the first zero
+// min(1/(sqrt(a) p), 1/(k p)) both sincs of p are positive.
+template <class T>
+EPC_FAST_INLINE T mtf_binned_pixel(T f_cyc_per_mm, T aperture_mm, T pitch_mm, T binning) {
+    const T array = sinc(binning * pitch_mm * f_cyc_per_mm) / sinc(pitch_mm * f_cyc_per_mm);
+    return std::fabs(sinc(aperture_mm * f_cyc_per_mm) * array);
+}
+
+// mm: the binned pixel's lengths as the kernel's f50 takes them. At a = 1, P_k(f) is
+// sinc(k p f): one sinc of aperture k p and no pitch factor (pitch_mm 0); else the aperture
+// sqrt(a) p and the pitch p of the array factor (k = 1: no array factor, pitch_mm 0).
+template <class T>
+struct BinnedLengths {
+    T aperture_mm, pitch_mm;
+};
+
+EPC_FAST_INLINE BinnedLengths<double> binned_lengths_mm(double aperture_mm, double pixel_pitch_um,
+                                                        double fill_factor, double binning) {
+    const bool whole = fill_factor == 1.0, binned = binning > 1.0;
+    const double pitch_mm = pixel_pitch_um * um_to_mm;
+    return {binned & whole ? binning * pitch_mm : aperture_mm, binned & !whole ? pitch_mm : 0.0};
+}
+
+// mm: the Gaussians of jitter and of a burst's alignment residual as one, of rms
+// sqrt(sigma_j^2 + sigma_a^2 (1 - 1/n)) (J(f) A(f), docs/model.md "System MTF"); sigma_j itself
+// where there is no residual (n = 1 or sigma_a = 0). The root is the larger times
+// sqrt(1 + (smaller / larger)^2), which neither overflows nor calls the C library's hypot (a
+// lane loop vectorises it), within an ulp or two of hypot.
+EPC_FAST_INLINE double gaussian_blur_mm(double jitter_um, double alignment_error_um, double frames) {
+    const double residual_um = alignment_error_um * std::sqrt(1.0 - 1.0 / frames);
+    const bool jitter_larger = jitter_um > residual_um;
+    const double larger = jitter_larger ? jitter_um : residual_um;
+    const double ratio = (jitter_larger ? residual_um : jitter_um) / larger;
+    const double rms_um = larger * std::sqrt(1.0 + ratio * ratio);
+    return (residual_um > 0.0 ? rms_um : jitter_um) * um_to_mm;
+}
+
+// 1: the alignment residual of a burst of n frames, each aligned to within sigma_a rms: the
+// frames' offsets about their mean, of variance sigma_a^2 (1 - 1/n):
+// exp(-2 pi^2 sigma_a^2 (1 - 1/n) f^2), sigma_a in mm (1 for one frame).
+template <class T>
+EPC_FAST_INLINE T mtf_alignment(T f_cyc_per_mm, T alignment_error_mm, T frames) {
+    const T t = alignment_error_mm * f_cyc_per_mm;
+    return exp_poly(T(-2.0 * pi * pi) * (T(1) - T(1) / frames) * (t * t));
+}
+
 // 1: |sinc(b f)| for a linear motion of length b mm.
 template <class T>
 EPC_FAST_INLINE T mtf_motion(T f_cyc_per_mm, T blur_mm) {

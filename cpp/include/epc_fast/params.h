@@ -33,6 +33,9 @@ enum Param : int {
     jitter_um,
     wavelength_nm,
     mtf_threshold,
+    binning,             // k: k x k pixels read as one output pixel (1: off)
+    frames,              // n: the exposure split into n frames, aligned and summed (1: off)
+    alignment_error_um,  // rms alignment error of each frame (0: off)
     n_params
 };
 
@@ -41,17 +44,20 @@ constexpr const char* param_names[n_params] = {
     "illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm", "size", "reflectance",
     "lens_transmittance", "field_angle_deg", "fill_factor", "electrons_per_lux_s_m2",
     "read_noise_e", "dark_current_e_per_s", "prnu", "full_well_e", "snr_db", "shake_deg_per_s",
-    "stabilization", "jitter_um", "wavelength_nm", "mtf_threshold"};
+    "stabilization", "jitter_um", "wavelength_nm", "mtf_threshold", "binning", "frames",
+    "alignment_error_um"};
 
-// A value lies in [lo, hi] with each end open or closed; NaN lies in no domain.
+// A value lies in [lo, hi] with each end open or closed, and is a whole number where `integer`
+// (binning, frames); NaN lies in no domain.
 struct Domain {
     double lo, hi;
     bool lo_closed, hi_closed;
+    bool integer = false;
 
     bool contains(double v) const {
         const bool above = lo_closed ? v >= lo : v > lo;
         const bool below = hi_closed ? v <= hi : v < hi;
-        return above && below;
+        return above && below && (!integer || v == std::floor(v));
     }
 };
 
@@ -117,10 +123,14 @@ struct Options {
     double f50_rtol = 1e-14;   // relative tolerance on f50 (f50.h says how each solver meets it)
     TMpeSolver t_mpe_solver = TMpeSolver::closed_form;
     double t_mpe_rtol = 1e-15;  // Brent's tolerance on the electrons needed
+    // binning's read noise: k^2 reads of sigma_r (false, "digital") or one ("charge": the k x k
+    // pixels' charge summed before the read)
+    bool charge_binning = false;
 };
 
 // The MTF factors of the share outputs (sensitivity.h), in their order.
-enum Share : int { share_diffraction, share_pixel, share_motion, share_jitter, n_shares };
+// The binned aperture (binning) is the pixel's; the burst's alignment residual has its own.
+enum Share : int { share_diffraction, share_pixel, share_motion, share_jitter, share_alignment, n_shares };
 
 // The outputs of what limits a design and how sensitive it is (sensitivity.h); null: not
 // computed. Each share has a column, and so has each parameter's elasticity (elasticity[j]:

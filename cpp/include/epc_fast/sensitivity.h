@@ -105,19 +105,24 @@ EPC_FAST_INLINE double log_mtf_diffraction(double value, double loss) {
     return near_one ? log1p : log_u;
 }
 
-// Each factor's log at f, and the log-slopes of diffraction (nu dD/dnu / D), the pixel and the
-// motion (y d ln sinc / dy): what the shares and the elasticities need.
+// Each factor's log at f, and the log-slopes f d ln M_i / df of diffraction (nu dD/dnu / D), the
+// (binned) pixel and the motion, and the pixel's aperture alone, sinc(sqrt(a) p f), the part the
+// fill factor moves: what the shares and the elasticities need.
 struct MtfLogFactors {
     double log[n_shares];
-    double slope_diffraction, slope_pixel, slope_motion;
+    double slope_diffraction, slope_pixel, slope_motion, slope_fill;
 };
 
 // 1: MtfLogFactors at f (cycles/mm) for one point: the diffraction of `spectrum`, or
 // monochromatic at wavelength_nm when it has none; the pixel aperture sqrt(a) p, the blur and
-// the jitter sigma_j in mm.
+// the jitter sigma_j in mm; binning k x k pixels of pitch p mm (the array factor
+// sinc(k p f) / sinc(p f), none at k = 1) and a burst's alignment residual of rms
+// sigma_a sqrt(1 - 1/n) mm.
 EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double wavelength_nm,
                                               double aperture_mm, double blur_mm,
-                                              double jitter_mm, const Spectrum& spectrum) {
+                                              double jitter_mm, const Spectrum& spectrum,
+                                              double pitch_mm = 0.0, double binning = 1.0,
+                                              double residual_mm = 0.0) {
     double loss = 0.0, slope_numerator = 0.0, value = 0.0;
     if (spectrum.polychromatic()) {
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
@@ -134,9 +139,17 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
         value = mtf_diffraction(nu);
     }
     const double y_pixel = aperture_mm * f, y_motion = blur_mm * f, sigma_f = jitter_mm * f;
-    return {{log_mtf_diffraction(value, loss), log_sinc(y_pixel), log_sinc(y_motion),
-             -2.0 * pi * pi * sigma_f * sigma_f},
-            slope_numerator / value, sinc_log_slope(y_pixel), sinc_log_slope(y_motion)};
+    const double residual_f = residual_mm * f;
+    double log_pixel = log_sinc(y_pixel), slope_pixel = sinc_log_slope(y_pixel);
+    const double slope_fill = slope_pixel;
+    if (binning > 1.0) {
+        const double y_whole = binning * pitch_mm * f, y_one = pitch_mm * f;
+        log_pixel += log_sinc(y_whole) - log_sinc(y_one);
+        slope_pixel += sinc_log_slope(y_whole) - sinc_log_slope(y_one);
+    }
+    return {{log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
+             -2.0 * pi * pi * sigma_f * sigma_f, -2.0 * pi * pi * residual_f * residual_f},
+            slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill};
 }
 
 // d ln T_MPE / d ln x for the rate, the dark current, the read noise, the target
@@ -192,8 +205,13 @@ EPC_FAST_INLINE double area_slope(double slope_diffraction, double slope_pixel, 
 // SNR target's d ln s / d ln snr_db; written as elasticities 2 slope / A plus the area's part
 // (two_over_a = 2 / area_slope), into row j of `out` at lane i. A lane that has none passes
 // mask = NaN and a NaN two_over_a; mask = 1 otherwise.
+//
+// Binning and bursts: slope_fill is the log-slope of the pixel's own aperture (the binned pixel's
+// slope_pixel less the array factor's), log_alignment the alignment residual's log; binning and
+// frames are whole numbers, with no elasticity (NaN).
 EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope_pixel,
-                                          double slope_motion, double log_jitter,
+                                          double slope_fill, double slope_motion,
+                                          double log_jitter, double log_alignment,
                                           const TMpeLogSlopes& t, double mu, double field_slope,
                                           double snr_scale, bool size_is_pixel_count,
                                           double (&out)[n_params][block_size], std::size_t i,
@@ -208,7 +226,7 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[reflectance][i] = via_rate * two_over_a;
     out[lens_transmittance][i] = via_rate * two_over_a;
     out[field_angle_deg][i] = via_rate * field_slope * two_over_a;
-    out[fill_factor][i] = (0.5 * slope_pixel + via_rate) * two_over_a;
+    out[fill_factor][i] = (0.5 * slope_fill + via_rate) * two_over_a;
     out[electrons_per_lux_s_m2][i] = via_rate * two_over_a;
     out[read_noise_e][i] = mu * t.read * two_over_a;
     out[dark_current_e_per_s][i] = mu * t.dark * two_over_a;
@@ -220,6 +238,9 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[jitter_um][i] = 2.0 * log_jitter * two_over_a;
     out[wavelength_nm][i] = slope_diffraction * two_over_a;
     out[mtf_threshold][i] = -threshold_term * two_over_a;
+    out[binning][i] = nan;
+    out[frames][i] = nan;
+    out[alignment_error_um][i] = 2.0 * log_alignment * two_over_a;
 }
 
 // diffraction_loss, diffraction_log_slope_numerator and mtf_diffraction at nu. `High` = false
@@ -276,47 +297,58 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
                       double (&share_out)[n_shares][block_size],
                       double (&elasticity_out)[n_params][block_size]) {
     const auto& x = b.x;
+    // binning and bursts (a block with them: b.sensor): the binned pixel's lengths, the
+    // alignment residual, and the exposure's inputs as the output pixel of the burst sees them
+    // (exposure_stage.h sensor_terms)
+    const double k = x[binning][i], n = x[frames][i];
+    const double residual_um = x[alignment_error_um][i] * std::sqrt(1.0 - 1.0 / n);
+    auto input = [&](int param, int row) { return b.sensor ? b.sensor_store[row][i] : x[param][i]; };
     MtfLogFactors m = mtf_log_factors(
         static_cast<double>(b.f50[i]), x[f_number][i], x[wavelength_nm][i],
         pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]), b.blur[i],
-        x[jitter_um][i] * um_to_mm, in.spectrum);
+        x[jitter_um][i] * um_to_mm, in.spectrum, x[pixel_pitch_um][i] * um_to_mm, k,
+        residual_um * um_to_mm);
     const double ln_c = std::log(x[mtf_threshold][i]);
-    double total = (m.log[0] + m.log[1]) + (m.log[2] + m.log[3]);
+    double total = ((m.log[0] + m.log[1]) + (m.log[2] + m.log[3])) + m.log[4];
     const bool pinned = !(std::fabs(total - ln_c) <= 1e-3 * std::fabs(ln_c));
     if (pinned) {
         auto least = [&m](int s) {  // a NaN log (a sinc past its zero) counts as -inf
             return std::isnan(m.log[s]) ? -std::numeric_limits<double>::infinity() : m.log[s];
         };
-        int k = 0;
+        int j = 0;
         for (int s = 1; s < n_shares; ++s)
-            if (least(s) < least(k)) k = s;
+            if (least(s) < least(j)) j = s;
         double others = 0.0;
-        for (int s = 0; s < n_shares; ++s) others += s == k ? 0.0 : m.log[s];
-        m.log[k] = ln_c - others;
+        for (int s = 0; s < n_shares; ++s) others += s == j ? 0.0 : m.log[s];
+        m.log[j] = ln_c - others;
         total = ln_c;
     }
     for (int s = 0; s < n_shares; ++s) share_out[s][i] = m.log[s] / total;
-    const TMpeLogSlopes t = t_mpe_log_slopes(b.electrons[i], b.t_mpe[i], x[read_noise_e][i],
-                                             x[dark_current_e_per_s][i], x[prnu][i]);
+    const TMpeLogSlopes t = t_mpe_log_slopes(b.electrons[i], b.t_mpe[i],
+                                             input(read_noise_e, sensor_read),
+                                             input(dark_current_e_per_s, sensor_dark),
+                                             input(prnu, sensor_prnu));
     const double beta = blur_angle_log_slope(b.blur[i], x[focal_length_mm][i], x[shake_deg_per_s][i],
-                                             x[stabilization][i], b.t_mpe[i]);
-    double slopes[3] = {m.slope_diffraction, m.slope_pixel, m.slope_motion};
-    double log_jitter = m.log[share_jitter], threshold_term = 1.0;
+                                             input(stabilization, sensor_stab), b.t_mpe[i]);
+    double slopes[4] = {m.slope_diffraction, m.slope_pixel, m.slope_motion, m.slope_fill};
+    double log_jitter = m.log[share_jitter], log_alignment = m.log[share_alignment];
+    double threshold_term = 1.0;
     int infinite = -1;
     for (int s = 0; s < 3; ++s)
         if (!(std::fabs(slopes[s]) <= std::numeric_limits<double>::max())) infinite = s;
     if (infinite >= 0) {  // the limit: every slope over |slope_k|, which goes to infinity
         for (int s = 0; s < 3; ++s) slopes[s] = s == infinite ? -1.0 : 0.0;
+        slopes[3] = infinite == 1 && !(std::fabs(m.slope_fill) <= std::numeric_limits<double>::max()) ? -1.0 : 0.0;
         log_jitter = 0.0;
+        log_alignment = 0.0;
         threshold_term = 0.0;
     }
-    elasticities_of_lane(slopes[0], slopes[1], slopes[2], log_jitter, t, slopes[2] * beta,
-                         field_slope, x[snr_db][i] * (ln10 / 10.0), in.size_is_pixel_count,
-                         elasticity_out, i,
-                         2.0 / area_slope(slopes[0], slopes[1], slopes[2], log_jitter),
+    elasticities_of_lane(slopes[0], slopes[1], slopes[3], slopes[2], log_jitter, log_alignment, t,
+                         slopes[2] * beta, field_slope, x[snr_db][i] * (ln10 / 10.0),
+                         in.size_is_pixel_count, elasticity_out, i,
+                         2.0 / area_slope(slopes[0], slopes[1], slopes[2], log_jitter + log_alignment),
                          threshold_term);
 }
-
 
 // The shares and elasticities of the block's lanes into share_out and elasticity_out (rows of
 // block_size): OK lanes from their f50, NaN on the others, but where the blur is unbounded
@@ -403,6 +435,7 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
             logs[share_motion][i] = motion.log;
         }
         logs[share_jitter][i] = -2.0 * pi * pi * sigma_f * sigma_f;
+        logs[share_alignment][i] = 0.0;  // a block with bursts takes sensitivity_lane
         if (Elasticities) {
             slope_numerator[i] *= d_sincs * inverse;  // now nu dD/dnu / D
             slope_pixel[i] = pixel.slope;
@@ -412,7 +445,8 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     if (shares) {
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
-            const double inverse_total = 1.0 / ((logs[0][i] + logs[1][i]) + (logs[2][i] + logs[3][i]));
+            const double inverse_total =
+                1.0 / (((logs[0][i] + logs[1][i]) + (logs[2][i] + logs[3][i])) + logs[4][i]);
             const bool unbounded = status[i] == static_cast<unsigned char>(Status::blur_unbounded);
             for (int s = 0; s < n_shares; ++s) {
                 const double other = unbounded ? (s == share_motion ? 1.0 : 0.0) : nan;
@@ -476,12 +510,15 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
             const double mask = ok[i] ? 1.0 : nan;
             const double two_over_a =
                 (2.0 / area_slope(slope_numerator[i], slope_pixel[i], slope_motion[i], logs[share_jitter][i])) * mask;
-            elasticities_of_lane(slope_numerator[i], slope_pixel[i], slope_motion[i],
-                                 logs[share_jitter][i], t, slope_motion[i] * beta, field_slope[i],
+            elasticities_of_lane(slope_numerator[i], slope_pixel[i], slope_pixel[i], slope_motion[i],
+                                 logs[share_jitter][i], 0.0, t, slope_motion[i] * beta, field_slope[i],
                                  snr[i] * (ln10 / 10.0), count, elasticity_out, i, two_over_a, 1.0,
                                  mask);
         }
     }
+    // a block with binning or bursts: every OK lane by sensitivity_lane, which has their terms
+    if (b.sensor)
+        for (std::size_t i = 0; i < n; ++i) slow[i] |= ok[i];
     // the slow lanes, eight flags at a time (most blocks have none)
     for (std::size_t first = 0; first < n; first += 8) {
         std::uint64_t eight;

@@ -104,7 +104,7 @@ inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
                 const double f0 = start_guess<true, -1>(mean_mm * f_number, aperture, blur, 0.0, scale, -1);
                 b->at[i] = (f0 > 0.0) & (f0 < b->hi[i]) ? f0 : 0.5 * b->hi[i];
             }
-            polish<true, false, true, true>(plain, spectrum_start_target_rtol, *b);
+            polish<true, false, false, true, true>(plain, spectrum_start_target_rtol, *b);
             for (std::size_t i = 0; i < block_size && first + static_cast<int>(i) < points; ++i) {
                 const int k = first + static_cast<int>(i);
                 const StartPoint<double> q = start_point(b->lambda_f_mm[i], b->aperture_mm[i], b->blur_mm[i], 0.0);

@@ -23,6 +23,8 @@ __all__ = [
     "prnu_product",
     "prnu_capped",
     "prnu_margin",
+    "binned_pixels",
+    "burst_read_noise_e",
     "signal_electrons",
     "t_mpe_closed_form",
     "snr_db_at",
@@ -31,8 +33,11 @@ __all__ = [
     "sinc",
     "mtf_diffraction",
     "mtf_pixel",
+    "mtf_binned_pixel",
     "mtf_motion",
     "mtf_jitter",
+    "gaussian_blur_mm",
+    "mtf_alignment",
     "mtf_system",
     "f50_bracket",
     "f50_bisection",
@@ -122,6 +127,24 @@ def prnu_margin(prnu, snr_db):
     1 - p is exact near the cap, so w keeps its digits however close u sqrt(s) is to 1."""
     p, e = prnu_product(prnu, snr_db)
     return ((1.0 - p) - e) * ((1.0 + p) + e)
+
+
+def binned_pixels(binning):
+    """1: k^2, the pixels a binned output pixel reads as one.
+
+    Binning and bursts (docs/model.md, "Exposure: T_MPE") enter the exposure as one output pixel
+    of the burst: rate k^2 r, dark current k^2 D, PRNU u / k, full well n k^2 W over the burst
+    (k^2 W a frame), read noise :func:`burst_read_noise_e` and the shake of T/n a frame (the
+    stabilisation times n); with k = n = 1 each is its input, bit for bit.
+    """
+    return binning * binning
+
+
+def burst_read_noise_e(read_noise_e, binning, frames, charge_binning=False):
+    """e- rms: the read noise of one output pixel of a burst of n frames, n reads of k^2 pixels
+    each (digital binning, sigma_r sqrt(n k^2)) or of one (charge binning, sigma_r sqrt(n))."""
+    reads = frames * (1.0 if charge_binning else binned_pixels(binning))
+    return read_noise_e * np.sqrt(reads)
 
 
 def signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu):
@@ -234,6 +257,23 @@ def mtf_pixel(f_cyc_per_mm, pixel_pitch_um, fill_factor):
     return np.abs(sinc(np.sqrt(fill_factor) * (pixel_pitch_um * 1e-3) * f_cyc_per_mm))
 
 
+def mtf_binned_pixel(f_cyc_per_mm, pixel_pitch_um, fill_factor, binning):
+    """1: k x k pixels read as one: ``|sinc(sqrt(a) p f) sin(k pi p f) / (k sin(pi p f))|``.
+
+    Where sin(pi p f) = 0 (p f a whole number) the ratio takes its limit, cos(k pi p f) /
+    cos(pi p f) = +-1. At k = 1 the ratio is 1 and this is :func:`mtf_pixel` (whatever p f: a
+    small fill factor takes f50 far past 1/p); at a = 1 it is sinc(k p f).
+    """
+    y = (pixel_pitch_um * 1e-3) * f_cyc_per_mm
+    k = np.asarray(binning, dtype=np.float64)
+    sin_y = sinpi(y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(sin_y == 0.0, sinpi(k * y + 0.5) / sinpi(y + 0.5),
+                         sinpi(k * y) / (k * sin_y))
+    ratio = np.where(k == 1.0, 1.0, ratio)
+    return np.abs(sinc(np.sqrt(fill_factor) * (pixel_pitch_um * 1e-3) * f_cyc_per_mm) * ratio)
+
+
 def mtf_motion(f_cyc_per_mm, blur_mm):
     """1: linear motion of length b: ``|sinc(b f)|``."""
     return np.abs(sinc(blur_mm * f_cyc_per_mm))
@@ -244,9 +284,26 @@ def mtf_jitter(f_cyc_per_mm, jitter_um):
     return np.exp(-2.0 * np.pi**2 * (jitter_um * 1e-3 * f_cyc_per_mm) ** 2)
 
 
+def gaussian_blur_mm(jitter_um, alignment_error_um, frames):
+    """mm: jitter and a burst's alignment residual as one Gaussian, J(f) A(f), of rms
+    sqrt(sigma_j^2 + sigma_a^2 (1 - 1/n)): what bounds f50's bracket where they are the only
+    factors that fall."""
+    residual_um = alignment_error_um * np.sqrt(1.0 - 1.0 / np.asarray(frames, dtype=np.float64))
+    return np.hypot(jitter_um, residual_um) * 1e-3
+
+
+def mtf_alignment(f_cyc_per_mm, alignment_error_um, frames):
+    """1: the alignment residual of a burst of n frames, each aligned to within sigma_a rms:
+    the frames' offsets about their mean, of variance sigma_a^2 (1 - 1/n), blur the sum by
+    exp(-2 pi^2 sigma_a^2 (1 - 1/n) f^2), sigma_a in mm (1 for one frame)."""
+    variance_mm2 = (alignment_error_um * 1e-3) ** 2 * (1.0 - 1.0 / np.asarray(frames, dtype=np.float64))
+    return np.exp(-2.0 * np.pi**2 * variance_mm2 * f_cyc_per_mm**2)
+
+
 def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
-               wavelengths_nm, weights):
-    """1: D(f) P(f) M(f) J(f), with D = sum_i w_i D_i(f) over a spectrum (weights sum to 1).
+               wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0):
+    """1: D(f) P_k(f) M(f) J(f) A(f), with D = sum_i w_i D_i(f) over a spectrum (weights sum
+    to 1) and P_k the binned pixel (:func:`mtf_binned_pixel`; P at k = 1).
 
     ``wavelengths_nm`` and ``weights`` are 1-D and shared by every point; a monochromatic
     scene passes one wavelength with weight 1.
@@ -254,29 +311,34 @@ def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jit
     f = np.asarray(f_cyc_per_mm, dtype=np.float64)
     diffraction = sum(w * mtf_diffraction(f, lam, f_number)
                       for lam, w in zip(wavelengths_nm, weights))
-    return (diffraction * mtf_pixel(f, pixel_pitch_um, fill_factor)
-            * mtf_motion(f, blur_mm) * mtf_jitter(f, jitter_um))
+    return (diffraction * mtf_binned_pixel(f, pixel_pitch_um, fill_factor, binning)
+            * mtf_motion(f, blur_mm) * mtf_jitter(f, jitter_um)
+            * mtf_alignment(f, alignment_error_um, frames))
 
 
 # --- The cut-off frequency (docs/model.md, "The cut-off frequency f50") ----------------------
 
 
 def f50_bracket(f_number, shortest_wavelength_nm, pixel_pitch_um, fill_factor, blur_mm,
-                jitter_um, mtf_threshold):
+                jitter_um, mtf_threshold, binning=1.0, alignment_error_um=0.0, frames=1.0):
     """cycles/mm: f_hi, the end of the bracket [0, f_hi] holding the unique f50.
 
-    The smallest first zero of the factors (diffraction 1/(lambda_min F), pixel 1/(sqrt(a) p),
-    motion 1/b) and, with jitter, the frequency where jitter alone falls to the threshold.
+    The smallest first zero of the factors (diffraction 1/(lambda_min F), the pixel
+    1/(sqrt(a) p), binned 1/(k p) for k >= 2, which is min(1/(sqrt(a) p), 1/(k p)) there;
+    motion 1/b) and, with jitter or a burst's alignment residual, the frequency where their
+    Gaussian (:func:`gaussian_blur_mm`) alone falls to the threshold.
     """
     blur_mm = np.asarray(blur_mm, dtype=np.float64)
-    jitter_um = np.asarray(jitter_um, dtype=np.float64)
+    gaussian_mm = gaussian_blur_mm(jitter_um, alignment_error_um, frames)
     with np.errstate(divide="ignore"):
         diffraction_zero = 1.0 / (shortest_wavelength_nm * 1e-6 * f_number)
-        pixel_zero = 1.0 / (np.sqrt(fill_factor) * pixel_pitch_um * 1e-3)
+        pixel_zero = np.where(np.asarray(binning) > 1.0,
+                              1.0 / (binning * (pixel_pitch_um * 1e-3)),
+                              1.0 / (np.sqrt(fill_factor) * pixel_pitch_um * 1e-3))
         motion_zero = np.where(blur_mm > 0, 1.0 / blur_mm, np.inf)
         jitter_crossing = np.where(
-            jitter_um > 0,
-            np.sqrt(np.log(1.0 / mtf_threshold) / (2.0 * np.pi**2)) / (jitter_um * 1e-3),
+            gaussian_mm > 0,
+            np.sqrt(np.log(1.0 / mtf_threshold) / (2.0 * np.pi**2)) / gaussian_mm,
             np.inf)
     return np.minimum(np.minimum(diffraction_zero, pixel_zero),
                       np.minimum(motion_zero, jitter_crossing))
@@ -312,7 +374,8 @@ def effective_pixel_count(sensor_area_mm2, f50_cyc_per_mm):
 # --- All of it, per point --------------------------------------------------------------------
 
 
-def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid):
+def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
+                    charge_binning=False):
     """Evaluate the model on 1-D arrays of equal length.
 
     Parameters
@@ -325,36 +388,47 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid):
         A spectrum shared by every point (weights sum to 1), or None for ``p["wavelength_nm"]``.
     valid : ndarray of bool
         Which points have every input inside its domain (:func:`epc_fast.params.in_domain`).
+    charge_binning : bool
+        Binning's read-out: one read of the k x k pixels' charge (True), or k^2 reads.
 
     Returns
     -------
     dict of str to ndarray
         ``electron_rate_e_per_s``, ``electrons``, ``t_mpe_s``, ``blur_mm``, ``f50_cyc_per_mm``,
         ``epc``, ``status`` (uint8, :class:`Status`) and ``cause`` (uint8, :class:`Cause`).
+        The rate and the electrons are those of one output pixel (k x k pixels) of the whole
+        burst.
     """
     # Invalid points are evaluated on harmless stand-in values and masked at the end.
     q = {name: np.where(valid, v, 1.0 if name != "mtf_threshold" else 0.5)
          for name, v in p.items()}
     with np.errstate(all="ignore"):  # extreme but valid points may overflow; statuses tell
-        return _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid)
+        return _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid,
+                               charge_binning)
 
 
-def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid):
+def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, charge_binning):
+    k, n = q["binning"], q["frames"]
+    pixels = binned_pixels(k)
     rate = electron_rate(q["illuminance_lux"], q["reflectance"], q["lens_transmittance"],
                          q["field_angle_deg"], q["f_number"], q["electrons_per_lux_s_m2"],
-                         q["fill_factor"], q["pixel_pitch_um"])
-    electrons = signal_electrons(rate, q["snr_db"], q["read_noise_e"],
-                                 q["dark_current_e_per_s"], q["prnu"])
+                         q["fill_factor"], q["pixel_pitch_um"]) * pixels
+    read_noise = burst_read_noise_e(q["read_noise_e"], k, n, charge_binning)
+    prnu = q["prnu"] / k
+    electrons = signal_electrons(rate, q["snr_db"], read_noise,
+                                 q["dark_current_e_per_s"] * pixels, prnu)
     t_mpe = electrons / rate
 
     # No light: a rate of 0 (or flushed to 0 by electron_rate), or a T_MPE beyond float64.
-    prnu_cap = (rate > 0) & prnu_capped(q["prnu"], q["snr_db"])
+    prnu_cap = (rate > 0) & prnu_capped(prnu, q["snr_db"])
     no_light = ~prnu_cap & ~np.isfinite(t_mpe)
-    full_well = ~no_light & ~prnu_cap & (electrons > q["full_well_e"])
+    # the full well holds k^2 W a frame: n k^2 W over the burst
+    full_well = ~no_light & ~prnu_cap & (electrons > q["full_well_e"] * (pixels * n))
     unreachable = no_light | prnu_cap | full_well
 
     t_mpe = np.where(unreachable, np.inf, t_mpe)
-    blur = blur_length_mm(q["focal_length_mm"], q["shake_deg_per_s"], q["stabilization"],
+    # each frame moves by its own T/n of shake
+    blur = blur_length_mm(q["focal_length_mm"], q["shake_deg_per_s"], q["stabilization"] * n,
                           np.where(unreachable, 0.0, t_mpe))
     unbounded = ~unreachable & np.isinf(blur)
     solve = ~unreachable & ~unbounded
@@ -368,11 +442,13 @@ def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid):
 
     blur_solved = np.where(solve, blur, 0.0)
     f_hi = f50_bracket(q["f_number"], shortest, q["pixel_pitch_um"], q["fill_factor"],
-                       blur_solved, q["jitter_um"], q["mtf_threshold"])
+                       blur_solved, q["jitter_um"], q["mtf_threshold"], k,
+                       q["alignment_error_um"], n)
 
     def mtf(f):
         return mtf_system(f, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_solved,
-                          q["jitter_um"], wavelengths, spectral_weights)
+                          q["jitter_um"], wavelengths, spectral_weights, k,
+                          q["alignment_error_um"], n)
 
     f50 = np.where(solve, f50_bisection(mtf, f_hi, q["mtf_threshold"]), 0.0)
     area_mm2 = q["size"] * (q["pixel_pitch_um"] * 1e-3) ** 2 if size_is_pixel_count else q["size"]

@@ -5,8 +5,9 @@ Every function carries the same name as its C++ counterpart in
 ``cpp/include/epc_fast/sensitivity.h``; the core is tested against this module, and this module
 against 40-digit mpmath central differences (tests/test_sensitivity.py).
 
-**Shares.** At f50 the system MTF is c, so ln D + ln P + ln M + ln J = ln c: the share of a
-factor is ln MTF_i(f50) / ln MTF_sys(f50) (= ln c at the root), and the four shares sum to 1.
+**Shares.** At f50 the system MTF is c, so ln D + ln P + ln M + ln J + ln A = ln c: the share
+of a factor is ln MTF_i(f50) / ln MTF_sys(f50) (= ln c at the root), and the five shares sum to
+1. The binned pixel P_k is the pixel's share; a burst's alignment residual A has its own.
 
 **Elasticities.** EPC = 4 S f50^2, so d ln EPC / d ln theta = d ln S / d ln theta +
 2 d ln f50 / d ln theta. f50 is defined by ln MTF(f50; theta) = ln c; differentiating it,
@@ -29,7 +30,13 @@ so d ln T / d ln x = -x dQ/dx / (T dQ/dT). With e = r T the electrons and the po
     d ln T / d ln s       = (u^2 e^2 + e + D T + sigma_r^2) / spread
     d ln T / d ln u       = 2 u^2 e^2 / spread
 
-Every one is a ratio of sums of positive terms. An elasticity is theta times the partial
+Every one is a ratio of sums of positive terms. With binning and bursts, T_MPE is that of the
+output pixel of the burst (epc_fast.reference.model.binned_pixels): its rate k^2 r, dark
+current k^2 D, read noise sigma_r sqrt(n k^2) or sigma_r sqrt(n), PRNU u / k, each proportional
+to its input, so the same log-slopes hold with these values; the blur angle is divided by n as
+by the stabilisation. binning and frames are whole numbers: they have no elasticity (NaN).
+
+An elasticity is theta times the partial
 derivative of ln EPC, all other parameters of docs/model.md, "Quantities, units and defaults"
 held: with a pixel count the pitch's includes the area N p^2, with a sensor area it does not.
 """
@@ -43,7 +50,7 @@ import numpy as np
 from ..elasticity_outputs import ELASTICITY_PARAMETERS
 from ..outputs import SHARE_NAMES
 from ..status import Status
-from .model import mtf_diffraction, scaled_product, sinpi
+from .model import binned_pixels, burst_read_noise_e, mtf_diffraction, scaled_product, sinpi
 
 __all__ = [
     "ZETA_EVEN",
@@ -134,9 +141,11 @@ def log_mtf_diffraction(value, loss):
 
 
 def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
-                    wavelengths_nm, weights):
-    """1: (ln D, ln P, ln M, ln J) at f, and (nu dD/dnu / D, y_p dlnP/dy_p, y_m dlnM/dy_m):
-    each factor's log and the log-slopes the elasticities need. ``wavelengths_nm`` and
+                    wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0):
+    """1: (ln D, ln P_k, ln M, ln J, ln A) at f, and (nu dD/dnu / D, f dlnP_k/df, y_m dlnM/dy_m,
+    y_a dln sinc(y_a)/dy_a): each factor's log and the log-slopes the elasticities need, the
+    last the pixel's own aperture y_a = sqrt(a) p f alone (what the fill factor moves; the
+    binned pixel adds its array factor sinc(k p f) / sinc(p f) to P). ``wavelengths_nm`` and
     ``weights`` as in :func:`epc_fast.reference.mtf_system` (a per-point wavelength array with
     weight 1 for a monochromatic scene)."""
     f = np.asarray(f_cyc_per_mm, dtype=np.float64)
@@ -151,9 +160,17 @@ def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm
     y_pixel = np.sqrt(fill_factor) * (pixel_pitch_um * 1e-3) * f
     y_motion = np.asarray(blur_mm, dtype=np.float64) * f
     sigma_f = jitter_um * 1e-3 * f
-    logs = (log_mtf_diffraction(value, loss), log_sinc(y_pixel), log_sinc(y_motion),
-            -2.0 * np.pi**2 * sigma_f * sigma_f)
-    slopes = (slope_numerator / value, sinc_log_slope(y_pixel), sinc_log_slope(y_motion))
+    residual_f = alignment_error_um * np.sqrt(1.0 - 1.0 / np.asarray(frames, np.float64)) * 1e-3 * f
+    binned = np.asarray(binning) > 1.0
+    y_whole = np.where(binned, binning * (pixel_pitch_um * 1e-3) * f, 0.0)
+    y_one = np.where(binned, (pixel_pitch_um * 1e-3) * f, 0.0)
+    log_pixel = log_sinc(y_pixel) + np.where(binned, log_sinc(y_whole) - log_sinc(y_one), 0.0)
+    slope_fill = sinc_log_slope(y_pixel)
+    slope_pixel = slope_fill + np.where(binned, sinc_log_slope(y_whole) - sinc_log_slope(y_one),
+                                        0.0)
+    logs = (log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
+            -2.0 * np.pi**2 * sigma_f * sigma_f, -2.0 * np.pi**2 * residual_f * residual_f)
+    slopes = (slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill)
     return logs, slopes
 
 
@@ -164,7 +181,7 @@ PINNED_RTOL = 1e-3
 
 def mtf_loss_shares(log_factors, mtf_threshold):
     """1: each factor's share ln MTF_i / sum_i ln MTF_i of the loss at f50 (diffraction, pixel,
-    motion, jitter); the sum is ln MTF_sys(f50) = ln c at the root, so the shares sum to 1.
+    motion, jitter, alignment); the sum is ln MTF_sys(f50) = ln c at the root, so the shares sum to 1.
 
     With a threshold so small that f50 is a factor's zero to within rounding, the logs at the
     computed f50 do not add up to ln c (one may be -inf or NaN): the factor with the least log
@@ -219,14 +236,17 @@ def field_angle_rate_log_slope(field_angle_deg):
 
 
 def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s, blur_mm,
-                     wavelengths_nm, weights):
+                     wavelengths_nm, weights, charge_binning=False):
     """1: d ln EPC / d ln theta for every parameter of :data:`ELASTICITY_PARAMETERS`, a dict
     of arrays, at points whose status is OK (f50 > 0); ``q`` holds the parameters by name (as
     :func:`epc_fast.reference.evaluate_points` does), the rest are the model's outputs there.
     """
+    binning, frames = q["binning"], q["frames"]
     logs, slopes = mtf_log_factors(
         f50_cyc_per_mm, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_mm,
-        q["jitter_um"], wavelengths_nm, weights)
+        q["jitter_um"], wavelengths_nm, weights, binning, q["alignment_error_um"], frames)
+    g_fill = slopes[3]
+    slopes = slopes[:3]
     # where f50 is a factor's zero to within rounding (a tiny threshold), its log-slope is not
     # finite: every slope over |that slope|, the limit as it goes to -infinity (f50 follows the
     # zero); the threshold's own term, -1, goes to 0 with the others
@@ -236,14 +256,19 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     k = np.argmax(infinite, axis=0)
     scaled = np.where(np.arange(3)[:, None] == k, -1.0, 0.0)
     g_d, g_p, g_m = np.where(limit, scaled, slopes)
+    # the fill factor's slope in that limit: -1 where the pixel's own aperture is the zero
+    g_fill = np.where(limit, np.where((binning == 1) & ~np.isfinite(g_fill), -1.0, 0.0), g_fill)
     log_j = np.where(limit, 0.0, logs[3])
+    log_a = np.where(limit, 0.0, logs[4])
     threshold_term = np.where(limit, 0.0, 1.0)
-    a_slope = -(g_d + g_p + g_m + 2.0 * log_j)  # -d ln MTF / d ln f, > 0
-    t = t_mpe_log_slopes(electrons, t_mpe_s, q["read_noise_e"], q["dark_current_e_per_s"],
-                         q["prnu"])
-    # d ln MTF / d ln alpha: the motion factor's slope through the blur angle
+    a_slope = -(g_d + g_p + g_m + 2.0 * (log_j + log_a))  # -d ln MTF / d ln f, > 0
+    # T_MPE of the output pixel of the burst (its inputs each proportional to the parameter's)
+    t = t_mpe_log_slopes(electrons, t_mpe_s,
+                         burst_read_noise_e(q["read_noise_e"], binning, frames, charge_binning),
+                         q["dark_current_e_per_s"] * binned_pixels(binning), q["prnu"] / binning)
+    # d ln MTF / d ln alpha: the motion factor's slope through the blur angle (T/n a frame)
     mu = g_m * blur_angle_log_slope(blur_mm, q["focal_length_mm"], q["shake_deg_per_s"],
-                                    q["stabilization"], t_mpe_s)
+                                    q["stabilization"] * frames, t_mpe_s)
     via_rate = mu * t["rate"]
     snr_scale = q["snr_db"] * (math.log(10.0) / 10.0)  # d ln s / d ln snr_db
     zero = np.zeros_like(a_slope)
@@ -256,7 +281,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         "reflectance": via_rate,
         "lens_transmittance": via_rate,
         "field_angle_deg": via_rate * field_angle_rate_log_slope(q["field_angle_deg"]),
-        "fill_factor": 0.5 * g_p + via_rate,
+        "fill_factor": 0.5 * g_fill + via_rate,
         "electrons_per_lux_s_m2": via_rate,
         "read_noise_e": mu * t["read"],
         "dark_current_e_per_s": mu * t["dark"],
@@ -268,6 +293,9 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         "jitter_um": 2.0 * log_j,
         "wavelength_nm": g_d,
         "mtf_threshold": zero - threshold_term,
+        "binning": zero + np.nan,
+        "frames": zero + np.nan,
+        "alignment_error_um": 2.0 * log_a,
     }
     area = {"size": 1.0, "pixel_pitch_um": 2.0 if size_is_pixel_count else 0.0}
     return {name: area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope
@@ -275,15 +303,16 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
 
 
 def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, shares=True,
-                       elasticities=True):
+                       elasticities=True, charge_binning=False):
     """The shares and elasticities of 1-D points, from their :func:`epc_fast.reference.
     evaluate_points` ``result``: ``share_diffraction``, ``share_pixel``, ``share_motion``,
-    ``share_jitter`` (each 1-D) and ``elasticities`` (one row per
+    ``share_jitter``, ``share_alignment`` (each 1-D) and ``elasticities`` (one row per
     :data:`ELASTICITY_PARAMETERS` entry), as asked for.
 
     Only OK points have them; elsewhere they are NaN, but where the blur is unbounded (f50 = 0,
-    EPC = 0: motion takes all of the loss) the shares are 0, 0, 1, 0. ``p``, ``wavelengths_nm``
-    and ``weights`` as :func:`epc_fast.reference.evaluate_points` takes them.
+    EPC = 0: motion takes all of the loss) the shares are 0, 0, 1, 0, 0. ``p``,
+    ``wavelengths_nm``, ``weights`` and ``charge_binning`` as
+    :func:`epc_fast.reference.evaluate_points` takes them.
     """
     status = result["status"]
     ok = status == Status.OK
@@ -303,14 +332,15 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
         if shares:
             logs, _ = mtf_log_factors(f50, stand["f_number"], stand["pixel_pitch_um"],
                                       stand["fill_factor"], blur, stand["jitter_um"],
-                                      wavelengths, spectral_weights)
+                                      wavelengths, spectral_weights, stand["binning"],
+                                      stand["alignment_error_um"], stand["frames"])
             unbounded = status == Status.BLUR_UNBOUNDED
             for name, share in zip(SHARE_NAMES, mtf_loss_shares(logs, stand["mtf_threshold"])):
                 limit = 1.0 if name == "motion" else 0.0
                 out[f"share_{name}"] = np.where(ok, share, np.where(unbounded, limit, np.nan))
         if elasticities:
             values = epc_elasticities(stand, size_is_pixel_count, f50, electrons, t_mpe, blur,
-                                      wavelengths, spectral_weights)
+                                      wavelengths, spectral_weights, charge_binning)
             out["elasticities"] = np.stack(
                 [np.where(ok, np.broadcast_to(values[name], ok.shape), np.nan)
                  for name in ELASTICITY_PARAMETERS])
