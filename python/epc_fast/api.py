@@ -247,7 +247,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              alignment_error_um=0.0, binning_readout="digital", spectrum=None, threads=None,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
-             t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None) -> Result:
+             t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None, modes=None) -> Result:
     """Effective pixel count and its intermediates for camera designs (docs/model.md).
 
     Every model parameter is a float or an array_like of floats; all of them broadcast against
@@ -350,6 +350,13 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         Result. The core writes only these, and skips f50's solve when neither
         ``f50_cyc_per_mm`` nor ``epc`` is asked for: e.g. ``("epc", "status")`` for a scan that
         keeps only those, ``("t_mpe_s",)`` for exposures alone.
+    modes : list of dict, optional
+        Readout modes the camera picks from shot by shot (:mod:`epc_fast.modes`), each a dict
+        of ``binning``, ``binning_readout``, ``frames`` and ``alignment_error_um``, e.g.
+        ``[{"binning": 1}, {"binning": 4}, {"binning": 4, "frames": 8}]``: every mode is
+        evaluated and each point gets the outputs of the one with the highest EPC, its index
+        in :attr:`Result.mode`. A key a mode sets is not given to evaluate as well; ``out=``
+        is not taken with modes.
 
     Returns
     -------
@@ -369,6 +376,11 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         Before anything is allocated, when the call would need more memory than the machine
         (or its container) has: evaluate such a grid in pieces.
     """
+    if modes is not None:
+        call = dict(locals())  # evaluate's own keywords, modes among them
+        from .modes import evaluate_modes
+
+        return evaluate_modes(evaluate, call)
     sensor, field_angle_deg = _sensor_of(
         pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm, sensor_diagonal_mm,
         aspect, snr_at, field_angle_deg, focal_length_mm)

@@ -49,6 +49,9 @@ class Result:
         names ``"elasticities"`` (all of them) or some of them one by one
         (``"elasticity_f_number"`` ..., :mod:`epc_fast.elasticity_outputs`): the dict holds
         those.
+    mode : int16 array, with ``modes=``: the index of the readout mode the camera picks at
+        each point (the highest EPC; every other output is that mode's), -1 where no mode has
+        an EPC (the first mode's outputs then say why). None without ``modes=``.
     """
 
     electron_rate_e_per_s: np.ndarray | float | None
@@ -65,6 +68,7 @@ class Result:
     share_jitter: np.ndarray | float | None = None
     share_alignment: np.ndarray | float | None = None
     elasticities: dict | None = None
+    mode: np.ndarray | int | None = None
 
     def as_dict(self) -> dict:
         """The outputs by name: the default ones, and the others that were computed."""
@@ -82,9 +86,12 @@ SHARE_NAMES = ("diffraction", "pixel", "motion", "jitter", "alignment")
 SHARE_OUTPUTS = tuple(f"share_{name}" for name in SHARE_NAMES)
 #: The outputs computed only when ``outputs=`` names them.
 SENSITIVITY_OUTPUTS = SHARE_OUTPUTS + ("elasticities",)
+#: The fields a call with ``modes=`` adds (:mod:`epc_fast.modes`).
+MODE_OUTPUTS = ("mode",)
 #: Each default output's dtype, in Result's field order.
 OUTPUT_DTYPES = {f.name: np.dtype(np.uint8 if f.name in ("status", "cause") else np.float64)
-                 for f in fields(Result) if f.name not in SENSITIVITY_OUTPUTS}
+                 for f in fields(Result)
+                 if f.name not in SENSITIVITY_OUTPUTS + MODE_OUTPUTS}
 #: Every output's dtype (the elasticities: float64 rows), in Result's field order.
 ALL_OUTPUT_DTYPES = {**OUTPUT_DTYPES, **{name: np.dtype(np.float64)
                                          for name in SENSITIVITY_OUTPUTS}}

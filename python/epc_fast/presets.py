@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Mapping
 from dataclasses import InitVar, asdict, dataclass, replace
 
 import numpy as np
@@ -68,6 +69,10 @@ READINGS = {r.name: r for r in (
 PRESET_READING = "corner_30db"
 #: 1, the paper's image stabilisation: "4x IS" divides the motion by 4.
 IS_FACTOR = 4.0
+#: The sensor's and the readout's fields of a Design and evaluate's defaults for them.
+_SENSOR_DEFAULTS = {"read_noise_e": 0.0, "dark_current_e_per_s": 0.0, "prnu": 0.0,
+                    "full_well_e": math.inf, "fill_factor": 1.0, "binning": 1,
+                    "binning_readout": "digital", "frames": 1, "alignment_error_um": 0.0}
 
 
 def corner_field_angle_deg(width_mm: float, height_mm: float, focal_length_mm: float) -> float:
@@ -105,6 +110,13 @@ class Design:
         degrees. None (the default): where the reading says (the corner for the presets).
     sensor_diagonal_mm, aspect : mm and width:height, the format from its diagonal (used only
         when constructing; the width and height are kept).
+    read_noise_e, dark_current_e_per_s, prnu, full_well_e, fill_factor : the sensor, as
+        :func:`epc_fast.evaluate` takes them (defaults: the paper's ideal sensor).
+    binning, binning_readout, frames, alignment_error_um : how the sensor is read
+        (docs/model.md: binning k x k pixels as one, a burst of frames).
+    modes : readout modes the camera picks from shot by shot, each a dict of ``binning``,
+        ``binning_readout``, ``frames`` and ``alignment_error_um`` (:mod:`epc_fast.modes`);
+        kept as tuples of (key, value) pairs so that a Design stays hashable.
     """
 
     name: str
@@ -120,6 +132,16 @@ class Design:
     snr_at: str | float | None = None
     sensor_diagonal_mm: InitVar[float | None] = None
     aspect: InitVar[object] = None
+    read_noise_e: float = 0.0
+    dark_current_e_per_s: float = 0.0
+    prnu: float = 0.0
+    full_well_e: float = math.inf
+    fill_factor: float = 1.0
+    binning: int = 1
+    binning_readout: str = "digital"
+    frames: int = 1
+    alignment_error_um: float = 0.0
+    modes: tuple | None = None
 
     def __post_init__(self, sensor_diagonal_mm, aspect):
         if self.reading not in READINGS:
@@ -138,6 +160,12 @@ class Design:
             raise ValueError(f"Design {self.name!r}: snr_at={self.snr_at!r}: expected 'corner', "
                              "'axis' or a field angle in degrees")
         self._set_format(sensor_diagonal_mm, aspect)
+        if self.modes is not None:
+            from .modes import check_modes
+
+            modes = check_modes(dict(m) for m in self.modes) if not isinstance(
+                self.modes, Mapping) else check_modes(self.modes)
+            object.__setattr__(self, "modes", tuple(tuple(m.items()) for m in modes))
 
     def _set_format(self, sensor_diagonal_mm, aspect):
         """Fills in the format from the diagonal or the array, and the array from the format."""
@@ -216,13 +244,22 @@ class Design:
         return READINGS[self.reading].snr_db
 
     def evaluate_kwargs(self) -> dict:
-        """Keyword arguments for :func:`epc_fast.evaluate` (all but the illuminance)."""
-        return {
+        """Keyword arguments for :func:`epc_fast.evaluate` (all but the illuminance); the
+        sensor's and the readout's only where they differ from evaluate's defaults, and the
+        modes as a list of dicts."""
+        kwargs = {
             "pixel_pitch_um": self.pixel_pitch_um, "f_number": self.f_number,
             "focal_length_mm": self.focal_length_mm, "sensor_area_mm2": self.sensor_area_mm2,
             "field_angle_deg": self.field_angle_deg, "snr_db": self.snr_db,
             "stabilization": self.stabilization,
         }
+        for name, default in _SENSOR_DEFAULTS.items():
+            value = getattr(self, name)
+            if value != default:
+                kwargs[name] = value
+        if self.modes is not None:
+            kwargs["modes"] = [dict(m) for m in self.modes]
+        return kwargs
 
     def with_(self, **changes) -> "Design":
         """A copy with some fields changed (a new pitch keeps the format and the array)."""

@@ -1,0 +1,117 @@
+"""Readout modes: a camera that reads its sensor several ways (full resolution, binned, a burst)
+picks, shot by shot, the way that gives the most effective pixels.
+
+``evaluate(..., modes=[{"binning": 1}, {"binning": 4}, {"binning": 4, "frames": 8}])``
+evaluates every mode at every point and returns, per point, the outputs of the mode with the
+highest EPC and that mode's index (:attr:`Result.mode`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ._validation import short
+from .outputs import SHARE_OUTPUTS, Result, selected_outputs
+from .status import Cause, Status
+
+__all__ = ["MODE_KEYS", "MODE_DEFAULTS", "NO_MODE", "check_modes", "evaluate_modes"]
+
+#: The keywords a readout mode sets, and their defaults (evaluate's).
+MODE_DEFAULTS = {"binning": 1.0, "binning_readout": "digital", "frames": 1.0,
+                 "alignment_error_um": 0.0}
+MODE_KEYS = tuple(MODE_DEFAULTS)
+#: The mode index of a point where no mode has an EPC (every mode INVALID or UNREACHABLE): its
+#: outputs are the first mode's, whose status says why.
+NO_MODE = -1
+
+
+def check_modes(modes) -> tuple:
+    """The modes as a tuple of dicts, each key one of :data:`MODE_KEYS` with one value; a
+    TypeError or ValueError naming the mode and the key otherwise, for no mode at all, and for
+    a mode that repeats another."""
+    if isinstance(modes, (str, bytes, Mapping)) or not hasattr(modes, "__iter__"):
+        raise TypeError(f"modes: a list of readout modes, each a dict of "
+                        f"{', '.join(MODE_KEYS)}; got {short(modes)}")
+    modes = list(modes)
+    if not modes:
+        raise ValueError("modes: at least one readout mode, e.g. [{'binning': 1}, "
+                         "{'binning': 4}]; got an empty list")
+    out, seen = [], {}
+    for i, mode in enumerate(modes):
+        if not isinstance(mode, Mapping):
+            raise TypeError(f"modes[{i}]: a dict of {', '.join(MODE_KEYS)}, got {short(mode)}")
+        unknown = [k for k in mode if k not in MODE_DEFAULTS]
+        if unknown:
+            raise ValueError(f"modes[{i}]: {unknown[0]!r} is not a readout mode's key; a mode "
+                             f"sets {', '.join(MODE_KEYS)}")
+        for key, value in mode.items():
+            if key != "binning_readout" and np.ndim(value) != 0:
+                raise ValueError(f"modes[{i}]: {key} = {short(value)}: one value a mode")
+        full = {**MODE_DEFAULTS, **mode}
+        signature = tuple(str(full[k]) if k == "binning_readout" else float(full[k])
+                          for k in MODE_KEYS)
+        if signature in seen:
+            raise ValueError(f"modes[{i}] repeats modes[{seen[signature]}] "
+                             f"({short(dict(mode))}): each mode once")
+        seen[signature] = i
+        out.append(dict(mode))
+    return tuple(out)
+
+
+def evaluate_modes(evaluate, call: dict) -> Result:
+    """``evaluate``'s Result over ``call``'s keywords (evaluate's own) for each of its
+    ``modes``, per point the mode with the highest EPC, with :attr:`Result.mode` its index
+    (the first of equal ones; :data:`NO_MODE` where no mode has an EPC)."""
+    modes = check_modes(call.pop("modes"))
+    if call.get("out") is not None:
+        raise TypeError("out= cannot be given with modes: each mode's outputs are computed, "
+                        "then the best mode's taken")
+    for i, mode in enumerate(modes):
+        for key in mode:
+            if not _is_default(key, call.get(key)):
+                raise ValueError(f"{key} = {short(call[key])} is given to evaluate and in "
+                                 f"modes[{i}]: give it in each mode")
+    wanted = selected_outputs(call.get("outputs"))
+    asked = tuple(dict.fromkeys((*wanted, "epc")))
+    results = [evaluate(**{**call, **mode, "outputs": asked}) for mode in modes]
+    epc = np.stack([np.asarray(r.epc, dtype=np.float64) for r in results])
+    finite = np.isfinite(epc)
+    pick = np.argmax(np.where(finite, epc, -np.inf), axis=0)
+    mode = np.where(finite.any(axis=0), pick, NO_MODE).astype(np.int16)
+    scalar = np.ndim(results[0].epc) == 0 and not isinstance(results[0].epc, np.ndarray)
+
+    def best(values):
+        stacked = np.stack([np.asarray(v) for v in values])
+        chosen = np.take_along_axis(stacked, pick[None, ...], axis=0)[0]
+        return chosen[()] if scalar else chosen
+
+    fields = {}
+    for name in Result.__dataclass_fields__:
+        if name == "mode":
+            continue
+        values = [getattr(r, name) for r in results]
+        if values[0] is None or (name == "epc" and name not in wanted):
+            fields[name] = None
+        elif name == "elasticities":
+            fields[name] = {k: best([v[k] for v in values]) for k in values[0]}
+        else:
+            fields[name] = best(values)
+    if scalar:
+        for name, kind in (("status", Status), ("cause", Cause)):
+            if fields[name] is not None:
+                fields[name] = kind(int(fields[name]))
+        for name in ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm",
+                     "f50_cyc_per_mm", "epc", *SHARE_OUTPUTS):
+            if fields.get(name) is not None:
+                fields[name] = float(fields[name])
+    return Result(**fields, mode=int(mode) if scalar else mode)
+
+
+def _is_default(key, value) -> bool:
+    if value is None:
+        return True
+    if key == "binning_readout":
+        return value == MODE_DEFAULTS[key]
+    return bool(np.all(np.asarray(value, dtype=float) == MODE_DEFAULTS[key]))

@@ -1,0 +1,83 @@
+"""Readout modes (epc_fast.modes, evaluate(modes=...)): per point the mode with the highest
+EPC, its outputs and its index, against each mode evaluated alone; bad modes refused by name."""
+
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast import Status
+from epc_fast.modes import NO_MODE, check_modes
+
+#: A 200 MP 0.56 um phone sensor: read 1x1, 4x4-binned, and 4x4-binned in bursts of 8.
+SENSOR = dict(pixel_pitch_um=0.56, f_number=1.8, focal_length_mm=6.0, sensor_area_mm2=62.7,
+              read_noise_e=2.0, dark_current_e_per_s=5.0)
+MODES = [{"binning": 1}, {"binning": 4}, {"binning": 4, "frames": 8, "alignment_error_um": 0.5}]
+LUX = np.geomspace(0.5, 1e5, 41)
+
+
+def test_each_point_gets_the_mode_with_the_highest_epc_and_its_outputs():
+    r = epc_fast.evaluate(LUX, **SENSOR, modes=MODES)
+    alone = [epc_fast.evaluate(LUX, **SENSOR, **m) for m in MODES]
+    epc = np.stack([a.epc for a in alone])
+    assert np.array_equal(r.mode, np.argmax(np.where(np.isfinite(epc), epc, -np.inf), axis=0))
+    for i in range(LUX.size):
+        chosen = alone[r.mode[i]]
+        for name in ("epc", "t_mpe_s", "blur_mm", "f50_cyc_per_mm", "electrons", "status"):
+            assert getattr(r, name)[i] == getattr(chosen, name)[i], name
+    # Dim light picks the burst, daylight full resolution: the point of modes.
+    assert r.mode[0] == 2 and r.mode[-1] == 0 and r.mode.dtype == np.int16
+    assert np.all(r.epc >= epc.max(axis=0, initial=0, where=np.isfinite(epc)))
+
+
+def test_a_scalar_call_gives_scalars_and_equal_epcs_pick_the_first():
+    r = epc_fast.evaluate(1e4, **SENSOR, modes=[{"binning": 1}, {"frames": 1, "binning": 1.0,
+                                                                 "alignment_error_um": 0.5}])
+    assert r.mode == 0 and isinstance(r.mode, int) and isinstance(r.epc, float)
+    assert r.status == Status.OK and isinstance(r.status, Status)
+
+
+def test_where_no_mode_has_an_epc_the_first_modes_outputs_say_why():
+    r = epc_fast.evaluate([0.0, 100.0], **SENSOR, modes=MODES)
+    assert r.mode[0] == NO_MODE and r.status[0] == Status.UNREACHABLE
+    assert r.mode[1] >= 0
+
+
+def test_outputs_and_sensitivities_follow_the_chosen_mode():
+    r = epc_fast.evaluate(LUX[:5], **SENSOR, modes=MODES,
+                          outputs=("status", "share_alignment", "elasticity_f_number"))
+    assert r.epc is None and r.t_mpe_s is None
+    alone = [epc_fast.evaluate(LUX[:5], **SENSOR, **m, outputs=("epc", "share_alignment"))
+             for m in MODES]
+    for i in range(5):
+        assert r.share_alignment[i] == alone[r.mode[i]].share_alignment[i]
+    assert set(r.elasticities) == {"f_number"}
+
+
+@pytest.mark.parametrize("modes, error, match", [
+    ([], ValueError, "at least one"),
+    ({"binning": 4}, TypeError, "a list of readout modes"),
+    ("binning", TypeError, "a list of readout modes"),
+    ([{"binning": 4}, 3], TypeError, r"modes\[1\]"),
+    ([{"binnig": 4}], ValueError, r"'binnig' is not a readout mode's key"),
+    ([{"binning": 4}, {"binning": 4.0}], ValueError, r"modes\[1\] repeats modes\[0\]"),
+    ([{"binning": [1, 4]}], ValueError, "one value a mode"),
+])
+def test_bad_modes_are_refused_by_name(modes, error, match):
+    with pytest.raises(error, match=match):
+        check_modes(modes)
+    with pytest.raises(error, match=match):
+        epc_fast.evaluate(100.0, **SENSOR, modes=modes)
+
+
+def test_a_mode_key_given_to_evaluate_as_well_and_out_are_refused():
+    with pytest.raises(ValueError, match="binning = 2 is given to evaluate and in modes"):
+        epc_fast.evaluate(100.0, **SENSOR, binning=2, modes=MODES)
+    with pytest.raises(TypeError, match="out= cannot be given with modes"):
+        epc_fast.evaluate(100.0, **SENSOR, modes=MODES, out={})
+
+
+def test_a_bad_value_in_a_mode_is_the_points_status_as_any_bad_value():
+    r = epc_fast.evaluate(100.0, **SENSOR, modes=[{"binning": 2.5}, {"binning": 1}])
+    assert r.mode == 1
+    with pytest.raises(ValueError, match="binning"):
+        epc_fast.evaluate(100.0, **SENSOR, modes=[{"binning": 2.5}], invalid="raise")
