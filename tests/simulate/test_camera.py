@@ -155,3 +155,23 @@ def test_the_grid_is_the_least_odd_one_that_carries_the_image(pitch, f_number, w
     assert got == q and got % 2 == 1
     assert got / pitch >= camera.BAND_FACTOR / (wavelength * 1e-3 * f_number)
     assert got == 1 or (got - 2) / pitch < camera.BAND_FACTOR / (wavelength * 1e-3 * f_number)
+
+
+@pytest.mark.parametrize("k", [2, 3])
+def test_a_binned_edge_is_the_sum_of_its_sensor_pixels_exact_images(k):
+    design = {**DESIGN, "pixel_pitch_um": 1.4, "binning": k}
+    chart = simulate.slanted_edge((24, 40), 5.0)
+    c = simulate.capture(chart, illuminance_lux=1e5, seed=1, **design)
+    assert c.image_e.shape == chart.shape and c.pitch_um == pytest.approx(1.4 * k)
+    rows, cols = chart.shape
+    # Sensor pixel (i, j) sits at output-pixel coordinates ((i - (k-1)/2) / k, ...).
+    ys, xs = np.mgrid[0:rows * k, 0:cols * k].astype(float)
+    y, x = (ys - (k - 1) / 2) / k, (xs - (k - 1) / 2) / k
+    a = math.radians(5.0)
+    d = ((x - (cols - 1) / 2) * math.cos(a) - (y - (rows - 1) / 2) * math.sin(a)) * 1.4e-3 * k
+    esf = edge_spread(d, angle_deg=5.0, f_number=design["f_number"], wavelength_nm=550.0,
+                      pitch_um=1.4)
+    want = (0.1 + 0.3 * esf).reshape(rows, k, cols, k).sum(axis=(1, 3))
+    got = c.expected_e / per_reflectance(c, design) * k * k
+    # As for one pixel, k^2 times (the sum of k^2 sensor pixels' images).
+    assert np.max(np.abs(got - want)) < k * k * 3.3e-4 * 0.3

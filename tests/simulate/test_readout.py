@@ -49,3 +49,25 @@ def test_the_full_well_holds_what_it_holds():
     out = read_out(np.full(10_000, 2000.0), exposure_s=1.0, rng=np.random.default_rng(5),
                    **sensor)
     assert np.all(out == 900.0 - 100.0)
+
+
+@pytest.mark.parametrize("mode, reads", [("digital", 4), ("charge", 1)])
+def test_binning_sums_the_signal_and_reads_once_in_charge_k_squared_times_digitally(mode, reads):
+    sensor = dict(NONE, read_noise_e=3.0, prnu=0.02)
+    mean = np.full((400, 400), 250.0)
+    out = read_out(mean, exposure_s=1.0, rng=np.random.default_rng(6), binning=2,
+                   binning_readout=mode, **sensor)
+    assert out.shape == (200, 200)
+    # The sum of 4 pixels: 4 means, their shot noise, their PRNU (u/2 of the sum), the reads.
+    var = 4 * 250.0 + 4 * (0.02 * 250.0) ** 2 + reads * 9.0
+    assert abs(out.mean() - 1000.0) < 5 * np.sqrt(var / out.size)
+    assert abs(out.var() / var - 1) < 5 * np.sqrt(2 / out.size)
+
+
+def test_a_burst_collects_its_total_light_and_reads_each_frame():
+    sensor = dict(NONE, read_noise_e=2.0, dark_current_e_per_s=60.0, full_well_e=300.0)
+    frames = [np.full(200_000, 100.0)] * 4  # 400 e- in all: a single frame would clip at 300
+    out = read_out(frames, exposure_s=1.0, rng=np.random.default_rng(7), **sensor)
+    var = 400.0 + 60.0 + 4 * 4.0
+    assert abs(out.mean() - 400.0) < 5 * np.sqrt(var / out.size)
+    assert abs(out.var() / var - 1) < 5 * np.sqrt(2 / out.size)
