@@ -732,3 +732,15 @@ def test_the_default_k_is_the_documented_constant():
     explicit = epc_fast.evaluate(**DESIGN,
                                  electrons_per_lux_s_m2=epc_fast.DEFAULT_ELECTRONS_PER_LUX_S_M2)
     assert default == explicit
+
+
+def test_a_2x2_binned_pixel_is_the_pixel_twice_its_size():
+    # Binning k x k pixels of pitch p at full fill is one pixel of pitch k p: the same light
+    # (k^2 r), the same aperture (sinc(k p f)), the same sensor; with no read noise the same
+    # EPC to rounding (docs/beyond.md's table of the paper's designs shows it).
+    from epc_fast.presets import HIGH_TIER
+
+    lux = np.geomspace(10, 1e5, 13)
+    small, big = HIGH_TIER[3].evaluate_kwargs(), HIGH_TIER[0].evaluate_kwargs()
+    binned = epc_fast.evaluate(lux, **small, binning=2)
+    assert np.allclose(binned.epc, epc_fast.evaluate(lux, **big).epc, rtol=1e-12)
