@@ -51,3 +51,22 @@ def test_a_spectrums_transfer_is_its_wavelengths_weighted():
                for l, w in zip(wavelengths, weights))
     # One profile resampled 16 times finer, then interpolated once: 1e-5 of the direct sum.
     assert np.max(np.abs(got - want)) < 1e-5
+
+
+@pytest.mark.parametrize("aberration", ["defocus", "spherical"])
+def test_a_wavefront_error_lowers_the_otf_and_keeps_its_ends(aberration):
+    nu, clean = optics.otf_profile()
+    nu, aberrated = optics.otf_profile(0.1, aberration)
+    assert aberrated[0] == pytest.approx(1.0) and aberrated[-1] == 0.0
+    inside = (nu > 0.02) & (nu < 0.98)
+    assert np.all(aberrated[inside] < clean[inside])
+
+
+def test_defocus_of_a_quarter_wave_peak_to_valley_is_the_textbook_one():
+    # Defocus W020 = lambda/4 peak to valley is W_rms = 0.25 / (2 sqrt 3) = 0.0722 waves; its
+    # Strehl ratio, the volume of the OTF over the aberration-free one's, is about 0.80 for
+    # small aberrations: exp(-(2 pi W_rms)^2) = 0.814 (Marechal), the exact value 0.811.
+    nu, clean = optics.otf_profile()
+    nu, defocused = optics.otf_profile(0.25 / (2 * np.sqrt(3)), "defocus")
+    strehl = np.trapezoid(defocused * nu, nu) / np.trapezoid(clean * nu, nu)
+    assert abs(strehl - 0.811) < 0.005

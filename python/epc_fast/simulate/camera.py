@@ -26,6 +26,7 @@ from ..status import Status
 from .charts import Chart
 from .focal_plane import Optics, frame_irradiance
 from .optics import cutoff_cyc_per_mm
+from .processing import denoise, kernel_reach_px
 from .readout import bin_sum, read_out
 
 __all__ = ["Capture", "capture", "grid_oversample", "BAND_FACTOR"]
@@ -57,7 +58,10 @@ class Capture:
     chart : the chart captured.
     result : :class:`epc_fast.Result`, ``evaluate``'s outputs for this design and light.
     readout : the sensor's noise parameters the image was read out with.
-    frames_e : each frame's expected photo-electrons per sensor pixel (before binning).
+    frames_e : each frame's expected photo-electrons per sensor pixel (before binning),
+        with ``border_px`` output pixels of scene round the chart.
+    denoise_sigma_px : output pixels, the sigma of the denoising filter applied (0: none).
+    border_px : output pixels of scene imaged round the chart for the filter, cropped after.
     """
 
     image_e: np.ndarray
@@ -74,6 +78,8 @@ class Capture:
     readout: dict = None
     frames_e: list = None
     recapture: object = None
+    denoise_sigma_px: float = 0.0
+    border_px: int = 0
 
     def redraw(self, seed) -> "Capture":
         """The same capture with the noise drawn again from ``seed``: the expected image is
@@ -83,7 +89,8 @@ class Capture:
             return self.recapture(seed)
         rng = np.random.default_rng(seed)
         image_e = read_out(self.frames_e, exposure_s=self.exposure_s, rng=rng, **self.readout)
-        return dataclasses.replace(self, image_e=image_e, seed=seed)
+        return dataclasses.replace(
+            self, image_e=_processed(image_e, self.denoise_sigma_px, self.border_px), seed=seed)
 
 
 def grid_oversample(pixel_pitch_um: float, f_number: float,
@@ -144,7 +151,7 @@ def _exposure(exposure_s, result, shake_rad_per_s) -> float:
 
 
 def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversample=None,
-            **design) -> Capture:
+            aberration="defocus", **design) -> Capture:
     """Simulate ``chart`` captured by one design at ``illuminance_lux``.
 
     Parameters
@@ -159,6 +166,9 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     oversample : odd int, optional
         The fine grid's samples per pixel a side; default and minimum
         :func:`grid_oversample`, the least that carries the image without loss.
+    aberration : {"defocus", "spherical"}
+        The shape of the lens's wavefront error when the design has one
+        (``wavefront_rms_waves``): its pupil's phase is that Zernike polynomial, of that rms.
     **design
         Every keyword of :func:`epc_fast.evaluate` for one design (scalars), e.g. a preset's
         ``evaluate_kwargs()``. The chart sits at the design's field angle (where its SNR target
@@ -209,8 +219,12 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                     shake_rad_per_s=shake, jitter_mm=float(d["jitter_um"]) * 1e-3,
                     aperture_mm=math.sqrt(float(d["fill_factor"])) * p * 1e-3,
                     irradiance_lux=(lux * float(d["lens_transmittance"])
-                                    * math.cos(math.radians(angle)) ** 4 / (4.0 * f_number ** 2)))
-    images, blur = frame_irradiance(chart, optics, t, n, offsets, threads)
+                                    * math.cos(math.radians(angle)) ** 4 / (4.0 * f_number ** 2)),
+                    wavefront_rms_waves=float(d.get("wavefront_rms_waves", 0.0)),
+                    aberration=_aberration(aberration))
+    sigma = float(d.get("denoise_sigma_px", 0.0))
+    border = kernel_reach_px(sigma)
+    images, blur = frame_irradiance(chart, optics, t, n, offsets, threads, border_px=border)
     yield_e = (float(d["electrons_per_lux_s_m2"] or spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2)
                * (t / n) * float(d["fill_factor"]) * (p * 1e-6) ** 2)
     frames_e = [image * yield_e for image in images]
@@ -219,15 +233,37 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
               "full_well_e": float(d["full_well_e"]), "binning": k,
               "binning_readout": d.get("binning_readout", "digital")}
     image_e = read_out(frames_e, exposure_s=t, rng=np.random.default_rng(seed), **sensor)
+    image_e = _processed(image_e, sigma, border)
+    expected = _processed(sum(bin_sum(f, k) for f in frames_e), sigma, border)
     recapture = None
     if n > 1 and alignment > 0.0:
         def recapture(new_seed):
             return capture(chart, illuminance_lux=illuminance_lux, seed=new_seed,
-                           exposure_s=exposure_s, oversample=oversample, **design)
-    return Capture(image_e=image_e, expected_e=sum(bin_sum(f, k) for f in frames_e),
-                   pitch_um=p * k, exposure_s=t, illuminance_lux=lux, field_angle_deg=angle,
-                   blur_mm=blur, oversample=q, seed=seed, chart=chart, result=result,
-                   readout=sensor, frames_e=frames_e, recapture=recapture)
+                           exposure_s=exposure_s, oversample=oversample,
+                           aberration=aberration, **design)
+    return Capture(image_e=image_e, expected_e=expected, pitch_um=p * k, exposure_s=t,
+                   illuminance_lux=lux, field_angle_deg=angle, blur_mm=blur, oversample=q,
+                   seed=seed, chart=chart, result=result, readout=sensor, frames_e=frames_e,
+                   recapture=recapture, denoise_sigma_px=sigma, border_px=border)
+
+
+def _processed(image, sigma_px: float, border_px: int) -> np.ndarray:
+    """The read-out image denoised (:mod:`~epc_fast.simulate.processing`) and cropped to the
+    chart."""
+    if sigma_px == 0:
+        return image
+    filtered = denoise(image, sigma_px)
+    b = border_px
+    return np.ascontiguousarray(filtered[b:filtered.shape[0] - b, b:filtered.shape[1] - b])
+
+
+def _aberration(value) -> str:
+    from .optics import ABERRATIONS
+
+    if not isinstance(value, str) or value not in ABERRATIONS:
+        raise ValueError(f"aberration: one of {', '.join(map(repr, ABERRATIONS))}, got "
+                         f"{short(value)}")
+    return value
 
 
 def _alignment_offsets(seed, frames: int, alignment_mm: float) -> np.ndarray:

@@ -44,7 +44,9 @@ class Optics:
     q : grid samples per sensor pixel a side; f_number; wavelengths_nm, weights : the
     spectrum; focal_mm; shake_rad_per_s : the camera's turn over the stabilisation;
     jitter_mm : rms a side; aperture_mm : the side of the pixel's square aperture;
-    irradiance_lux : the focal-plane illuminance of reflectance 1.
+    irradiance_lux : the focal-plane illuminance of reflectance 1; wavefront_rms_waves and
+    aberration : the lens's wavefront error, waves rms of a Zernike defocus or spherical
+    aberration (:data:`~epc_fast.simulate.optics.ABERRATIONS`).
     """
 
     pitch_mm: float
@@ -58,6 +60,8 @@ class Optics:
     jitter_mm: float
     aperture_mm: float
     irradiance_lux: float
+    wavefront_rms_waves: float = 0.0
+    aberration: str = "defocus"
 
     @property
     def cutoff(self) -> float:
@@ -65,13 +69,15 @@ class Optics:
 
 
 def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offsets_mm,
-                     threads: int):
+                     threads: int, border_px: int = 0):
     """lux: each frame's focal-plane illuminance averaged over each sensor pixel's aperture and
     the frame's exposure, shape (rows k, columns k) a frame; and the distance the image travels
     over the whole exposure, mm.
 
     Frame j is exposed from j T/n to (j + 1) T/n; its image is registered on its own mean
     position during that time, off by ``offsets_mm[j]`` = (dy, dx), its alignment error.
+    ``border_px`` output pixels of the scene round the chart are imaged too (a denoising
+    filter reaches into them).
     """
     from scipy import fft
 
@@ -84,7 +90,8 @@ def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offs
     offsets = np.asarray(offsets_mm, dtype=float).reshape(frames, 2)
     reach = (PSF_REACH[chart.kind] * lambda_f + 6.0 * o.jitter_mm + 2.0 * o.pitch_mm
              + float(np.max(np.abs(offsets), initial=0.0)))
-    rows, cols = chart.shape[0] * k, chart.shape[1] * k  # sensor pixels
+    b = int(border_px)
+    rows, cols = (chart.shape[0] + 2 * b) * k, (chart.shape[1] + 2 * b) * k  # sensor pixels
     margin_y = MARGIN_PX + math.ceil(reach / o.pitch_mm)
     margin_x = MARGIN_PX + math.ceil((reach + blur) / o.pitch_mm)
     ny = fft.next_fast_len(q * (rows + 2 * margin_y), real=True)
@@ -94,8 +101,8 @@ def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offs
     # Sensor pixel i is centred on grid sample q (i + margin) + (q - 1) / 2; output pixel I on
     # the centre of its sensor pixels k I ... k I + k - 1, the chart's point I.
     offset = (np.arange(max(ny, nx), dtype=float) - (q - 1) / 2.0) / q
-    y = ((offset[:ny] - margin_y - (k - 1) / 2.0) / k)[:, None]
-    x = ((offset[:nx] - margin_x - (k - 1) / 2.0) / k)[None, :]
+    y = ((offset[:ny] - margin_y - (k - 1) / 2.0) / k - b)[:, None]
+    x = ((offset[:nx] - margin_x - (k - 1) / 2.0) / k - b)[None, :]
     reflectance = chart.reflectance_at(y, x, pitch_um=k * o.pitch_mm * 1e3,
                                        band_cyc_per_mm=1.0 / dx - cutoff, cell_px=1.0 / (q * k))
     spectrum = fft.rfft2(reflectance, workers=threads)
@@ -106,7 +113,8 @@ def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offs
     iy, ix = np.nonzero(np.abs(fy) < cutoff)[0], np.nonzero(fx < cutoff)[0]
     fyk, fxk = fy[iy], fx[ix]
     common = diffraction_transfer(np.hypot(fyk[:, None], fxk[None, :]), o.f_number,
-                                  o.wavelengths_nm, o.weights).astype(complex)
+                                  o.wavelengths_nm, o.weights, o.wavefront_rms_waves,
+                                  o.aberration).astype(complex)
     common *= (aperture_transfer(fyk, o.aperture_mm) * jitter_transfer(fyk, o.jitter_mm))[:, None]
     common *= (aperture_transfer(fxk, o.aperture_mm) * jitter_transfer(fxk, o.jitter_mm))[None, :]
     common *= spectrum[np.ix_(iy, ix)]

@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-__all__ = ["PUPIL_RADIUS_SAMPLES", "pupil", "otf_profile", "diffraction_transfer",
+__all__ = ["PUPIL_RADIUS_SAMPLES", "ABERRATIONS", "pupil", "otf_profile", "diffraction_transfer",
            "cutoff_cyc_per_mm"]
 
 #: Samples, the pupil's radius on its grid. The OTF is the pupil's autocorrelation, sampled at
@@ -25,30 +25,48 @@ __all__ = ["PUPIL_RADIUS_SAMPLES", "pupil", "otf_profile", "diffraction_transfer
 PUPIL_RADIUS_SAMPLES = 480
 
 
-def pupil(radius_samples: int = PUPIL_RADIUS_SAMPLES) -> np.ndarray:
-    """The uniform circular pupil on a square grid: 1 in the cells whose centre lies within
-    ``radius_samples`` of cell (n/2, n/2), 0 elsewhere, on an n x n grid with n the
-    FFT-friendly size of at least 4 radii + 4, so that its autocorrelation does not wrap."""
+#: Zernike polynomials (rms 1 over the pupil) of the aberrations a wavefront error can take,
+#: as functions of the pupil's normalised radius rho (Noll's normalisation).
+ABERRATIONS = {
+    "defocus": lambda rho: math.sqrt(3.0) * (2.0 * rho ** 2 - 1.0),
+    "spherical": lambda rho: math.sqrt(5.0) * (6.0 * rho ** 4 - 6.0 * rho ** 2 + 1.0),
+}
+
+
+def pupil(radius_samples: int = PUPIL_RADIUS_SAMPLES, wavefront_rms_waves: float = 0.0,
+          aberration: str = "defocus") -> np.ndarray:
+    """The circular pupil on a square grid: in the cells whose centre lies within
+    ``radius_samples`` of cell (n/2, n/2), exp(2 pi i W Z(rho)) (1 without a wavefront error,
+    W in waves rms, Z the aberration's Zernike polynomial), 0 elsewhere; n the FFT-friendly
+    size of at least 4 radii + 4, so that its autocorrelation does not wrap."""
     from scipy.fft import next_fast_len
 
     n = next_fast_len(4 * int(radius_samples) + 4)
     k = np.arange(n, dtype=float) - n // 2
-    return (np.hypot(k[:, None], k[None, :]) <= radius_samples).astype(float)
+    rho = np.hypot(k[:, None], k[None, :]) / radius_samples
+    inside = rho <= 1.0
+    if wavefront_rms_waves == 0.0:
+        return inside.astype(float)
+    phase = 2.0 * math.pi * wavefront_rms_waves * ABERRATIONS[aberration](rho)
+    return np.where(inside, np.exp(1j * phase), 0.0)
 
 
-@functools.lru_cache(maxsize=1)
-def otf_profile() -> tuple[np.ndarray, np.ndarray]:
-    """The aberration-free OTF along one axis, in units of the cut-off frequency.
+@functools.lru_cache(maxsize=8)
+def otf_profile(wavefront_rms_waves: float = 0.0,
+                aberration: str = "defocus") -> tuple[np.ndarray, np.ndarray]:
+    """The lens's OTF along one axis, in units of the cut-off frequency, for a wavefront error
+    of ``wavefront_rms_waves`` of the ``aberration`` (both radially symmetric, so the OTF is).
 
     Returns
     -------
     (nu, otf) : nu from 0 to 1 in steps of 1/(2 R) (R = :data:`PUPIL_RADIUS_SAMPLES`), then
-        a last sample past the cut-off where the OTF is 0; otf the normalised OTF there
-        (1 at 0). Computed once: PSF = |FFT(pupil)|^2, OTF = FFT(PSF) / its value at 0.
+        a last sample past the cut-off where the OTF is 0; otf the real part of the normalised
+        OTF there (1 at 0; the imaginary part of a radially symmetric pupil's OTF is 0).
+        Computed once each: PSF = |FFT(pupil)|^2, OTF = FFT(PSF) / its value at 0.
     """
     from scipy import fft
 
-    p = pupil()
+    p = pupil(wavefront_rms_waves=wavefront_rms_waves, aberration=aberration)
     psf = np.abs(fft.fft2(p, workers=-1)) ** 2
     otf = fft.ifft2(psf, workers=-1).real
     lags = 2 * PUPIL_RADIUS_SAMPLES + 2
@@ -56,19 +74,22 @@ def otf_profile() -> tuple[np.ndarray, np.ndarray]:
     nu = np.arange(lags) / (2.0 * PUPIL_RADIUS_SAMPLES)
     # From a diameter's lag on, the discs no longer overlap: the lattice's count keeps a cell
     # touching at exactly one diameter, and the FFT its rounding.
-    profile[(nu >= 1.0) | (profile < 0.0)] = 0.0
+    profile[nu >= 1.0] = 0.0
+    if wavefront_rms_waves == 0.0:
+        profile[profile < 0.0] = 0.0
     profile.flags.writeable = False
     nu.flags.writeable = False
     return nu, profile
 
 
 def diffraction_transfer(frequency_cyc_per_mm, f_number: float, wavelengths_nm,
-                         weights) -> np.ndarray:
+                         weights, wavefront_rms_waves: float = 0.0,
+                         aberration: str = "defocus") -> np.ndarray:
     """The lens's OTF at spatial frequencies of magnitude ``frequency_cyc_per_mm``, averaged
     over the spectrum's wavelengths with their weights (the image of each wavelength adds in
-    electrons)."""
+    electrons), with a wavefront error of ``wavefront_rms_waves`` waves at every wavelength."""
     f = np.asarray(frequency_cyc_per_mm, dtype=float)
-    nu, otf = otf_profile()
+    nu, otf = otf_profile(float(wavefront_rms_waves), aberration)
     wavelengths = np.asarray(wavelengths_nm, dtype=float)
     w = np.asarray(weights, dtype=float)
     if wavelengths.size == 1:
