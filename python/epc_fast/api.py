@@ -459,7 +459,7 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_
                           np.ascontiguousarray(wavelengths, dtype=np.float64),
                           np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
                           f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, CHUNK_POINTS,
-                          out, allocate, binning_readout)
+                          out, allocate, binning_readout=binning_readout)
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
