@@ -149,7 +149,8 @@ def test_a_selection_of_outputs_and_out_arrays_mix_with_kept_memory(cache, desig
     # beneath the API: a caller's array and kept memory in one call, with the API's arguments
     calls = []
     real = _core.evaluate
-    monkeypatch.setattr(_core, "evaluate", lambda *args: calls.append(args) or real(*args))
+    monkeypatch.setattr(_core, "evaluate",
+                        lambda *args, **kwargs: calls.append(args) or real(*args, **kwargs))
     epc_fast.evaluate(**designs, outputs=("t_mpe_s",))
     out = {"t_mpe_s": np.full(N, np.nan)}
     result = real(*calls[0][:-2], out, ["epc", "f50_cyc_per_mm"])

@@ -291,7 +291,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     wavelength_nm : nm, wavelength for monochromatic diffraction.
     mtf_threshold : 1, MTF level defining the cut-off frequency, in (0, 1).
     binning : 1, pixel binning k, a whole number >= 1: k x k pixels read as one output pixel
-        (1: off; docs/model.md, "Exposure" and "System MTF").
+        (1: off; docs/model.md, "Exposure: T_MPE" and "System MTF").
     frames : 1, burst capture n, a whole number >= 1: the exposure split into n frames,
         aligned and summed (1: off).
     alignment_error_um : um, rms alignment error of each frame of a burst (0: off).
@@ -471,7 +471,7 @@ def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_
                           np.ascontiguousarray(wavelengths, dtype=np.float64),
                           np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
                           f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, CHUNK_POINTS,
-                          out, allocate, binning_readout)
+                          out, allocate, binning_readout=binning_readout)
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),

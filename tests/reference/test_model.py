@@ -455,7 +455,7 @@ def test_evaluate_gives_the_same_epc_for_pixel_count_and_its_area(options):
     assert by_count.epc == pytest.approx(by_area.epc, rel=1e-15)
 
 
-# --- Binning and bursts (docs/model.md, "Exposure", "Blur", "System MTF") ------------------------
+# --- Binning and bursts (docs/model.md, "Exposure: T_MPE", "Blur during the exposure", "System MTF")
 
 #: The paper's 1.4 um design with every sensor term on, over a range of light.
 SENSOR = dict(illuminance_lux=np.geomspace(1.0, 1e5, 41), pixel_pitch_um=1.4, f_number=2.8,

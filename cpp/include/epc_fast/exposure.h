@@ -48,8 +48,8 @@ inline double electron_rate(double illuminance_lux, double reflectance, double l
     return rate >= std::numeric_limits<double>::min() ? rate : 0.0;
 }
 
-// Binning and bursts (MODEL.md, "Exposure"): the sensor reads k x k pixels as one output pixel
-// and sums n frames of T/n each. The output pixel's rate is k^2 r and its dark current k^2 D;
+// Binning and bursts (docs/model.md, "Exposure: T_MPE"): the sensor reads k x k pixels as one
+// output pixel and sums n frames of T/n each. The output pixel's rate is k^2 r and its dark current k^2 D;
 // the PRNU of the sum of k^2 pixels is u / k; the full well is k^2 W a frame, n k^2 W over the
 // burst; the read noise is that of n reads of k^2 pixels each (digital binning) or of one
 // (charge binning); each frame moves by its own T/n of shake, as a stabilisation n times k.
