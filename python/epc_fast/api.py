@@ -12,6 +12,7 @@ from ._limits import MAX_THREADS
 from ._validation import as_float_array, choice, column, short, threads_of, tolerance
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .memory import memory_limit_bytes as _memory_limit_bytes
+from .modes import evaluate_modes
 from .outputs import (ALL_OUTPUT_DTYPES, DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
                       SHARE_OUTPUTS, Result, out_arrays, output_bytes, result_of,
                       selected_outputs)
@@ -351,12 +352,9 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         ``f50_cyc_per_mm`` nor ``epc`` is asked for: e.g. ``("epc", "status")`` for a scan that
         keeps only those, ``("t_mpe_s",)`` for exposures alone.
     modes : list of dict, optional
-        Readout modes the camera picks from shot by shot (:mod:`epc_fast.modes`), each a dict
-        of ``binning``, ``binning_readout``, ``frames`` and ``alignment_error_um``, e.g.
-        ``[{"binning": 1}, {"binning": 4}, {"binning": 4, "frames": 8}]``: every mode is
-        evaluated and each point gets the outputs of the one with the highest EPC, its index
-        in :attr:`Result.mode`. A key a mode sets is not given to evaluate as well; ``out=``
-        is not taken with modes.
+        Readout modes (:mod:`epc_fast.modes`), e.g. ``[{"binning": 1}, {"binning": 4}]``:
+        each point gets the outputs of the mode with the highest EPC, its index in
+        :attr:`Result.mode`.
 
     Returns
     -------
@@ -376,11 +374,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         Before anything is allocated, when the call would need more memory than the machine
         (or its container) has: evaluate such a grid in pieces.
     """
-    if modes is not None:
-        call = dict(locals())  # evaluate's own keywords, modes among them
-        from .modes import evaluate_modes
-
-        return evaluate_modes(evaluate, call)
+    if modes is not None:  # evaluate's own keywords, modes among them, to each mode
+        return evaluate_modes(evaluate, dict(locals()))
     sensor, field_angle_deg = _sensor_of(
         pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm, sensor_diagonal_mm,
         aspect, snr_at, field_angle_deg, focal_length_mm)
