@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..api import BINNING_READOUTS
+from ..modes import MODE_DEFAULTS, check_modes
 from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
 from ..presets import Design
 from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
@@ -43,6 +45,10 @@ DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
 EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
                     "precision")
+#: What a design gives besides evaluate's per-point parameters: how its sensor is read
+#: (``binning_readout``, evaluate's per-call option, so one per design) and its readout
+#: ``modes`` (:mod:`epc_fast.modes`).
+READOUT_KEYS = ("binning_readout", "modes")
 
 
 def _domain_of(name: str):
@@ -94,6 +100,10 @@ def domain_problem(name: str, axis):
     if isinstance(axis, (int, float)) and not isinstance(axis, bool):
         return None if in_domain(param, axis) else f"{float(axis):g}: {_expected(name)}"
     parent = axis.distribution if isinstance(axis, Truncated) else axis
+    if param.integer and not isinstance(parent, Empirical):
+        # a continuous distribution draws whole numbers with probability 0
+        return (f"{axis!r}: {_expected(name, 'whole numbers')}; draw them with "
+                f"{{grid = [...]}}, {{choice = [...]}} or an empirical distribution")
     if isinstance(parent, Empirical):
         bad = _outside(param, parent.samples if parent is axis else
                        parent.samples[(parent.samples >= axis.low)
@@ -171,11 +181,51 @@ def _design_dict(design, position: int) -> tuple[dict, str]:
                         f"got {design!r}")
     entry = dict(design)
     name = entry.pop("name", f"design {position}")
+    readout = {k: entry.pop(k) for k in READOUT_KEYS if k in entry}
     try:
         kwargs, where = design_parameters(entry)
     except (TypeError, ValueError) as error:
         raise type(error)(f"design {name!r}: {error}") from None
-    return {"name": name, **kwargs}, where
+    return {"name": name, **kwargs, **readout}, where
+
+
+def _design_readout(entry: dict, overridden: set) -> tuple[str, tuple | None]:
+    """A design's ``binning_readout`` and its checked ``modes`` (None: none), popped from its
+    ``entry``; a ValueError or TypeError naming the design and the mode otherwise."""
+    name = entry["name"]
+    readout = entry.pop("binning_readout", MODE_DEFAULTS["binning_readout"])
+    if readout not in BINNING_READOUTS:
+        raise ValueError(f"design {name!r}: binning_readout = {readout!r}: expected one of "
+                         f"{', '.join(map(repr, BINNING_READOUTS))}")
+    modes = entry.pop("modes", None)
+    if modes is None:
+        return readout, None
+    try:
+        modes = check_modes(modes)
+    except (TypeError, ValueError) as error:
+        raise type(error)(f"design {name!r}: {error}") from None
+    for index, mode in enumerate(modes):
+        for key, value in mode.items():
+            where = f"design {name!r}: modes[{index}]: {key}"
+            if key == "binning_readout":
+                if value not in BINNING_READOUTS:
+                    raise ValueError(f"{where} = {value!r}: expected one of "
+                                     f"{', '.join(map(repr, BINNING_READOUTS))}")
+                continue
+            if key in overridden:
+                raise ValueError(f"{where}: the space's parameters set {key} too: a mode "
+                                 "sets it, or the parameters do, not both")
+            if key in entry and float(entry[key]) != MODE_DEFAULTS[key]:
+                raise ValueError(f"{where}: the design sets {key} = {entry[key]:g} too: "
+                                 "give it in each mode")
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                raise TypeError(f"{where} = {value!r}: expected a number") from None
+            problem = domain_problem(key, number)
+            if problem:
+                raise ValueError(f"{where} = {problem}")
+    return readout, modes
 
 
 class Space:
@@ -216,6 +266,10 @@ class Space:
         #: Where each design meets the SNR target, for people (``"corner (27.03 deg)"``).
         self.design_snr_at: tuple[str, ...] = ()
         self.design_table: dict[str, np.ndarray] = {}
+        #: Per design: how its sensor is read (``"digital"`` or ``"charge"``) and its readout
+        #: modes (a tuple of dicts, :mod:`epc_fast.modes`; None: the design's own readout).
+        self.design_readout: tuple[str, ...] = ()
+        self.design_modes: tuple = ()
         self.design_varying: tuple[str, ...] = ()
         self.design_constant: tuple[str, ...] = ()
         if design is not None:
@@ -237,6 +291,9 @@ class Space:
         resolved = [_design_dict(d, i) for i, d in enumerate(axis.values)]
         entries = [{k: v for k, v in entry.items() if k not in overridden}
                    for entry, _ in resolved]
+        readouts = [_design_readout(entry, overridden) for entry in entries]
+        self.design_readout = tuple(readout for readout, _ in readouts)
+        self.design_modes = tuple(modes for _, modes in readouts)
         self.design_snr_at = tuple(where for _, where in resolved)
         names = set().union(*entries) - {"name"}
         defaults = {p.name: p.default for p in PARAMETERS if p.default is not None}
@@ -311,6 +368,24 @@ class Space:
                 problem = domain_problem(name, float(value))
                 if problem:
                     raise ValueError(f"design {design!r}: {name} = {problem}")
+
+    @property
+    def has_readouts(self) -> bool:
+        """Whether a design has readout modes or reads its binned pixels as charge: then
+        each chunk's points are evaluated per design's readout (:mod:`epc_fast.scan.readout`),
+        not by the core's fused pass."""
+        return any(m is not None for m in self.design_modes) or any(
+            r != MODE_DEFAULTS["binning_readout"] for r in self.design_readout)
+
+    @property
+    def has_modes(self) -> bool:
+        """Whether a design lists readout modes (the scan then keeps each point's mode)."""
+        return any(m is not None for m in self.design_modes)
+
+    @property
+    def mode_count(self) -> int:
+        """The most readout modes a design lists (1 for a design without modes)."""
+        return max((len(m) if m is not None else 1 for m in self.design_modes), default=1)
 
     @property
     def grid_size(self) -> int:

@@ -1,0 +1,91 @@
+"""A chunk's points evaluated per design's readout: its ``binning_readout`` and its readout
+``modes`` (:mod:`epc_fast.modes`).
+
+``binning_readout`` is a per-call option of :func:`epc_fast.evaluate`, and a mode is evaluated
+on every point it could be picked at, so a space whose designs have modes or read their binned
+pixels as charge is evaluated here, design group by design group: every mode of a design on the
+same points (the same draws for every mode), and per point the mode with the highest EPC, as
+``evaluate(modes=...)`` picks it. The chunk's :class:`~epc_fast.Result` then holds the picked
+mode's outputs and its index (``mode``; a design without modes has one, its own readout, index
+0; -1 where no mode has an EPC). A space without either never comes here: its chunks are the
+core's fused pass, unchanged.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..api import evaluate
+from ..outputs import Result
+from .space import Points, Space
+
+__all__ = ["evaluate_points", "readout_groups"]
+
+
+def readout_groups(space: Space) -> list[tuple[tuple, str, tuple]]:
+    """(design indices, binning_readout, modes) for each distinct readout of the space's
+    designs, in the order of their first design; a design without modes has one mode, ``{}``
+    (its own readout)."""
+    groups: dict = {}
+    for index, (readout, modes) in enumerate(zip(space.design_readout, space.design_modes)):
+        key = (readout, tuple(tuple(sorted(m.items())) for m in modes) if modes else None)
+        groups.setdefault(key, (readout, modes or ({},), []))[2].append(index)
+    return [(tuple(designs), readout, modes) for readout, modes, designs in groups.values()]
+
+
+def _subset(value, positions):
+    if positions is None or np.ndim(value) == 0:
+        return value
+    return np.asarray(value)[positions]
+
+
+def evaluate_points(space: Space, points: Points, **options) -> Result:
+    """The :class:`~epc_fast.Result` of ``points`` (of ``space``), each point read by its
+    design's readout: per point the mode with the highest EPC, its outputs, and its index in
+    ``mode`` (int16). ``options`` are evaluate's (``outputs``, ``threads``, ``backend``, the
+    space's evaluate options)."""
+    n = len(points)
+    design = points.indices.get("design")
+    fields: dict = {}
+    mode = np.full(n, -1, np.int16)
+    for designs, readout, modes in readout_groups(space):
+        if design is None or len(designs) == len(space.design_names):
+            positions = None
+        else:
+            positions = np.flatnonzero(np.isin(design, designs))
+            if positions.size == 0:
+                continue
+        set_by_modes = {key for m in modes for key in m}
+        call = {name: _subset(value, positions) for name, value in points.parameters.items()
+                if name not in set_by_modes}
+        expanded = [m if "binning_readout" in m else {**m, "binning_readout": readout}
+                    for m in modes]
+        result = evaluate(**call, modes=expanded, **options)
+        size = n if positions is None else positions.size
+        for name in Result.__dataclass_fields__:
+            value = getattr(result, name)
+            if value is None:
+                fields.setdefault(name, None)
+                continue
+            if name == "elasticities":
+                target = fields.get(name) or {}
+                for key, values in value.items():
+                    _scatter(target, key, values, positions, n, size)
+                fields[name] = target
+            elif name == "mode":
+                mode[slice(None) if positions is None else positions] = np.broadcast_to(
+                    np.asarray(value), (size,))
+            else:
+                if fields.get(name) is None:
+                    fields.pop(name, None)
+                _scatter(fields, name, value, positions, n, size)
+    fields.pop("mode", None)
+    return Result(**fields, mode=mode)
+
+
+def _scatter(target: dict, name: str, value, positions, n: int, size: int) -> None:
+    dtype = np.uint8 if name in ("status", "cause") else None
+    value = np.broadcast_to(np.asarray(value, dtype=dtype), (size,))
+    if name not in target:
+        target[name] = np.empty(n, value.dtype)
+    target[name][slice(None) if positions is None else positions] = value
