@@ -19,7 +19,7 @@ from ..api import evaluate
 from ..outputs import Result
 from .space import Points, Space
 
-__all__ = ["evaluate_points", "readout_groups"]
+__all__ = ["evaluate_points", "readout_groups", "readout_kwargs"]
 
 
 def readout_groups(space: Space) -> list[tuple[tuple, str, tuple]]:
@@ -31,6 +31,16 @@ def readout_groups(space: Space) -> list[tuple[tuple, str, tuple]]:
         key = (readout, tuple(tuple(sorted(m.items())) for m in modes) if modes else None)
         groups.setdefault(key, (readout, modes or ({},), []))[2].append(index)
     return [(tuple(designs), readout, modes) for readout, modes, designs in groups.values()]
+
+
+def readout_kwargs(readout: str, modes) -> tuple[dict, frozenset]:
+    """(evaluate's keywords for a design read by ``readout`` with ``modes``, the per-point
+    parameters those modes set, which the call must not give)."""
+    if modes is None or modes == ({},):
+        return ({} if readout == "digital" else {"binning_readout": readout}), frozenset()
+    expanded = [m if "binning_readout" in m else {**m, "binning_readout": readout}
+                for m in modes]
+    return {"modes": expanded}, frozenset(k for m in modes for k in m)
 
 
 def _subset(value, positions):
@@ -55,12 +65,12 @@ def evaluate_points(space: Space, points: Points, **options) -> Result:
             positions = np.flatnonzero(np.isin(design, designs))
             if positions.size == 0:
                 continue
-        set_by_modes = {key for m in modes for key in m}
+        extra, set_by_modes = readout_kwargs(readout, modes)
+        if "modes" not in extra:  # one mode, the design's own readout: index 0
+            extra = {"modes": [{"binning_readout": readout}]}
         call = {name: _subset(value, positions) for name, value in points.parameters.items()
                 if name not in set_by_modes}
-        expanded = [m if "binning_readout" in m else {**m, "binning_readout": readout}
-                    for m in modes]
-        result = evaluate(**call, modes=expanded, **options)
+        result = evaluate(**call, **extra, **options)
         size = n if positions is None else positions.size
         for name in Result.__dataclass_fields__:
             value = getattr(result, name)
