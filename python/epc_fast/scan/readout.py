@@ -15,11 +15,60 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..api import evaluate
+from ..api import BINNING_READOUTS, evaluate
+from ..modes import MODE_DEFAULTS, check_modes
 from ..outputs import Result
-from .space import Points, Space
+from .domains import domain_problem
 
-__all__ = ["evaluate_points", "readout_groups", "readout_kwargs"]
+# Space and Points (scan/space.py, which imports this module) are named in annotations only.
+
+__all__ = ["evaluate_points", "readout_groups", "readout_kwargs", "design_readout",
+           "READOUT_KEYS"]
+
+#: What a design gives besides evaluate's per-point parameters: how its sensor is read
+#: (``binning_readout``, evaluate's per-call option, so one per design) and its readout
+#: ``modes`` (:mod:`epc_fast.modes`).
+READOUT_KEYS = ("binning_readout", "modes")
+
+
+def design_readout(entry: dict, overridden: set) -> tuple[str, tuple | None]:
+    """A design's ``binning_readout`` and its checked ``modes`` (None: none), popped from its
+    ``entry``; a ValueError or TypeError naming the design and the mode otherwise."""
+    name = entry["name"]
+    readout = entry.pop("binning_readout", MODE_DEFAULTS["binning_readout"])
+    if readout not in BINNING_READOUTS:
+        raise ValueError(f"design {name!r}: binning_readout = {readout!r}: expected one of "
+                         f"{', '.join(map(repr, BINNING_READOUTS))}")
+    modes = entry.pop("modes", None)
+    if modes is None:
+        return readout, None
+    try:
+        modes = check_modes(modes)
+    except (TypeError, ValueError) as error:
+        raise type(error)(f"design {name!r}: {error}") from None
+    for index, mode in enumerate(modes):
+        for key, value in mode.items():
+            where = f"design {name!r}: modes[{index}]: {key}"
+            if key == "binning_readout":
+                if value not in BINNING_READOUTS:
+                    raise ValueError(f"{where} = {value!r}: expected one of "
+                                     f"{', '.join(map(repr, BINNING_READOUTS))}")
+                continue
+            if key in overridden:
+                raise ValueError(f"{where}: the space's parameters set {key} too: a mode "
+                                 "sets it, or the parameters do, not both")
+            if key in entry and float(entry[key]) != MODE_DEFAULTS[key]:
+                raise ValueError(f"{where}: the design sets {key} = {entry[key]:g} too: "
+                                 "give it in each mode")
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                raise TypeError(f"{where} = {value!r}: expected a number") from None
+            problem = domain_problem(key, number)
+            if problem:
+                raise ValueError(f"{where} = {problem}")
+    return readout, modes
+
 
 
 def readout_groups(space: Space) -> list[tuple[tuple, str, tuple]]:

@@ -56,7 +56,8 @@ from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, 
                      string, table_of, take, wrapped)
 from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
-from ..space import BLOCK_POINTS, POINT_PARAMETERS, READOUT_KEYS, Space, domain_problem
+from ..readout import READOUT_KEYS
+from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
 from ...api import BINNING_READOUTS
 from ...modes import MODE_DEFAULTS, check_modes
 
