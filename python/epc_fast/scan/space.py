@@ -367,7 +367,8 @@ class Space:
 
     def defaults(self) -> dict:
         """{name: value}: the model parameters nobody set, which take evaluate's defaults."""
-        given = set(self.axes) | set(self.design_table)
+        given = set(self.axes) | set(self.design_table) | {
+            key for modes in self.design_modes if modes for mode in modes for key in mode}
         return {p.name: p.default for p in PARAMETERS
                 if p.default is not None and p.name not in given}
 
