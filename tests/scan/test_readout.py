@@ -179,3 +179,14 @@ def test_a_design_object_carries_its_modes_and_readout_into_the_scan():
     space = scan.Space(design=[design, HIGH_TIER[0]], **_light())
     assert space.design_readout == ("charge", "digital")
     assert space.design_modes == (MODES, None)
+
+
+def test_a_space_describes_each_designs_readout_and_refuses_it_as_a_parameter():
+    design = HIGH_TIER[3].with_(binning_readout="charge", modes=MODES)
+    text = scan.Space(design=[design, HIGH_TIER[0]], **_light()).describe()
+    assert "1.4 um: SNR target 30 dB at corner (27.03 deg, default); charge binning; modes: " \
+           "binning=1 | binning=2 | binning=2, frames=4\n" in text
+    assert "2.8 um: SNR target 30 dB at corner (27.03 deg, default)\n" in text
+    assert "binning=1" in text.split("defaults")[1]  # the 2.8 um design's
+    with pytest.raises(TypeError, match="binning_readout is how a design's sensor is read"):
+        scan.Space(design=HIGH_TIER, **_light(binning_readout="charge"))

@@ -88,6 +88,17 @@ def _design_dict(design, position: int) -> tuple[dict, str]:
     return {"name": name, **kwargs, **readout}, where
 
 
+def _readout_text(readout: str, modes) -> str:
+    """``"; charge binning"``, ``"; modes: binning=1 | binning=4"``: a design's readout, for
+    people; empty for the default."""
+    text = "" if readout == MODE_DEFAULTS["binning_readout"] else f"; {readout} binning"
+    if modes:
+        text += "; modes: " + " | ".join(
+            ", ".join(f"{k}={v}" if isinstance(v, str) else f"{k}={v:g}" for k, v in m.items())
+            or "the design's own" for m in modes)
+    return text
+
+
 class Space:
     """A design space for :func:`epc_fast.scan.run`.
 
@@ -116,6 +127,10 @@ class Space:
 
     def __init__(self, design=None, evaluate_options=None, **parameters):
         unknown = sorted(set(parameters) - set(POINT_PARAMETERS))
+        readout = [name for name in unknown if name in READOUT_KEYS]
+        if readout:
+            raise TypeError(f"{readout[0]} is how a design's sensor is read, one per design: "
+                            "give it in each design (a [[design.custom]] key, a Design field)")
         if unknown:
             extra = ("; a sensor's width, height, diagonal and aspect are given per design"
                      if set(unknown) & set(SHAPE_KEYWORDS) else "")
@@ -367,8 +382,10 @@ class Space:
 
     def defaults(self) -> dict:
         """{name: value}: the model parameters nobody set, which take evaluate's defaults."""
-        given = set(self.axes) | set(self.design_table) | {
-            key for modes in self.design_modes if modes for mode in modes for key in mode}
+        given = set(self.axes) | set(self.design_table)
+        if self.design_modes and all(self.design_modes):  # what every design's modes set
+            given |= set.intersection(*({k for mode in modes for k in mode}
+                                        for modes in self.design_modes))
         return {p.name: p.default for p in PARAMETERS
                 if p.default is not None and p.name not in given}
 
@@ -381,8 +398,10 @@ class Space:
             if name == "design":
                 kind = "grid" if isinstance(axis, Grid) else f"choice (weights {axis.weights})"
                 lines.append(f"design: {kind} over {len(self.design_names)}:")
-                lines.extend(f"  {design}: SNR target {target}"
-                             for design, target in zip(self.design_names, targets))
+                lines.extend(f"  {design}: SNR target {target}{_readout_text(readout, modes)}"
+                             for design, target, readout, modes in zip(
+                                 self.design_names, targets, self.design_readout,
+                                 self.design_modes))
             else:
                 share = 0.0 if isinstance(axis, (float, Grid, Choice)) else \
                     1.0 - _inside_probability(name, axis)
