@@ -70,7 +70,6 @@ def design_readout(entry: dict, overridden: set) -> tuple[str, tuple | None]:
     return readout, modes
 
 
-
 def readout_groups(space: Space) -> list[tuple[tuple, str, tuple]]:
     """(design indices, binning_readout, modes) for each distinct readout of the space's
     designs, in the order of their first design; a design without modes has one mode, ``{}``
