@@ -190,3 +190,16 @@ def test_a_space_describes_each_designs_readout_and_refuses_it_as_a_parameter():
     assert "binning=1" in text.split("defaults")[1]  # the 2.8 um design's
     with pytest.raises(TypeError, match="binning_readout is how a design's sensor is read"):
         scan.Space(design=HIGH_TIER, **_light(binning_readout="charge"))
+
+
+def test_a_bursts_alignment_share_is_summarised_by_the_fused_pass_as_by_numpy():
+    space = scan.Space(design=HIGH_TIER, **_light(
+        frames=Choice([1, 4, 16]), alignment_error_um=Uniform(0.0, 1.0)))
+    reductions = {"align": Summary(of="share_alignment", by="design"),
+                  "epc": Summary(by="design")}
+    core, numpy = (run(space, N, seed=6, reductions=reductions, progress=False,
+                       backend=backend) for backend in ("core", "numpy"))
+    for name in reductions:
+        np.testing.assert_allclose(core[name].mean, numpy[name].mean, rtol=1e-12)
+        assert np.array_equal(core[name].count, numpy[name].count)
+    assert np.all(core["align"].mean > 0.0) and np.all(core["align"].max < 1.0)
