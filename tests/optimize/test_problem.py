@@ -105,5 +105,14 @@ def test_readout_modes_give_each_candidate_the_best_mode_per_draw():
     drawn = space.points(9, 0, 5_000).parameters
     expected = epc_fast.evaluate(**{**drawn, "pixel_pitch_um": 0.8}, modes=list(modes)).epc
     assert np.array_equal(problem.epc(pixel_pitch_um=0.8), np.nan_to_num(expected))
-    with pytest.raises(ValueError, match="binning is optimised and set by the designs' readout"):
-        optimize.Problem(space, {"binning": (1, 4)}, points=100, seed=1)
+    bursts = scan.Space(design=[DESIGN.with_(modes=({"frames": 1}, {
+        "frames": 4, "alignment_error_um": 0.2}))], illuminance_lux=scan.LogUniform(10, 1e5))
+    with pytest.raises(ValueError, match="alignment_error_um is optimised and set by the "
+                                         "designs' readout modes"):
+        optimize.Problem(bursts, {"alignment_error_um": (0, 1)}, points=100, seed=1)
+
+
+@pytest.mark.parametrize("name", ["binning", "frames"])
+def test_a_whole_number_parameter_is_not_searched_as_a_continuous_range(name):
+    with pytest.raises(ValueError, match=f"bounds: {name} takes whole numbers only"):
+        optimize.Problem(shaky_scene(), {name: (1, 8)}, points=100, seed=1)
