@@ -347,3 +347,50 @@ def test_a_design_gives_its_sensor_size_one_way():
         lux_for_epc(dict(pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6), 1e6)
     with pytest.raises(TypeError, match="snr_at or field_angle_deg"):
         lux_for_epc(dict(DATA_SHEET, field_angle_deg=10.0), 1e6)
+
+
+# --- Binning, bursts and the readout (issue #39) ------------------------------------------------
+
+#: The 1.4 um preset read 2x2-binned, as a burst of 4 frames with 0.2 um alignment residuals, and
+#: a read noise that makes the readout matter.
+BINNED = {**PRESET_1_4, "read_noise_e": 2.0, "binning": np.array([1.0, 2.0, 4.0]),
+          "frames": np.array([1.0, 4.0, 8.0]), "alignment_error_um": 0.2}
+
+
+@pytest.mark.parametrize("readout", ["digital", "charge"])
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_lux_for_epc_round_trips_binned_bursts(backend, readout):
+    design = {**BINNED, "binning_readout": readout}
+    lux = np.array([30.0, 300.0, 3000.0])
+    targets = epc_fast.evaluate(lux, **design).epc
+    r = lux_for_epc(design, targets, backend=backend)
+    np.testing.assert_allclose(r.illuminance_lux, lux, rtol=RTOL)
+    assert np.all(r.status == InverseStatus.OK)
+
+
+def test_charge_binning_reaches_a_target_in_less_light_than_digital():
+    digital = lux_for_epc({**BINNED, "binning_readout": "digital"}, 1e5).illuminance_lux
+    charge = lux_for_epc({**BINNED, "binning_readout": "charge"}, 1e5).illuminance_lux
+    assert charge[0] == digital[0]  # unbinned: one read either way
+    assert np.all(charge[1:] < digital[1:])
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_crossover_lux_of_full_resolution_and_a_binned_burst(backend):
+    full = {**PRESET_1_4, "read_noise_e": 2.0}
+    binned = {**full, "binning": 2.0, "frames": np.array([1.0, 4.0]),
+              "binning_readout": "charge"}
+    r = crossover_lux(full, binned, backend=backend)
+    assert np.all(r.status == InverseStatus.OK)
+    a = epc_fast.evaluate(r.illuminance_lux, **full).epc
+    b = epc_fast.evaluate(r.illuminance_lux, **binned).epc
+    np.testing.assert_allclose(a, b, rtol=1e-8)
+    np.testing.assert_allclose(r.epc, a, rtol=1e-12)
+
+
+def test_the_inverse_solvers_take_one_readout_a_design():
+    design = {**PRESET_1_4, "modes": [{"binning": 1}, {"binning": 2}]}
+    with pytest.raises(TypeError, match="modes: the inverse solvers take one readout"):
+        lux_for_epc(design, 1e6)
+    with pytest.raises(ValueError, match="binning_readout must be one of"):
+        lux_for_epc({**PRESET_1_4, "binning_readout": "analog"}, 1e6)

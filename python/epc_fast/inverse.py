@@ -75,7 +75,9 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
     design : dict
         Keyword arguments of :func:`epc_fast.evaluate` except ``illuminance_lux`` (e.g.
         ``presets.Design.evaluate_kwargs()``); values broadcast against each other and against
-        ``target_epc``.
+        ``target_epc``. ``binning``, ``frames`` and ``alignment_error_um`` are per point as in
+        evaluate, ``binning_readout`` one for the call; ``modes`` is not taken (solve for
+        each mode).
     target_epc : array_like
         pixels, the EPC to reach (finite and > 0).
     lux_range : (float, float)
@@ -212,7 +214,7 @@ _EVALUATE = inspect.signature(api.evaluate)
 _SENSOR_KEYWORDS = ("pixel_count", "sensor_area_mm2", "sensor_width_mm", "sensor_height_mm",
                     "sensor_diagonal_mm", "aspect", "snr_at")
 _DESIGN_KEYWORDS = frozenset(params.PARAMETER_NAMES[1:]) - {"size"} | {
-    *_SENSOR_KEYWORDS, "spectrum"}
+    *_SENSOR_KEYWORDS, "spectrum", "binning_readout"}
 
 
 @dataclass(frozen=True)
@@ -256,6 +258,10 @@ def model_inputs(design: dict) -> ModelInputs:
     Raises TypeError for an unknown or missing keyword, or for a sensor size given in no way
     or in more than one; ValueError where the shapes do not broadcast.
     """
+    if "modes" in design:
+        raise TypeError("modes: the inverse solvers take one readout a design; solve for "
+                        "each mode (a design with that mode's binning, frames, ...) and take "
+                        "the lowest illuminance")
     unknown = sorted(set(design) - _DESIGN_KEYWORDS)
     if unknown:
         raise TypeError(f"a design holds evaluate()'s model keywords except illuminance_lux; "
@@ -263,6 +269,12 @@ def model_inputs(design: dict) -> ModelInputs:
     bound = _EVALUATE.bind(0.0, **design)
     bound.apply_defaults()
     values = dict(bound.arguments)
+    readout = choice("binning_readout", values.pop("binning_readout"), api.BINNING_READOUTS)
+    if readout == "charge":
+        # one read of sigma_r for the k x k pixels is k^2 reads of sigma_r / k (docs/model.md:
+        # only the read noise's variance, n k^2 sigma_r^2 or n sigma_r^2, differs)
+        values["read_noise_e"] = (as_float_array("read_noise_e", values["read_noise_e"])
+                                  / as_float_array("binning", values["binning"]))
     sensor, values["field_angle_deg"] = api._sensor_of(
         *(values.pop(name) for name in _SENSOR_KEYWORDS), values["field_angle_deg"],
         values["focal_length_mm"])

@@ -261,3 +261,67 @@ def test_an_omp_num_threads_beyond_the_bound_is_an_error_not_a_crash(tmp_path):
                            "expected a thread count between 1 and 1024 (as threads=), or "
                            "comma-separated counts\n")
     assert not (tmp_path / "out").exists()
+
+
+# --- issue #39: binning, bursts and readout modes in a config ---------------------------------
+
+PHONE_DESIGN = """
+[[design.custom]]
+name = "200 MP"
+pixel_pitch_um = 0.56
+f_number = 1.8
+focal_length_mm = 6.0
+sensor_diagonal_mm = 12.0
+aspect = "4:3"
+read_noise_e = 1.5
+"""
+
+
+@pytest.mark.parametrize("extra, parameters, message", [
+    ("modes = []", "", "[design.custom[0]] '200 MP': modes: at least one readout mode"),
+    ("modes = [{binnig = 2}]", "",
+     "[design.custom[0]] '200 MP': modes[0]: 'binnig' is not a readout mode's key"),
+    ("modes = [{binning = 1}, {binning = 4}, {binning = 1}]", "",
+     "[design.custom[0]] '200 MP': modes[2] repeats modes[0]"),
+    ("modes = [{binning = 2.5}]", "", "[design.custom[0]] '200 MP': modes[0]: binning = 2.5: "
+                                      "expected a value in [1, 1e+30) integers"),
+    ('modes = [{binning = 4, binning_readout = "analog"}]', "",
+     "[design.custom[0].modes[0]]: binning_readout = 'analog': expected one of"),
+    ("modes = 4", "", "[design.custom[0]] '200 MP': modes = 4: expected a list of readout modes"),
+    ('binning_readout = "analog"', "",
+     "[design.custom[0]]: binning_readout = 'analog': expected one of \"digital\", \"charge\""),
+    ("modes = [{binning = 1}, {binning = 4}]", "binning = { grid = [1, 2] }\n",
+     "design '200 MP': modes[0]: binning: the space's parameters set binning too"),
+    ("", 'binning = { distribution = "uniform", low = 1, high = 4 }\n',
+     "[parameters]: binning = Uniform(low=1.0, high=4.0): expected whole numbers in [1, 1e+30) "
+     "integers"),
+    ("", 'frames = { distribution = "log_uniform", low = 1, high = 16 }\n',
+     "[parameters]: frames = LogUniform(low=1.0, high=16.0): expected whole numbers"),
+    ("", "frames = { choice = [1, 0.5] }\n", "[parameters]: frames = choice value 0.5: expected "
+                                            "every value in [1, 1e+30) integers"),
+])
+def test_a_bad_readout_or_burst_is_one_line_naming_the_design_and_mode_with_exit_code_2(
+        tmp_path, capsys, extra, parameters, message):
+    text = (CUSTOM_ONLY + parameters + PHONE_DESIGN + extra + "\n"
+            + '[reductions.s]\nkind = "summary"\n')
+    code, out, err = _scan(tmp_path, capsys, text)
+    assert code == 2 and out == ""
+    assert err.startswith("epc-fast scan: error: scan config") and message in err, err
+    assert err.count("\n") == 1
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_scan_with_readout_modes_writes_each_modes_share_per_design(tmp_path, capsys):
+    text = (CUSTOM_ONLY.replace("100_000", "65_536") + "alignment_error_um = 0.3\n"
+            + PHONE_DESIGN + "modes = [{binning = 1}, {binning = 4}, {binning = 4, frames = 8}]\n"
+            + CUSTOM_DESIGN.format(name='"1.4 um"') + 'binning_readout = "charge"\n'
+            + '[reductions.s]\nkind = "summary"\nby = "design"\n')
+    code, out, _ = _scan(tmp_path, capsys, text, "--no-plots")
+    assert code == 0
+    with open(tmp_path / "out" / "summary_by_design.csv", newline="") as file:
+        rows = list(csv.DictReader(file))
+    assert [row["design"] for row in rows] == ["200 MP", "1.4 um"]
+    shares = [[float(row[f"mode {i}"]) for i in range(3)] for row in rows]
+    assert abs(sum(shares[0]) - 1.0) < 1e-12 and min(shares[0]) > 0.0
+    assert shares[1] == [1.0, 0.0, 0.0]  # one mode, its own readout
+    assert "| mode 0 | mode 1 | mode 2 |" in out

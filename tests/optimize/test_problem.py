@@ -83,3 +83,36 @@ def test_a_point_outside_its_domain_raises_naming_it():
     problem = optimize.Problem(space, PITCH, points=1_000, seed=1)
     with pytest.raises(ValueError, match="illuminance_lux=-"):
         problem.value_at((2.0,))
+
+
+def test_a_fixed_binning_and_burst_reach_every_candidate():
+    space = scan.Space(design=[DESIGN.with_(read_noise_e=2.0, binning=2, frames=4)],
+                       illuminance_lux=scan.LogUniform(10, 1e5), alignment_error_um=0.3)
+    problem = optimize.Problem(space, PITCH, points=5_000, seed=9)
+    drawn = space.points(9, 0, 5_000).parameters
+    assert drawn["binning"] == 2.0 and drawn["frames"] == 4.0
+    for pitch in (0.9, 2.6):
+        expected = epc_fast.evaluate(**{**drawn, "pixel_pitch_um": pitch}).epc
+        assert np.array_equal(problem.epc(pixel_pitch_um=pitch), np.nan_to_num(expected))
+    assert 0.8 <= problem.maximize(batches=0).x["pixel_pitch_um"] <= 4.0
+
+
+def test_readout_modes_give_each_candidate_the_best_mode_per_draw():
+    modes = ({"binning": 1}, {"binning": 2, "binning_readout": "charge"})
+    space = scan.Space(design=[DESIGN.with_(read_noise_e=2.0, modes=modes)],
+                       illuminance_lux=scan.LogUniform(10, 1e5))
+    problem = optimize.Problem(space, PITCH, points=5_000, seed=9)
+    drawn = space.points(9, 0, 5_000).parameters
+    expected = epc_fast.evaluate(**{**drawn, "pixel_pitch_um": 0.8}, modes=list(modes)).epc
+    assert np.array_equal(problem.epc(pixel_pitch_um=0.8), np.nan_to_num(expected))
+    bursts = scan.Space(design=[DESIGN.with_(modes=({"frames": 1}, {
+        "frames": 4, "alignment_error_um": 0.2}))], illuminance_lux=scan.LogUniform(10, 1e5))
+    with pytest.raises(ValueError, match="alignment_error_um is optimised and set by the "
+                                         "designs' readout modes"):
+        optimize.Problem(bursts, {"alignment_error_um": (0, 1)}, points=100, seed=1)
+
+
+@pytest.mark.parametrize("name", ["binning", "frames"])
+def test_a_whole_number_parameter_is_not_searched_as_a_continuous_range(name):
+    with pytest.raises(ValueError, match=f"bounds: {name} takes whole numbers only"):
+        optimize.Problem(shaky_scene(), {name: (1, 8)}, points=100, seed=1)

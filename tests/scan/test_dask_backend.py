@@ -58,3 +58,20 @@ def test_workers_write_the_same_parquet_files_as_a_local_scan(client, tmp_path):
 def test_the_cluster_scan_records_where_its_time_went(client):
     timing = dataclasses.asdict(_run(client=client).timing)
     assert all(seconds > 0 for name, seconds in timing.items() if name != "output_s")
+
+
+def test_a_space_with_readout_modes_gives_the_same_numbers_on_the_cluster(client):
+    from epc_fast.presets import HIGH_TIER
+    from epc_fast.scan import Choice, LogUniform, Space, Summary
+
+    modes = ({"binning": 1}, {"binning": 2}, {"binning": 2, "frames": 4})
+    space = Space(design=Choice([HIGH_TIER[3].with_(read_noise_e=2.0, modes=modes),
+                                 HIGH_TIER[0].with_(binning=2, binning_readout="charge")]),
+                  illuminance_lux=LogUniform(1, 1e5), alignment_error_um=0.3)
+    common = dict(seed=3, reductions={"s": Summary(by="design")}, chunk_points=BLOCK_POINTS,
+                  progress=False)
+    on_cluster, local = (run(space, 2 * BLOCK_POINTS + 5, client=c, **common)
+                         for c in (client, None))
+    assert np.array_equal(on_cluster["s"].mode_counts, local["s"].mode_counts)
+    assert np.array_equal(on_cluster["s"].mean, local["s"].mean)
+    assert on_cluster["s"].mode_counts[0, 1:].min() > 0

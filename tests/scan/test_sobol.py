@@ -356,3 +356,27 @@ def test_importing_the_scan_package_does_not_import_salib():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=60)
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_a_bursts_alignment_error_has_indices_of_its_own():
+    space = scan.Space(design=[paper_design().with_(frames=4)],
+                       illuminance_lux=scan.LogUniform(10, 1e5),
+                       alignment_error_um=scan.Uniform(0.0, 3.0))
+    result = scan.sobol_indices(space, points=2**8, seed=2, of="log_epc")
+    column = result.parameters.index("alignment_error_um")
+    assert result.st[0, 0, column] > 0.01, result.st[0, 0]
+
+
+def test_a_design_with_one_readout_mode_is_that_readout():
+    axes = dict(illuminance_lux=scan.LogUniform(10, 1e5),
+                shake_deg_per_s=scan.LogNormal(SHAKE_MEDIAN, SHAKE_SIGMA))
+    binned = paper_design().with_(read_noise_e=2.0, binning=2, binning_readout="charge")
+    moded = paper_design().with_(read_noise_e=2.0, modes=(
+        {"binning": 2, "binning_readout": "charge"},))
+    one, other = (scan.sobol_indices(scan.Space(design=[d], **axes), points=2**6, seed=2,
+                                     of="log_epc") for d in (binned, moded))
+    np.testing.assert_array_equal(one.st, other.st)
+    np.testing.assert_array_equal(one.mean, other.mean)
+    plain = scan.sobol_indices(scan.Space(design=[paper_design().with_(read_noise_e=2.0)],
+                                          **axes), points=2**6, seed=2, of="log_epc")
+    assert not np.array_equal(plain.mean, one.mean)

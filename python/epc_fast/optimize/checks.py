@@ -52,6 +52,10 @@ def checked_bounds(space: Space, bounds) -> dict:
             raise TypeError(f"bounds[{name!r}] = {pair!r}: expected (low, high), two numbers in "
                             f"{unit_of(name)}") from None
         inside = _param(name)
+        if inside.integer:
+            raise ValueError(f"bounds: {name} takes whole numbers only ({inside.domain_text()}): "
+                             "the optimiser searches a continuous range; compare a few values "
+                             f"of {name} by fixing each, or give a design readout modes")
         if not (math.isfinite(low) and math.isfinite(high) and low < high
                 and in_domain(inside, [low, high]).all()):
             raise ValueError(f"bounds[{name!r}] = {pair!r}: expected finite low < high, both in "

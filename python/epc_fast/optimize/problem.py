@@ -83,8 +83,9 @@ class Problem:
         drawn = space.points(self.seed, 0, self.points).parameters
         #: s, the time the scene's draws took.
         self.draw_s = time.perf_counter() - started
+        self._readout, set_by_modes = _readout(space, self.names)
         self._parameters = {k: v for k, v in {**drawn, **space.evaluate_options}.items()
-                            if k not in self.names}
+                            if k not in self.names and k not in set_by_modes}
         self._epc = np.empty(self.points)
         self._status = np.empty(self.points, dtype=np.uint8)
 
@@ -133,8 +134,13 @@ class Problem:
         if not any(isinstance(v, np.ndarray) and v.size == size for v in kwargs.values()):
             # Every parameter fixed: the illuminance repeated gives the outputs one per draw.
             kwargs["illuminance_lux"] = np.full(size, kwargs["illuminance_lux"])
-        evaluate(**kwargs, threads=self.threads, outputs=("epc", "status"), invalid="raise",
-                 out=out)
+        if "modes" in self._readout:  # the best mode per draw: evaluate takes no out= then
+            result = evaluate(**kwargs, **self._readout, threads=self.threads,
+                              outputs=("epc", "status"), invalid="raise")
+            out["epc"][...], out["status"][...] = result.epc, result.status
+        else:
+            evaluate(**kwargs, **self._readout, threads=self.threads, outputs=("epc", "status"),
+                     invalid="raise", out=out)
         epc, status = out["epc"], out["status"]
         not_ok = int(np.count_nonzero(status))  # Status.OK is 0
         if not_ok:
@@ -255,3 +261,24 @@ class Problem:
         lines.append(f"objective: {self.objective.label} over {self.points:,} draws, seed "
                      f"{self.seed} (a draw not OK counts as 0 pixels)")
         return "\n".join(lines)
+
+
+def _readout(space, names) -> tuple[dict, frozenset]:
+    """(evaluate's keywords for how the space's designs are read, the parameters their modes
+    set): one readout for every design (their binning_readout and modes), which the optimised
+    parameters do not set."""
+    from ..scan.readout import readout_groups, readout_kwargs
+
+    if not space.has_readouts:
+        return {}, frozenset()
+    groups = readout_groups(space)
+    if len(groups) > 1:
+        raise ValueError("the optimiser reads every design one way: give the designs the same "
+                         "binning_readout and modes, or optimise each design on its own")
+    _, readout, modes = groups[0]
+    kwargs, set_by_modes = readout_kwargs(readout, None if modes == ({},) else modes)
+    both = sorted(set(names) & set_by_modes)
+    if both:
+        raise ValueError(f"{both[0]} is optimised and set by the designs' readout modes: "
+                         "one or the other")
+    return kwargs, set_by_modes

@@ -12,7 +12,8 @@ __all__ = ["Chunk", "OUTPUTS"]
 
 #: The outputs a reduction can summarise: the float fields of :class:`epc_fast.Result`.
 OUTPUTS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm", "epc",
-           "share_diffraction", "share_pixel", "share_motion", "share_jitter")
+           "share_diffraction", "share_pixel", "share_motion", "share_jitter",
+           "share_alignment")
 
 
 class Chunk:

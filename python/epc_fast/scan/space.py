@@ -19,12 +19,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
+from ..modes import MODE_DEFAULTS
+from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
 from ..presets import Design
 from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
 from . import streams
-from .distributions import (MIN_TRUNCATED_PROBABILITY, Choice, Empirical, Grid, LogNormal,
-                            LogUniform, Truncated, Uniform)
+from .distributions import Choice, Grid
+from .readout import READOUT_KEYS, design_readout
+from .domains import _domain_of, _inside_probability, domain_problem
 
 __all__ = ["Space", "Points", "BLOCK_POINTS", "domain_problem"]
 
@@ -43,99 +45,6 @@ DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
 EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
                     "precision")
-
-
-def _domain_of(name: str):
-    """The :class:`~epc_fast.params.Param` of a point parameter (the size slot for
-    ``pixel_count`` and ``sensor_area_mm2``)."""
-    slot = "size" if name in SIZE_PARAMETERS else name
-    return next(p for p in PARAMETERS if p.name == slot)
-
-
-def _expected(name: str, what: str = "a value") -> str:
-    """``"expected <what> in <domain> (<unit>, <meaning>)"`` of point parameter ``name``."""
-    param = _domain_of(name)
-    if name in SIZE_PARAMETERS:
-        unit, meaning = ("pixels", "pixel count") if name == "pixel_count" else \
-            ("mm^2", "sensor area")
-    else:
-        unit, meaning = param.meaning.split(": ", 1)
-    return f"expected {what} in {param.domain_text()} ({unit}: {meaning})"
-
-
-def _outside(param, values) -> list:
-    values = np.asarray(values, dtype=np.float64).reshape(-1)
-    return [float(v) for v in values[~in_domain(param, values)]]
-
-
-def _inside_closure(param, value: float) -> bool:
-    return param.lo <= value <= param.hi
-
-
-def domain_problem(name: str, axis):
-    """What is wrong with parameter ``name`` set to ``axis`` (a number, a :class:`Grid`, a
-    :class:`Choice` or a distribution) against its domain (:mod:`epc_fast.params`), as
-    ``"<value>: expected ..."``; None when nothing is.
-
-    A number, and every value of a grid, a choice or an empirical distribution, is drawn as
-    it is, so each must lie in the domain. A uniform or log-uniform distribution's bounds, and
-    a truncation's finite bounds, must lie in the domain or on its ends (draws never reach an
-    open end). A distribution whose draws fall in the domain with a probability below
-    :data:`~epc_fast.scan.distributions.MIN_TRUNCATED_PROBABILITY` is refused (its points would
-    all be INVALID); one whose tail only reaches outside keeps its draws there, which are
-    INVALID points, counted as such (``truncate`` avoids them).
-    """
-    param = _domain_of(name)
-    if isinstance(axis, (Grid, Choice)):
-        bad = _outside(param, axis.values)
-        kind = "grid" if isinstance(axis, Grid) else "choice"
-        return (None if not bad else
-                f"{kind} value {bad[0]:g}: {_expected(name, 'every value')}")
-    if isinstance(axis, (int, float)) and not isinstance(axis, bool):
-        return None if in_domain(param, axis) else f"{float(axis):g}: {_expected(name)}"
-    parent = axis.distribution if isinstance(axis, Truncated) else axis
-    if isinstance(parent, Empirical):
-        bad = _outside(param, parent.samples if parent is axis else
-                       parent.samples[(parent.samples >= axis.low)
-                                      & (parent.samples <= axis.high)])
-        if bad:
-            return f"empirical sample {bad[0]:g}: {_expected(name, 'every sample')}"
-        return None
-    # The support's ends, and whether the user wrote each (a bound or a truncation).
-    if isinstance(parent, (Uniform, LogUniform)):
-        (low, low_given), (high, high_given) = (parent.low, True), (parent.high, True)
-    else:
-        low, low_given = (0.0 if isinstance(parent, LogNormal) else -math.inf), False
-        high, high_given = math.inf, False
-    if isinstance(axis, Truncated):
-        if axis.low > low:
-            low, low_given = axis.low, True
-        if axis.high < high:
-            high, high_given = axis.high, True
-    bad = [v for v, given in ((low, low_given), (high, high_given))
-           if given and not _inside_closure(param, v)]
-    if bad:
-        return f"{axis!r} reaches {bad[0]:g}: {_expected(name, 'its bounds')}"
-    inside = _inside_probability(name, axis)
-    if inside < MIN_TRUNCATED_PROBABILITY:
-        return (f"{axis!r} draws in the domain with a probability of {inside:.2g}: "
-                f"{_expected(name, 'draws')}")
-    return None
-
-
-def _inside_probability(name: str, axis) -> float:
-    """1: the probability that a distribution's draw of parameter ``name`` falls inside its
-    domain; 1 for a number, a grid, a choice and an empirical distribution, whose values are
-    checked one by one."""
-    param = _domain_of(name)
-    parent = axis.distribution if isinstance(axis, Truncated) else axis
-    if not hasattr(parent, "probability_within") or isinstance(parent, Empirical):
-        return 1.0
-    low, high = (max(param.lo, axis.low), min(param.hi, axis.high)) \
-        if isinstance(axis, Truncated) else (param.lo, param.hi)
-    inside = parent.probability_within(low, high) / getattr(axis, "probability", 1.0) \
-        if low < high else 0.0
-    return min(max(inside, 0.0), 1.0)
 
 
 @dataclass
@@ -171,11 +80,23 @@ def _design_dict(design, position: int) -> tuple[dict, str]:
                         f"got {design!r}")
     entry = dict(design)
     name = entry.pop("name", f"design {position}")
+    readout = {k: entry.pop(k) for k in READOUT_KEYS if k in entry}
     try:
         kwargs, where = design_parameters(entry)
     except (TypeError, ValueError) as error:
         raise type(error)(f"design {name!r}: {error}") from None
-    return {"name": name, **kwargs}, where
+    return {"name": name, **kwargs, **readout}, where
+
+
+def _readout_text(readout: str, modes) -> str:
+    """``"; charge binning"``, ``"; modes: binning=1 | binning=4"``: a design's readout, for
+    people; empty for the default."""
+    text = "" if readout == MODE_DEFAULTS["binning_readout"] else f"; {readout} binning"
+    if modes:
+        text += "; modes: " + " | ".join(
+            ", ".join(f"{k}={v}" if isinstance(v, str) else f"{k}={v:g}" for k, v in m.items())
+            or "the design's own" for m in modes)
+    return text
 
 
 class Space:
@@ -206,6 +127,10 @@ class Space:
 
     def __init__(self, design=None, evaluate_options=None, **parameters):
         unknown = sorted(set(parameters) - set(POINT_PARAMETERS))
+        readout = [name for name in unknown if name in READOUT_KEYS]
+        if readout:
+            raise TypeError(f"{readout[0]} is how a design's sensor is read, one per design: "
+                            "give it in each design (a [[design.custom]] key, a Design field)")
         if unknown:
             extra = ("; a sensor's width, height, diagonal and aspect are given per design"
                      if set(unknown) & set(SHAPE_KEYWORDS) else "")
@@ -216,6 +141,10 @@ class Space:
         #: Where each design meets the SNR target, for people (``"corner (27.03 deg)"``).
         self.design_snr_at: tuple[str, ...] = ()
         self.design_table: dict[str, np.ndarray] = {}
+        #: Per design: how its sensor is read (``"digital"`` or ``"charge"``) and its readout
+        #: modes (a tuple of dicts, :mod:`epc_fast.modes`; None: the design's own readout).
+        self.design_readout: tuple[str, ...] = ()
+        self.design_modes: tuple = ()
         self.design_varying: tuple[str, ...] = ()
         self.design_constant: tuple[str, ...] = ()
         if design is not None:
@@ -237,6 +166,9 @@ class Space:
         resolved = [_design_dict(d, i) for i, d in enumerate(axis.values)]
         entries = [{k: v for k, v in entry.items() if k not in overridden}
                    for entry, _ in resolved]
+        readouts = [design_readout(entry, overridden) for entry in entries]
+        self.design_readout = tuple(readout for readout, _ in readouts)
+        self.design_modes = tuple(modes for _, modes in readouts)
         self.design_snr_at = tuple(where for _, where in resolved)
         names = set().union(*entries) - {"name"}
         defaults = {p.name: p.default for p in PARAMETERS if p.default is not None}
@@ -311,6 +243,24 @@ class Space:
                 problem = domain_problem(name, float(value))
                 if problem:
                     raise ValueError(f"design {design!r}: {name} = {problem}")
+
+    @property
+    def has_readouts(self) -> bool:
+        """Whether a design has readout modes or reads its binned pixels as charge: then
+        each chunk's points are evaluated per design's readout (:mod:`epc_fast.scan.readout`),
+        not by the core's fused pass."""
+        return any(m is not None for m in self.design_modes) or any(
+            r != MODE_DEFAULTS["binning_readout"] for r in self.design_readout)
+
+    @property
+    def has_modes(self) -> bool:
+        """Whether a design lists readout modes (the scan then keeps each point's mode)."""
+        return any(m is not None for m in self.design_modes)
+
+    @property
+    def mode_count(self) -> int:
+        """The most readout modes a design lists (1 for a design without modes)."""
+        return max((len(m) if m is not None else 1 for m in self.design_modes), default=1)
 
     @property
     def grid_size(self) -> int:
@@ -433,6 +383,9 @@ class Space:
     def defaults(self) -> dict:
         """{name: value}: the model parameters nobody set, which take evaluate's defaults."""
         given = set(self.axes) | set(self.design_table)
+        if self.design_modes and all(self.design_modes):  # what every design's modes set
+            given |= set.intersection(*({k for mode in modes for k in mode}
+                                        for modes in self.design_modes))
         return {p.name: p.default for p in PARAMETERS
                 if p.default is not None and p.name not in given}
 
@@ -445,8 +398,10 @@ class Space:
             if name == "design":
                 kind = "grid" if isinstance(axis, Grid) else f"choice (weights {axis.weights})"
                 lines.append(f"design: {kind} over {len(self.design_names)}:")
-                lines.extend(f"  {design}: SNR target {target}"
-                             for design, target in zip(self.design_names, targets))
+                lines.extend(f"  {design}: SNR target {target}{_readout_text(readout, modes)}"
+                             for design, target, readout, modes in zip(
+                                 self.design_names, targets, self.design_readout,
+                                 self.design_modes))
             else:
                 share = 0.0 if isinstance(axis, (float, Grid, Choice)) else \
                     1.0 - _inside_probability(name, axis)

@@ -43,6 +43,9 @@ class SummaryResult:
     count : int64 (groups,), points whose output is finite.
     mean, std, min, max : float64 (groups,), in the output's unit; std with ddof=0. NaN (and
         +inf, -inf for min, max) where a group has no finite value.
+    mode_counts : int64 (groups, modes + 1), when the space's designs have readout modes:
+        points per group at which the camera picks each mode (column 0: no mode has an EPC;
+        column i + 1: mode i, the design's i-th); None otherwise.
     """
 
     of: str
@@ -54,6 +57,17 @@ class SummaryResult:
     std: np.ndarray
     min: np.ndarray
     max: np.ndarray
+    mode_counts: np.ndarray | None = None
+
+    @property
+    def mode_share(self) -> np.ndarray | None:
+        """float64 (groups, modes): the share of each group's points at which the camera picks
+        mode i (NaN for an empty group); None without modes."""
+        if self.mode_counts is None:
+            return None
+        return np.divide(self.mode_counts[:, 1:], self.points[:, None],
+                         out=np.full(self.mode_counts[:, 1:].shape, np.nan),
+                         where=self.points[:, None] > 0)
 
     def columns(self) -> dict:
         """Table columns, one row per group."""
@@ -61,9 +75,17 @@ class SummaryResult:
                     for s in Status}
         # a group with no finite value has no extremes: NaN, not the empty min's +inf
         empty = ~np.isfinite(self.mean)
-        return {**self.labels, "points": self.points, **statuses, "mean": self.mean,
-                "std": self.std, "min": np.where(empty, np.nan, self.min),
-                "max": np.where(empty, np.nan, self.max)}
+        columns = {**self.labels, "points": self.points, **statuses, "mean": self.mean,
+                   "std": self.std, "min": np.where(empty, np.nan, self.min),
+                   "max": np.where(empty, np.nan, self.max)}
+        if self.mode_counts is not None:
+            share = self.mode_share
+            columns.update({f"mode {i}": share[:, i] for i in range(share.shape[1])})
+            if self.mode_counts[:, 0].any():
+                columns["no mode"] = np.divide(
+                    self.mode_counts[:, 0], self.points, out=np.full(self.points.shape, np.nan),
+                    where=self.points > 0)
+        return columns
 
 
 def _status_counts(chunk: Chunk, key: GroupKey) -> np.ndarray:
@@ -130,8 +152,13 @@ class Summary:
         m2 = np.bincount(cell, weights=deviation, minlength=cells)
         low, high = chunk.finite_min_max(self.of, key)
         blocks = (chunk.block_count, groups)
-        return {"status": _status_counts(chunk, key), "count": count.reshape(blocks),
-                "mean": mean.reshape(blocks), "m2": m2.reshape(blocks), "min": low, "max": high}
+        partial = {"status": _status_counts(chunk, key), "count": count.reshape(blocks),
+                   "mean": mean.reshape(blocks), "m2": m2.reshape(blocks), "min": low,
+                   "max": high}
+        mode = getattr(chunk.result, "mode", None)
+        if mode is not None:
+            partial["modes"] = _mode_counts(chunk, key, np.asarray(mode))
+        return partial
 
     def merge(self, state: dict, partial: dict) -> dict:
         state["status"] += partial["status"]
@@ -139,6 +166,8 @@ class Summary:
             state["moments"].add(*block)
         np.minimum(state["min"], partial["min"], out=state["min"])
         np.maximum(state["max"], partial["max"], out=state["max"])
+        if "modes" in partial:
+            state["modes"] = _added(state.get("modes"), partial["modes"])
         return state
 
     def finish(self, state: dict, key: GroupKey, space) -> SummaryResult:
@@ -147,8 +176,29 @@ class Summary:
         mean = np.where(present, moments.mean, np.nan)
         std = np.sqrt(np.divide(moments.m2, moments.count, out=np.full(key.size, np.nan),
                                 where=present))
+        modes = None
+        if getattr(space, "has_modes", False):
+            modes = _added(np.zeros((key.size, space.mode_count + 1), np.int64),
+                           state.get("modes", np.zeros((key.size, 1), np.int64)))
         return SummaryResult(self.of, key.columns, state["status"].sum(axis=1), state["status"],
-                             moments.count, mean, std, state["min"], state["max"])
+                             moments.count, mean, std, state["min"], state["max"], modes)
+
+
+def _mode_counts(chunk: Chunk, key: GroupKey, mode: np.ndarray) -> np.ndarray:
+    """int64 (groups, modes + 1): points per group and picked mode (column 0: none)."""
+    width = int(mode.max(initial=-1)) + 2
+    cell = chunk.group_indices(key) * width + (mode.astype(np.int64) + 1)
+    return np.bincount(cell, minlength=key.size * width).reshape(key.size, width)
+
+
+def _added(a: np.ndarray | None, b: np.ndarray) -> np.ndarray:
+    """The sum of two count tables of (groups, columns), the narrower padded with zeros."""
+    if a is None:
+        return b.copy()
+    if a.shape[1] < b.shape[1]:
+        a, b = b.copy(), a
+    a[:, :b.shape[1]] += b
+    return a
 
 
 @dataclass

@@ -22,6 +22,7 @@ from .chunk import Chunk
 from .core_plan import CorePlan
 from .groups import GroupKey
 from .histograms import Quantiles
+from .readout import evaluate_points
 from .space import Space
 
 __all__ = ["PlanItem", "ChunkOutcome", "chunk_outputs", "reduce_chunk", "BACKENDS"]
@@ -86,10 +87,10 @@ def reduce_chunk(space: Space, plan: tuple, seed: int, start: int, stop: int, po
     t0 = time.perf_counter()
     points = space.points(seed, start, stop)
     t1 = time.perf_counter()
-    result = evaluate(**points.parameters, threads=threads,
-                      outputs=chunk_outputs(plan, parquet_dir is not None),
-                      backend="reference" if backend == "reference" else "core",
-                      **_options(space, backend))
+    result = _evaluate(space, points, threads=threads,
+                       outputs=chunk_outputs(plan, parquet_dir is not None),
+                       backend="reference" if backend == "reference" else "core",
+                       **_options(space, backend))
     t2 = time.perf_counter()
     if parquet_dir is not None:
         from .parquet import write_part
@@ -100,6 +101,14 @@ def reduce_chunk(space: Space, plan: tuple, seed: int, start: int, stop: int, po
     partials = {item.name: item.reduction.reduce(chunk, item.key) for item in plan}
     t4 = time.perf_counter()
     return ChunkOutcome(start, stop, partials, t1 - t0, t2 - t1, t3 - t2, t4 - t3)
+
+
+def _evaluate(space: Space, points, **options):
+    """:func:`epc_fast.evaluate` at ``points``; per design's readout and modes when the space's
+    designs have them (:mod:`epc_fast.scan.readout`)."""
+    if space.has_readouts:
+        return evaluate_points(space, points, **options)
+    return evaluate(**points.parameters, **options)
 
 
 def _options(space: Space, backend: str) -> dict:
@@ -120,8 +129,11 @@ def _core_plan(space, plan, seed, points_total) -> tuple:
     if (last is not None and last[0][0] is space and last[0][1] is plan
             and last[0][2:] == (seed, points_total)):
         return last[1]
-    fused = tuple(item for item in plan if not _per_point(item, points_total))
-    arrays = tuple(item for item in plan if _per_point(item, points_total))
+    # the fused pass reads every point one way: a design's modes or charge binning are
+    # evaluated as arrays (scan/readout.py)
+    fused = tuple(item for item in plan if not _per_point(item, points_total)
+                  and not space.has_readouts)
+    arrays = tuple(item for item in plan if item not in fused)
     entry = ((space, plan, seed, points_total), (CorePlan(space, seed, fused), arrays))
     _last_plan[0] = entry
     return entry[1]
@@ -141,9 +153,9 @@ def _core_chunk(space, plan, seed, start, stop, points_total, threads, parquet_d
         t1 = time.perf_counter()
         points = core.points(start, stop)
         t2 = time.perf_counter()
-        result = evaluate(**points.parameters, threads=threads,
-                          outputs=chunk_outputs(arrays, parquet_dir is not None),
-                          **space.evaluate_options)
+        result = _evaluate(space, points, threads=threads,
+                           outputs=chunk_outputs(arrays, parquet_dir is not None),
+                           **space.evaluate_options)
         t3 = time.perf_counter()
         if parquet_dir is not None:
             from .parquet import write_part

@@ -56,7 +56,10 @@ from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, 
                      string, table_of, take, wrapped)
 from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
+from ..readout import READOUT_KEYS
 from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
+from ...api import BINNING_READOUTS
+from ...modes import MODE_DEFAULTS, check_modes
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG",
            "toml_document", "parse_space"]
@@ -221,7 +224,7 @@ def _custom_design(entry, index: int) -> dict:
     names this table."""
     where = f"design.custom[{index}]"
     entry = table_of(where, entry)
-    known = set(POINT_PARAMETERS) | set(SHAPE_KEYWORDS) | {"name", "snr_at"}
+    known = set(POINT_PARAMETERS) | set(SHAPE_KEYWORDS) | {"name", "snr_at", *READOUT_KEYS}
     design = {}
     for key, value in entry.items():
         if key not in known:
@@ -229,7 +232,8 @@ def _custom_design(entry, index: int) -> dict:
                               "gives parameters of epc_fast.evaluate (pixel_pitch_um, "
                               "f_number, focal_length_mm, ...), its sensor (sensor_width_mm "
                               "and sensor_height_mm, or sensor_diagonal_mm and aspect, or "
-                              "sensor_area_mm2, or pixel_count) and snr_at")
+                              "sensor_area_mm2, or pixel_count), snr_at, binning_readout and "
+                              "modes")
         if key in ("name", "snr_at"):
             design[key] = string(where, key, value)
             if key == "name" and not any(c.isalnum() for c in value):
@@ -237,6 +241,10 @@ def _custom_design(entry, index: int) -> dict:
                                   "name with a letter or digit")
         elif key == "aspect" and isinstance(value, str):
             design[key] = value
+        elif key == "binning_readout":
+            design[key] = choice(where, key, value, BINNING_READOUTS)
+        elif key == "modes":
+            design[key] = value  # checked below, with the design's name
         else:
             design[key] = number(where, key, value)
     label = f"[{where}]" + (f" {design['name']!r}" if "name" in design else "")
@@ -244,11 +252,40 @@ def _custom_design(entry, index: int) -> dict:
         problem = domain_problem(key, value) if key in POINT_PARAMETERS else None
         if problem:
             raise ConfigError(f"scan config {label}: {key} = {problem}")
+    if "modes" in design:
+        design["modes"] = _modes(where, label, design)
     try:
-        design_parameters({k: v for k, v in design.items() if k != "name"})
+        design_parameters({k: v for k, v in design.items()
+                           if k != "name" and k not in READOUT_KEYS})
     except (TypeError, ValueError) as error:
         raise ConfigError(f"scan config {label}: {error}") from None
     return design
+
+
+def _modes(where: str, label: str, design: dict) -> list:
+    """A design's ``modes = [{binning = 1}, {binning = 4, frames = 8}, ...]``, checked with
+    :func:`epc_fast.modes.check_modes` and every value against its domain."""
+    value = design["modes"]
+    if not isinstance(value, list) or len(value) > MAX_LIST:
+        raise ConfigError(f"scan config {label}: modes = {short(value)}: expected a list of "
+                          "readout modes, e.g. [{binning = 1}, {binning = 4}]")
+    try:
+        modes = check_modes(value)
+    except (TypeError, ValueError) as error:
+        raise ConfigError(f"scan config {label}: {error}") from None
+    for index, mode in enumerate(modes):
+        for key, item in mode.items():
+            if key == "binning_readout":
+                choice(f"{where}.modes[{index}]", key, item, BINNING_READOUTS)
+                continue
+            number(f"{where}.modes[{index}]", key, item)
+            problem = domain_problem(key, item)
+            if problem:
+                raise ConfigError(f"scan config {label}: modes[{index}]: {key} = {problem}")
+            if key in design and design[key] != MODE_DEFAULTS[key]:
+                raise ConfigError(f"scan config {label}: modes[{index}]: {key} is set by the "
+                                  f"design too ({key} = {design[key]:g}): give it in each mode")
+    return list(modes)
 
 
 def _parameter(name: str, value, base: Path):

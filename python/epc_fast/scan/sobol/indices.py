@@ -33,6 +33,7 @@ from ...params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
 from ...status import Cause, Status
 from ..distributions import Choice, Grid
 from .result import SobolResult
+from ..readout import readout_kwargs
 from ..space import Space
 
 __all__ = ["sobol_indices", "random_parameters", "unit_design", "design_inputs", "OUTPUTS",
@@ -156,8 +157,13 @@ def _evaluated_epc(space: Space, design: int, inputs: dict, not_ok: str, threads
     """EPC (pixels) at every point of one design, with the unreachable points as the policy
     says, and the counts of unreachable and blur-unbounded points."""
     values = {**_design_values(space, design), **inputs}
+    readout = {}
+    if space.has_readouts:  # the design's binning_readout, or the best of its modes per point
+        readout, set_by_modes = readout_kwargs(space.design_readout[design],
+                                               space.design_modes[design])
+        values = {k: v for k, v in values.items() if k not in set_by_modes}
     result = evaluate(**values, threads=threads, outputs=("epc", "status", "cause"),
-                      **space.evaluate_options)
+                      **readout, **space.evaluate_options)
     epc = np.asarray(result.epc, dtype=np.float64)
     status = np.asarray(result.status)
     if (status == Status.INVALID).any():
