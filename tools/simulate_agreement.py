@@ -18,26 +18,14 @@ import math
 import numpy as np
 
 from epc_fast import presets, spectra
-from epc_fast.simulate.agreement import agreement
+from epc_fast.simulate.agreement import agreement, every_term_design
 
 LUX = (1.0, 10.0, 100.0, 1000.0, 10_000.0, 100_000.0)
 
 
 def random_design(rng, i):
-    """The random designs of tests/simulate/test_agreement.py: every term on."""
-    design = dict(
-        pixel_pitch_um=rng.uniform(0.8, 3.0), f_number=rng.uniform(1.8, 4.0),
-        focal_length_mm=rng.uniform(4, 6), sensor_area_mm2=20.0,
-        field_angle_deg=rng.uniform(0, 30), fill_factor=rng.uniform(0.5, 1.0),
-        read_noise_e=rng.uniform(0, 3), dark_current_e_per_s=rng.uniform(0, 50),
-        prnu=rng.uniform(0, 0.01), full_well_e=rng.uniform(8000, 20000),
-        jitter_um=rng.uniform(0, 1.0), stabilization=rng.uniform(1, 4),
-        lens_transmittance=rng.uniform(0.7, 1), reflectance=rng.uniform(0.2, 0.6),
-        snr_db=rng.uniform(25, 35))
-    design = {k: float(v) for k, v in design.items()}
-    if i % 2:
-        design["spectrum"] = spectra.diffraction_spectrum(8)
-    return design, float(10 ** rng.uniform(1.7, 4.7))
+    """The i-th random design: every other one with 8 wavelengths."""
+    return every_term_design(rng, spectrum=spectra.diffraction_spectrum(8) if i % 2 else None)
 
 
 def row(name, lux, a) -> str:

@@ -24,7 +24,7 @@ from .charts import flat, slanted_edge
 from .edge_sfr import esfr
 from .flat_patch import snr
 
-__all__ = ["Agreement", "agreement", "edge_chart", "longest_wavelength_um", "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX",
+__all__ = ["Agreement", "agreement", "edge_chart", "every_term_design", "longest_wavelength_um", "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX",
            "MIN_EDGE_SPAN", "DIFFRACTION_SPAN", "MAX_EDGE_COLUMNS", "EDGE_ANGLE_DEG"]
 
 #: Rows of the edge chart: at 5 degrees the edge crosses 33 pixels over them, and each of the
@@ -116,6 +116,26 @@ def edge_chart(blur_mm: float, pitch_um: float, lambda_f_um: float, rows: int | 
     rows = default if rows is None else rows
     columns = int(math.ceil((rows * slope + span) / 2.0)) * 2
     return (rows, columns), window
+
+
+def every_term_design(rng: np.random.Generator, spectrum=None) -> tuple[dict, float]:
+    """A random design with every term of docs/model.md's ideal sensor and lens on, and a light
+    level for it: (design keywords, lux). ``spectrum`` (e.g. ``diffraction_spectrum(8)``)
+    replaces the single wavelength. The agreement's tests and tools/simulate_agreement.py
+    compare these."""
+    design = dict(
+        pixel_pitch_um=rng.uniform(0.8, 3.0), f_number=rng.uniform(1.8, 4.0),
+        focal_length_mm=rng.uniform(4, 6), sensor_area_mm2=20.0,
+        field_angle_deg=rng.uniform(0, 30), fill_factor=rng.uniform(0.5, 1.0),
+        read_noise_e=rng.uniform(0, 3), dark_current_e_per_s=rng.uniform(0, 50),
+        prnu=rng.uniform(0, 0.01), full_well_e=rng.uniform(8000, 20000),
+        jitter_um=rng.uniform(0, 1.0), stabilization=rng.uniform(1, 4),
+        lens_transmittance=rng.uniform(0.7, 1), reflectance=rng.uniform(0.2, 0.6),
+        snr_db=rng.uniform(25, 35))
+    design = {k: float(v) for k, v in design.items()}
+    if spectrum is not None:
+        design["spectrum"] = spectrum
+    return design, float(10 ** rng.uniform(1.7, 4.7))
 
 
 def longest_wavelength_um(design) -> float:
