@@ -187,9 +187,14 @@ def _check(result):
     _check_sensitivity(result, ok, unbounded)
 
 
+#: The whole-number parameters (binning, frames): they have no elasticity, NaN at every point.
+WHOLE_NUMBERS = {p.name for p in params.PARAMETERS if p.integer}
+
+
 def _check_sensitivity(result, ok, unbounded):
-    """OK points have shares in [0, 1] that sum to 1 and finite elasticities; the others NaN,
-    but where the blur is unbounded the shares 0, 0, 1, 0 (docs/limits.md)."""
+    """OK points have shares in [0, 1] that sum to 1 and finite elasticities (but for the
+    whole-number parameters, NaN everywhere); the others NaN, but where the blur is unbounded
+    the shares 0, 0, 1, 0 (docs/limits.md)."""
     shares = {name: np.asarray(getattr(result, name), dtype=np.float64).reshape(-1)
               for name in api.SHARE_OUTPUTS if getattr(result, name) is not None}
     for name, v in shares.items():
@@ -200,6 +205,9 @@ def _check_sensitivity(result, ok, unbounded):
         assert np.allclose(sum(v[ok] for v in shares.values()), 1.0, rtol=0, atol=1e-14)
     for name, v in (result.elasticities or {}).items():
         v = np.asarray(v, dtype=np.float64).reshape(-1)
+        if name in WHOLE_NUMBERS:
+            assert np.all(np.isnan(v)), name
+            continue
         assert np.all(np.isfinite(v[ok])), name
         assert np.all(np.isnan(v[~ok])), name
 
