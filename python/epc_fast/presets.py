@@ -163,8 +163,9 @@ class Design:
         if self.modes is not None:
             from .modes import check_modes
 
-            modes = check_modes(dict(m) for m in self.modes) if not isinstance(
-                self.modes, Mapping) else check_modes(self.modes)
+            modes = check_modes(self.modes if isinstance(self.modes, Mapping)
+                                else [m if isinstance(m, Mapping) else dict(m)
+                                      for m in self.modes])
             object.__setattr__(self, "modes", tuple(tuple(m.items()) for m in modes))
 
     def _set_format(self, sensor_diagonal_mm, aspect):

@@ -24,8 +24,9 @@ from .charts import flat, slanted_edge
 from .edge_sfr import esfr
 from .flat_patch import snr
 
-__all__ = ["Agreement", "agreement", "edge_chart", "every_term_design", "longest_wavelength_um", "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX",
-           "MIN_EDGE_SPAN", "DIFFRACTION_SPAN", "MAX_EDGE_COLUMNS", "EDGE_ANGLE_DEG"]
+__all__ = ["Agreement", "agreement", "edge_chart", "every_term_design", "longest_wavelength_um",
+           "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX", "MIN_EDGE_SPAN", "DIFFRACTION_SPAN",
+           "MAX_EDGE_COLUMNS", "EDGE_ANGLE_DEG"]
 
 #: Rows of the edge chart: at 5 degrees the edge crosses 33 pixels over them, and each of the
 #: e-SFR's quarter-pixel bins averages 96 rows' samples.

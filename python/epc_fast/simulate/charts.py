@@ -53,8 +53,8 @@ class Chart:
                            indexing="ij")
         return self.reflectance_at(y, x, pitch_um=1.0, band_cyc_per_mm=math.inf)
 
-    def reflectance_at(self, y_px, x_px, *, pitch_um: float, band_cyc_per_mm: float,
-                       cell_px: float = 1.0) -> np.ndarray:
+    def reflectance_at(self, y_px, x_px, *, pitch_um: float,
+                       band_cyc_per_mm: float) -> np.ndarray:
         """The reflectance at points (y_px, x_px) given in output pixels.
 
         Parameters
@@ -69,8 +69,8 @@ class Chart:
             step's up to the band and nothing above, so sampling it on a grid with
             1/spacing >= band + (the optics' cut-off) aliases nothing into the frequencies
             the optics pass. ``inf`` gives the sharp step.
-        cell_px : output pixels, the side of the grid cell each point stands for: an image
-            gives each cell the pixel its centre falls in, exact when cells tile the pixels.
+        An image gives each point the pixel its point falls in: exact area sampling when the
+        points are the centres of cells that tile the pixels.
         """
         y = np.asarray(y_px, dtype=float)
         x = np.asarray(x_px, dtype=float)

@@ -104,7 +104,7 @@ def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offs
     y = ((offset[:ny] - margin_y - (k - 1) / 2.0) / k - b)[:, None]
     x = ((offset[:nx] - margin_x - (k - 1) / 2.0) / k - b)[None, :]
     reflectance = chart.reflectance_at(y, x, pitch_um=k * o.pitch_mm * 1e3,
-                                       band_cyc_per_mm=1.0 / dx - cutoff, cell_px=1.0 / (q * k))
+                                       band_cyc_per_mm=1.0 / dx - cutoff)
     spectrum = fft.rfft2(reflectance, workers=threads)
     del reflectance
 
