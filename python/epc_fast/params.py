@@ -27,7 +27,8 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["Param", "ParameterTable", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS",
-           "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX"]
+           "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX",
+           "WAVEFRONT_RMS_WAVES_MAX", "DENOISE_SIGMA_PX_MAX"]
 
 INF = math.inf
 #: The largest magnitude of a parameter that physics leaves unbounded (see the module docstring).
@@ -39,6 +40,12 @@ TINY = 1e-30
 #: float64 from -3000 dB; up to +1000 dB (1e100 electrons) every product stays finite.
 SNR_DB_MIN = -3000.0
 SNR_DB_MAX = 1000.0
+#: waves: the largest rms wavefront error. Shannon's ATF holds to 0.18 waves, but above
+#: W = 0.1642 waves its product with the diffraction MTF rises again past nu = 0.55 (at an MTF
+#: near 0.04), and f50's bracket needs a falling MTF (docs/model.md, "The cut-off frequency f50").
+WAVEFRONT_RMS_WAVES_MAX = 0.16
+#: output pixels: the largest denoising sigma; its kernel has 2 ceil(4 sigma) + 1 = 801 taps.
+DENOISE_SIGMA_PX_MAX = 100.0
 
 
 @dataclass(frozen=True)
@@ -153,6 +160,10 @@ PARAMETERS: tuple[Param, ...] = ParameterTable((
        integer=True),
     _p("alignment_error_um", 0.0, 0, BIG, True, False,
        "um: rms alignment error of each frame of a burst (0: off)"),
+    _p("wavefront_rms_waves", 0.0, 0, WAVEFRONT_RMS_WAVES_MAX, True, True,
+       "waves: rms wavefront error of the lens, in waves at every wavelength (0: off)"),
+    _p("denoise_sigma_px", 0.0, 0, DENOISE_SIGMA_PX_MAX, True, True,
+       "output pixels: sigma of the Gaussian denoising filter (0: off)"),
 ))
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)

@@ -296,10 +296,21 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         "binning": zero + np.nan,
         "frames": zero + np.nan,
         "alignment_error_um": 2.0 * log_a,
+        # a term that is off has elasticity 0 (W d ln ATF / dW and sigma d ln H / d sigma
+        # vanish as W, sigma -> 0); where either is on, no elasticity is computed yet (below)
+        "wavefront_rms_waves": zero,
+        "denoise_sigma_px": zero,
     }
     area = {"size": 1.0, "pixel_pitch_um": 2.0 if size_is_pixel_count else 0.0}
-    return {name: area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope
+    missing = _optics_terms_on(q)
+    return {name: np.where(missing, np.nan, area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope)
             for name in ELASTICITY_PARAMETERS}
+
+
+def _optics_terms_on(q):
+    """bool: the points whose wavefront error or denoising is on. Their shares and elasticities
+    are not computed yet (NaN): the factors' logs and slopes do not hold those two terms."""
+    return (np.asarray(q["wavefront_rms_waves"]) != 0.0) | (np.asarray(q["denoise_sigma_px"]) != 0.0)
 
 
 def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, shares=True,
@@ -337,6 +348,7 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
             unbounded = status == Status.BLUR_UNBOUNDED
             for name, share in zip(SHARE_NAMES, mtf_loss_shares(logs, stand["mtf_threshold"])):
                 limit = 1.0 if name == "motion" else 0.0
+                share = np.where(_optics_terms_on(stand), np.nan, share)
                 out[f"share_{name}"] = np.where(ok, share, np.where(unbounded, limit, np.nan))
         if elasticities:
             values = epc_elasticities(stand, size_is_pixel_count, f50, electrons, t_mpe, blur,
