@@ -302,3 +302,45 @@ def test_the_core_refuses_either_term_until_it_has_them():
                              np.empty(0), 1, "halley", 1e-14, "closed_form", 1e-15, "float64", 1,
                              1 << 18)
         assert out["status"][0] == Status.INVALID
+
+
+# --- Shares and elasticities --------------------------------------------------------------------
+
+SENSITIVITY_POINT = dict(illuminance_lux=np.array([10.0, 300.0, 5000.0]), pixel_pitch_um=1.4,
+                         f_number=2.4, focal_length_mm=4.0, pixel_count=8e6, read_noise_e=2.0,
+                         dark_current_e_per_s=5.0, prnu=0.005, binning=np.array([1.0, 2.0, 1.0]),
+                         backend="reference")
+
+
+@pytest.mark.parametrize("w, sigma", [(0.07, 1.3), (0.12, 0.6), (0.0, 2.1), (0.1, 0.0)])
+def test_the_elasticities_with_either_term_are_the_central_differences_of_ln_epc(w, sigma):
+    # central differences at h = 1e-5: truncation h^2 ~ 1e-10 and rounding 1e-16 / h ~ 1e-11 of
+    # an elasticity of order 1, well inside 1e-6 (the analytic ones agree to 1e-8 measured).
+    # Not at 4 sigma whole: the kernel gains a tap there (ceil(4 sigma)), a jump of its weight
+    # exp(-8), and the elasticity is the derivative between the jumps.
+    p = dict(SENSITIVITY_POINT, wavefront_rms_waves=w, denoise_sigma_px=sigma)
+    r = epc_fast.evaluate(**p, outputs=("epc", "status", "elasticities"))
+    values = dict(wavelength_nm=550.0, snr_db=30.0, **p)
+    h = 1e-5
+    for name in ("wavefront_rms_waves", "denoise_sigma_px", "f_number", "pixel_pitch_um",
+                 "wavelength_nm", "snr_db", "illuminance_lux", "read_noise_e"):
+        v = np.broadcast_to(np.asarray(values[name], dtype=np.float64), (3,))
+        if np.all(v == 0.0):  # a term that is off: elasticity 0
+            assert np.all(r.elasticities[name] == 0.0)
+            continue
+        up = epc_fast.evaluate(**{**p, name: v * (1 + h)}).epc
+        down = epc_fast.evaluate(**{**p, name: v * (1 - h)}).epc
+        central = (np.log(up) - np.log(down)) / (2 * h)
+        np.testing.assert_allclose(r.elasticities[name], central, rtol=1e-6, atol=1e-9,
+                                   err_msg=name)
+
+
+def test_the_seven_shares_sum_to_one_and_the_terms_that_are_off_have_none():
+    names = [f"share_{n}" for n in ("diffraction", "pixel", "motion", "jitter", "alignment",
+                                    "aberration", "denoise")]
+    on = epc_fast.evaluate(**SENSITIVITY_POINT, wavefront_rms_waves=0.07, denoise_sigma_px=1.3,
+                           outputs=("epc", "status", *names))
+    np.testing.assert_allclose(sum(getattr(on, n) for n in names), 1.0, rtol=1e-13)
+    assert np.all(on.share_aberration > 0.0) and np.all(on.share_denoise > 0.0)
+    off = epc_fast.evaluate(**SENSITIVITY_POINT, outputs=("epc", "status", *names))
+    assert np.all(off.share_aberration == 0.0) and np.all(off.share_denoise == 0.0)

@@ -131,8 +131,13 @@ struct Options {
 };
 
 // The MTF factors of the share outputs (sensitivity.h), in their order.
-// The binned aperture (binning) is the pixel's; the burst's alignment residual has its own.
-enum Share : int { share_diffraction, share_pixel, share_motion, share_jitter, share_alignment, n_shares };
+// The binned aperture (binning) is the pixel's; the burst's alignment residual has its own, and
+// so have the wavefront error's ATF and denoising's filter (0 in the core, which has neither
+// term yet: ln 1).
+enum Share : int {
+    share_diffraction, share_pixel, share_motion, share_jitter, share_alignment,
+    share_aberration, share_denoise, n_shares
+};
 
 // The outputs of what limits a design and how sensitive it is (sensitivity.h); null: not
 // computed. Each share has a column, and so has each parameter's elasticity (elasticity[j]:

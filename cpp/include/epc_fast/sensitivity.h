@@ -440,6 +440,8 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
         }
         logs[share_jitter][i] = -2.0 * pi * pi * sigma_f * sigma_f;
         logs[share_alignment][i] = 0.0;  // a block with bursts takes sensitivity_lane
+        logs[share_aberration][i] = 0.0;  // neither term is in the core yet
+        logs[share_denoise][i] = 0.0;
         if (Elasticities) {
             slope_numerator[i] *= d_sincs * inverse;  // now nu dD/dnu / D
             slope_pixel[i] = pixel.slope;

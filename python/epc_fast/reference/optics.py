@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["SHANNON_W0", "mtf_aberration", "denoise_kernel", "noise_gain_denoise", "mtf_denoise"]
+__all__ = ["SHANNON_W0", "mtf_aberration", "denoise_kernel", "noise_gain_denoise", "mtf_denoise",
+           "denoise_log_factor", "noise_gain_log_slope"]
 
 
 #: waves: the rms wavefront error at which Shannon's ATF reaches 0 at nu = 1/2.
@@ -42,9 +43,10 @@ def denoise_kernel(denoise_sigma_px):
     sigma = np.atleast_1d(np.asarray(denoise_sigma_px, dtype=np.float64))
     reach = np.ceil(4.0 * sigma)
     i = np.arange(int(reach.max(initial=0.0)) + 1, dtype=np.float64)[:, None]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        e = np.where(i <= reach, np.exp(-(i * i) / (2.0 * sigma * sigma)), 0.0)
-    e = np.where(sigma == 0.0, (i == 0).astype(np.float64), e)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        # e_0 = 1 (its exponent 0 / (2 sigma^2) would be NaN where sigma^2 underflows)
+        e = np.where(i == 0, 1.0, np.where(i <= reach, np.exp(-(i * i) / (2.0 * sigma * sigma)),
+                                           0.0))
     return i, e / (e[0] + 2.0 * e[1:].sum(axis=0))
 
 
@@ -75,3 +77,49 @@ def mtf_denoise(f_cyc_per_mm, denoise_sigma_px, output_pitch_um):
     x = np.broadcast_to(np.minimum(f * p_mm, 0.5), shape).ravel()  # f p, held at 1/2
     transfer = h[0] + 2.0 * (h[1:] * np.cos(2.0 * np.pi * i[1:] * x)).sum(axis=0)
     return transfer.reshape(shape)
+
+
+# --- What the shares and the elasticities need (epc_fast.reference.sensitivity) ------------------
+
+
+def denoise_log_factor(f_cyc_per_mm, denoise_sigma_px, output_pitch_um):
+    """1: (ln H, f d ln H / df, sigma d ln H / d sigma) at f (:func:`mtf_denoise`): with
+    x = min(f p, 1/2) and the kernel's weights h_i over every i (both signs),
+
+        f dH/df       = -sum_i h_i 2 pi x i sin(2 pi x i)   (0 past the output's Nyquist
+                                                              frequency, where H is held)
+        sigma dH/dsigma = sum_i h_i (i/sigma)^2 (cos(2 pi x i) - H)
+
+    (sigma de_i/dsigma = e_i (i/sigma)^2 for e_i = exp(-i^2 / (2 sigma^2)), normalised). All
+    three are 0 at sigma = 0."""
+    f = np.asarray(f_cyc_per_mm, dtype=np.float64)
+    p_mm = np.asarray(output_pitch_um, dtype=np.float64) * 1e-3
+    shape = np.broadcast_shapes(f.shape, np.shape(denoise_sigma_px), p_mm.shape)
+    sigma = np.broadcast_to(denoise_sigma_px, shape).ravel()
+    i, h = denoise_kernel(sigma)
+    x = np.broadcast_to(f * p_mm, shape).ravel()
+    held = x >= 0.5
+    x = np.minimum(x, 0.5)
+    phase = 2.0 * np.pi * i[1:] * x
+    transfer = h[0] + 2.0 * (h[1:] * np.cos(phase)).sum(axis=0)
+    f_slope = np.where(held, 0.0, -2.0 * (h[1:] * phase * np.sin(phase)).sum(axis=0))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        weight = np.where(h[1:] > 0.0, (i[1:] / sigma) ** 2, 0.0)  # a tap of weight 0: none
+    sigma_slope = 2.0 * (h[1:] * weight * (np.cos(phase) - transfer)).sum(axis=0)  # i = 0: 0
+    return tuple(np.reshape(v, shape) for v in
+                 (np.log(transfer), f_slope / transfer, sigma_slope / transfer))
+
+
+def noise_gain_log_slope(denoise_sigma_px):
+    """1: d ln g / d ln sigma, g = (sum_i h_i^2)^2 (:func:`noise_gain_denoise`): 2 sigma dG /
+    dsigma / G with G = sum_i h_i^2 and sigma dG/dsigma = 2 sum_i h_i^2 ((i/sigma)^2 - m),
+    m = sum_j h_j (j/sigma)^2; 0 at sigma = 0."""
+    sigma = np.atleast_1d(np.asarray(denoise_sigma_px, dtype=np.float64))
+    i, h = denoise_kernel(sigma)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        weight = np.where((h > 0.0) & (i > 0), (i / sigma) ** 2, 0.0)  # i = 0, taps of 0: none
+    both = np.where(i > 0, 2.0, 1.0)  # h_-i = h_i
+    mean = (both * h * weight).sum(axis=0)
+    gain = (both * h * h).sum(axis=0)
+    slope = 2.0 * (2.0 * (both * h * h * (weight - mean)).sum(axis=0)) / gain
+    return np.reshape(slope, np.shape(denoise_sigma_px))
