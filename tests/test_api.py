@@ -16,7 +16,7 @@ import pytest
 
 import epc_fast
 from epc_fast import Cause, Result, Status, api
-from epc_fast._validation import REFERENCE_ONLY
+from epc_fast.params import REFERENCE_ONLY
 from epc_fast.params import PARAMETERS, SIZE_PARAMETERS
 from helpers.designs import random_design_points
 

@@ -26,7 +26,7 @@ import pytest
 
 import epc_fast
 from epc_fast import Cause, Status, _core, params, reference
-from epc_fast._validation import REFERENCE_ONLY
+from epc_fast.params import REFERENCE_ONLY
 from helpers.conditioning import OUTPUTS, condition_numbers, evaluate_quietly
 from helpers.designs import box_corners, parameter_defaults
 from helpers.mp_model import (LARGEST, MP_DPS, SMALLEST_NORMAL, expected_status, mp_diffraction,

@@ -14,8 +14,7 @@ import numpy as np
 
 from ._limits import MAX_THREADS, startable_threads, threads_limit_reason
 
-__all__ = ["short", "as_float_array", "integer", "threads_of", "tolerance", "choice", "column",
-           "REFERENCE_ONLY", "refuse_reference_only_terms"]
+__all__ = ["short", "as_float_array", "integer", "threads_of", "tolerance", "choice", "column"]
 
 #: The largest integer a float64 holds (its largest finite value).
 _LARGEST_INT = int(np.finfo(np.float64).max)
@@ -105,26 +104,3 @@ def column(arr: np.ndarray, shape) -> np.ndarray:
     if arr.size == 1:
         return np.ascontiguousarray(arr.reshape(1))
     return np.ascontiguousarray(np.broadcast_to(arr, shape)).reshape(-1)
-
-
-#: The terms the NumPy reference has and the core does not yet (issue #40): the core would
-#: take any value but 0 as outside its domain.
-REFERENCE_ONLY = ("wavefront_rms_waves", "denoise_sigma_px")
-
-
-def refuse_reference_only_terms(values):
-    """NotImplementedError where ``values`` (parameter name to value) turn on a term the core
-    does not compute yet, with a value inside its domain (one outside is INVALID in either
-    backend); a scalar 0 costs one comparison."""
-    from .params import PARAMETERS, in_domain
-
-    for name in REFERENCE_ONLY:
-        value = values[name]
-        if isinstance(value, (int, float)) and value == 0.0:
-            continue
-        v = np.asarray(value, dtype=np.float64)
-        param = next(p for p in PARAMETERS if p.name == name)
-        if np.any((v != 0.0) & in_domain(param, v)):
-            raise NotImplementedError(
-                f"{name} is computed by the NumPy reference only, for now: pass "
-                f'backend="reference" (got {name} other than 0 with backend="core")')

@@ -9,8 +9,7 @@ import numpy as np
 
 from . import _limits, elasticity_outputs, params
 from ._limits import MAX_THREADS
-from ._validation import (as_float_array, choice, column, refuse_reference_only_terms, short,
-                          threads_of, tolerance)
+from ._validation import as_float_array, choice, column, short, threads_of, tolerance
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .memory import memory_limit_bytes as _memory_limit_bytes
 from .outputs import (ALL_OUTPUT_DTYPES, DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
@@ -396,7 +395,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
                           precision, outputs, sensor.is_pixel_count, binning_readout)
     if options.backend == "core":
-        refuse_reference_only_terms(values)
+        params.refuse_reference_only_terms(dict(zip(params.PARAMETER_NAMES, arrays)))
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
     if options.backend == "core":  # the threads first: their stacks take memory too
