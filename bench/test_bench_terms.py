@@ -6,6 +6,9 @@ wavelength), on the core at 10^5 points and 1 thread:
 A term the scene does not use must cost nothing: the kernel compiles the motion and jitter
 factors out of blocks that do not need them, takes binning and bursts only into blocks that
 have them and never loops over a spectrum for one wavelength.
+
+The wavefront error and denoising (issue #40) are in the NumPy reference only, for now: their
+group times the reference at 10^4 points, against its own minimal scene.
 """
 
 import numpy as np
@@ -17,11 +20,11 @@ from epc_fast.spectra import diffraction_spectrum
 N = 10**5
 
 
-def _scene(**extra):
+def _scene(n=N, **extra):
     rng = np.random.default_rng(2024)
     kwargs = {
-        "illuminance_lux": 10 ** rng.uniform(1, 5, N),
-        "pixel_pitch_um": rng.uniform(0.8, 3.0, N),
+        "illuminance_lux": 10 ** rng.uniform(1, 5, n),
+        "pixel_pitch_um": rng.uniform(0.8, 3.0, n),
         "f_number": 2.8, "focal_length_mm": 5.6, "sensor_area_mm2": 15.7,
         "shake_deg_per_s": 0.0,
     }
@@ -57,5 +60,26 @@ def test_term_cost(benchmark, scene):
     kwargs = _scene(**SCENES[scene])
     result = benchmark.pedantic(epc_fast.evaluate, kwargs=dict(kwargs, threads=1), rounds=5,
                                 iterations=1, warmup_rounds=1)
+    assert np.all(result.status == epc_fast.Status.OK)
+    assert np.all(result.epc > 0)
+
+
+#: The reference's points (its f50 bisects to adjacent doubles: about 100 times the core's time).
+N_REFERENCE = 10**4
+
+REFERENCE_SCENES = {
+    "reference minimal": {},
+    "wavefront 0.07": {"wavefront_rms_waves": 0.07},
+    "denoise 1.0": {"denoise_sigma_px": 1.0},
+    "denoise 3.0": {"denoise_sigma_px": 3.0},
+}
+
+
+@pytest.mark.benchmark(group="reference terms 1e4 points")
+@pytest.mark.parametrize("scene", list(REFERENCE_SCENES))
+def test_reference_term_cost(benchmark, scene):
+    kwargs = _scene(N_REFERENCE, **REFERENCE_SCENES[scene])
+    result = benchmark.pedantic(epc_fast.evaluate, kwargs=dict(kwargs, backend="reference"),
+                                rounds=3, iterations=1, warmup_rounds=0)
     assert np.all(result.status == epc_fast.Status.OK)
     assert np.all(result.epc > 0)

@@ -150,7 +150,8 @@ def test_the_core_takes_every_elasticity_in_one_array_or_single_ones_not_both():
                  fill_factor=1.0, electrons_per_lux_s_m2=2.56e15, read_noise_e=2.0,
                  dark_current_e_per_s=0.0, prnu=0.0, full_well_e=np.inf, snr_db=30.0,
                  shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0, wavelength_nm=550.0,
-                 mtf_threshold=0.5, binning=1.0, frames=1.0, alignment_error_um=0.0)
+                 mtf_threshold=0.5, binning=1.0, frames=1.0, alignment_error_um=0.0,
+                 wavefront_rms_waves=0.0, denoise_sigma_px=0.0)
     columns = [np.array([point[name]]) for name in params.PARAMETER_NAMES]
     none = np.empty(0)
     args = (columns, True, params.domain_table(), none, none, 3, "halley", 1e-14,

@@ -30,7 +30,8 @@ constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t
 // the elasticities: parameter j's as "elasticity_" + param_names[j], or all of them as
 // "elasticities", n_params rows of n points in one array (row j parameter j's).
 constexpr const char* share_names[] = {"share_diffraction", "share_pixel", "share_motion",
-                                       "share_jitter", "share_alignment"};
+                                       "share_jitter", "share_alignment", "share_aberration",
+                                       "share_denoise"};
 
 constexpr const char* elasticity_prefix = "elasticity_";
 constexpr const char* elasticities_name = "elasticities";

@@ -245,7 +245,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0, full_well_e=math.inf,
              snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
              wavelength_nm=550.0, mtf_threshold=0.5, binning=1.0, frames=1.0,
-             alignment_error_um=0.0, binning_readout="digital", spectrum=None, threads=None,
+             alignment_error_um=0.0, wavefront_rms_waves=0.0, denoise_sigma_px=0.0,
+             binning_readout="digital", spectrum=None, threads=None,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
              t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None, modes=None) -> Result:
@@ -296,6 +297,9 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     frames : 1, burst capture n, a whole number >= 1: the exposure split into n frames,
         aligned and summed (1: off).
     alignment_error_um : um, rms alignment error of each frame of a burst (0: off).
+    wavefront_rms_waves : waves, rms wavefront error at every wavelength (0: off; <= 0.16).
+    denoise_sigma_px : output pixels, sigma of a Gaussian denoising filter (0: off; <= 100).
+        Both: the reference only, for now (the core raises NotImplementedError unless 0).
     binning_readout : {"digital", "charge"}
         How a binned pixel is read, for the whole call: k^2 reads summed digitally (read noise
         variance k^2 sigma_r^2, the default), or the k x k pixels' charge summed before one
@@ -391,11 +395,14 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         "snr_db": snr_db, "shake_deg_per_s": shake_deg_per_s, "stabilization": stabilization,
         "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
         "binning": binning, "frames": frames, "alignment_error_um": alignment_error_um,
+        "wavefront_rms_waves": wavefront_rms_waves, "denoise_sigma_px": denoise_sigma_px,
     }
     names, arrays, shape = _broadcast_inputs(values, sensor.name)
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
                           precision, outputs, sensor.is_pixel_count, binning_readout)
+    if options.backend == "core":
+        params.refuse_reference_only_terms(dict(zip(params.PARAMETER_NAMES, arrays)))
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
     if options.backend == "core":  # the threads first: their stacks take memory too

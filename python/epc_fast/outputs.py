@@ -36,12 +36,13 @@ class Result:
     epc : pixels, effective pixel count 4 S f50^2.
     status : :class:`Status` codes (uint8 array).
     cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
-    share_diffraction, share_pixel, share_motion, share_jitter, share_alignment : 1, each MTF
-        factor's share ln MTF_i(f50) / ln MTF_sys(f50) of the loss at f50 (the denominator is
-        ln c at the root); the five sum to 1. The binned pixel (``binning``) is the pixel's
-        share; a burst's alignment residual has its own (0 without one). NaN where the status
-        is not OK, except where the blur is unbounded: 0, 0, 1, 0, 0. Computed only when
-        ``outputs=`` names them.
+    share_diffraction, share_pixel, share_motion, share_jitter, share_alignment,
+    share_aberration, share_denoise : 1, each MTF factor's share ln MTF_i(f50) /
+        ln MTF_sys(f50) of the loss at f50 (the denominator is ln c at the root); the seven sum
+        to 1. The binned pixel (``binning``) is the pixel's share; a burst's alignment residual,
+        the wavefront error's ATF and denoising's filter have their own (0 without them). NaN
+        where the status is not OK, except where the blur is unbounded: motion's is 1, the
+        others 0. Computed only when ``outputs=`` names them.
     elasticities : dict of parameter name to 1, the elasticity d ln EPC / d ln theta of every
         model parameter (:data:`ELASTICITY_PARAMETERS`; the sensor's size under the keyword
         that gave it, ``sensor_area_mm2`` for a width and a height or a diagonal), each the
@@ -67,6 +68,8 @@ class Result:
     share_motion: np.ndarray | float | None = None
     share_jitter: np.ndarray | float | None = None
     share_alignment: np.ndarray | float | None = None
+    share_aberration: np.ndarray | float | None = None
+    share_denoise: np.ndarray | float | None = None
     elasticities: dict | None = None
     mode: np.ndarray | int | None = None
 
@@ -81,7 +84,7 @@ class Result:
 
 
 #: The MTF factors whose shares of the loss at f50 evaluate gives, in the core's order.
-SHARE_NAMES = ("diffraction", "pixel", "motion", "jitter", "alignment")
+SHARE_NAMES = ("diffraction", "pixel", "motion", "jitter", "alignment", "aberration", "denoise")
 #: The shares of the loss at f50, one output each (``outputs=`` names them; docs/limits.md).
 SHARE_OUTPUTS = tuple(f"share_{name}" for name in SHARE_NAMES)
 #: The outputs computed only when ``outputs=`` names them.

@@ -27,7 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["Param", "ParameterTable", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS",
-           "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX"]
+           "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX",
+           "WAVEFRONT_RMS_WAVES_MAX", "DENOISE_SIGMA_PX_MAX", "REFERENCE_ONLY",
+           "refuse_reference_only_terms"]
 
 INF = math.inf
 #: The largest magnitude of a parameter that physics leaves unbounded (see the module docstring).
@@ -39,6 +41,12 @@ TINY = 1e-30
 #: float64 from -3000 dB; up to +1000 dB (1e100 electrons) every product stays finite.
 SNR_DB_MIN = -3000.0
 SNR_DB_MAX = 1000.0
+#: waves: the largest rms wavefront error. Shannon's ATF holds to 0.18 waves, but above
+#: W = 0.1642 waves its product with the diffraction MTF rises again past nu = 0.55 (at an MTF
+#: near 0.04), and f50's bracket needs a falling MTF (docs/model.md, "The cut-off frequency f50").
+WAVEFRONT_RMS_WAVES_MAX = 0.16
+#: output pixels: the largest denoising sigma; its kernel has 2 ceil(4 sigma) + 1 = 801 taps.
+DENOISE_SIGMA_PX_MAX = 100.0
 
 
 @dataclass(frozen=True)
@@ -153,6 +161,10 @@ PARAMETERS: tuple[Param, ...] = ParameterTable((
        integer=True),
     _p("alignment_error_um", 0.0, 0, BIG, True, False,
        "um: rms alignment error of each frame of a burst (0: off)"),
+    _p("wavefront_rms_waves", 0.0, 0, WAVEFRONT_RMS_WAVES_MAX, True, True,
+       "waves: rms wavefront error of the lens, in waves at every wavelength (0: off)"),
+    _p("denoise_sigma_px", 0.0, 0, DENOISE_SIGMA_PX_MAX, True, True,
+       "output pixels: sigma of the Gaussian denoising filter (0: off)"),
 ))
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)
@@ -186,3 +198,24 @@ def domain_table() -> np.ndarray:
          for p in PARAMETERS],
         dtype=np.float64,
     )
+
+
+#: The terms the NumPy reference has and the core does not yet (issue #40): the core would
+#: take any value but 0 as outside its domain.
+REFERENCE_ONLY = ("wavefront_rms_waves", "denoise_sigma_px")
+
+
+def refuse_reference_only_terms(values):
+    """NotImplementedError where ``values`` (parameter name to value) turn on a term the core
+    does not compute yet, with a value inside its domain (one outside is INVALID in either
+    backend); a scalar 0 costs one comparison."""
+    for name in REFERENCE_ONLY:
+        value = values[name]
+        if isinstance(value, (int, float)) and value == 0.0:
+            continue
+        v = np.asarray(value, dtype=np.float64)
+        param = next(p for p in PARAMETERS if p.name == name)
+        if np.any((v != 0.0) & in_domain(param, v)):
+            raise NotImplementedError(
+                f"{name} is computed by the NumPy reference only, for now: pass "
+                f'backend="reference" (got {name} other than 0 with backend="core")')

@@ -36,6 +36,8 @@ enum Param : int {
     binning,             // k: k x k pixels read as one output pixel (1: off)
     frames,              // n: the exposure split into n frames, aligned and summed (1: off)
     alignment_error_um,  // rms alignment error of each frame (0: off)
+    wavefront_rms_waves,  // rms wavefront error in waves (0: off; the reference only, for now)
+    denoise_sigma_px,     // Gaussian denoising sigma in output pixels (0: off; the reference only)
     n_params
 };
 
@@ -45,7 +47,7 @@ constexpr const char* param_names[n_params] = {
     "lens_transmittance", "field_angle_deg", "fill_factor", "electrons_per_lux_s_m2",
     "read_noise_e", "dark_current_e_per_s", "prnu", "full_well_e", "snr_db", "shake_deg_per_s",
     "stabilization", "jitter_um", "wavelength_nm", "mtf_threshold", "binning", "frames",
-    "alignment_error_um"};
+    "alignment_error_um", "wavefront_rms_waves", "denoise_sigma_px"};
 
 // A value lies in [lo, hi] with each end open or closed, and is a whole number where `integer`
 // (binning, frames); NaN lies in no domain.
@@ -129,8 +131,13 @@ struct Options {
 };
 
 // The MTF factors of the share outputs (sensitivity.h), in their order.
-// The binned aperture (binning) is the pixel's; the burst's alignment residual has its own.
-enum Share : int { share_diffraction, share_pixel, share_motion, share_jitter, share_alignment, n_shares };
+// The binned aperture (binning) is the pixel's; the burst's alignment residual has its own, and
+// so have the wavefront error's ATF and denoising's filter (0 in the core, which has neither
+// term yet: ln 1).
+enum Share : int {
+    share_diffraction, share_pixel, share_motion, share_jitter, share_alignment,
+    share_aberration, share_denoise, n_shares
+};
 
 // The outputs of what limits a design and how sensitive it is (sensitivity.h); null: not
 // computed. Each share has a column, and so has each parameter's elasticity (elasticity[j]:

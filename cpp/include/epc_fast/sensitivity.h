@@ -241,6 +241,10 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[binning][i] = nan;
     out[frames][i] = nan;
     out[alignment_error_um][i] = 2.0 * log_alignment * two_over_a;
+    // the core's lanes have neither term (binding_support.cpp): the elasticity of a term that
+    // is off is 0
+    out[wavefront_rms_waves][i] = 0.0 * mask;
+    out[denoise_sigma_px][i] = 0.0 * mask;
 }
 
 // diffraction_loss, diffraction_log_slope_numerator and mtf_diffraction at nu. `High` = false
@@ -436,6 +440,8 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
         }
         logs[share_jitter][i] = -2.0 * pi * pi * sigma_f * sigma_f;
         logs[share_alignment][i] = 0.0;  // a block with bursts takes sensitivity_lane
+        logs[share_aberration][i] = 0.0;  // neither term is in the core yet
+        logs[share_denoise][i] = 0.0;
         if (Elasticities) {
             slope_numerator[i] *= d_sincs * inverse;  // now nu dD/dnu / D
             slope_pixel[i] = pixel.slope;

@@ -16,10 +16,12 @@ import math
 import numpy as np
 
 from ..status import Cause, Status
+from .optics import mtf_aberration, mtf_denoise, noise_gain_denoise
 
 __all__ = [
     "scaled_product",
     "electron_rate",
+    "root_target",
     "prnu_product",
     "prnu_capped",
     "prnu_margin",
@@ -98,13 +100,19 @@ def _split(a):
     return hi, a - hi
 
 
-def prnu_product(prnu, snr_db):
-    """1: u sqrt(s) = p + e exactly, s = 10^(snr_db/10): (p, e) with e the rounding error of p.
+def root_target(snr_db, noise_gain=1.0):
+    """1: sqrt(s g), s = 10^(snr_db/10), g denoising's noise gain (every noise variance times g:
+    :func:`noise_gain_denoise`). sqrt(1) = 1: without denoising, 10^(snr_db/20) bit for bit."""
+    return 10.0 ** (np.asarray(snr_db, dtype=np.float64) / 20.0) * np.sqrt(noise_gain)
+
+
+def prnu_product(prnu, snr_db, noise_gain=1.0):
+    """1: u sqrt(s g) = p + e exactly, s = 10^(snr_db/10): (p, e) with e the rounding error of p.
 
     e comes from Dekker's exact product (the core uses a fused multiply-add); it is kept where
     p is near 1, the only place it matters, and is 0 elsewhere.
     """
-    root_s = 10.0 ** (np.asarray(snr_db, dtype=np.float64) / 20.0)
+    root_s = root_target(snr_db, noise_gain)
     u = np.asarray(prnu, dtype=np.float64)
     p = u * root_s
     near = np.abs(p - 1.0) < 0.5
@@ -115,17 +123,17 @@ def prnu_product(prnu, snr_db):
     return p, np.where(near, e, 0.0)
 
 
-def prnu_capped(prnu, snr_db):
-    """bool: PRNU caps the SNR below the target, u sqrt(s) >= 1, decided on the exact product
+def prnu_capped(prnu, snr_db, noise_gain=1.0):
+    """bool: PRNU caps the SNR below the target, u sqrt(s g) >= 1, decided on the exact product
     (exactly, whenever sqrt(s) = 10^(snr_db/20) is a double: 0, 20, 40, ... dB)."""
-    p, e = prnu_product(prnu, snr_db)
+    p, e = prnu_product(prnu, snr_db, noise_gain)
     return (p > 1.0) | ((p == 1.0) & (e >= 0.0))
 
 
-def prnu_margin(prnu, snr_db):
-    """1: w = 1 - s u^2 as (1 - u sqrt(s))(1 + u sqrt(s)), from the exact product u sqrt(s):
-    1 - p is exact near the cap, so w keeps its digits however close u sqrt(s) is to 1."""
-    p, e = prnu_product(prnu, snr_db)
+def prnu_margin(prnu, snr_db, noise_gain=1.0):
+    """1: w = 1 - s g u^2 as (1 - u sqrt(s g))(1 + u sqrt(s g)), from the exact product
+    u sqrt(s g): 1 - p is exact near the cap, so w keeps its digits however close it is to 1."""
+    p, e = prnu_product(prnu, snr_db, noise_gain)
     return ((1.0 - p) - e) * ((1.0 + p) + e)
 
 
@@ -147,7 +155,8 @@ def burst_read_noise_e(read_noise_e, binning, frames, charge_binning=False):
     return read_noise_e * np.sqrt(reads)
 
 
-def signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu):
+def signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu,
+                     noise_gain=1.0):
     """e-: the photo-electrons r T_MPE needed to reach ``snr_db``.
 
     T_MPE is the positive root of r^2 (1 - s u^2) T^2 - s (r + D) T - s sigma_r^2 = 0 with
@@ -162,10 +171,13 @@ def signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, p
     divides (where it overflows, the read-noise term takes its true limit, 0). a >= s >= 1e-300
     inside the domain, so the answer is a normal double. Returns +inf where PRNU caps the SNR
     (:func:`prnu_capped`) and NaN where r = 0.
+
+    Denoising multiplies every noise variance by its noise gain g (:func:`noise_gain_denoise`):
+    the target is met after the filter, so s is s g throughout (:func:`root_target`).
     """
-    root_s = 10.0 ** (np.asarray(snr_db, dtype=np.float64) / 20.0)
-    w = prnu_margin(prnu, snr_db)
-    capped = prnu_capped(prnu, snr_db)
+    root_s = root_target(snr_db, noise_gain)
+    w = prnu_margin(prnu, snr_db, noise_gain)
+    capped = prnu_capped(prnu, snr_db, noise_gain)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         q = 1.0 + dark_current_e_per_s / rate_e_per_s
         read_term = 2.0 * read_noise_e * np.sqrt(np.maximum(w, 0.0)) / q
@@ -175,21 +187,25 @@ def signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, p
     return np.where(rate_e_per_s > 0, electrons, np.nan)
 
 
-def t_mpe_closed_form(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu):
+def t_mpe_closed_form(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu,
+                      noise_gain=1.0):
     """s: minimum photometric exposure T_MPE, the closed-form root (see :func:`signal_electrons`).
 
     +inf where the target is unreachable by PRNU or there is no light.
     """
-    electrons = signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu)
+    electrons = signal_electrons(rate_e_per_s, snr_db, read_noise_e, dark_current_e_per_s, prnu,
+                                 noise_gain)
     with np.errstate(divide="ignore", invalid="ignore"):
         t = electrons / rate_e_per_s
     return np.where(rate_e_per_s > 0, t, np.inf)
 
 
-def snr_db_at(t_s, rate_e_per_s, read_noise_e, dark_current_e_per_s, prnu):
-    """dB: SNR after an exposure of ``t_s`` seconds, 20 log10(S / sigma) in electrons."""
+def snr_db_at(t_s, rate_e_per_s, read_noise_e, dark_current_e_per_s, prnu, noise_gain=1.0):
+    """dB: SNR after an exposure of ``t_s`` seconds, 20 log10(S / sigma) in electrons, after a
+    denoising filter of noise gain g (every variance times g)."""
     signal = rate_e_per_s * t_s
-    variance = signal + dark_current_e_per_s * t_s + read_noise_e**2 + (prnu * signal) ** 2
+    variance = noise_gain * (signal + dark_current_e_per_s * t_s + read_noise_e**2
+                             + (prnu * signal) ** 2)
     return 20.0 * np.log10(signal / np.sqrt(variance))
 
 
@@ -301,19 +317,27 @@ def mtf_alignment(f_cyc_per_mm, alignment_error_um, frames):
 
 
 def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
-               wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0):
-    """1: D(f) P_k(f) M(f) J(f) A(f), with D = sum_i w_i D_i(f) over a spectrum (weights sum
-    to 1) and P_k the binned pixel (:func:`mtf_binned_pixel`; P at k = 1).
+               wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0,
+               wavefront_rms_waves=0.0, denoise_sigma_px=0.0):
+    """1: D(f) P_k(f) M(f) J(f) A(f) H(f), with D = sum_i w_i D_i(f) ATF_i(f) over a spectrum
+    (weights sum to 1; ATF_i Shannon's at wavelength i, :func:`mtf_aberration`), P_k the binned
+    pixel (:func:`mtf_binned_pixel`; P at k = 1) and H the denoising filter
+    (:func:`mtf_denoise`, on the output pitch k p).
 
     ``wavelengths_nm`` and ``weights`` are 1-D and shared by every point; a monochromatic
-    scene passes one wavelength with weight 1.
+    scene passes one wavelength with weight 1. ATF and H enter only calls that have them.
     """
     f = np.asarray(f_cyc_per_mm, dtype=np.float64)
+    aberrated = np.any(np.asarray(wavefront_rms_waves) != 0.0)
     diffraction = sum(w * mtf_diffraction(f, lam, f_number)
+                      * (mtf_aberration(f, lam, f_number, wavefront_rms_waves) if aberrated else 1.0)
                       for lam, w in zip(wavelengths_nm, weights))
-    return (diffraction * mtf_binned_pixel(f, pixel_pitch_um, fill_factor, binning)
-            * mtf_motion(f, blur_mm) * mtf_jitter(f, jitter_um)
-            * mtf_alignment(f, alignment_error_um, frames))
+    m = (diffraction * mtf_binned_pixel(f, pixel_pitch_um, fill_factor, binning)
+         * mtf_motion(f, blur_mm) * mtf_jitter(f, jitter_um)
+         * mtf_alignment(f, alignment_error_um, frames))
+    if np.any(np.asarray(denoise_sigma_px) != 0.0):
+        m = m * mtf_denoise(f, denoise_sigma_px, pixel_pitch_um * np.asarray(binning))
+    return m
 
 
 # --- The cut-off frequency (docs/model.md, "The cut-off frequency f50") ----------------------
@@ -415,12 +439,14 @@ def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, char
                          q["fill_factor"], q["pixel_pitch_um"]) * pixels
     read_noise = burst_read_noise_e(q["read_noise_e"], k, n, charge_binning)
     prnu = q["prnu"] / k
+    # denoising: every noise variance times g, met after the filter
+    gain = noise_gain_denoise(q["denoise_sigma_px"])
     electrons = signal_electrons(rate, q["snr_db"], read_noise,
-                                 q["dark_current_e_per_s"] * pixels, prnu)
+                                 q["dark_current_e_per_s"] * pixels, prnu, gain)
     t_mpe = electrons / rate
 
     # No light: a rate of 0 (or flushed to 0 by electron_rate), or a T_MPE beyond float64.
-    prnu_cap = (rate > 0) & prnu_capped(prnu, q["snr_db"])
+    prnu_cap = (rate > 0) & prnu_capped(prnu, q["snr_db"], gain)
     no_light = ~prnu_cap & ~np.isfinite(t_mpe)
     # the full well holds k^2 W a frame: n k^2 W over the burst
     full_well = ~no_light & ~prnu_cap & (electrons > q["full_well_e"] * (pixels * n))
@@ -448,7 +474,8 @@ def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, char
     def mtf(f):
         return mtf_system(f, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_solved,
                           q["jitter_um"], wavelengths, spectral_weights, k,
-                          q["alignment_error_um"], n)
+                          q["alignment_error_um"], n, q["wavefront_rms_waves"],
+                          q["denoise_sigma_px"])
 
     f50 = np.where(solve, f50_bisection(mtf, f_hi, q["mtf_threshold"]), 0.0)
     area_mm2 = q["size"] * (q["pixel_pitch_um"] * 1e-3) ** 2 if size_is_pixel_count else q["size"]

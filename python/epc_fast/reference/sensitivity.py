@@ -5,9 +5,11 @@ Every function carries the same name as its C++ counterpart in
 ``cpp/include/epc_fast/sensitivity.h``; the core is tested against this module, and this module
 against 40-digit mpmath central differences (tests/test_sensitivity.py).
 
-**Shares.** At f50 the system MTF is c, so ln D + ln P + ln M + ln J + ln A = ln c: the share
-of a factor is ln MTF_i(f50) / ln MTF_sys(f50) (= ln c at the root), and the five shares sum to
-1. The binned pixel P_k is the pixel's share; a burst's alignment residual A has its own.
+**Shares.** At f50 the system MTF is c, so ln D + ln P + ln M + ln J + ln A + ln(D_W/D) +
+ln H = ln c: the share of a factor is ln MTF_i(f50) / ln MTF_sys(f50) (= ln c at the root), and
+the seven shares sum to 1. The binned pixel P_k is the pixel's share; a burst's alignment
+residual A, the wavefront error's ATF (D_W the aberrated diffraction MTF) and denoising's H have
+their own. Denoising's target s g puts d ln g / d ln sigma on T_MPE's d ln T / d ln s.
 
 **Elasticities.** EPC = 4 S f50^2, so d ln EPC / d ln theta = d ln S / d ln theta +
 2 d ln f50 / d ln theta. f50 is defined by ln MTF(f50; theta) = ln c; differentiating it,
@@ -51,6 +53,7 @@ from ..elasticity_outputs import ELASTICITY_PARAMETERS
 from ..outputs import SHARE_NAMES
 from ..status import Status
 from .model import binned_pixels, burst_read_noise_e, mtf_diffraction, scaled_product, sinpi
+from .optics import SHANNON_W0, denoise_log_factor, noise_gain_log_slope
 
 __all__ = [
     "ZETA_EVEN",
@@ -59,6 +62,7 @@ __all__ = [
     "diffraction_loss",
     "diffraction_log_slope_numerator",
     "log_mtf_diffraction",
+    "aberration_log_factor",
     "mtf_log_factors",
     "mtf_loss_shares",
     "t_mpe_log_slopes",
@@ -141,13 +145,17 @@ def log_mtf_diffraction(value, loss):
 
 
 def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
-                    wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0):
-    """1: (ln D, ln P_k, ln M, ln J, ln A) at f, and (nu dD/dnu / D, f dlnP_k/df, y_m dlnM/dy_m,
-    y_a dln sinc(y_a)/dy_a): each factor's log and the log-slopes the elasticities need, the
-    last the pixel's own aperture y_a = sqrt(a) p f alone (what the fill factor moves; the
-    binned pixel adds its array factor sinc(k p f) / sinc(p f) to P). ``wavelengths_nm`` and
-    ``weights`` as in :func:`epc_fast.reference.mtf_system` (a per-point wavelength array with
-    weight 1 for a monochromatic scene)."""
+                    wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0,
+                    wavefront_rms_waves=0.0, denoise_sigma_px=0.0):
+    """1: (ln D, ln P_k, ln M, ln J, ln A, ln(D_W/D), ln H) at f, and (nu dD/dnu / D,
+    f dlnP_k/df, y_m dlnM/dy_m, y_a dln sinc(y_a)/dy_a, f dln(D_W/D)/df, W dlnD_W/dW,
+    f dlnH/df, sigma dlnH/dsigma): each factor's log and the log-slopes the elasticities need,
+    the fourth the pixel's own aperture y_a = sqrt(a) p f alone (what the fill factor moves; the
+    binned pixel adds its array factor sinc(k p f) / sinc(p f) to P), the last four the
+    wavefront error's (:func:`aberration_log_factor`) and denoising's
+    (:func:`epc_fast.reference.optics.denoise_log_factor`), 0 where they are off.
+    ``wavelengths_nm`` and ``weights`` as in :func:`epc_fast.reference.mtf_system` (a
+    per-point wavelength array with weight 1 for a monochromatic scene)."""
     f = np.asarray(f_cyc_per_mm, dtype=np.float64)
     loss = 0.0
     slope_numerator = 0.0
@@ -168,10 +176,43 @@ def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm
     slope_fill = sinc_log_slope(y_pixel)
     slope_pixel = slope_fill + np.where(binned, sinc_log_slope(y_whole) - sinc_log_slope(y_one),
                                         0.0)
+    zero = np.zeros_like(f)
+    aberration = (zero, zero, zero)
+    if np.any(np.asarray(wavefront_rms_waves) != 0.0):
+        aberration = aberration_log_factor(f, f_number, wavelengths_nm, weights,
+                                           wavefront_rms_waves, value, slope_numerator)
+    denoise = (zero, zero, zero)
+    if np.any(np.asarray(denoise_sigma_px) != 0.0):
+        denoise = denoise_log_factor(f, denoise_sigma_px, pixel_pitch_um * np.asarray(binning))
     logs = (log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
-            -2.0 * np.pi**2 * sigma_f * sigma_f, -2.0 * np.pi**2 * residual_f * residual_f)
-    slopes = (slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill)
+            -2.0 * np.pi**2 * sigma_f * sigma_f, -2.0 * np.pi**2 * residual_f * residual_f,
+            aberration[0], denoise[0])
+    slopes = (slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill,
+              aberration[1], aberration[2], denoise[1], denoise[2])
     return logs, slopes
+
+
+def aberration_log_factor(f_cyc_per_mm, f_number, wavelengths_nm, weights, wavefront_rms_waves,
+                          diffraction_value, diffraction_slope_numerator):
+    """1: (ln(D_W / D), f d ln(D_W / D) / df, W d ln D_W / dW) at f: the wavefront error's
+    factor of the diffraction MTF, D_W = sum_i w_i D_i ATF_i against D = sum_i w_i D_i (given as
+    ``diffraction_value``, with ``diffraction_slope_numerator`` = sum_i w_i nu_i dD_i/dnu): its
+    log (its share's numerator), its log-slope in f, and in W. D_W - D = -sum_i w_i D_i a (1 -
+    4 (nu_i - 1/2)^2), a = (W/0.18)^2, is formed without cancellation, and so its log1p."""
+    f = np.asarray(f_cyc_per_mm, dtype=np.float64)
+    a = (np.asarray(wavefront_rms_waves, dtype=np.float64) / SHANNON_W0) ** 2
+    deficit, slope_numerator = 0.0, 0.0  # D - D_W, and sum_i w_i nu_i d(D_i ATF_i)/dnu
+    for lam, w in zip(wavelengths_nm, weights):
+        nu = np.minimum(f * (np.asarray(lam) * 1e-6) * f_number, 1.0)
+        d_i = mtf_diffraction(f, lam, f_number)
+        atf = 1.0 - a * (1.0 - 4.0 * (nu - 0.5) ** 2)
+        deficit = deficit + w * d_i * a * (1.0 - 4.0 * (nu - 0.5) ** 2)
+        slope_numerator = slope_numerator + w * (diffraction_log_slope_numerator(nu) * atf
+                                                 + d_i * 8.0 * a * nu * (nu - 0.5))
+    aberrated = diffraction_value - deficit
+    log_factor = np.log1p(-deficit / diffraction_value)
+    slope = slope_numerator / aberrated - diffraction_slope_numerator / diffraction_value
+    return log_factor, slope, -2.0 * deficit / aberrated
 
 
 #: The relative distance of sum_i ln MTF_i(f50) from ln c beyond which f50 is a factor's zero to
@@ -244,8 +285,10 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     binning, frames = q["binning"], q["frames"]
     logs, slopes = mtf_log_factors(
         f50_cyc_per_mm, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_mm,
-        q["jitter_um"], wavelengths_nm, weights, binning, q["alignment_error_um"], frames)
+        q["jitter_um"], wavelengths_nm, weights, binning, q["alignment_error_um"], frames,
+        q["wavefront_rms_waves"], q["denoise_sigma_px"])
     g_fill = slopes[3]
+    g_ab, w_ab, g_h, s_h = slopes[4:]
     slopes = slopes[:3]
     # where f50 is a factor's zero to within rounding (a tiny threshold), its log-slope is not
     # finite: every slope over |that slope|, the limit as it goes to -infinity (f50 follows the
@@ -261,7 +304,9 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     log_j = np.where(limit, 0.0, logs[3])
     log_a = np.where(limit, 0.0, logs[4])
     threshold_term = np.where(limit, 0.0, 1.0)
-    a_slope = -(g_d + g_p + g_m + 2.0 * (log_j + log_a))  # -d ln MTF / d ln f, > 0
+    # the wavefront error's and denoising's slopes are finite: 0 in that limit
+    g_ab, w_ab, g_h, s_h = (np.where(limit, 0.0, g) for g in (g_ab, w_ab, g_h, s_h))
+    a_slope = -(g_d + g_ab + g_p + g_h + g_m + 2.0 * (log_j + log_a))  # -d ln MTF / d ln f > 0
     # T_MPE of the output pixel of the burst (its inputs each proportional to the parameter's)
     t = t_mpe_log_slopes(electrons, t_mpe_s,
                          burst_read_noise_e(q["read_noise_e"], binning, frames, charge_binning),
@@ -274,8 +319,8 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     zero = np.zeros_like(a_slope)
     mtf_slopes = {
         "illuminance_lux": via_rate,
-        "pixel_pitch_um": g_p + 2.0 * via_rate,
-        "f_number": g_d - 2.0 * via_rate,
+        "pixel_pitch_um": g_p + g_h + 2.0 * via_rate,
+        "f_number": g_d + g_ab - 2.0 * via_rate,
         "focal_length_mm": g_m,
         "size": zero,
         "reflectance": via_rate,
@@ -291,11 +336,15 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         "shake_deg_per_s": mu,
         "stabilization": -mu,
         "jitter_um": 2.0 * log_j,
-        "wavelength_nm": g_d,
+        "wavelength_nm": g_d + g_ab,
         "mtf_threshold": zero - threshold_term,
         "binning": zero + np.nan,
         "frames": zero + np.nan,
         "alignment_error_um": 2.0 * log_a,
+        # 0 where the term is off (W d ln ATF / dW and sigma d ln H / d sigma vanish with W and
+        # sigma); denoising moves the MTF and, through the target s g, T_MPE and the blur
+        "wavefront_rms_waves": w_ab,
+        "denoise_sigma_px": s_h + mu * t["target"] * noise_gain_log_slope(q["denoise_sigma_px"]),
     }
     area = {"size": 1.0, "pixel_pitch_um": 2.0 if size_is_pixel_count else 0.0}
     return {name: area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope
@@ -305,12 +354,12 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
 def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, shares=True,
                        elasticities=True, charge_binning=False):
     """The shares and elasticities of 1-D points, from their :func:`epc_fast.reference.
-    evaluate_points` ``result``: ``share_diffraction``, ``share_pixel``, ``share_motion``,
-    ``share_jitter``, ``share_alignment`` (each 1-D) and ``elasticities`` (one row per
+    evaluate_points` ``result``: one ``share_<name>`` per
+    :data:`epc_fast.outputs.SHARE_NAMES` entry (each 1-D) and ``elasticities`` (one row per
     :data:`ELASTICITY_PARAMETERS` entry), as asked for.
 
     Only OK points have them; elsewhere they are NaN, but where the blur is unbounded (f50 = 0,
-    EPC = 0: motion takes all of the loss) the shares are 0, 0, 1, 0, 0. ``p``,
+    EPC = 0: motion takes all of the loss) motion's share is 1 and the others 0. ``p``,
     ``wavelengths_nm``, ``weights`` and ``charge_binning`` as
     :func:`epc_fast.reference.evaluate_points` takes them.
     """
@@ -333,7 +382,8 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
             logs, _ = mtf_log_factors(f50, stand["f_number"], stand["pixel_pitch_um"],
                                       stand["fill_factor"], blur, stand["jitter_um"],
                                       wavelengths, spectral_weights, stand["binning"],
-                                      stand["alignment_error_um"], stand["frames"])
+                                      stand["alignment_error_um"], stand["frames"],
+                                      stand["wavefront_rms_waves"], stand["denoise_sigma_px"])
             unbounded = status == Status.BLUR_UNBOUNDED
             for name, share in zip(SHARE_NAMES, mtf_loss_shares(logs, stand["mtf_threshold"])):
                 limit = 1.0 if name == "motion" else 0.0
