@@ -1,0 +1,154 @@
+"""Tabulated MTFs: a lens's MTF from its data sheet (``lens_mtf=``) and a demosaicker's
+luminance MTF, each a falling curve given at a few frequencies and interpolated monotonically
+(docs/model.md, "Tabulated MTFs").
+
+The interpolant is the piecewise cubic Hermite of Fritsch and Carlson with the knot slopes of
+Fritsch and Butland (F. N. Fritsch and R. E. Carlson, "Monotone piecewise cubic interpolation",
+SIAM J. Numer. Anal. 17 (1980) 238-246; F. N. Fritsch and J. Butland, "A method for constructing
+local monotone piecewise cubic interpolants", SIAM J. Sci. Stat. Comput. 5 (1984) 300-304), the
+scheme of SciPy's ``PchipInterpolator``: on data that never rises it never rises, and it passes
+through every point. Each segment k is stored as the cubic
+y_k + d_k s + c2_k s^2 + c3_k s^3 in s = f - f_k, the form the core evaluates too, so that both
+backends compute the same polynomial. Past the last frequency the table holds its last value;
+what a point does there is the caller's (an f50 beyond a lens table is a status, not a number).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._validation import short
+
+__all__ = ["MtfTable", "mtf_table", "pchip_slopes", "mtf_tabulated"]
+
+
+def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The knot slopes dy/dx of the monotone interpolant: 0 where the data's secant slopes
+    change sign or either is 0; else their weighted harmonic mean (Fritsch-Butland); at the two
+    ends the three-point formula, set to 0 if its sign differs from the end segment's and
+    limited to three times that segment's slope where the secants change sign. Two points: the
+    straight line."""
+    h = np.diff(x)
+    delta = np.diff(y) / h
+    if x.size == 2:
+        return np.array([delta[0], delta[0]])
+    d = np.zeros_like(y)
+    w1 = 2.0 * h[1:] + h[:-1]
+    w2 = h[1:] + 2.0 * h[:-1]
+    same = (delta[:-1] * delta[1:]) > 0.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        harmonic = (w1 + w2) / (w1 / delta[:-1] + w2 / delta[1:])
+    d[1:-1] = np.where(same, harmonic, 0.0)
+    d[0] = _end_slope(h[0], h[1], delta[0], delta[1])
+    d[-1] = _end_slope(h[-1], h[-2], delta[-1], delta[-2])
+    return d
+
+
+def _end_slope(h0, h1, delta0, delta1) -> float:
+    d = ((2.0 * h0 + h1) * delta0 - h0 * delta1) / (h0 + h1)
+    if np.sign(d) != np.sign(delta0):
+        return 0.0
+    if np.sign(delta0) != np.sign(delta1) and abs(d) > abs(3.0 * delta0):
+        return 3.0 * delta0
+    return float(d)
+
+
+@dataclass(frozen=True)
+class MtfTable:
+    """A checked, falling MTF table and its interpolant's segments.
+
+    ``frequencies``: the knots f_0 = 0 < f_1 < ... (in the table's own unit: cycles/mm for a
+    lens, cycles/pixel for a demosaicker); ``values``: the MTF there, 1 at 0 and never rising;
+    ``coefficients``: shape (knots - 1, 4), segment k's (y_k, d_k, c2_k, c3_k).
+    """
+
+    frequencies: np.ndarray
+    values: np.ndarray
+    coefficients: np.ndarray
+
+    @property
+    def last_frequency(self) -> float:
+        return float(self.frequencies[-1])
+
+    def __call__(self, f):
+        """The interpolated MTF at ``f`` (held at the last value past the last frequency)."""
+        return mtf_tabulated(f, self)[0]
+
+
+def mtf_table(name: str, table) -> MtfTable:
+    """``table`` = (frequencies, mtf), two 1-D arrays of the same length, checked and made an
+    :class:`MtfTable`; a ValueError of one line naming ``name`` for anything else: fewer than
+    two points, a NaN or infinite value, a negative or unsorted (or repeated) frequency, an MTF
+    outside [0, 1] or one that rises, a value other than 1 at frequency 0. A table that starts
+    above 0 gets the point (0, 1): every MTF is 1 at 0."""
+    if isinstance(table, MtfTable):
+        return table
+    try:
+        frequencies, values = table
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a pair (frequencies, mtf) of 1-D arrays, got "
+                         f"{short(table)}") from None
+    try:
+        f = np.asarray(frequencies, dtype=np.float64)
+        m = np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must hold real numbers, got {short(table)}") from None
+    if f.ndim != 1 or m.ndim != 1 or f.size != m.size:
+        raise ValueError(f"{name}: frequencies and mtf must be 1-D arrays of one length, got "
+                         f"shapes {f.shape} and {m.shape}")
+    if f.size < 2:
+        raise ValueError(f"{name} has {f.size} point(s); a table needs at least 2")
+    bad = ~np.isfinite(f) | ~np.isfinite(m)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"{name} holds a NaN or infinite value at index {i} "
+                         f"(frequency {f[i]!r}, mtf {m[i]!r})")
+    if f[0] < 0.0:
+        raise ValueError(f"{name}'s first frequency is {f[0]!r}; frequencies are >= 0")
+    step = np.diff(f)
+    if np.any(step <= 0.0):
+        i = int(np.flatnonzero(step <= 0.0)[0])
+        raise ValueError(f"{name}'s frequencies must increase strictly: {f[i]!r} at index {i} "
+                         f"is followed by {f[i + 1]!r}")
+    if np.any((m < 0.0) | (m > 1.0)):
+        i = int(np.flatnonzero((m < 0.0) | (m > 1.0))[0])
+        raise ValueError(f"{name}'s mtf {m[i]!r} at index {i} is outside [0, 1]")
+    rise = np.diff(m)
+    if np.any(rise > 0.0):
+        i = int(np.flatnonzero(rise > 0.0)[0])
+        raise ValueError(f"{name} rises from {m[i]!r} to {m[i + 1]!r} between frequencies "
+                         f"{f[i]!r} and {f[i + 1]!r}; an MTF table must never rise")
+    if f[0] == 0.0 and m[0] != 1.0:
+        raise ValueError(f"{name}'s mtf at frequency 0 is {m[0]!r}; every MTF is 1 there "
+                         "(divide the table by it)")
+    if f[0] > 0.0:
+        f, m = np.concatenate(([0.0], f)), np.concatenate(([1.0], m))
+    d = pchip_slopes(f, m)
+    h = np.diff(f)
+    delta = np.diff(m) / h
+    c2 = (3.0 * delta - 2.0 * d[:-1] - d[1:]) / h
+    c3 = (d[:-1] + d[1:] - 2.0 * delta) / (h * h)
+    coefficients = np.stack([m[:-1], d[:-1], c2, c3], axis=1)
+    for array in (f, m, coefficients):
+        array.setflags(write=False)
+    return MtfTable(f, m, coefficients)
+
+
+def mtf_tabulated(f, table: MtfTable):
+    """(T, T', T''): the table's interpolant and its first two derivatives in f at ``f``, any
+    shape. Segment k = the last knot <= f; s = f - f_k; T = y + s (d + s (c2 + s c3)),
+    T' = d + s (2 c2 + 3 c3 s), T'' = 2 c2 + 6 c3 s. Past the last frequency: the last value,
+    slopes 0."""
+    f = np.asarray(f, dtype=np.float64)
+    knots = table.frequencies
+    k = np.clip(np.searchsorted(knots, f, side="right") - 1, 0, knots.size - 2)
+    y, d, c2, c3 = (table.coefficients[k, j] for j in range(4))
+    s = f - knots[k]
+    value = y + s * (d + s * (c2 + s * c3))
+    slope = d + s * (2.0 * c2 + 3.0 * c3 * s)
+    curvature = 2.0 * c2 + 6.0 * c3 * s
+    past = f > table.last_frequency
+    return (np.where(past, table.values[-1], value), np.where(past, 0.0, slope),
+            np.where(past, 0.0, curvature))
