@@ -16,7 +16,6 @@ import pytest
 
 import epc_fast
 from epc_fast import Cause, Result, Status, api
-from epc_fast.params import REFERENCE_ONLY
 from epc_fast.params import PARAMETERS, SIZE_PARAMETERS
 from helpers.designs import random_design_points
 
@@ -420,10 +419,6 @@ def test_an_invalid_point_leaves_its_neighbours_unchanged(keyword, value, backen
 @pytest.mark.parametrize("backend", BACKENDS)
 @pytest.mark.parametrize("keyword, value", CLOSED_END_CASES)
 def test_a_value_on_a_closed_end_or_just_inside_an_open_one_is_valid(keyword, value, backend):
-    if backend == "core" and keyword in REFERENCE_ONLY and value != 0.0:
-        with pytest.raises(NotImplementedError, match=keyword):  # the reference's only, for now
-            epc_fast.evaluate(**_design_with(keyword, value), backend=backend)
-        return
     r = epc_fast.evaluate(**_design_with(keyword, value), backend=backend)
     assert r.status is not Status.INVALID
     assert not math.isnan(r.electron_rate_e_per_s)

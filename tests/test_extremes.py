@@ -26,7 +26,6 @@ import pytest
 
 import epc_fast
 from epc_fast import Cause, Status, _core, params, reference
-from epc_fast.params import REFERENCE_ONLY
 from helpers.conditioning import OUTPUTS, condition_numbers, evaluate_quietly
 from helpers.designs import box_corners, parameter_defaults
 from helpers.mp_model import (LARGEST, MP_DPS, SMALLEST_NORMAL, expected_status, mp_diffraction,
@@ -301,9 +300,8 @@ def test_the_brightest_corner_of_the_domain_has_a_finite_rate_and_exposure(optio
 
 # --- Subnormal inputs ---------------------------------------------------------------------------
 
-# (the wavefront error and denoising, the reference's only for now: tests/reference/test_optics.py)
 SUBNORMAL_CASES = [(p.name, value) for p in params.PARAMETERS if p.lo == 0.0 and p.name != "size"
-                   and p.name not in REFERENCE_ONLY for value in (5e-324, 2.2e-310)]
+                   for value in (5e-324, 2.2e-310)]
 
 
 @pytest.mark.parametrize("options", BACKENDS)

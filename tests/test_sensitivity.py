@@ -345,10 +345,14 @@ def test_binning_and_frames_have_no_elasticity():
     assert all(math.isfinite(v) for name, v in e.items() if name not in WHOLE_NUMBERS)
 
 
+TERMS = [dict(), dict(sensor_terms=True), dict(sensor_terms=True, optics_terms=True)]
+TERM_IDS = ["default terms", "binning and bursts", "and the wavefront error and denoising"]
+
+
 @pytest.mark.parametrize("precision", ["float64", "float32"])
-@pytest.mark.parametrize("sensor_terms", [False, True])
-def test_core_and_reference_agree_across_the_domain(precision, sensor_terms):
-    design = random_design_points(20000, 11, sensor_terms=sensor_terms)
+@pytest.mark.parametrize("terms", TERMS, ids=TERM_IDS)
+def test_core_and_reference_agree_across_the_domain(precision, terms):
+    design = random_design_points(20000, 11, **terms)
     core = epc_fast.evaluate(**design, outputs=SENSITIVITY + ("status",), precision=precision)
     ref = epc_fast.evaluate(**design, outputs=SENSITIVITY + ("status",), backend="reference")
     np.testing.assert_array_equal(core.status, ref.status)
@@ -369,9 +373,9 @@ def test_core_and_reference_agree_across_the_domain(precision, sensor_terms):
         assert np.isnan(a[~ok]).all() and np.isnan(b[~ok]).all()
 
 
-@pytest.mark.parametrize("sensor_terms", [False, True])
-def test_results_do_not_depend_on_the_thread_count(sensor_terms):
-    design = random_design_points(50000, 3, sensor_terms=sensor_terms)
+@pytest.mark.parametrize("terms", TERMS, ids=TERM_IDS)
+def test_results_do_not_depend_on_the_thread_count(terms):
+    design = random_design_points(50000, 3, **terms)
     one = epc_fast.evaluate(**design, outputs=SENSITIVITY, threads=1)
     two = epc_fast.evaluate(**design, outputs=SENSITIVITY, threads=2)
     for name in SHARE_OUTPUTS:

@@ -91,10 +91,6 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
         in.columns[j] = column_of(columns[j], j, n);
         in.domains[j] = Domain{d(j, 0), d(j, 1), d(j, 2) != 0.0, d(j, 3) != 0.0, d(j, 4) != 0.0};
     }
-    // The core does not compute the wavefront error and denoising yet (the NumPy reference
-    // does): a value other than 0 is outside its domain, never a silently ignored term.
-    for (const int j : {static_cast<int>(wavefront_rms_waves), static_cast<int>(denoise_sigma_px)})
-        in.domains[j] = Domain{0.0, 0.0, true, true, false};
     if (wavelengths_nm.size() != 0) {  // none: monochromatic at each point's wavelength
         in.spectrum = spectrum_of(wavelengths_nm, weights);
         in.spectrum.start = spectrum_start_of(in.spectrum);

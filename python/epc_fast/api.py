@@ -299,7 +299,6 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     alignment_error_um : um, rms alignment error of each frame of a burst (0: off).
     wavefront_rms_waves : waves, rms wavefront error at every wavelength (0: off; <= 0.16).
     denoise_sigma_px : output pixels, sigma of a Gaussian denoising filter (0: off; <= 100).
-        Both: the reference only, for now (the core raises NotImplementedError unless 0).
     binning_readout : {"digital", "charge"}
         How a binned pixel is read, for the whole call: k^2 reads summed digitally (read noise
         variance k^2 sigma_r^2, the default), or the k x k pixels' charge summed before one
@@ -401,8 +400,6 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
                           precision, outputs, sensor.is_pixel_count, binning_readout)
-    if options.backend == "core":
-        params.refuse_reference_only_terms(dict(zip(params.PARAMETER_NAMES, arrays)))
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
     if options.backend == "core":  # the threads first: their stacks take memory too

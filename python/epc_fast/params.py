@@ -28,8 +28,7 @@ import numpy as np
 
 __all__ = ["Param", "ParameterTable", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS",
            "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX",
-           "WAVEFRONT_RMS_WAVES_MAX", "DENOISE_SIGMA_PX_MAX", "REFERENCE_ONLY",
-           "refuse_reference_only_terms"]
+           "WAVEFRONT_RMS_WAVES_MAX", "DENOISE_SIGMA_PX_MAX"]
 
 INF = math.inf
 #: The largest magnitude of a parameter that physics leaves unbounded (see the module docstring).
@@ -199,23 +198,3 @@ def domain_table() -> np.ndarray:
         dtype=np.float64,
     )
 
-
-#: The terms the NumPy reference has and the core does not yet (issue #40): the core would
-#: take any value but 0 as outside its domain.
-REFERENCE_ONLY = ("wavefront_rms_waves", "denoise_sigma_px")
-
-
-def refuse_reference_only_terms(values):
-    """NotImplementedError where ``values`` (parameter name to value) turn on a term the core
-    does not compute yet, with a value inside its domain (one outside is INVALID in either
-    backend); a scalar 0 costs one comparison."""
-    for name in REFERENCE_ONLY:
-        value = values[name]
-        if isinstance(value, (int, float)) and value == 0.0:
-            continue
-        v = np.asarray(value, dtype=np.float64)
-        param = next(p for p in PARAMETERS if p.name == name)
-        if np.any((v != 0.0) & in_domain(param, v)):
-            raise NotImplementedError(
-                f"{name} is computed by the NumPy reference only, for now: pass "
-                f'backend="reference" (got {name} other than 0 with backend="core")')

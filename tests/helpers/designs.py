@@ -29,7 +29,7 @@ def _half_zero(rng, values, zero_fraction=0.5):
 
 
 def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=INVALID_FRACTION,
-                         sensor_terms=False):
+                         sensor_terms=False, optics_terms=False):
     """``n`` random design points spread over the whole domain, as keyword arrays for evaluate.
 
     Illuminance is log-uniform on 1e-3..1e7 lux with a few exact zeros; the sensor terms (read
@@ -43,6 +43,10 @@ def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=IN
     1 on about half) and the alignment error (0 to 5 um, 0 on a third), drawn from a stream of
     their own: the other parameters are the same points either way. Their invalid values (k = 0,
     2.5, NaN; n = 0.5; a negative or NaN alignment error) then take part in the invalid points.
+
+    ``optics_terms`` adds the wavefront error (0 to 0.16 waves, 0 on a third) and denoising
+    (sigma log-uniform on 0.05 to 20 output pixels, 0 on a third), from a stream of their own,
+    with their invalid values (negative, NaN, past the domain's end).
     """
     rng = np.random.default_rng(seed)
     illuminance = log_uniform(rng, 1e-3, 1e7, n)
@@ -105,6 +109,12 @@ def random_design_points(n, seed, *, size="sensor_area_mm2", invalid_fraction=IN
         p["alignment_error_um"] = _half_zero(terms, terms.uniform(0.0, 5.0, n), zero_fraction=1 / 3)
         bad_values.update(binning=[0.0, 2.5, np.nan, -2.0], frames=[0.5, 0.0, np.nan],
                           alignment_error_um=[-0.5, np.nan, np.inf])
+    if optics_terms:
+        terms = np.random.default_rng([seed, 40])
+        p["wavefront_rms_waves"] = _half_zero(terms, terms.uniform(0.0, 0.16, n), zero_fraction=1 / 3)
+        p["denoise_sigma_px"] = _half_zero(terms, log_uniform(terms, 0.05, 20.0, n), zero_fraction=1 / 3)
+        bad_values.update(wavefront_rms_waves=[-0.01, np.nan, 0.2],
+                          denoise_sigma_px=[-1.0, np.nan, 101.0])
     names = sorted(bad_values)
     for i in np.flatnonzero(rng.random(n) < invalid_fraction):
         name = names[rng.integers(len(names))]

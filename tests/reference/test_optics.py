@@ -281,29 +281,6 @@ def test_subnormal_values_are_the_terms_off():
             assert (r.status, r.epc, r.t_mpe_s) == (plain.status, plain.epc, plain.t_mpe_s)
 
 
-def test_the_core_refuses_either_term_until_it_has_them():
-    core = {**DESIGN, "backend": "core"}
-    for name in ("wavefront_rms_waves", "denoise_sigma_px"):
-        with pytest.raises(NotImplementedError, match=name):
-            epc_fast.evaluate(illuminance_lux=100.0, **core, **{name: [0.0, 0.05]})
-    assert epc_fast.evaluate(illuminance_lux=100.0, wavefront_rms_waves=0.0,
-                             denoise_sigma_px=np.zeros(3), **core).status.tolist() == [0, 0, 0]
-    # a value outside the domain is INVALID in the core as in the reference (its kernel takes
-    # any value but 0 as outside: a scan that draws one gets INVALID points)
-    r = epc_fast.evaluate(illuminance_lux=100.0, wavefront_rms_waves=[0.0, -1.0, np.nan],
-                          denoise_sigma_px=[0.0, 0.0, 200.0], **core)
-    assert r.status.tolist() == [Status.OK, Status.INVALID, Status.INVALID]
-    columns = [np.zeros(1) if name in ("wavefront_rms_waves", "denoise_sigma_px") else np.ones(1)
-               for name in epc_fast.params.PARAMETER_NAMES]
-    for j in (len(columns) - 2, len(columns) - 1):
-        on = list(columns)
-        on[j] = np.full(1, 0.05)
-        out = _core.evaluate(on, True, epc_fast.params.domain_table(), np.empty(0),
-                             np.empty(0), 1, "halley", 1e-14, "closed_form", 1e-15, "float64", 1,
-                             1 << 18)
-        assert out["status"][0] == Status.INVALID
-
-
 # --- Shares and elasticities --------------------------------------------------------------------
 
 SENSITIVITY_POINT = dict(illuminance_lux=np.array([10.0, 300.0, 5000.0]), pixel_pitch_um=1.4,

@@ -70,6 +70,20 @@ struct alignas(64) Block {
     T blur_mm[block_size], threshold[block_size], f_number[block_size];
     // binning where a < 1 (mtf.h binned_lengths_mm): the array factor's pitch (0: none) and k
     T bin_pitch_mm[block_size], bin_k[block_size];
+    // the wavefront error and denoising (optics.h), in a block whose lanes to solve have them
+    // (`aberration`, `denoise`): the ATF's depth a = (W / 0.18)^2; the output pitch (mm), the
+    // filter's 1 / (2 sigma^2), 1 / Z and reach R, and the largest R (`denoise_taps`); the
+    // filter's x = min(f p, 1/2) and its transfer with two derivatives, per lane
+    T atf_depth[block_size];
+    T denoise_pitch_mm[block_size], denoise_scale[block_size], denoise_inverse_norm[block_size];
+    T denoise_reach[block_size];
+    T denoise_x[block_size], denoise_value[block_size], denoise_d1[block_size], denoise_d2[block_size];
+    bool aberration = false, denoise = false;
+    int denoise_taps = 0;
+    // denoising's noise gain in the exposure stage: sqrt(g) per lane, where `gained`
+    double root_gain[block_size];
+    bool gained = false;
+    double memo_sigma = nan, memo_root_gain = 1.0;  // a broadcast sigma's sqrt(g)
     T lo[block_size], hi[block_size], at[block_size];
     // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
     // over the factors, so that M''/M = R^2 + S

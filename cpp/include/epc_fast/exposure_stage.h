@@ -17,6 +17,7 @@
 #include "block.h"
 #include "constants.h"
 #include "exposure.h"
+#include "optics.h"
 #include "parallel.h"
 #include "params.h"
 #include "polynomials.h"
@@ -123,7 +124,8 @@ void exposure_lane(const Options& opt, Block<T>& b, std::size_t i) {
                               x[electrons_per_lux_s_m2][i], x[fill_factor][i],
                               x[pixel_pitch_um][i]);
     if (b.sensor) b.rate[i] *= b.sensor_store[sensor_pixels][i];  // the output pixel's rate
-    const SnrTarget target(x[snr_db][i]);
+    SnrTarget target(x[snr_db][i]);
+    if (b.gained) target.root_s *= b.root_gain[i];  // denoising: the target s g
     b.capped[i] = b.rate[i] > 0.0 && target.capped_by(x[prnu][i]);
     if (opt.t_mpe_solver == TMpeSolver::closed_form)
         b.electrons[i] = signal_electrons(b.rate[i], target, x[read_noise_e][i],
@@ -140,6 +142,28 @@ void exposure_lane(const Options& opt, Block<T>& b, std::size_t i) {
     b.blur[i] = unreachable ? 0.0
                             : blur_length_mm(x[focal_length_mm][i], x[shake_deg_per_s][i],
                                              x[stabilization][i], t);
+}
+
+// Denoising (optics.h): every noise variance times the filter's noise gain g, met after the
+// filter, so the target sqrt(s) becomes sqrt(s g). A block whose sigma is a broadcast 0 has no
+// gain (`gained` false: sqrt(s) as it is, bit for bit); else b.root_gain holds sqrt(g) per lane,
+// a broadcast sigma's computed once for the call.
+template <class T>
+void noise_gain_roots(Block<T>& b) {
+    b.gained = !b.broadcast_is(denoise_sigma_px, 0.0);
+    if (!b.gained) return;
+    double* __restrict root_gain = b.root_gain;
+    if (b.is_broadcast(denoise_sigma_px)) {
+        const double sigma = b.broadcast[denoise_sigma_px];
+        if (!(sigma == b.memo_sigma)) {
+            b.memo_root_gain = std::sqrt(noise_gain_denoise(sigma));
+            b.memo_sigma = sigma;
+        }
+        for (std::size_t i = 0; i < block_size; ++i) root_gain[i] = b.memo_root_gain;
+        return;
+    }
+    const double* __restrict sigma = b.x[denoise_sigma_px];
+    for (std::size_t i = 0; i < block_size; ++i) root_gain[i] = std::sqrt(noise_gain_denoise(sigma[i]));
 }
 
 // Binning and bursts (exposure.h): a block whose binning or frames are not a broadcast 1 reads
@@ -306,6 +330,12 @@ void exposure_of_inputs(const Options& opt, Block<T>& b) {
         for (std::size_t i = 0; i < n; ++i) root_s[i] = r;
     } else {
         for (std::size_t i = 0; i < n; ++i) root_s[i] = SnrTarget(x[snr_db][i]).root_s;
+    }
+    noise_gain_roots(b);
+    if (b.gained) {
+        const double* __restrict root_gain = b.root_gain;
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) root_s[i] *= root_gain[i];
     }
     const double* __restrict lux = x[illuminance_lux];
     const double* __restrict refl = x[reflectance];

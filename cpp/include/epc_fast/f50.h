@@ -33,6 +33,7 @@
 #include "block.h"
 #include "f50_start.h"
 #include "mtf.h"
+#include "optics_stage.h"
 #include "parallel.h"
 #include "params.h"
 #include "solvers.h"
@@ -60,6 +61,15 @@ void system_mtf(const Spectrum& spectrum, Block<T>& b) {
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
             const T lambda_mm = static_cast<T>(spectrum.wavelengths_nm[k] * nm_to_mm);
             const T w = static_cast<T>(spectrum.weights[k]);
+            if (b.aberration) {  // each wavelength's D times its ATF
+                const T* __restrict depth = b.atf_depth;
+                EPC_FAST_SIMD
+                for (std::size_t i = 0; i < n; ++i) {
+                    const T nu = at[i] * lambda_mm * f_num[i];
+                    mtf[i] += w * (mtf_diffraction(nu) * mtf_aberration(nu, depth[i]));
+                }
+                continue;
+            }
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < n; ++i) mtf[i] += w * mtf_diffraction(at[i] * lambda_mm * f_num[i]);
         }
@@ -82,6 +92,8 @@ void system_mtf(const Spectrum& spectrum, Block<T>& b) {
         if (Jitter) m *= mtf_jitter(f, jitter[i]);
         mtf[i] = m;
     }
+    if (b.aberration && !Poly) apply_aberration(b);
+    if (b.denoise) apply_denoise(b);
 }
 
 // Monochromatic diffraction at b.at: its value into b.mtf, its log-slopes' numerators, in f,
@@ -121,6 +133,22 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
             const T lambda_mm = static_cast<T>(spectrum.wavelengths_nm[k] * nm_to_mm);
             const T w = static_cast<T>(spectrum.weights[k]);
+            if (b.aberration) {  // (D A)' = D'A + D A', (D A)'' = D''A + 2 D'A' + D A''
+                const T* __restrict depth = b.atf_depth;
+                EPC_FAST_SIMD
+                for (std::size_t i = 0; i < n; ++i) {
+                    const T lf = lambda_mm * f_num[i];
+                    const T nu = at[i] * lf;
+                    const DiffractionSlopes<T> d = diffraction_slopes(nu);
+                    const AberrationSlopes<T> a = aberration_slopes(nu, depth[i]);
+                    mtf[i] += w * (d.value * a.value);
+                    slope[i] += (w * lf) * (d.d1 * a.value + d.value * a.d1);
+                    if (Curvature)
+                        curvature[i] += (w * (lf * lf)) *
+                                        (d.d2 * a.value + T(2) * (d.d1 * a.d1) + d.value * a.d2);
+                }
+                continue;
+            }
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < n; ++i) {
                 const T lf = lambda_mm * f_num[i];
@@ -194,6 +222,8 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
         slope[i] = r;
         if (Curvature) curvature[i] = s;
     }
+    if (b.aberration && !Poly) apply_aberration_slopes<Curvature>(b);
+    if (b.denoise) apply_denoise_slopes<Curvature>(b);
 }
 
 // Bisection: lo, hi hold the bracket; the answer is written to b.f50.

@@ -26,6 +26,7 @@
 #include "block.h"
 #include "f50_start_coefficients.h"
 #include "mtf.h"
+#include "optics_stage.h"
 #include "parallel.h"
 #include "params.h"
 #include "polynomials.h"
@@ -401,6 +402,14 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     const bool any_alignment = !(b.broadcast_is(alignment_error_um, 0.0) || b.broadcast_is(frames, 1.0));
     const bool any_jitter = !b.broadcast_is(jitter_um, 0.0) || any_alignment;
     const bool any_binning = !b.broadcast_is(binning, 1.0);
+    // the wavefront error and denoising (optics.h): a lane with either takes no certified
+    // start (the starts know neither factor), and float32 leaves denoising's lanes to float64
+    // (its transfer's phases 2 pi f p i lose float32's digits at large i)
+    const bool any_aberration = !b.broadcast_is(wavefront_rms_waves, 0.0);
+    const bool any_denoise = !b.broadcast_is(denoise_sigma_px, 0.0);
+    const bool any_optics = any_aberration | any_denoise;
+    const double* __restrict wavefront = x[wavefront_rms_waves];
+    const double* __restrict sigma_px = x[denoise_sigma_px];
     const double* __restrict wavelength = x[wavelength_nm];
     const double* __restrict f_num_in = x[f_number];
     const double* __restrict pitch = x[pixel_pitch_um];
@@ -544,7 +553,8 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                 const double f0 = start_guess<false, Row>(d_length[i], ap[i], blur_in[i], jit[i], 1.0, Row);
                 const bool s_i = (solve[i] != 0) & (row_code[i] == Row + 1) &
                                  certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
-                                 (f0 >= 0x1p-100) & (f0 <= 0x1p100);
+                                 (f0 >= 0x1p-100) & (f0 <= 0x1p100) &
+                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0)));
                 settled[i] = s_i ? 1 : settled[i];
                 narrow_start[i] = s_i ? f0 : narrow_start[i];  // read back where settled
                 at[i] = s_i ? static_cast<T>(f0) : at[i];
@@ -579,6 +589,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                             float32_length(jit[i]) & lambdas_fit &
                             (!poly | float32_factor(f_num_in[i]));
                 if (Binned) fits &= float32_length(zero_length[i]) & float32_length(bin_pitch[i]);
+                fits &= !any_denoise | (sigma_px[i] == 0.0);
                 const bool s_i = settled[i] != 0;
                 wide[i] = (solve[i] != 0) & !s_i & !fits;
                 solve[i] = (solve[i] != 0) & (s_i | fits);
@@ -650,6 +661,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         else if (n_cubic == 0) with_row(no{});
         else with_row(yes{});
     };
+    b.aberration = b.denoise = false;
     if (all_settled) {  // float32, every lane to solve settled: no bracket, no other start
         b.n_settled = n_settled;
         return 0;  // no lane left for the solver: no terms
@@ -712,7 +724,8 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                                            ((code == 5) & c4);
                 const bool s_i = (solve[i] != 0) & row_certified &
                                  certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
-                                 (at[i] != T(0.5) * hi[i]);
+                                 (at[i] != T(0.5) * hi[i]) &
+                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0)));
                 settled[i] = s_i;
                 n_settled += s_i;
             }
@@ -720,6 +733,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         }
     }
     b.n_settled = n_settled;
+    if (any_optics) optics_lanes(b, any_aberration, any_denoise, ln_inv_c);
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));

@@ -36,8 +36,8 @@ enum Param : int {
     binning,             // k: k x k pixels read as one output pixel (1: off)
     frames,              // n: the exposure split into n frames, aligned and summed (1: off)
     alignment_error_um,  // rms alignment error of each frame (0: off)
-    wavefront_rms_waves,  // rms wavefront error in waves (0: off; the reference only, for now)
-    denoise_sigma_px,     // Gaussian denoising sigma in output pixels (0: off; the reference only)
+    wavefront_rms_waves,  // rms wavefront error in waves (0: off)
+    denoise_sigma_px,     // Gaussian denoising sigma in output pixels (0: off)
     n_params
 };
 
@@ -132,8 +132,7 @@ struct Options {
 
 // The MTF factors of the share outputs (sensitivity.h), in their order.
 // The binned aperture (binning) is the pixel's; the burst's alignment residual has its own, and
-// so have the wavefront error's ATF and denoising's filter (0 in the core, which has neither
-// term yet: ln 1).
+// so have the wavefront error's ATF (ln(D_W / D)) and denoising's filter.
 enum Share : int {
     share_diffraction, share_pixel, share_motion, share_jitter, share_alignment,
     share_aberration, share_denoise, n_shares

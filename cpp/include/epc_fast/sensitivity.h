@@ -17,6 +17,7 @@
 #include "elementary.h"
 #include "exposure.h"
 #include "mtf.h"
+#include "optics.h"
 #include "parallel.h"
 #include "params.h"
 #include "polynomials.h"
@@ -111,7 +112,42 @@ EPC_FAST_INLINE double log_mtf_diffraction(double value, double loss) {
 struct MtfLogFactors {
     double log[n_shares];
     double slope_diffraction, slope_pixel, slope_motion, slope_fill;
+    // the wavefront error's f d ln(D_W/D) / df and W d ln D_W / dW, denoising's f d ln H / df
+    // and sigma d ln H / d sigma (0 where the term is off)
+    double slope_aberration = 0.0, wave_aberration = 0.0, slope_denoise = 0.0, sigma_denoise = 0.0;
 };
+
+// (ln(D_W / D), f d ln(D_W / D) / df, W d ln D_W / dW) at f: the wavefront error's factor of the
+// diffraction MTF, D_W = sum_i w_i D_i ATF_i against D = sum_i w_i D_i (`value`, with
+// `slope_numerator` = sum_i w_i nu_i dD_i/dnu). D - D_W = sum_i w_i D_i a (1 - 4 (nu_i - 1/2)^2),
+// a = (W/0.18)^2, is formed without cancellation, and so its log1p.
+struct AberrationLogFactor {
+    double log, f_slope, w_slope;
+};
+
+inline AberrationLogFactor aberration_log_factor(double f, double f_number, double wavelength_nm,
+                                                 const Spectrum& spectrum, double depth,
+                                                 double value, double slope_numerator) {
+    double deficit = 0.0, aberrated_numerator = 0.0;
+    auto line = [&](double lambda_nm, double w) {
+        const double raw = f * (lambda_nm * nm_to_mm) * f_number;
+        const double nu = raw < 1.0 ? raw : 1.0;
+        const double d = mtf_diffraction(nu), c = nu - 0.5;
+        const double bowl = 1.0 - 4.0 * (c * c);
+        deficit += w * d * depth * bowl;
+        aberrated_numerator += w * (diffraction_log_slope_numerator(nu) * (1.0 - depth * bowl) +
+                                    d * 8.0 * depth * nu * c);
+    };
+    if (spectrum.polychromatic()) {
+        for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k)
+            line(spectrum.wavelengths_nm[k], spectrum.weights[k]);
+    } else {
+        line(wavelength_nm, 1.0);
+    }
+    const double aberrated = value - deficit;
+    return {std::log1p(-deficit / value), aberrated_numerator / aberrated - slope_numerator / value,
+            -2.0 * deficit / aberrated};
+}
 
 // 1: MtfLogFactors at f (cycles/mm) for one point: the diffraction of `spectrum`, or
 // monochromatic at wavelength_nm when it has none; the pixel aperture sqrt(a) p, the blur and
@@ -122,7 +158,8 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
                                               double aperture_mm, double blur_mm,
                                               double jitter_mm, const Spectrum& spectrum,
                                               double pitch_mm = 0.0, double binning = 1.0,
-                                              double residual_mm = 0.0) {
+                                              double residual_mm = 0.0, double depth = 0.0,
+                                              double denoise_sigma_px = 0.0) {
     double loss = 0.0, slope_numerator = 0.0, value = 0.0;
     if (spectrum.polychromatic()) {
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
@@ -147,9 +184,24 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
         log_pixel += log_sinc(y_whole) - log_sinc(y_one);
         slope_pixel += sinc_log_slope(y_whole) - sinc_log_slope(y_one);
     }
-    return {{log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
-             -2.0 * pi * pi * sigma_f * sigma_f, -2.0 * pi * pi * residual_f * residual_f},
-            slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill};
+    MtfLogFactors m{{log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
+                     -2.0 * pi * pi * sigma_f * sigma_f, -2.0 * pi * pi * residual_f * residual_f,
+                     0.0, 0.0},
+                    slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill};
+    if (depth > 0.0) {
+        const AberrationLogFactor a = aberration_log_factor(f, f_number, wavelength_nm, spectrum,
+                                                            depth, value, slope_numerator);
+        m.log[share_aberration] = a.log;
+        m.slope_aberration = a.f_slope;
+        m.wave_aberration = a.w_slope;
+    }
+    if (denoise_sigma_px > 0.0) {  // on the output pitch k p
+        const DenoiseLogFactor h = denoise_log_factor(f, denoise_sigma_px, pitch_mm * binning);
+        m.log[share_denoise] = h.log;
+        m.slope_denoise = h.f_slope;
+        m.sigma_denoise = h.sigma_slope;
+    }
+    return m;
 }
 
 // d ln T_MPE / d ln x for the rate, the dark current, the read noise, the target
@@ -200,6 +252,13 @@ EPC_FAST_INLINE double area_slope(double slope_diffraction, double slope_pixel, 
     return -(((slope_diffraction + slope_pixel) + slope_motion) + 2.0 * log_jitter);
 }
 
+// The wavefront error's and denoising's log-slopes (MtfLogFactors) and, for sigma, the noise
+// gain's d ln g / d ln sigma times mu d ln T / d ln s: what their elasticities and the pitch's,
+// f-number's and wavelength's moves of them add (0 where the terms are off).
+struct OpticsSlopes {
+    double aberration = 0.0, wave = 0.0, denoise = 0.0, sigma = 0.0, gain = 0.0;
+};
+
 // d ln MTF / d ln theta of every parameter at one lane, from the factors' log-slopes there (m),
 // T_MPE's log-slopes (t), mu = d ln M / d ln alpha, the field angle's rate log-slope and the
 // SNR target's d ln s / d ln snr_db; written as elasticities 2 slope / A plus the area's part
@@ -216,11 +275,12 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
                                           double snr_scale, bool size_is_pixel_count,
                                           double (&out)[n_params][block_size], std::size_t i,
                                           double two_over_a, double threshold_term = 1.0,
-                                          double mask = 1.0) {
+                                          double mask = 1.0, const OpticsSlopes& optics = {}) {
     const double via_rate = mu * t.rate;
     out[illuminance_lux][i] = via_rate * two_over_a;
-    out[pixel_pitch_um][i] = ((size_is_pixel_count ? 2.0 : 0.0) * mask) + (slope_pixel + 2.0 * via_rate) * two_over_a;
-    out[f_number][i] = (slope_diffraction - 2.0 * via_rate) * two_over_a;
+    out[pixel_pitch_um][i] = ((size_is_pixel_count ? 2.0 : 0.0) * mask) +
+                             ((slope_pixel + optics.denoise) + 2.0 * via_rate) * two_over_a;
+    out[f_number][i] = ((slope_diffraction + optics.aberration) - 2.0 * via_rate) * two_over_a;
     out[focal_length_mm][i] = slope_motion * two_over_a;
     out[size][i] = mask;
     out[reflectance][i] = via_rate * two_over_a;
@@ -236,15 +296,15 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[shake_deg_per_s][i] = mu * two_over_a;
     out[stabilization][i] = -mu * two_over_a;
     out[jitter_um][i] = 2.0 * log_jitter * two_over_a;
-    out[wavelength_nm][i] = slope_diffraction * two_over_a;
+    out[wavelength_nm][i] = (slope_diffraction + optics.aberration) * two_over_a;
     out[mtf_threshold][i] = -threshold_term * two_over_a;
     out[binning][i] = nan;
     out[frames][i] = nan;
     out[alignment_error_um][i] = 2.0 * log_alignment * two_over_a;
-    // the core's lanes have neither term (binding_support.cpp): the elasticity of a term that
-    // is off is 0
-    out[wavefront_rms_waves][i] = 0.0 * mask;
-    out[denoise_sigma_px][i] = 0.0 * mask;
+    // 0 where the term is off (W d ln ATF / dW and sigma d ln H / d sigma vanish with W and
+    // sigma); denoising moves the MTF and, through the target s g, T_MPE and the blur
+    out[wavefront_rms_waves][i] = optics.wave * two_over_a;
+    out[denoise_sigma_px][i] = (optics.sigma + optics.gain) * two_over_a;
 }
 
 // diffraction_loss, diffraction_log_slope_numerator and mtf_diffraction at nu. `High` = false
@@ -311,9 +371,10 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
         static_cast<double>(b.f50[i]), x[f_number][i], x[wavelength_nm][i],
         pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]), b.blur[i],
         x[jitter_um][i] * um_to_mm, in.spectrum, x[pixel_pitch_um][i] * um_to_mm, k,
-        residual_um * um_to_mm);
+        residual_um * um_to_mm, aberration_depth(x[wavefront_rms_waves][i]), x[denoise_sigma_px][i]);
     const double ln_c = std::log(x[mtf_threshold][i]);
-    double total = ((m.log[0] + m.log[1]) + (m.log[2] + m.log[3])) + m.log[4];
+    double total = (((m.log[0] + m.log[1]) + (m.log[2] + m.log[3])) + m.log[4]) +
+                   (m.log[share_aberration] + m.log[share_denoise]);
     const bool pinned = !(std::fabs(total - ln_c) <= 1e-3 * std::fabs(ln_c));
     if (pinned) {
         auto least = [&m](int s) {  // a NaN log (a sinc past its zero) counts as -inf
@@ -337,6 +398,9 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
     double slopes[4] = {m.slope_diffraction, m.slope_pixel, m.slope_motion, m.slope_fill};
     double log_jitter = m.log[share_jitter], log_alignment = m.log[share_alignment];
     double threshold_term = 1.0;
+    const double sigma_px = x[denoise_sigma_px][i];
+    OpticsSlopes optics{m.slope_aberration, m.wave_aberration, m.slope_denoise, m.sigma_denoise,
+                        sigma_px > 0.0 ? noise_gain_log_slope(sigma_px) : 0.0};
     int infinite = -1;
     for (int s = 0; s < 3; ++s)
         if (!(std::fabs(slopes[s]) <= std::numeric_limits<double>::max())) infinite = s;
@@ -346,12 +410,16 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
         log_jitter = 0.0;
         log_alignment = 0.0;
         threshold_term = 0.0;
+        optics = {0.0, 0.0, 0.0, 0.0, optics.gain};  // finite slopes: 0 in that limit
     }
+    const double mu = slopes[2] * beta;
+    optics.gain *= mu * t.target;  // the noise gain's path through T_MPE and the blur
     elasticities_of_lane(slopes[0], slopes[1], slopes[3], slopes[2], log_jitter, log_alignment, t,
-                         slopes[2] * beta, field_slope, x[snr_db][i] * (ln10 / 10.0),
+                         mu, field_slope, x[snr_db][i] * (ln10 / 10.0),
                          in.size_is_pixel_count, elasticity_out, i,
-                         2.0 / area_slope(slopes[0], slopes[1], slopes[2], log_jitter + log_alignment),
-                         threshold_term);
+                         2.0 / area_slope(slopes[0] + optics.aberration, slopes[1] + optics.denoise,
+                                          slopes[2], log_jitter + log_alignment),
+                         threshold_term, 1.0, optics);
 }
 
 // The shares and elasticities of the block's lanes into share_out and elasticity_out (rows of
@@ -522,8 +590,9 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
                                  mask);
         }
     }
-    // a block with binning or bursts: every OK lane by sensitivity_lane, which has their terms
-    if (b.sensor)
+    // a block with binning, bursts, the wavefront error or denoising: every OK lane by
+    // sensitivity_lane, which has their terms
+    if (b.sensor || !b.broadcast_is(wavefront_rms_waves, 0.0) || !b.broadcast_is(denoise_sigma_px, 0.0))
         for (std::size_t i = 0; i < n; ++i) slow[i] |= ok[i];
     // the slow lanes, eight flags at a time (most blocks have none)
     for (std::size_t first = 0; first < n; first += 8) {
