@@ -94,7 +94,8 @@ def table(runs: dict) -> dict:
         mean = r.mean(axis=0) / r[:, 0].mean()
         floor, _ = non_rising(np.clip(mean, 0.0, 1.0))
         floor[0] = 1.0
-        out[name] = (floor, float(np.max(mean - floor)), r.std(axis=0, ddof=1))
+        std = r.std(axis=0, ddof=1) if len(r) > 1 else np.zeros(r.shape[1])
+        out[name] = (floor, float(np.max(mean - floor)), std)
     return out
 
 
@@ -121,10 +122,12 @@ def csv_text(tables: dict, knots=KNOTS) -> str:
              f"# {ROWS_PX} rows by " + " and ".join(map(str, WIDTHS_PX))
              + " columns, 2.8 and 1.4 um pixels at F/1.4, fill factor 0.25,",
              "# 550 nm) of the Bayer luminance's e-SFR over the monochrome capture's, made",
-             "# non-rising by a running minimum.",
-             "f_cyc_per_px," + ",".join(names)]
+             "# non-rising by a running minimum. <name>_std: the captures' standard deviation",
+             "# about the mean (their scatter).",
+             "f_cyc_per_px," + ",".join(names) + "," + ",".join(f"{n}_std" for n in names)]
     for i, f in enumerate(knots):
-        lines.append(f"{f:.2f}," + ",".join(f"{tables[n][0][i]:.4f}" for n in names))
+        lines.append(f"{f:.2f}," + ",".join(f"{tables[n][0][i]:.4f}" for n in names) + ","
+                     + ",".join(f"{tables[n][2][i]:.4f}" for n in names))
     return "\n".join(lines) + "\n"
 
 
