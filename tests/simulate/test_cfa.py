@@ -9,6 +9,7 @@ comparison holds the table)."""
 import functools
 import hashlib
 import importlib.util
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -186,3 +187,11 @@ def test_a_bayer_edges_mtf50_is_the_monochrome_model_times_the_table(demosaic, p
 def test_a_bad_cfa_argument_is_refused_naming_it(kwargs, message):
     with pytest.raises(ValueError, match=message):
         simulate.capture(simulate.flat(16), illuminance_lux=100.0, **kwargs, **DESIGN)
+
+
+def test_without_colour_demosaicing_a_bayer_capture_says_which_extra_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "colour_demosaicing", None)  # an import of it fails
+    with pytest.raises(ImportError, match=r"pip install 'epc-fast\[simulate\]'"):
+        simulate.capture(simulate.flat(16), illuminance_lux=100.0, cfa="bayer", **DESIGN)
+    mono = simulate.capture(simulate.flat(16), illuminance_lux=100.0, **DESIGN)
+    assert mono.image_e.shape == (16, 16)

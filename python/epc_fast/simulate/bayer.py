@@ -64,8 +64,11 @@ class Bayer:
         balance, before demosaicking as raw converters do it, so that a grey scene is grey to
         the demosaicker), the mosaic demosaicked (RGGB), the luminance row applied and the
         result times t, so that a flat patch of S monochrome electrons gives t S."""
-        import colour_demosaicing
-
+        try:
+            import colour_demosaicing
+        except ImportError as error:
+            raise ImportError("cfa='bayer' demosaicks with the colour-demosaicing package: "
+                              "pip install 'epc-fast[simulate]'") from error
         raw = np.asarray(raw_e, dtype=float)
         demosaicker = getattr(colour_demosaicing, _FUNCTIONS[self.demosaic])
         rgb = np.asarray(demosaicker(raw / self.mosaic(raw.shape, 1), PATTERN), dtype=float)
