@@ -18,7 +18,7 @@ The noise gain g_d: flat captures with shot noise only (no read noise, dark curr
 the luminance's variance over its mean (both on the cell's scale) divided by
 epc_fast.cfa.DEFAULT_COLOR_NOISE_GAIN, pooled over seeds.
 
-    python tools/demosaic_mtf.py            # ~1 min on one core; writes the CSV
+    python tools/demosaic_mtf.py            # ~30 s on one core; writes the CSV
     python tools/demosaic_mtf.py --stdout   # the CSV on stdout instead
 """
 
@@ -46,8 +46,8 @@ ROWS_PX = 96
 LUX = 1e4
 EXPOSURE_S = 1e-3
 #: Flat captures for g_d: side in pixels and seeds.
-FLAT_PX = 128
-SEEDS = tuple(range(6))
+FLAT_PX = 192
+SEEDS = tuple(range(16))
 
 
 def edge_transfer(design, angle_deg, width_px, rows_px=ROWS_PX, knots=KNOTS) -> dict:
