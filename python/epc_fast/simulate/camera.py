@@ -22,11 +22,13 @@ import numpy as np
 
 from .. import api, spectra
 from .._validation import short, threads_of
+from ..cfa import check_cfa, check_demosaic
 from ..status import Status
 from .charts import Chart
 from .focal_plane import Optics, frame_irradiance
 from .optics import cutoff_cyc_per_mm
 from .processing import denoise, kernel_reach_px
+from . import bayer as _bayer
 from .readout import bin_sum, read_out
 
 __all__ = ["Capture", "capture", "grid_oversample", "BAND_FACTOR"]
@@ -61,7 +63,12 @@ class Capture:
     frames_e : each frame's expected photo-electrons per sensor pixel (before binning),
         with ``border_px`` output pixels of scene round the chart.
     denoise_sigma_px : output pixels, the sigma of the denoising filter applied (0: none).
-    border_px : output pixels of scene imaged round the chart for the filter, cropped after.
+    border_px : output pixels of scene imaged round the chart for the filter and the
+        demosaicker, cropped after.
+    cfa : "none" or "bayer"; bayer : the :class:`~epc_fast.simulate.bayer.Bayer` sensor and
+        its development for a Bayer capture (None for "none"). A Bayer capture's
+        ``image_e`` and ``expected_e`` are its luminance on the cell's scale (a flat patch of
+        S monochrome electrons gives t S).
     """
 
     image_e: np.ndarray
@@ -80,6 +87,8 @@ class Capture:
     recapture: object = None
     denoise_sigma_px: float = 0.0
     border_px: int = 0
+    cfa: str = "none"
+    bayer: object = None
 
     def redraw(self, seed) -> "Capture":
         """The same capture with the noise drawn again from ``seed``: the expected image is
@@ -89,8 +98,8 @@ class Capture:
             return self.recapture(seed)
         rng = np.random.default_rng(seed)
         image_e = read_out(self.frames_e, exposure_s=self.exposure_s, rng=rng, **self.readout)
-        return dataclasses.replace(
-            self, image_e=_processed(image_e, self.denoise_sigma_px, self.border_px), seed=seed)
+        image_e = _processed(image_e, self.denoise_sigma_px, self.border_px, self.bayer)
+        return dataclasses.replace(self, image_e=image_e, seed=seed)
 
 
 def grid_oversample(pixel_pitch_um: float, f_number: float,
@@ -151,7 +160,8 @@ def _exposure(exposure_s, result, shake_rad_per_s) -> float:
 
 
 def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversample=None,
-            aberration="defocus", **design) -> Capture:
+            aberration="defocus", cfa="none", demosaic="malvar2004", cfa_transmittance=None,
+            channel_transmittances=None, luminance_weights=None, **design) -> Capture:
     """Simulate ``chart`` captured by one design at ``illuminance_lux``.
 
     Parameters
@@ -169,6 +179,22 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     aberration : {"defocus", "spherical"}
         The shape of the lens's wavefront error when the design has one
         (``wavefront_rms_waves``): its pupil's phase is that Zernike polynomial, of that rms.
+    cfa : {"none", "bayer"}
+        "bayer": each pixel sits under a filter of the RGGB cell (with binning k, each output
+        pixel's k x k sensor pixels under one), its expected electrons times the filter's
+        transmittance, read out as any pixel; the mosaic is demosaicked by ``demosaic`` (the
+        colour-demosaicing package's algorithm), white-balanced, and its luminance taken by
+        the colour correction's luminance row (:mod:`~epc_fast.simulate.bayer`); denoising
+        then filters the luminance. The exposure stays ``evaluate``'s unless the model takes
+        ``cfa`` itself.
+    demosaic : {"bilinear", "malvar2004", "menon2007"}
+    cfa_transmittance : 1, optional, the cell's mean transmittance t relative to the
+        monochrome sensor; the channels are scaled by one factor to it. Default: the
+        channels' own mean (:data:`epc_fast.cfa.DEFAULT_CFA_TRANSMITTANCE` for the default).
+    channel_transmittances : (t_R, t_G, t_B), optional; default
+        :data:`epc_fast.cfa.DEFAULT_CHANNEL_TRANSMITTANCES`.
+    luminance_weights : (y_R, y_G, y_B) summing to 1, optional; default
+        :data:`epc_fast.cfa.DEFAULT_LUMINANCE_WEIGHTS`.
     **design
         Every keyword of :func:`epc_fast.evaluate` for one design (scalars), e.g. a preset's
         ``evaluate_kwargs()``. The chart sits at the design's field angle (where its SNR target
@@ -189,9 +215,20 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
         raise TypeError(f"chart: an epc_fast.simulate chart (slanted_edge, flat or image), "
                         f"got {type(chart).__name__}")
     lux = _scalar("illuminance_lux", illuminance_lux)
+    sensor_cfa = None
+    if check_cfa(cfa) == "bayer":
+        sensor_cfa = _bayer.bayer(demosaic, cfa_transmittance, channel_transmittances,
+                                  luminance_weights)
+    else:
+        check_demosaic(demosaic)
+    cfa_terms = {k: v for k, v in (("cfa", cfa), ("demosaic", demosaic),
+                                   ("cfa_transmittance", cfa_transmittance))
+                 if k in _EVALUATE and v is not None}
     d = _design(design)
     d.pop("invalid", None)
-    result = api.evaluate(lux, **{k: v for k, v in d.items() if k in design}, invalid="raise")
+    d.update(cfa_terms)
+    result = api.evaluate(lux, **{k: v for k, v in d.items() if k in design or k in cfa_terms},
+                          invalid="raise")
     for name in ("pixel_pitch_um", "f_number", "focal_length_mm"):
         _scalar(name, d[name])
     if np.ndim(result.epc) != 0:
@@ -224,33 +261,44 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                     aberration=_aberration(aberration))
     sigma = float(d.get("denoise_sigma_px", 0.0))
     border = kernel_reach_px(sigma)
+    if sensor_cfa is not None:
+        border += _bayer.BORDER_PX + border % 2
     images, blur = frame_irradiance(chart, optics, t, n, offsets, threads, border_px=border)
     yield_e = (float(d["electrons_per_lux_s_m2"] or spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2)
                * (t / n) * float(d["fill_factor"]) * (p * 1e-6) ** 2)
     frames_e = [image * yield_e for image in images]
+    if sensor_cfa is not None:
+        filters = sensor_cfa.mosaic((chart.shape[0] + 2 * border, chart.shape[1] + 2 * border), k)
+        frames_e = [frame * filters for frame in frames_e]
     sensor = {"dark_current_e_per_s": float(d["dark_current_e_per_s"]),
               "read_noise_e": float(d["read_noise_e"]), "prnu": float(d["prnu"]),
               "full_well_e": float(d["full_well_e"]), "binning": k,
               "binning_readout": d.get("binning_readout", "digital")}
     image_e = read_out(frames_e, exposure_s=t, rng=np.random.default_rng(seed), **sensor)
-    image_e = _processed(image_e, sigma, border)
-    expected = _processed(sum(bin_sum(f, k) for f in frames_e), sigma, border)
+    image_e = _processed(image_e, sigma, border, sensor_cfa)
+    expected = _processed(sum(bin_sum(f, k) for f in frames_e), sigma, border, sensor_cfa)
     recapture = None
     if n > 1 and alignment > 0.0:
         def recapture(new_seed):
             return capture(chart, illuminance_lux=illuminance_lux, seed=new_seed,
                            exposure_s=exposure_s, oversample=oversample,
-                           aberration=aberration, **design)
+                           aberration=aberration, cfa=cfa, demosaic=demosaic,
+                           cfa_transmittance=cfa_transmittance,
+                           channel_transmittances=channel_transmittances,
+                           luminance_weights=luminance_weights, **design)
     return Capture(image_e=image_e, expected_e=expected, pitch_um=p * k, exposure_s=t,
                    illuminance_lux=lux, field_angle_deg=angle, blur_mm=blur, oversample=q,
                    seed=seed, chart=chart, result=result, readout=sensor, frames_e=frames_e,
-                   recapture=recapture, denoise_sigma_px=sigma, border_px=border)
+                   recapture=recapture, denoise_sigma_px=sigma, border_px=border, cfa=cfa,
+                   bayer=sensor_cfa)
 
 
-def _processed(image, sigma_px: float, border_px: int) -> np.ndarray:
-    """The read-out image denoised (:mod:`~epc_fast.simulate.processing`) and cropped to the
-    chart."""
-    if sigma_px == 0:
+def _processed(image, sigma_px: float, border_px: int, sensor_cfa=None) -> np.ndarray:
+    """The read-out image developed (a Bayer mosaic into its luminance), denoised
+    (:mod:`~epc_fast.simulate.processing`) and cropped to the chart."""
+    if sensor_cfa is not None:
+        image = sensor_cfa.luminance(image)
+    if border_px == 0:
         return image
     filtered = denoise(image, sigma_px)
     b = border_px

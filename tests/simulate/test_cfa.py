@@ -1,0 +1,216 @@
+"""Captures through a Bayer sensor (simulate.capture(cfa="bayer")) against the CFA term of the
+model (epc_fast.cfa): cfa="none" is today's capture bit for bit; a Bayer pixel collects t of
+the monochrome electrons; the flat-patch SNR of the luminance is the model's, with
+color_noise_gain and g_d, within the seeds' scatter (this comparison holds the noise gains);
+the shipped demosaicker table reproduces from its script at reduced size; and the MTF50 of a
+Bayer edge is the first crossing of the monochrome model MTF times the table (this
+comparison holds the table)."""
+
+import functools
+import hashlib
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+from epc_fast import cfa, presets, simulate
+from epc_fast.reference.model import mtf_system
+from epc_fast.simulate import camera
+
+ROOT = Path(__file__).resolve().parents[2]
+DESIGN = presets.HIGH_TIER[0].evaluate_kwargs()  # 2.8 um, F/2.8
+SHOT_ONLY = {"read_noise_e": 0.0, "dark_current_e_per_s": 0.0, "prnu": 0.0}
+
+#: The e-SFR's own error on a noise-free edge's MTF50 (tests/simulate/test_agreement.py).
+E_SFR = 0.006
+#: Below the Nyquist frequency, how far the measured mean transfer rises above the table,
+#: which holds at most 1 and never rises (tools/demosaic_mtf.py: Malvar's gradient
+#: correction sharpens to 1.061 at 0.15 cycles/pixel, Menon's reaches 1.028 at 0.5;
+#: bilinear's never exceeds its table there). An MTF50 where the demosaicker sharpens lies up
+#: to this fraction above the model's.
+SHARPENING = {"bilinear": 0.0, "malvar2004": 0.061, "menon2007": 0.028}
+#: Standard errors a comparison may be off: 4 keeps a true agreement's failure rate near 6e-5.
+SEMS = 4.0
+#: The standard error of each shipped g_d (tools/demosaic_mtf.py, 16 seeds): 0.0023 at most.
+G_D_SEM = 0.0023
+
+
+def _tool(name):
+    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _digest(c) -> str:
+    return hashlib.sha256(c.image_e.tobytes() + c.expected_e.tobytes()).hexdigest()
+
+
+@pytest.mark.parametrize("extra, digest", [
+    ({}, "b0119f30039ddf98f40471e221f37fb73e72dbfd03c03168ad0887d92888a377"),
+    ({"denoise_sigma_px": 0.8, "backend": "reference"},
+     "1c7c00efa4393d472f464a942873293549c4f72d59616a2ae0c2c5b8cccf24a2"),
+])
+def test_a_monochrome_capture_is_the_one_before_the_cfa_bit_for_bit(extra, digest):
+    # The digests are the capture's before the CFA was added (this platform's SciPy FFT).
+    chart = simulate.slanted_edge((32, 48), 5.0)
+    c = simulate.capture(chart, illuminance_lux=300.0, seed=7, **DESIGN, **extra)
+    assert _digest(c) == digest
+    same = simulate.capture(chart, illuminance_lux=300.0, seed=7, cfa="none",
+                            demosaic="menon2007", **DESIGN, **extra)
+    assert _digest(same) == digest
+    assert c.cfa == "none" and c.bayer is None
+
+
+@pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
+@pytest.mark.parametrize("transmittance, binning", [(None, 1), (0.5, 1), (None, 2)])
+def test_a_bayer_flat_patch_collects_t_of_the_monochrome_electrons(demosaic, transmittance,
+                                                                   binning):
+    design = {**DESIGN, **SHOT_ONLY, "binning": binning}
+    chart = simulate.flat(24)
+    mono = simulate.capture(chart, illuminance_lux=1000.0, **design)
+    c = simulate.capture(chart, illuminance_lux=1000.0, cfa="bayer", demosaic=demosaic,
+                         cfa_transmittance=transmittance, **design)
+    t = cfa.DEFAULT_CFA_TRANSMITTANCE if transmittance is None else transmittance
+    # White balance makes the flat mosaic flat, every demosaicker keeps a flat image flat and
+    # the luminance weights sum to 1: exact to rounding (the defaults' t to 4 decimals).
+    np.testing.assert_allclose(c.expected_e, t * mono.expected_e, rtol=2e-4 if
+                               transmittance is None else 1e-12)
+    assert c.exposure_s == mono.exposure_s
+
+
+@functools.lru_cache(maxsize=None)
+def _flat_gains(demosaic: str, transmittance, seeds: int = 12) -> np.ndarray:
+    """The luminance's variance over its mean (cell scale) of a flat Bayer patch, per seed."""
+    c = simulate.capture(simulate.flat(112), illuminance_lux=1000.0, seed=0, cfa="bayer",
+                         demosaic=demosaic, cfa_transmittance=transmittance,
+                         **{**DESIGN, **SHOT_ONLY})
+    images = [c.redraw(s).image_e for s in range(seeds)]
+    return np.array([image.var(ddof=1) / image.mean() for image in images])
+
+
+@pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
+@pytest.mark.parametrize("transmittance", [None, 0.6])
+def test_a_bayer_flat_patchs_snr_is_the_models(demosaic, transmittance):
+    # The model: SNR^2 = (t S)^2 / (color_noise_gain g_d t S), so var / mean = the gain, at a
+    # light level, patch and transmittance other than those g_d was measured at.
+    gains = _flat_gains(demosaic, transmittance)
+    predicted = cfa.DEFAULT_COLOR_NOISE_GAIN * cfa.DEMOSAIC_NOISE_GAIN[demosaic]
+    sem = gains.std(ddof=1) / np.sqrt(gains.size)
+    tolerance = SEMS * np.hypot(sem, cfa.DEFAULT_COLOR_NOISE_GAIN * G_D_SEM)
+    assert abs(gains.mean() - predicted) < tolerance
+    assert tolerance < 0.04 * predicted  # a check of a few percent, not a wide band
+
+
+def test_bilinear_read_noise_has_its_closed_form_gain_below_the_models_one_gain():
+    # Read noise of variance s^2 in every pixel: after white balance channel c has
+    # s^2 / t_c^2, bilinear interpolation multiplies it by k_c on average over the cell
+    # (k_G = 5/8, k_R = k_B = 9/16), and the luminance on the cell's scale has
+    # t^2 sum_c y_c^2 k_c / t_c^2 s^2: 0.905 of the model's g_c g_d s^2 (docs/model.md).
+    t_c = np.array(cfa.DEFAULT_CHANNEL_TRANSMITTANCES)
+    y2 = np.array(cfa.DEFAULT_LUMINANCE_WEIGHTS) ** 2
+    t = cfa.DEFAULT_CFA_TRANSMITTANCE
+    closed_form = t * t * np.sum(y2 * np.array([9 / 16, 5 / 8, 9 / 16]) / t_c ** 2)
+    c = simulate.capture(simulate.flat(128, 0.0), illuminance_lux=100.0, exposure_s=0.01,
+                         seed=0, cfa="bayer", demosaic="bilinear",
+                         **{**DESIGN, **SHOT_ONLY, "read_noise_e": 3.0})
+    gains = np.array([c.redraw(s).image_e.var(ddof=1) / 9.0 for s in range(12)])
+    sem = gains.std(ddof=1) / np.sqrt(gains.size)
+    assert abs(gains.mean() - closed_form) < SEMS * sem
+    model = cfa.DEFAULT_COLOR_NOISE_GAIN * cfa.DEMOSAIC_NOISE_GAIN["bilinear"]
+    assert gains.mean() / model == pytest.approx(0.905, abs=0.01)
+
+
+def test_a_bayer_redraw_is_a_fresh_capture_with_that_seed():
+    chart = simulate.flat(32)
+    first = simulate.capture(chart, illuminance_lux=500.0, seed=1, cfa="bayer",
+                             demosaic="bilinear", **DESIGN)
+    fresh = simulate.capture(chart, illuminance_lux=500.0, seed=2, cfa="bayer",
+                             demosaic="bilinear", **DESIGN)
+    np.testing.assert_array_equal(first.redraw(2).image_e, fresh.image_e)
+
+
+def _shipped_std(name: str, knots) -> np.ndarray:
+    columns = cfa._table_columns()
+    return np.interp(knots, columns["f_cyc_per_px"], columns[f"{name}_std"])
+
+
+def test_the_shipped_table_reproduces_from_its_script_at_reduced_size():
+    tool = _tool("demosaic_mtf")
+    knots = np.round(np.arange(0.0, 0.5001, 0.05), 10)
+    runs = tool.measure_mtf(designs=tool.DESIGNS[:1], angles=(5.0,), widths=(96,),
+                            knots=knots)
+    for name, (values, _, _) in tool.table(runs).items():
+        shipped = cfa.demosaic_mtf_table(name)(knots)
+        # One of the shipped captures against their mean: within SEMS of their scatter up to
+        # each knot (the running minimum carries a knot's deviation onwards), plus the CSV's
+        # rounding to 4 decimals.
+        reach = np.maximum.accumulate(_shipped_std(name, knots))
+        np.testing.assert_array_less(np.abs(values - shipped), SEMS * reach + 1e-4)
+
+
+@functools.lru_cache(maxsize=None)
+def _bayer_edge(preset: int, lux: float, demosaic: str):
+    design = presets.HIGH_TIER[preset].evaluate_kwargs()
+    return design, simulate.capture(simulate.slanted_edge((96, 128), 5.0), illuminance_lux=lux,
+                                    cfa="bayer", demosaic=demosaic, **design)
+
+
+def _model_mtf50(design: dict, c, table) -> float:
+    """cycles/mm: the first crossing of 1/2 by the monochrome model MTF at the capture's blur
+    times the demosaicker's table at f p_out."""
+    d = camera._design(design)
+    p_mm = c.pitch_um * 1e-3
+
+    def mtf(f):
+        mono = mtf_system(f, d["f_number"], d["pixel_pitch_um"], d["fill_factor"], c.blur_mm,
+                          d["jitter_um"], [d["wavelength_nm"]], [1.0])
+        return float(mono * table(f * p_mm)) - 0.5
+
+    f = np.linspace(1e-6, 1.0 / p_mm, 2001)
+    first = int(np.flatnonzero(np.array([mtf(x) for x in f]) < 0.0)[0])
+    return brentq(mtf, f[first - 1], f[first], xtol=1e-9)
+
+
+@pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
+@pytest.mark.parametrize("preset, lux", [(0, 1e5), (3, 1e5)])
+def test_a_bayer_edges_mtf50_is_the_monochrome_model_times_the_table(demosaic, preset, lux):
+    design, c = _bayer_edge(preset, lux, demosaic)
+    model = _model_mtf50(design, c, cfa.demosaic_mtf_table(demosaic))
+    measured = simulate.esfr(c.expected_e, c.pitch_um).mtf50_cyc_per_mm
+    f_px = model * c.pitch_um * 1e-3
+    # The e-SFR's own error, what the table gives up where the demosaicker sharpens, and
+    # SEMS of the table's captures' scatter at the crossing (a transfer's error moves the
+    # crossing by at most as much, relatively, where the system MTF falls at least as fast
+    # as 1/f).
+    tolerance = E_SFR + SHARPENING[demosaic] + SEMS * float(_shipped_std(demosaic, f_px))
+    assert abs(measured / model - 1.0) < tolerance
+    assert measured < 1.0 / (2.0 * c.pitch_um * 1e-3) * 1.05  # the crossing is near Nyquist or below
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"cfa": "xtrans"}, r"^cfa: one of 'none', 'bayer', got 'xtrans'"),
+    ({"cfa": "bayer", "demosaic": "ahd"}, r"^demosaic: one of .* got 'ahd'"),
+    ({"cfa": "none", "demosaic": "ahd"}, r"^demosaic: one of .* got 'ahd'"),
+    ({"cfa": "bayer", "cfa_transmittance": 1.5}, r"^cfa_transmittance: a transmittance in"),
+    ({"cfa": "bayer", "cfa_transmittance": 0.9}, r"^cfa_transmittance: 0.9 puts a channel"),
+    ({"cfa": "bayer", "cfa_transmittance": float("nan")}, r"^cfa_transmittance:"),
+    ({"cfa": "bayer", "channel_transmittances": (0.3, 0.4)}, r"^channel_transmittances: three"),
+    ({"cfa": "bayer", "channel_transmittances": (0.3, 0.0, 0.3)},
+     r"^channel_transmittances: three transmittances in \(0, 1\]"),
+    ({"cfa": "bayer", "luminance_weights": (0.3, 0.6, 0.3)}, r"^luminance_weights: three weights"),
+])
+def test_a_bad_cfa_argument_is_refused_naming_it(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        simulate.capture(simulate.flat(16), illuminance_lux=100.0, **kwargs, **DESIGN)
+
+
+def test_without_colour_demosaicing_a_bayer_capture_says_which_extra_to_install(monkeypatch):
+    monkeypatch.setitem(sys.modules, "colour_demosaicing", None)  # an import of it fails
+    with pytest.raises(ImportError, match=r"pip install 'epc-fast\[simulate\]'"):
+        simulate.capture(simulate.flat(16), illuminance_lux=100.0, cfa="bayer", **DESIGN)
+    mono = simulate.capture(simulate.flat(16), illuminance_lux=100.0, **DESIGN)
+    assert mono.image_e.shape == (16, 16)

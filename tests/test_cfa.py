@@ -1,0 +1,129 @@
+"""The colour filter array's names, defaults and demosaicker table (epc_fast.cfa): the defaults
+in range and reproduced by tools/cfa_defaults.py from colour-science's data, the colour noise
+gain's formula, the shipped table an MtfTable, bad names refused naming the argument, and the
+module free of colour-science at runtime."""
+
+import importlib.util
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from epc_fast import cfa
+from epc_fast.mtf_table import MtfTable
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _tool(name):
+    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_defaults_are_a_third_of_the_light_and_a_gain_near_one():
+    t_r, t_g, t_b = cfa.DEFAULT_CHANNEL_TRANSMITTANCES
+    # The constants are written to 4 decimals: they agree with each other to rounding.
+    assert cfa.DEFAULT_CFA_TRANSMITTANCE == pytest.approx((t_r + 2 * t_g + t_b) / 4, abs=1e-4)
+    assert sum(cfa.DEFAULT_CHANNEL_TRANSMITTANCES) == pytest.approx(1.0, abs=2e-4)
+    assert 0.25 < cfa.DEFAULT_CFA_TRANSMITTANCE < 0.5
+    assert sum(cfa.DEFAULT_LUMINANCE_WEIGHTS) == pytest.approx(1.0, abs=2e-4)
+    assert cfa.DEFAULT_COLOR_NOISE_GAIN == pytest.approx(cfa.color_noise_gain(), abs=2e-4)
+    assert 0.5 < cfa.DEFAULT_COLOR_NOISE_GAIN < 1.5
+    assert set(cfa.DEMOSAIC_NOISE_GAIN) == set(cfa.DEMOSAICS)
+    assert all(0.3 < g <= 1.05 for g in cfa.DEMOSAIC_NOISE_GAIN.values())
+
+
+def test_the_defaults_are_what_the_script_derives_from_the_nikon_d5100():
+    pytest.importorskip("colour")
+    d = _tool("cfa_defaults").derive()
+    # Written to 4 decimals: half a unit of the last place.
+    assert cfa.DEFAULT_CHANNEL_TRANSMITTANCES == pytest.approx(
+        tuple(d["channel_transmittances"]), abs=5e-5)
+    assert cfa.DEFAULT_CFA_TRANSMITTANCE == pytest.approx(d["cfa_transmittance"], abs=5e-5)
+    assert cfa.DEFAULT_LUMINANCE_WEIGHTS == pytest.approx(tuple(d["luminance_weights"]),
+                                                          abs=5e-5)
+    assert cfa.DEFAULT_COLOR_NOISE_GAIN == pytest.approx(d["color_noise_gain"], abs=5e-5)
+    # The chart's luminance is fitted to 1 % of white: the correction is a real camera's.
+    assert d["fit_rms_y"] < 0.01
+
+
+def test_the_colour_noise_gain_of_equal_channels_averaged_equally_is_a_third():
+    # t = 0.5, g = 0.5 * 3 * (1/9) / 0.5 = 1/3: three independent channels averaged.
+    assert cfa.color_noise_gain((0.5, 0.5, 0.5), (1 / 3, 1 / 3, 1 / 3)) == pytest.approx(1 / 3,
+                                                                                       rel=1e-12)
+    # Luminance from green alone: t / t_G = (0.1 + 0.8 + 0.3) / 4 / 0.4 = 0.75.
+    assert cfa.color_noise_gain((0.1, 0.4, 0.3), (0.0, 1.0, 0.0)) == pytest.approx(0.75,
+                                                                                 rel=1e-12)
+    # One factor on every channel changes nothing.
+    scaled = tuple(0.5 * t for t in cfa.DEFAULT_CHANNEL_TRANSMITTANCES)
+    assert cfa.color_noise_gain(scaled) == pytest.approx(cfa.color_noise_gain(), rel=1e-12)
+
+
+@pytest.mark.parametrize("name", cfa.DEMOSAICS)
+def test_each_demosaickers_table_is_an_mtf_table_to_one_cycle_a_pixel(name):
+    table = cfa.demosaic_mtf_table(name)
+    assert isinstance(table, MtfTable)
+    assert table.frequencies[0] == 0.0 and table.values[0] == 1.0
+    assert table.last_frequency >= 1.0
+    assert table.frequencies.size >= 12
+    assert np.all(np.diff(table.values) <= 0.0)
+    # The interpolant passes through its knots: knot 10 is 0.5 cycles/pixel.
+    assert table.frequencies[10] == 0.5
+    assert float(table(0.5)) == table.values[10]
+
+
+def test_bilinear_loses_most_and_menon_least_at_the_nyquist_frequency():
+    at = {name: float(cfa.demosaic_mtf_table(name)(0.5)) for name in cfa.DEMOSAICS}
+    assert at["bilinear"] < at["malvar2004"] < at["menon2007"]
+    assert 0.4 < at["bilinear"] < 0.55
+
+
+def test_the_table_ships_inside_the_package():
+    package = ROOT / "python" / "epc_fast"
+    assert cfa.DEMOSAIC_MTF_PATH.parent.parent == package
+    assert cfa.DEMOSAIC_MTF_PATH.read_text().startswith("# Each demosaicker's luminance MTF")
+
+
+@pytest.mark.parametrize("call, bad, argument", [
+    (cfa.demosaic_mtf_table, "ahd", "demosaic"),
+    (cfa.demosaic_mtf_table, None, "demosaic"),
+    (cfa.check_demosaic, "Malvar2004", "demosaic"),
+    (cfa.check_cfa, "xtrans", "cfa"),
+    (cfa.check_cfa, 1, "cfa"),
+])
+def test_a_bad_name_is_refused_naming_the_argument(call, bad, argument):
+    with pytest.raises(ValueError, match=rf"^{argument}: one of .* got {bad!r}"):
+        call(bad)
+
+
+def test_the_names_are_the_issues():
+    assert cfa.CFAS == ("none", "bayer")
+    assert cfa.DEMOSAICS == ("bilinear", "malvar2004", "menon2007")
+
+
+def test_cfa_and_the_simulator_import_neither_colour_science_nor_colour_demosaicing():
+    code = ("import sys, epc_fast.cfa as c, epc_fast.simulate\n"
+            "c.demosaic_mtf_table('menon2007')\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in "
+            "('colour', 'colour_demosaicing')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, env={"PYTHONPATH": str(ROOT / "python")})
+    assert out.stdout.strip() == "[]"
+
+
+def test_bilinears_noise_gain_is_its_closed_form():
+    # Bilinear interpolation fills each channel from its own pixels: a pixel's interpolated
+    # channel c has the variance of one pixel times the sum of squares of its weights, whose
+    # mean over the RGGB cell is k_G = (1 + 4 (1/4)^2) / 2 = 5/8 (green sites keep their value,
+    # the others average 4) and k_R = k_B = (1 + 2 (2 (1/2)^2) + 4 (1/4)^2) / 4 = 9/16.
+    t_c = np.array(cfa.DEFAULT_CHANNEL_TRANSMITTANCES)
+    y2 = np.array(cfa.DEFAULT_LUMINANCE_WEIGHTS) ** 2
+    k = np.array([9 / 16, 5 / 8, 9 / 16])
+    closed_form = np.sum(y2 * k / t_c) / np.sum(y2 / t_c)
+    assert closed_form == pytest.approx(0.6147, abs=1e-4)
+    # The shipped value is measured over 16 seeds, standard error 0.0017: 4 of them.
+    assert cfa.DEMOSAIC_NOISE_GAIN["bilinear"] == pytest.approx(closed_form, abs=4 * 0.0017)
