@@ -5,7 +5,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
+#include "mtf_table.h"
 #include "params.h"
 
 namespace epc_fast {
@@ -79,6 +81,9 @@ struct alignas(64) Block {
     T denoise_reach[block_size];
     T denoise_x[block_size], denoise_value[block_size], denoise_d1[block_size], denoise_d2[block_size];
     bool aberration = false, denoise = false;
+    // the call's lens tables (Inputs::lens_tables; null: none): every lane's optics MTF is its
+    // table's, the lane's index in x[lens]
+    const std::vector<MtfTable>* lens_tables = nullptr;
     int denoise_taps = 0;
     // denoising's noise gain in the exposure stage: sqrt(g) per lane, where `gained`
     double root_gain[block_size];

@@ -37,6 +37,7 @@
 #include "parallel.h"
 #include "params.h"
 #include "solvers.h"
+#include "status.h"
 
 namespace epc_fast {
 
@@ -73,6 +74,8 @@ void system_mtf(const Spectrum& spectrum, Block<T>& b) {
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < n; ++i) mtf[i] += w * mtf_diffraction(at[i] * lambda_mm * f_num[i]);
         }
+    } else if (b.lens_tables != nullptr) {
+        lens_values(b);
     } else {
         const T* __restrict lambda_f = b.lambda_f_mm;
         EPC_FAST_SIMD
@@ -164,6 +167,8 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
             slope[i] = r;
             if (Curvature) curvature[i] = curvature[i] / mtf[i] - r * r;
         }
+    } else if (b.lens_tables != nullptr) {
+        lens_factor<Curvature>(b);
     } else {
         const T* __restrict lambda_f = b.lambda_f_mm;
         T nu_max = T(0);
@@ -441,6 +446,26 @@ double settle_rtol(const Options& opt) {
     return steps ? static_cast<double>(effective_rtol<T>(opt.f50_rtol)) : -1.0;
 }
 
+// A lens table that ends while the system MTF is still above the threshold holds no f50: the
+// lanes to solve whose MTF at their bracket's end f_hi (the table's end where that is the
+// nearest) exceeds c get Status::beyond_table and are not solved (scatter writes NaN).
+template <bool Motion, bool Jitter, bool Binning, class T>
+void beyond_tables(const Spectrum& spectrum, Block<T>& b) {
+    T* __restrict at = b.at;
+    T* __restrict start = b.previous_step;  // free until the solver sets it
+    for (std::size_t i = 0; i < block_size; ++i) {
+        start[i] = at[i];
+        at[i] = b.hi[i];
+    }
+    system_mtf<Motion, Jitter, Binning, false>(spectrum, b);
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const bool beyond = (b.solve[i] != 0) & (b.mtf[i] > b.threshold[i]);
+        b.status[i] = beyond ? static_cast<unsigned char>(Status::beyond_table) : b.status[i];
+        b.solve[i] = beyond ? 0 : b.solve[i];
+        at[i] = start[i];
+    }
+}
+
 // f50 for every lane to solve, into b.f50.
 template <class T>
 void f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
@@ -449,6 +474,7 @@ void f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
     auto with = [&](auto motion, auto jitter, auto binning) {
         constexpr bool M = decltype(motion)::value, J = decltype(jitter)::value,
                        B = decltype(binning)::value;
+        if (b.lens_tables != nullptr) beyond_tables<M, J, B>(spectrum, b);
         if (spectrum.polychromatic()) solve_f50<M, J, B, true>(spectrum, opt, b);
         else solve_f50<M, J, B, false>(spectrum, opt, b);
     };

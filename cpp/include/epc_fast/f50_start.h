@@ -407,7 +407,11 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     // (its transfer's phases 2 pi f p i lose float32's digits at large i)
     const bool any_aberration = !b.broadcast_is(wavefront_rms_waves, 0.0);
     const bool any_denoise = !b.broadcast_is(denoise_sigma_px, 0.0);
-    const bool any_optics = any_aberration | any_denoise;
+    // a lens table (every lane of the call has one) takes the place of diffraction: the
+    // bracket ends at the table's end, the start scales by where it falls to 1/2, no start is
+    // certified, and float32 leaves its lanes to float64
+    const bool any_lens = b.lens_tables != nullptr;
+    const bool any_optics = any_aberration | any_denoise | any_lens;
     const double* __restrict wavefront = x[wavefront_rms_waves];
     const double* __restrict sigma_px = x[denoise_sigma_px];
     const double* __restrict wavelength = x[wavelength_nm];
@@ -451,6 +455,13 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         lf_short[i] = (poly ? shortest_nm : wavelength[i]) * nm_to_mm * f_number_i;
         jit[i] = jitter_um_[i] * um_to_mm;
         d_length[i] = poly ? mean_mm * f_number_i : lf[i];
+    }
+    if (any_lens) {  // 1/lf_short is the bracket's optics zero, start_nu50 / d_length its f50
+        for (std::size_t i = 0; i < n; ++i) {
+            const MtfTable& table = lens_table(b, i);
+            lf_short[i] = 1.0 / table.end;
+            d_length[i] = start_nu50 / table.half;
+        }
     }
     if (any_alignment) {
         const double* __restrict residual = x[alignment_error_um];
@@ -554,7 +565,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                 const bool s_i = (solve[i] != 0) & (row_code[i] == Row + 1) &
                                  certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
                                  (f0 >= 0x1p-100) & (f0 <= 0x1p100) &
-                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0)));
+                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !any_lens));
                 settled[i] = s_i ? 1 : settled[i];
                 narrow_start[i] = s_i ? f0 : narrow_start[i];  // read back where settled
                 at[i] = s_i ? static_cast<T>(f0) : at[i];
@@ -589,7 +600,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                             float32_length(jit[i]) & lambdas_fit &
                             (!poly | float32_factor(f_num_in[i]));
                 if (Binned) fits &= float32_length(zero_length[i]) & float32_length(bin_pitch[i]);
-                fits &= !any_denoise | (sigma_px[i] == 0.0);
+                fits &= (!any_denoise | (sigma_px[i] == 0.0)) & !any_lens;
                 const bool s_i = settled[i] != 0;
                 wide[i] = (solve[i] != 0) & !s_i & !fits;
                 solve[i] = (solve[i] != 0) & (s_i | fits);
@@ -725,7 +736,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                 const bool s_i = (solve[i] != 0) & row_certified &
                                  certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
                                  (at[i] != T(0.5) * hi[i]) &
-                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0)));
+                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !any_lens));
                 settled[i] = s_i;
                 n_settled += s_i;
             }
@@ -733,7 +744,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         }
     }
     b.n_settled = n_settled;
-    if (any_optics) optics_lanes(b, any_aberration, any_denoise, ln_inv_c);
+    if (any_aberration | any_denoise) optics_lanes(b, any_aberration, any_denoise, ln_inv_c);
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));

@@ -29,7 +29,9 @@ namespace epc_fast {
 namespace detail {
 
 // The value invalid and padding lanes compute on: no lane sees NaN or loops on garbage.
-inline double stand_in(int param) { return param == mtf_threshold ? 0.5 : 1.0; }
+inline double stand_in(int param) {
+    return param == mtf_threshold ? 0.5 : param == lens ? 0.0 : 1.0;
+}
 
 // valid[i] &= x[i] in d, for every lane; the domain's open or closed ends are decided once.
 inline void check_domain(const Domain& d, const double* __restrict x, unsigned char* __restrict valid) {
@@ -204,7 +206,11 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
     gather(in, begin, illuminance_lux, b);
     exposure(opt, b);
     if (out.f50_cyc_per_mm != nullptr || out.epc != nullptr || out.sensitivity.any()) {
-        f50(in.spectrum, opt, b);
+        // a lens table replaces diffraction and with it the spectrum: f50 is solved as for one
+        // wavelength (the shares' aberration-free D keeps the call's spectrum: sensitivity.h)
+        static const Spectrum no_spectrum{};
+        b.lens_tables = in.lens_tables.empty() ? nullptr : &in.lens_tables;
+        f50(b.lens_tables != nullptr ? no_spectrum : in.spectrum, opt, b);
     } else {  // f50 not asked for: not solved (status and the rest need only the exposure)
         for (std::size_t i = 0; i < block_size; ++i) b.wide[i] = 0;
     }

@@ -187,5 +187,34 @@ void apply_aberration_slopes(Block<T>& b) {
     }
 }
 
+// A lane's lens table: its index in x[lens], clamped to the tables (a stand-in lane's is 0).
+template <class T>
+EPC_FAST_INLINE const MtfTable& lens_table(const Block<T>& b, std::size_t i) {
+    const std::vector<MtfTable>& tables = *b.lens_tables;
+    const double index = b.x[lens][i];
+    const std::size_t k = index >= 1.0 ? static_cast<std::size_t>(index) : 0;
+    return tables[k < tables.size() ? k : tables.size() - 1];
+}
+
+// b.mtf = each lane's lens table at b.at, in place of diffraction (values only).
+template <class T>
+void lens_values(Block<T>& b) {
+    for (std::size_t i = 0; i < block_size; ++i)
+        b.mtf[i] = static_cast<T>(tabulated(lens_table(b, i), static_cast<double>(b.at[i])).value);
+}
+
+// The lens table in place of monochromatic diffraction's factor (f50.h diffraction_factor):
+// L into b.mtf, L' and L'' into b.slope and b.curvature, and L as their denominator.
+template <bool Curvature, class T>
+void lens_factor(Block<T>& b) {
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const TableValue v = tabulated(lens_table(b, i), static_cast<double>(b.at[i]));
+        b.mtf[i] = static_cast<T>(v.value);
+        b.slope[i] = static_cast<T>(v.d1);
+        if (Curvature) b.curvature[i] = static_cast<T>(v.d2);
+        b.denominator[i] = static_cast<T>(v.value);
+    }
+}
+
 }  // namespace detail
 }  // namespace epc_fast

@@ -10,6 +10,8 @@
 #include <memory>
 #include <vector>
 
+#include "mtf_table.h"
+
 namespace epc_fast {
 
 enum Param : int {
@@ -38,6 +40,7 @@ enum Param : int {
     alignment_error_um,  // rms alignment error of each frame (0: off)
     wavefront_rms_waves,  // rms wavefront error in waves (0: off)
     denoise_sigma_px,     // Gaussian denoising sigma in output pixels (0: off)
+    lens,                 // index of the point's lens table (Inputs::lens_tables), a whole number
     n_params
 };
 
@@ -47,7 +50,7 @@ constexpr const char* param_names[n_params] = {
     "lens_transmittance", "field_angle_deg", "fill_factor", "electrons_per_lux_s_m2",
     "read_noise_e", "dark_current_e_per_s", "prnu", "full_well_e", "snr_db", "shake_deg_per_s",
     "stabilization", "jitter_um", "wavelength_nm", "mtf_threshold", "binning", "frames",
-    "alignment_error_um", "wavefront_rms_waves", "denoise_sigma_px"};
+    "alignment_error_um", "wavefront_rms_waves", "denoise_sigma_px", "lens"};
 
 // A value lies in [lo, hi] with each end open or closed, and is a whole number where `integer`
 // (binning, frames); NaN lies in no domain.
@@ -108,6 +111,9 @@ struct Inputs {
     std::array<Domain, n_params> domains;
     bool size_is_pixel_count = false;
     Spectrum spectrum;
+    // the call's lens tables (mtf_table.h): point i's optics MTF is table lens[i]'s, in place
+    // of diffraction; none: diffraction (and the spectrum) for every point
+    std::vector<MtfTable> lens_tables;
 };
 
 enum class TMpeSolver { closed_form, brent };
@@ -132,10 +138,11 @@ struct Options {
 
 // The MTF factors of the share outputs (sensitivity.h), in their order.
 // The binned aperture (binning) is the pixel's; the burst's alignment residual has its own, and
-// so have the wavefront error's ATF (ln(D_W / D)) and denoising's filter.
+// so have the wavefront error's ATF (ln(D_W / D)), denoising's filter and a lens table against
+// aberration-free diffraction (ln(L / D)).
 enum Share : int {
     share_diffraction, share_pixel, share_motion, share_jitter, share_alignment,
-    share_aberration, share_denoise, n_shares
+    share_aberration, share_denoise, share_lens, n_shares
 };
 
 // The outputs of what limits a design and how sensitive it is (sensitivity.h); null: not

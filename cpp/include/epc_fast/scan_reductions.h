@@ -349,6 +349,7 @@ inline void fold_summary_cycle(const Reduction& r, const FoldLanes& f, Reduction
     constexpr std::uint64_t finite_one = std::uint64_t{1} << (4 * tally_bits);
     // each lane's tally increment: its status's field, and the finite field if finite
     alignas(64) std::uint64_t add[block_size];
+    // (statuses 0 .. 3: a scan has no lens tables, so never Status::beyond_table)
     for (std::size_t i = 0; i < block_size; ++i) add[i] = status[i] & 3u;  // widened
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {

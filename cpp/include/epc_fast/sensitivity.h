@@ -18,6 +18,7 @@
 #include "exposure.h"
 #include "mtf.h"
 #include "optics.h"
+#include "optics_stage.h"
 #include "parallel.h"
 #include "params.h"
 #include "polynomials.h"
@@ -159,7 +160,8 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
                                               double jitter_mm, const Spectrum& spectrum,
                                               double pitch_mm = 0.0, double binning = 1.0,
                                               double residual_mm = 0.0, double depth = 0.0,
-                                              double denoise_sigma_px = 0.0) {
+                                              double denoise_sigma_px = 0.0,
+                                              const MtfTable* table = nullptr) {
     double loss = 0.0, slope_numerator = 0.0, value = 0.0;
     if (spectrum.polychromatic()) {
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
@@ -186,7 +188,7 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
     }
     MtfLogFactors m{{log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
                      -2.0 * pi * pi * sigma_f * sigma_f, -2.0 * pi * pi * residual_f * residual_f,
-                     0.0, 0.0},
+                     0.0, 0.0, 0.0},
                     slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill};
     if (depth > 0.0) {
         const AberrationLogFactor a = aberration_log_factor(f, f_number, wavelength_nm, spectrum,
@@ -194,6 +196,11 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
         m.log[share_aberration] = a.log;
         m.slope_aberration = a.f_slope;
         m.wave_aberration = a.w_slope;
+    }
+    if (table != nullptr) {  // L in place of D: ln(L / D), and the optics' slope f L'/L
+        const TableValue l = tabulated(*table, f);
+        m.log[share_lens] = std::log(l.value) - std::log(value);
+        m.slope_diffraction = f * l.d1 / l.value;
     }
     if (denoise_sigma_px > 0.0) {  // on the output pitch k p
         const DenoiseLogFactor h = denoise_log_factor(f, denoise_sigma_px, pitch_mm * binning);
@@ -300,6 +307,7 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[mtf_threshold][i] = -threshold_term * two_over_a;
     out[binning][i] = nan;
     out[frames][i] = nan;
+    out[lens][i] = nan;
     out[alignment_error_um][i] = 2.0 * log_alignment * two_over_a;
     // 0 where the term is off (W d ln ATF / dW and sigma d ln H / d sigma vanish with W and
     // sigma); denoising moves the MTF and, through the target s g, T_MPE and the blur
@@ -371,10 +379,11 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
         static_cast<double>(b.f50[i]), x[f_number][i], x[wavelength_nm][i],
         pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]), b.blur[i],
         x[jitter_um][i] * um_to_mm, in.spectrum, x[pixel_pitch_um][i] * um_to_mm, k,
-        residual_um * um_to_mm, aberration_depth(x[wavefront_rms_waves][i]), x[denoise_sigma_px][i]);
+        residual_um * um_to_mm, aberration_depth(x[wavefront_rms_waves][i]), x[denoise_sigma_px][i],
+        b.lens_tables != nullptr ? &lens_table(b, i) : nullptr);
     const double ln_c = std::log(x[mtf_threshold][i]);
     double total = (((m.log[0] + m.log[1]) + (m.log[2] + m.log[3])) + m.log[4]) +
-                   (m.log[share_aberration] + m.log[share_denoise]);
+                   ((m.log[share_aberration] + m.log[share_denoise]) + m.log[share_lens]);
     const bool pinned = !(std::fabs(total - ln_c) <= 1e-3 * std::fabs(ln_c));
     if (pinned) {
         auto least = [&m](int s) {  // a NaN log (a sinc past its zero) counts as -inf
@@ -414,7 +423,10 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
     }
     const double mu = slopes[2] * beta;
     optics.gain *= mu * t.target;  // the noise gain's path through T_MPE and the blur
-    elasticities_of_lane(slopes[0], slopes[1], slopes[3], slopes[2], log_jitter, log_alignment, t,
+    // a lens table's L does not move with the f-number or the wavelength: its slope is the
+    // optics' in the area slope, and theirs 0
+    const double diffraction_slope = b.lens_tables != nullptr ? 0.0 : slopes[0];
+    elasticities_of_lane(diffraction_slope, slopes[1], slopes[3], slopes[2], log_jitter, log_alignment, t,
                          mu, field_slope, x[snr_db][i] * (ln10 / 10.0),
                          in.size_is_pixel_count, elasticity_out, i,
                          2.0 / area_slope(slopes[0] + optics.aberration, slopes[1] + optics.denoise,
@@ -510,6 +522,7 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
         logs[share_alignment][i] = 0.0;  // a block with bursts takes sensitivity_lane
         logs[share_aberration][i] = 0.0;  // neither term is in the core yet
         logs[share_denoise][i] = 0.0;
+        logs[share_lens][i] = 0.0;
         if (Elasticities) {
             slope_numerator[i] *= d_sincs * inverse;  // now nu dD/dnu / D
             slope_pixel[i] = pixel.slope;
@@ -592,7 +605,8 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     }
     // a block with binning, bursts, the wavefront error or denoising: every OK lane by
     // sensitivity_lane, which has their terms
-    if (b.sensor || !b.broadcast_is(wavefront_rms_waves, 0.0) || !b.broadcast_is(denoise_sigma_px, 0.0))
+    if (b.sensor || !b.broadcast_is(wavefront_rms_waves, 0.0) || !b.broadcast_is(denoise_sigma_px, 0.0) ||
+        b.lens_tables != nullptr)
         for (std::size_t i = 0; i < n; ++i) slow[i] |= ok[i];
     // the slow lanes, eight flags at a time (most blocks have none)
     for (std::size_t first = 0; first < n; first += 8) {

@@ -11,6 +11,7 @@ enum class Status : std::uint8_t {
     invalid = 1,         // an input outside its domain: every output NaN
     unreachable = 2,     // the SNR target cannot be met (see Cause): T_MPE = +inf
     blur_unbounded = 3,  // shake angle reached pi/2: blur = +inf, f50 = 0, EPC = 0
+    beyond_table = 4,    // f50 past a tabulated MTF's end: f50 and EPC NaN, T_MPE finite
 };
 
 enum class Cause : std::uint8_t {
