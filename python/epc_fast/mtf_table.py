@@ -21,7 +21,7 @@ import numpy as np
 
 from ._validation import short
 
-__all__ = ["MtfTable", "mtf_table", "pchip_slopes", "mtf_tabulated"]
+__all__ = ["MtfTable", "mtf_table", "lens_tables_of", "pchip_slopes", "mtf_tabulated"]
 
 
 def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -134,6 +134,37 @@ def mtf_table(name: str, table) -> MtfTable:
     for array in (f, m, coefficients):
         array.setflags(write=False)
     return MtfTable(f, m, coefficients)
+
+
+def lens_tables_of(lens_mtf, wavefront_rms_waves=0.0) -> tuple:
+    """``lens_mtf`` (one pair (frequencies_cyc_per_mm, mtf), or a list of them) as a tuple of
+    checked :class:`MtfTable`, each named in errors as ``lens_mtf`` or ``lens_mtf[i]``. A
+    ValueError for a wavefront error other than 0 with it: a lens's table has its aberrations.
+    """
+    w = np.asarray(wavefront_rms_waves, dtype=np.float64)
+    if np.any(w != 0.0):
+        raise ValueError("give lens_mtf or wavefront_rms_waves, not both: a lens's MTF table "
+                         f"includes its aberrations (wavefront_rms_waves={short(w)})")
+    if isinstance(lens_mtf, MtfTable) or _is_pair(lens_mtf):
+        return (mtf_table("lens_mtf", lens_mtf),)
+    try:
+        tables = list(lens_mtf)
+    except TypeError:
+        raise ValueError("lens_mtf must be a pair (frequencies_cyc_per_mm, mtf) of 1-D arrays "
+                         f"or a list of them, got {short(lens_mtf)}") from None
+    if not tables:
+        raise ValueError("lens_mtf is an empty list; give at least one table")
+    return tuple(mtf_table(f"lens_mtf[{i}]", t) for i, t in enumerate(tables))
+
+
+def _is_pair(value) -> bool:
+    """Whether ``value`` is one table, a pair whose first item is a 1-D array of numbers
+    (a list of tables holds pairs there, not numbers)."""
+    try:
+        first = value[0]
+        return len(value) == 2 and np.asarray(first, dtype=np.float64).ndim == 1
+    except (TypeError, ValueError, IndexError, KeyError):
+        return False
 
 
 def mtf_tabulated(f, table: MtfTable):

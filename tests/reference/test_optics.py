@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast import Status, _core, reference
+from epc_fast import Status, _core, core_call, reference
 from epc_fast.params import DENOISE_SIGMA_PX_MAX, WAVEFRONT_RMS_WAVES_MAX
 from epc_fast.reference import optics
 
@@ -293,12 +293,14 @@ def test_the_core_refuses_either_term_until_it_has_them():
     r = epc_fast.evaluate(illuminance_lux=100.0, wavefront_rms_waves=[0.0, -1.0, np.nan],
                           denoise_sigma_px=[0.0, 0.0, 200.0], **core)
     assert r.status.tolist() == [Status.OK, Status.INVALID, Status.INVALID]
-    columns = [np.zeros(1) if name in ("wavefront_rms_waves", "denoise_sigma_px") else np.ones(1)
-               for name in epc_fast.params.PARAMETER_NAMES]
-    for j in (len(columns) - 2, len(columns) - 1):
+    names = epc_fast.params.PARAMETER_NAMES
+    columns = [np.zeros(1) if name in ("wavefront_rms_waves", "denoise_sigma_px", "lens")
+               else np.ones(1) for name in names]
+    for j in (names.index("wavefront_rms_waves"), names.index("denoise_sigma_px")):
         on = list(columns)
         on[j] = np.full(1, 0.05)
-        out = _core.evaluate(on, True, epc_fast.params.domain_table(), np.empty(0),
+        on, domains = core_call.for_core(on, epc_fast.params.domain_table())
+        out = _core.evaluate(on, True, domains, np.empty(0),
                              np.empty(0), 1, "halley", 1e-14, "closed_form", 1e-15, "float64", 1,
                              1 << 18)
         assert out["status"][0] == Status.INVALID

@@ -39,7 +39,7 @@ class SummaryResult:
     of : str, the output (e.g. ``"epc"``: pixels).
     labels : {column: list}, each group's label.
     points : int64 (groups,), points in each group, whatever their status.
-    status_counts : int64 (groups, 4), points per :class:`epc_fast.Status`.
+    status_counts : int64 (groups, len(Status)), points per :class:`epc_fast.Status`.
     count : int64 (groups,), points whose output is finite.
     mean, std, min, max : float64 (groups,), in the output's unit; std with ddof=0. NaN (and
         +inf, -inf for min, max) where a group has no finite value.
@@ -89,7 +89,7 @@ class SummaryResult:
 
 
 def _status_counts(chunk: Chunk, key: GroupKey) -> np.ndarray:
-    """int64 (groups, 4): points per group and status."""
+    """int64 (groups, len(Status)): points per group and status."""
     status = chunk.result.status
     if not np.any(status):
         counts = np.zeros((key.size, STATUS_COUNT), np.int64)
