@@ -104,24 +104,25 @@ def mtf_table(name: str, table) -> MtfTable:
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise ValueError(f"{name} holds a NaN or infinite value at index {i} "
-                         f"(frequency {f[i]!r}, mtf {m[i]!r})")
+                         f"(frequency {float(f[i])!r}, mtf {float(m[i])!r})")
     if f[0] < 0.0:
-        raise ValueError(f"{name}'s first frequency is {f[0]!r}; frequencies are >= 0")
+        raise ValueError(f"{name}'s first frequency is {float(f[0])!r}; frequencies are >= 0")
     step = np.diff(f)
     if np.any(step <= 0.0):
         i = int(np.flatnonzero(step <= 0.0)[0])
-        raise ValueError(f"{name}'s frequencies must increase strictly: {f[i]!r} at index {i} "
-                         f"is followed by {f[i + 1]!r}")
+        raise ValueError(f"{name}'s frequencies must increase strictly: {float(f[i])!r} at "
+                         f"index {i} is followed by {float(f[i + 1])!r}")
     if np.any((m < 0.0) | (m > 1.0)):
         i = int(np.flatnonzero((m < 0.0) | (m > 1.0))[0])
-        raise ValueError(f"{name}'s mtf {m[i]!r} at index {i} is outside [0, 1]")
+        raise ValueError(f"{name}'s mtf {float(m[i])!r} at index {i} is outside [0, 1]")
     rise = np.diff(m)
     if np.any(rise > 0.0):
         i = int(np.flatnonzero(rise > 0.0)[0])
-        raise ValueError(f"{name} rises from {m[i]!r} to {m[i + 1]!r} between frequencies "
-                         f"{f[i]!r} and {f[i + 1]!r}; an MTF table must never rise")
+        raise ValueError(f"{name} rises from {float(m[i])!r} to {float(m[i + 1])!r} between "
+                         f"frequencies {float(f[i])!r} and {float(f[i + 1])!r}; an MTF table "
+                         "must never rise")
     if f[0] == 0.0 and m[0] != 1.0:
-        raise ValueError(f"{name}'s mtf at frequency 0 is {m[0]!r}; every MTF is 1 there "
+        raise ValueError(f"{name}'s mtf at frequency 0 is {float(m[0])!r}; every MTF is 1 there "
                          "(divide the table by it)")
     if f[0] > 0.0:
         f, m = np.concatenate(([0.0], f)), np.concatenate(([1.0], m))

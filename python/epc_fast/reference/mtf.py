@@ -13,7 +13,17 @@ import math
 
 import numpy as np
 
-__all__ = ["sinpi", "sinc", "mtf_diffraction", "mtf_pixel", "mtf_binned_pixel", "mtf_motion", "mtf_jitter", "gaussian_blur_mm", "mtf_alignment"]
+__all__ = [
+    "sinpi",
+    "sinc",
+    "mtf_diffraction",
+    "mtf_pixel",
+    "mtf_binned_pixel",
+    "mtf_motion",
+    "mtf_jitter",
+    "gaussian_blur_mm",
+    "mtf_alignment",
+]
 
 
 def sinpi(x):
