@@ -279,7 +279,8 @@ FULL_DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8,
                    read_noise_e=3.0, dark_current_e_per_s=10.0, prnu=0.005, full_well_e=1e5,
                    snr_db=30.0, shake_deg_per_s=4.39, stabilization=2.0, jitter_um=0.5,
                    wavelength_nm=550.0, mtf_threshold=0.5, binning=2.0, frames=4.0,
-                   alignment_error_um=0.5, wavefront_rms_waves=0.0, denoise_sigma_px=0.0)
+                   alignment_error_um=0.5, wavefront_rms_waves=0.0, denoise_sigma_px=0.0,
+                   lens=0.0)
 #: The terms only the reference has, for now (off in FULL_DESIGN; tests/reference/test_optics.py
 #: holds their extremes).
 REFERENCE_ONLY = ("wavefront_rms_waves", "denoise_sigma_px")

@@ -71,8 +71,10 @@ class SummaryResult:
 
     def columns(self) -> dict:
         """Table columns, one row per group."""
+        # BEYOND_TABLE only where a point has it: a scan without tabulated MTFs has none
         statuses = {s.name.lower().replace("_", " "): self.status_counts[:, s]
-                    for s in Status}
+                    for s in Status
+                    if s != Status.BEYOND_TABLE or self.status_counts[:, s].any()}
         # a group with no finite value has no extremes: NaN, not the empty min's +inf
         empty = ~np.isfinite(self.mean)
         columns = {**self.labels, "points": self.points, **statuses, "mean": self.mean,
