@@ -36,26 +36,44 @@ def core_slots() -> tuple[int, ...]:
     return tuple(params.PARAMETER_NAMES.index(name) for name in _core.parameter_names)
 
 
+@functools.cache
+def _missing() -> tuple[tuple[int, ...], tuple[str, ...]]:
+    """The positions in PARAMETERS of the parameters the loaded core lacks, and the outputs
+    it lacks: their elasticities, and share_lens, which comes with the core's lens term."""
+    slots = core_slots()
+    dropped = tuple(j for j in range(len(params.PARAMETERS)) if j not in slots)
+    outputs = tuple(f"elasticity_{params.PARAMETER_NAMES[j]}" for j in dropped)
+    if "lens" in (params.PARAMETER_NAMES[j] for j in dropped):
+        outputs += ("share_lens",)
+    return dropped, outputs
+
+
 def for_core(columns: list, domains: np.ndarray) -> tuple[list, np.ndarray]:
     """``columns`` (one per parameter of PARAMETERS, each of size 1 or n) and the ``domains``
     table as the loaded core takes them: those it names. A point whose dropped parameter lies
     outside its domain gets a NaN threshold (INVALID in the core); a dropped column that is a
-    scalar inside its domain costs nothing."""
-    slots = core_slots()
-    if len(slots) == len(columns):
+    scalar inside its domain costs a comparison."""
+    dropped, _ = _missing()
+    if not dropped:
         return columns, domains
     threshold = params.PARAMETER_NAMES.index("mtf_threshold")
-    table = params.parameters()
-    for j in sorted(set(range(len(columns))) - set(slots)):
-        lo, hi = domains[j, 0], domains[j, 1]
-        param = params.Param(table[j].name, table[j].default, lo, hi, bool(domains[j, 2]),
-                             bool(domains[j, 3]), table[j].meaning, bool(domains[j, 4]))
+    for j in dropped:
+        lo, hi, lo_closed, hi_closed, integer = domains[j].tolist()
+        if columns[j].size == 1:
+            v = columns[j].item()
+            if ((v >= lo if lo_closed else v > lo) and (v <= hi if hi_closed else v < hi)
+                    and (not integer or v.is_integer())):
+                continue
+        table = params.PARAMETERS[j]
+        param = params.Param(table.name, table.default, lo, hi, bool(lo_closed),
+                             bool(hi_closed), table.meaning, bool(integer))
         outside = ~params.in_domain(param, columns[j])
-        if outside.any():
-            n = max(columns[threshold].size, columns[j].size)
-            columns = list(columns)
-            columns[threshold] = np.where(outside, np.nan,
-                                          np.broadcast_to(columns[threshold], (n,)))
+        n = max(columns[threshold].size, columns[j].size)
+        columns = list(columns)
+        columns[threshold] = np.where(outside, np.nan, np.broadcast_to(columns[threshold], (n,)))
+    slots = core_slots()
+    if slots == tuple(range(len(slots))):  # the core lacks the last ones: a view of its rows
+        return columns[:len(slots)], domains[:len(slots)]
     return [columns[j] for j in slots], np.ascontiguousarray(domains[list(slots)])
 
 
@@ -63,29 +81,23 @@ def _outputs_for_core(out: dict, allocate: list, n: int):
     """(out, allocate, filled) for the core: ``out`` and ``allocate`` without the outputs it
     lacks, every elasticity as one row each of a (rows, n) array when the core lacks some
     rows, and ``filled``, the arrays this module writes (name -> array)."""
-    from . import _core
-
-    known = set(_core.parameter_names)
-    missing_rows = [row for row in elasticity_outputs.ROWS
-                    if row[len("elasticity_"):] not in known]
-    # share_lens comes with the core's lens term
-    core_shares = SHARE_OUTPUTS if "lens" in known else tuple(
-        s for s in SHARE_OUTPUTS if s != "share_lens")
+    _, lacking = _missing()
+    every = elasticity_outputs.ALL
+    asked = set(out).union(allocate)
     filled = {}
-    if not missing_rows and len(core_shares) == len(SHARE_OUTPUTS):
+    if not lacking or asked.isdisjoint(lacking + (every,)):  # most calls
         return out, allocate, filled
     out = dict(out)
     allocate = list(allocate)
-    every = elasticity_outputs.ALL
-    if missing_rows and (every in out or every in allocate):
+    if every in asked:
         array = out.pop(every) if every in out else np.empty(len(elasticity_outputs.ROWS) * n)
         if every in allocate:
             allocate.remove(every)
         rows = array.reshape(len(elasticity_outputs.ROWS), n)
         for row, values in zip(elasticity_outputs.ROWS, rows):
-            (filled if row in missing_rows else out)[row] = values
+            (filled if row in lacking else out)[row] = values
         filled[every] = array
-    for name in missing_rows + [s for s in SHARE_OUTPUTS if s not in core_shares]:
+    for name in lacking:
         if name in allocate:
             allocate.remove(name)
             filled[name] = np.empty(n)

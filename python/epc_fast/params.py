@@ -21,6 +21,7 @@ docs/numerics.md gives the derivation and what each output's accuracy is.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -207,17 +208,21 @@ def parameters(lens_count: int = 1) -> tuple[Param, ...]:
               True),) + PARAMETERS[LENS_INDEX + 1:])
 
 
+@functools.lru_cache(maxsize=16)
 def domain_table(lens_count: int = 1) -> np.ndarray:
     """The domains as a float64 array of shape (n_params, 5): lo, hi, lo_closed, hi_closed,
     integer; ``lens`` in 0 .. lens_count - 1 (:func:`parameters`).
 
-    This is what the C++ core receives with every call.
+    This is what the C++ core receives with every call: made once per ``lens_count``, and
+    read-only.
     """
-    return np.array(
+    table = np.array(
         [[p.lo, p.hi, float(p.lo_closed), float(p.hi_closed), float(p.integer)]
          for p in parameters(lens_count)],
         dtype=np.float64,
     )
+    table.setflags(write=False)
+    return table
 
 
 #: The terms the NumPy reference has and the core does not yet (issue #40): the core would
