@@ -7,8 +7,8 @@ A term the scene does not use must cost nothing: the kernel compiles the motion 
 factors out of blocks that do not need them, takes binning and bursts only into blocks that
 have them and never loops over a spectrum for one wavelength.
 
-The wavefront error and denoising (issue #40) are in the NumPy reference only, for now: their
-group times the reference at 10^4 points, against its own minimal scene.
+The wavefront error, denoising and lens tables (issue #40) are in the NumPy reference only, for
+now: their group times the reference at 10^4 points, against its own minimal scene.
 """
 
 import numpy as np
@@ -67,11 +67,25 @@ def test_term_cost(benchmark, scene):
 #: The reference's points (its f50 bisects to adjacent doubles: about 100 times the core's time).
 N_REFERENCE = 10**4
 
+def _lens_table(points, f_number=2.8, wavelength_nm=550.0):
+    """A lens table of the aberration-free MTF at ``points`` frequencies up to its cut-off."""
+    from epc_fast.reference import mtf_diffraction
+
+    f = np.linspace(0.0, 1.0 / (wavelength_nm * 1e-6 * f_number), points)
+    m = mtf_diffraction(f, wavelength_nm, f_number)
+    m[-1] = 0.0
+    return f, m
+
+
 REFERENCE_SCENES = {
     "reference minimal": {},
     "wavefront 0.07": {"wavefront_rms_waves": 0.07},
     "denoise 1.0": {"denoise_sigma_px": 1.0},
     "denoise 3.0": {"denoise_sigma_px": 3.0},
+    # a lens table in place of diffraction: one of 20 points, and two picked per point
+    "lens table 20": {"lens_mtf": _lens_table(20)},
+    "lens tables 2 x 20": {"lens_mtf": [_lens_table(20), _lens_table(20, 2.4)],
+                           "lens": np.arange(N_REFERENCE) % 2},
 }
 
 
