@@ -304,7 +304,7 @@ def test_statuses_give_the_documented_values(backend):
                               Status.INVALID, Status.UNREACHABLE]
     shares = np.stack([getattr(r, name) for name in SHARE_OUTPUTS])
     assert np.all(np.isnan(shares[:, [0, 3, 4]]))
-    assert list(shares[:, 2]) == [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]
+    assert list(shares[:, 2]) == [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]
     assert np.all(np.isfinite(shares[:, 1]))
     for name, values in r.elasticities.items():
         assert np.isnan(values[[0, 2, 3, 4]]).all(), name
@@ -337,10 +337,10 @@ def test_scalar_input_gives_floats_and_arrays_broadcast():
 WHOLE_NUMBERS = {p.name for p in params.PARAMETERS if p.integer}
 
 
-def test_binning_and_frames_have_no_elasticity():
+def test_binning_frames_and_lens_have_no_elasticity():
     e = epc_fast.evaluate(300.0, **BASE, binning=2.0, frames=4.0, alignment_error_um=1.0,
                           outputs="elasticities").elasticities
-    assert WHOLE_NUMBERS == {"binning", "frames"}
+    assert WHOLE_NUMBERS == {"binning", "frames", "lens"}
     assert all(math.isnan(e[name]) for name in WHOLE_NUMBERS)
     assert all(math.isfinite(v) for name, v in e.items() if name not in WHOLE_NUMBERS)
 
@@ -400,8 +400,8 @@ def test_out_arrays_take_the_sensitivities():
 
 
 def test_unknown_outputs_are_named():
-    with pytest.raises(ValueError, match="share_lens"):
-        epc_fast.evaluate(300.0, **BASE, outputs=("share_lens",))
+    with pytest.raises(ValueError, match="share_sensor"):
+        epc_fast.evaluate(300.0, **BASE, outputs=("share_sensor",))
 
 
 # --- A threshold so small that f50 is a factor's zero ------------------------------------------

@@ -7,15 +7,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _limits, elasticity_outputs, params
+from . import elasticity_outputs, params
 from ._limits import MAX_THREADS
-from ._validation import as_float_array, choice, column, short, threads_of, tolerance
+from ._validation import as_float_array, choice, short, threads_of, tolerance
+from .core_call import run_core
 from .elasticity_outputs import ELASTICITY_PARAMETERS
-from .memory import memory_limit_bytes as _memory_limit_bytes
+from .footprint import check_memory
 from .modes import evaluate_modes
+from .mtf_table import lens_tables_of
 from .outputs import (ALL_OUTPUT_DTYPES, DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
-                      SHARE_OUTPUTS, Result, out_arrays, output_bytes, result_of,
-                      selected_outputs)
+                      SHARE_OUTPUTS, Result, out_arrays, result_of, selected_outputs)
 from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Status
@@ -68,14 +69,14 @@ def _spectrum_of(spectrum, wavelength_nm) -> Spectrum | None:
     return spectrum
 
 
-def _raise_first_invalid(arrays, names, status, shape, size_parts=None):
+def _raise_first_invalid(arrays, names, status, shape, size_parts=None, lens_count=1):
     """A ValueError naming the first argument out of its domain at the first INVALID point;
     for a sensor area made of a width and a height (or a diagonal), ``size_parts`` names
-    those and their values."""
+    those and their values; ``lens_count`` lens tables set the domain of ``lens``."""
     flat = int(np.flatnonzero(status.reshape(-1) == Status.INVALID)[0])
     index = np.unravel_index(flat, shape) if shape else ()
     where = f" at index {tuple(int(i) for i in index)}" if shape else ""
-    for param, name, arr in zip(params.PARAMETERS, names, arrays):
+    for param, name, arr in zip(params.parameters(lens_count), names, arrays):
         value = np.broadcast_to(arr, shape)[index]
         if params.in_domain(param, value):
             continue
@@ -173,6 +174,13 @@ class _Options:
     precision: str
     selected: tuple
     binning_readout: str = "digital"
+    #: the checked lens_mtf tables (a tuple of MtfTable), None without lens_mtf
+    lens_tables: tuple | None = None
+
+    @property
+    def lens_count(self) -> int:
+        """The number of lens tables, 1 without them (lens = 0 alone is valid then)."""
+        return 1 if self.lens_tables is None else len(self.lens_tables)
 
     @property
     def computed(self) -> tuple:
@@ -182,7 +190,8 @@ class _Options:
 
 
 def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
-                outputs, is_pixel_count=False, binning_readout="digital") -> _Options:
+                outputs, is_pixel_count=False, binning_readout="digital",
+                lens_tables=None) -> _Options:
     choice("backend", backend, BACKENDS)
     choice("binning_readout", binning_readout, BINNING_READOUTS)
     choice("invalid", invalid, INVALID_POLICIES)
@@ -191,7 +200,7 @@ def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol
     choice("precision", precision, PRECISIONS)
     return _Options(backend, invalid, f50_solver, tolerance("f50_rtol", f50_rtol),
                     t_mpe_solver, tolerance("t_mpe_rtol", t_mpe_rtol), precision,
-                    selected_outputs(outputs, is_pixel_count), binning_readout)
+                    selected_outputs(outputs, is_pixel_count), binning_readout, lens_tables)
 
 
 def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, given) -> dict:
@@ -201,16 +210,17 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
         # the core writes the caller's arrays and allocates the others it computes
         flat = {} if given is None else {k: v.reshape(-1).view(DTYPES[k])
                                          for k, v in given.items()}
-        return _run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
-                         options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
-                         out=flat, precision=options.precision,
-                         binning_readout=options.binning_readout,
-                         allocate=[k for k in options.computed if k not in flat and
-                                   not (k == elasticity_outputs.ALL and given is not None)])
+        return run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
+                        options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
+                        out=flat, precision=options.precision,
+                        binning_readout=options.binning_readout,
+                        allocate=[k for k in options.computed if k not in flat and
+                                  not (k == elasticity_outputs.ALL and given is not None)],
+                        lens_tables=options.lens_tables, chunk_points=CHUNK_POINTS)
     if threads is not None:
         threads_of(threads)
     result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed,
-                            options.binning_readout)
+                            options.binning_readout, options.lens_tables)
     if given is not None:  # the caller's arrays: every elasticity in one, or one row each
         rows = dict(zip(elasticity_outputs.ROWS, result.get(elasticity_outputs.ALL, ())))
         for name, array in given.items():
@@ -223,7 +233,7 @@ def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Op
     """The Result of a call, after the ValueError ``invalid="raise"`` asks for."""
     status = result["status"].reshape(shape) if "status" in result else None
     if options.invalid == "raise" and np.any(status == Status.INVALID):
-        _raise_first_invalid(arrays, names, status, shape, sensor.parts)
+        _raise_first_invalid(arrays, names, status, shape, sensor.parts, options.lens_count)
     if given is not None:
         kept = {name: given.get(name) for name in ALL_OUTPUT_DTYPES}
         if elasticity_outputs.ALL in given:
@@ -245,8 +255,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0, full_well_e=math.inf,
              snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
              wavelength_nm=550.0, mtf_threshold=0.5, binning=1.0, frames=1.0,
-             alignment_error_um=0.0, wavefront_rms_waves=0.0, denoise_sigma_px=0.0,
-             binning_readout="digital", spectrum=None, threads=None,
+             alignment_error_um=0.0, wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0,
+             lens_mtf=None, binning_readout="digital", spectrum=None, threads=None,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
              t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None, modes=None) -> Result:
@@ -299,6 +309,15 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     alignment_error_um : um, rms alignment error of each frame of a burst (0: off).
     wavefront_rms_waves : waves, rms wavefront error at every wavelength (0: off; <= 0.16).
     denoise_sigma_px : output pixels, sigma of a Gaussian denoising filter (0: off; <= 100).
+    lens : 1, the index of each point's table in ``lens_mtf``, a whole number in
+        0 .. len(lens_mtf) - 1 (0, the only valid value without ``lens_mtf``).
+    lens_mtf : (frequencies_cyc_per_mm, mtf) or list of them, optional
+        A lens's measured or designed MTF, two 1-D arrays (cycles/mm and 1; 1 at frequency 0,
+        never rising), interpolated monotonically and used in place of the aberration-free
+        diffraction factor (docs/model.md, "Tabulated MTFs"); a list of tables for a per-point
+        ``lens`` index. Not with ``wavefront_rms_waves`` (the table has the lens's
+        aberrations). A point whose f50 lies past its table's last frequency has status
+        BEYOND_TABLE.
     binning_readout : {"digital", "charge"}
         How a binned pixel is read, for the whole call: k^2 reads summed digitally (read noise
         variance k^2 sigma_r^2, the default), or the k x k pixels' charge summed before one
@@ -395,86 +414,25 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
         "binning": binning, "frames": frames, "alignment_error_um": alignment_error_um,
         "wavefront_rms_waves": wavefront_rms_waves, "denoise_sigma_px": denoise_sigma_px,
+        "lens": lens,
     }
     names, arrays, shape = _broadcast_inputs(values, sensor.name)
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
+    tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
     options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                          precision, outputs, sensor.is_pixel_count, binning_readout)
+                          precision, outputs, sensor.is_pixel_count, binning_readout, tables)
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
     if options.backend == "core":  # the threads first: their stacks take memory too
         threads = threads_of(threads)
-    _check_memory(shape, arrays, options.backend, given is not None, options.computed,
-                  threads=threads if options.backend == "core" else 1)
+    check_memory(shape, arrays, options.backend, given is not None, options.computed,
+                 threads=threads if options.backend == "core" else 1)
     result = _compute(arrays, shape, sensor, spec, options, threads, given)
     return _assembled(result, shape, names, arrays, sensor, options, given)
 
 
-#: Bytes a backend allocates per point besides the inputs: the core its eight output columns
-#: (6 float64 + 2 uint8); the reference peaks near 320 (tracemalloc, 2e5 random designs), twice
-#: that leaves room.
-BYTES_PER_POINT = {"core": 6 * 8 + 2, "reference": 640}
-#: The reference's peak per byte of a sensitivity output it returns: its temporaries hold a few
-#: copies of each (tracemalloc on 2e5 random designs stays below 4).
-SENSITIVITY_BYTES_FACTOR = 4
-
-
-def _check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES), threads=1):
-    """A MemoryError, before any allocation, for a call that cannot fit in memory: physical
-    memory (or the container's), or under an address-space limit (``RLIMIT_AS``) the address
-    space left, less the stacks of the ``threads`` not started yet.
-
-    The estimate counts the contiguous copy of every input that is not a scalar and the
-    backend's own arrays; a call that fits the estimate may still fail with NumPy's own
-    MemoryError, but none is left to the kernel's out-of-memory killer by a silly shape.
-    """
-    limit = _memory_limit_bytes()
-    where = "of memory here"
-    free = _limits.address_space_free_bytes()
-    if free is not None:
-        free = max(0, free - _limits.new_thread_bytes(threads))
-        if limit is None or free <= limit:
-            limit, where = free, "of address space left under RLIMIT_AS (ulimit -v)"
-    n = math.prod(shape)
-    columns = sum(1 for a in arrays if a.size > 1)
-    if backend == "core":  # the outputs it computes, unless the caller gave them
-        own = 0 if out_given else sum(output_bytes(k) for k in computed)
-    else:  # the reference forms every elasticity for any of them
-        formed = [k for k in SHARE_OUTPUTS if k in computed]
-        formed += ["elasticities"] if elasticity_outputs.rows_in(computed) else []
-        own = BYTES_PER_POINT[backend] + sum(output_bytes(k) * SENSITIVITY_BYTES_FACTOR
-                                             for k in formed)
-    per_point = 8 * columns + own
-    needed = n * per_point
-    if limit is not None and needed > limit:
-        raise MemoryError(f"evaluate over the broadcast shape {shape} ({n:,} points) needs "
-                          f"about {needed / 2**30:,.1f} GiB, more than the "
-                          f"{limit / 2**30:,.1f} GiB {where}; evaluate it in pieces")
-
-
-def _run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
-              t_mpe_rtol, threads, out=None, precision="float64", allocate=None,
-              binning_readout="digital"):
-    from . import _core
-
-    n = math.prod(shape)
-    columns = [column(a, shape) for a in arrays]
-    if out is not None:  # an input that is also an output would be overwritten while read
-        columns = [c.copy() if any(np.may_share_memory(c, o) for o in out.values()) else c
-                   for c in columns]
-    if spec is None:
-        wavelengths = weights = np.empty(0)
-    else:
-        wavelengths, weights = spec.wavelengths_nm, spec.weights
-    return _core.evaluate(columns, size_is_pixel_count, params.domain_table(),
-                          np.ascontiguousarray(wavelengths, dtype=np.float64),
-                          np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
-                          f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, CHUNK_POINTS,
-                          out, allocate, binning_readout=binning_readout)
-
-
 def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
-                   binning_readout="digital"):
+                   binning_readout="digital", lens_tables=None):
     from . import reference  # the NumPy reference, loaded only by calls that ask for it
     from .reference import sensitivity
 
@@ -482,20 +440,20 @@ def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
     p = {name: np.broadcast_to(a, shape).reshape(n)
          for name, a in zip(params.PARAMETER_NAMES, arrays)}
     valid = np.ones(n, dtype=bool)
-    for param in params.PARAMETERS:
+    for param in params.parameters(1 if lens_tables is None else len(lens_tables)):
         valid &= params.in_domain(param, p[param.name])
     wavelengths = weights = None
     if spec is not None:
         wavelengths, weights = spec.wavelengths_nm, spec.weights
     charge = binning_readout == "charge"
     result = reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid,
-                                       charge_binning=charge)
+                                       charge_binning=charge, lens_tables=lens_tables)
     shares = any(name in computed for name in SHARE_OUTPUTS)
     rows = elasticity_outputs.rows_in(computed)
     if shares or rows:
         result.update(sensitivity.sensitivity_points(
             p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
-            elasticities=bool(rows), charge_binning=charge))
+            elasticities=bool(rows), charge_binning=charge, lens_tables=lens_tables))
     if rows and elasticity_outputs.ALL not in computed:  # the rows asked for, one output each
         every = dict(zip(elasticity_outputs.ROWS, result.pop(elasticity_outputs.ALL)))
         result.update({row: every[row] for row in rows})

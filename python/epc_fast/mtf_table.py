@@ -21,7 +21,7 @@ import numpy as np
 
 from ._validation import short
 
-__all__ = ["MtfTable", "mtf_table", "pchip_slopes", "mtf_tabulated"]
+__all__ = ["MtfTable", "mtf_table", "lens_tables_of", "pchip_slopes", "mtf_tabulated"]
 
 
 def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -104,24 +104,25 @@ def mtf_table(name: str, table) -> MtfTable:
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
         raise ValueError(f"{name} holds a NaN or infinite value at index {i} "
-                         f"(frequency {f[i]!r}, mtf {m[i]!r})")
+                         f"(frequency {float(f[i])!r}, mtf {float(m[i])!r})")
     if f[0] < 0.0:
-        raise ValueError(f"{name}'s first frequency is {f[0]!r}; frequencies are >= 0")
+        raise ValueError(f"{name}'s first frequency is {float(f[0])!r}; frequencies are >= 0")
     step = np.diff(f)
     if np.any(step <= 0.0):
         i = int(np.flatnonzero(step <= 0.0)[0])
-        raise ValueError(f"{name}'s frequencies must increase strictly: {f[i]!r} at index {i} "
-                         f"is followed by {f[i + 1]!r}")
+        raise ValueError(f"{name}'s frequencies must increase strictly: {float(f[i])!r} at "
+                         f"index {i} is followed by {float(f[i + 1])!r}")
     if np.any((m < 0.0) | (m > 1.0)):
         i = int(np.flatnonzero((m < 0.0) | (m > 1.0))[0])
-        raise ValueError(f"{name}'s mtf {m[i]!r} at index {i} is outside [0, 1]")
+        raise ValueError(f"{name}'s mtf {float(m[i])!r} at index {i} is outside [0, 1]")
     rise = np.diff(m)
     if np.any(rise > 0.0):
         i = int(np.flatnonzero(rise > 0.0)[0])
-        raise ValueError(f"{name} rises from {m[i]!r} to {m[i + 1]!r} between frequencies "
-                         f"{f[i]!r} and {f[i + 1]!r}; an MTF table must never rise")
+        raise ValueError(f"{name} rises from {float(m[i])!r} to {float(m[i + 1])!r} between "
+                         f"frequencies {float(f[i])!r} and {float(f[i + 1])!r}; an MTF table "
+                         "must never rise")
     if f[0] == 0.0 and m[0] != 1.0:
-        raise ValueError(f"{name}'s mtf at frequency 0 is {m[0]!r}; every MTF is 1 there "
+        raise ValueError(f"{name}'s mtf at frequency 0 is {float(m[0])!r}; every MTF is 1 there "
                          "(divide the table by it)")
     if f[0] > 0.0:
         f, m = np.concatenate(([0.0], f)), np.concatenate(([1.0], m))
@@ -134,6 +135,37 @@ def mtf_table(name: str, table) -> MtfTable:
     for array in (f, m, coefficients):
         array.setflags(write=False)
     return MtfTable(f, m, coefficients)
+
+
+def lens_tables_of(lens_mtf, wavefront_rms_waves=0.0) -> tuple:
+    """``lens_mtf`` (one pair (frequencies_cyc_per_mm, mtf), or a list of them) as a tuple of
+    checked :class:`MtfTable`, each named in errors as ``lens_mtf`` or ``lens_mtf[i]``. A
+    ValueError for a wavefront error other than 0 with it: a lens's table has its aberrations.
+    """
+    w = np.asarray(wavefront_rms_waves, dtype=np.float64)
+    if np.any(w != 0.0):
+        raise ValueError("give lens_mtf or wavefront_rms_waves, not both: a lens's MTF table "
+                         f"includes its aberrations (wavefront_rms_waves={short(w)})")
+    if isinstance(lens_mtf, MtfTable) or _is_pair(lens_mtf):
+        return (mtf_table("lens_mtf", lens_mtf),)
+    try:
+        tables = list(lens_mtf)
+    except TypeError:
+        raise ValueError("lens_mtf must be a pair (frequencies_cyc_per_mm, mtf) of 1-D arrays "
+                         f"or a list of them, got {short(lens_mtf)}") from None
+    if not tables:
+        raise ValueError("lens_mtf is an empty list; give at least one table")
+    return tuple(mtf_table(f"lens_mtf[{i}]", t) for i, t in enumerate(tables))
+
+
+def _is_pair(value) -> bool:
+    """Whether ``value`` is one table, a pair whose first item is a 1-D array of numbers
+    (a list of tables holds pairs there, not numbers)."""
+    try:
+        first = value[0]
+        return len(value) == 2 and np.asarray(first, dtype=np.float64).ndim == 1
+    except (TypeError, ValueError, IndexError, KeyError):
+        return False
 
 
 def mtf_tabulated(f, table: MtfTable):

@@ -21,6 +21,7 @@ docs/numerics.md gives the derivation and what each output's accuracy is.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -28,7 +29,8 @@ import numpy as np
 
 __all__ = ["Param", "ParameterTable", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS",
            "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX",
-           "WAVEFRONT_RMS_WAVES_MAX", "DENOISE_SIGMA_PX_MAX"]
+           "WAVEFRONT_RMS_WAVES_MAX", "DENOISE_SIGMA_PX_MAX", "domain_table", "parameters",
+           "LENS_INDEX"]
 
 INF = math.inf
 #: The largest magnitude of a parameter that physics leaves unbounded (see the module docstring).
@@ -164,6 +166,11 @@ PARAMETERS: tuple[Param, ...] = ParameterTable((
        "waves: rms wavefront error of the lens, in waves at every wavelength (0: off)"),
     _p("denoise_sigma_px", 0.0, 0, DENOISE_SIGMA_PX_MAX, True, True,
        "output pixels: sigma of the Gaussian denoising filter (0: off)"),
+    # its upper end is the call's number of lens tables less 1 (parameters(lens_count)): 0
+    # without lens_mtf
+    _p("lens", 0.0, 0, 0, True, True,
+       "1: index of the point's table in lens_mtf, a whole number (0 without lens_mtf)",
+       integer=True),
 ))
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)
@@ -186,15 +193,34 @@ def in_domain(param: Param, values) -> np.ndarray:
     return above & below
 
 
-def domain_table() -> np.ndarray:
-    """The domains as a float64 array of shape (n_params, 5): lo, hi, lo_closed, hi_closed,
-    integer.
+#: The position of ``lens`` in PARAMETERS.
+LENS_INDEX = PARAMETER_NAMES.index("lens")
 
-    This is what the C++ core receives with every call.
+
+def parameters(lens_count: int = 1) -> tuple[Param, ...]:
+    """PARAMETERS with the domain of ``lens`` for a call with ``lens_count`` lens tables:
+    the whole numbers 0 .. lens_count - 1 (0 alone for a call without ``lens_mtf``)."""
+    if lens_count == 1:
+        return PARAMETERS
+    lens = PARAMETERS[LENS_INDEX]
+    return ParameterTable(PARAMETERS[:LENS_INDEX] + (
+        Param(lens.name, lens.default, 0.0, float(lens_count - 1), True, True, lens.meaning,
+              True),) + PARAMETERS[LENS_INDEX + 1:])
+
+
+@functools.lru_cache(maxsize=16)
+def domain_table(lens_count: int = 1) -> np.ndarray:
+    """The domains as a float64 array of shape (n_params, 5): lo, hi, lo_closed, hi_closed,
+    integer; ``lens`` in 0 .. lens_count - 1 (:func:`parameters`).
+
+    This is what the C++ core receives with every call: made once per ``lens_count``, and
+    read-only.
     """
-    return np.array(
+    table = np.array(
         [[p.lo, p.hi, float(p.lo_closed), float(p.hi_closed), float(p.integer)]
-         for p in PARAMETERS],
+         for p in parameters(lens_count)],
         dtype=np.float64,
     )
+    table.setflags(write=False)
+    return table
 

@@ -23,6 +23,9 @@ class Status(enum.IntEnum):
     """The SNR target cannot be met (see :class:`Cause`): T_MPE = +inf, blur, f50 and EPC NaN."""
     BLUR_UNBOUNDED = 3
     """The shake angle during T_MPE reaches pi/2: blur = +inf, f50 = 0, EPC = 0."""
+    BEYOND_TABLE = 4
+    """f50 lies past the last frequency of a tabulated MTF: f50 and EPC NaN; T_MPE, blur and
+    the electron counts finite."""
 
 
 class Cause(enum.IntEnum):

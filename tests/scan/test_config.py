@@ -2,6 +2,7 @@
 tables and plots it writes, and the main job's default scan."""
 
 import csv
+import re
 
 import numpy as np
 import pytest
@@ -319,3 +320,36 @@ def test_a_group_with_no_finite_value_prints_a_dash_not_inf_or_nan():
     cells = [cell.strip() for cell in unreachable.strip("|").split("|")]
     assert cells[-4:] == [tables.NO_VALUE] * 4  # mean, std, min, max
     assert "inf" not in unreachable and "nan" not in unreachable
+
+
+LENS_CONFIG = """
+[scan]
+points = 65536
+
+[parameters]
+illuminance_lux = {distribution = "log_uniform", low = 10, high = 10000}
+pixel_pitch_um = 1.4
+f_number = 2.0
+focal_length_mm = 4.0
+pixel_count = 8e6
+lens = {choice = [0, 1]}
+
+[evaluate]
+lens_mtf = %s
+"""
+
+
+def test_a_config_gives_lens_tables_and_a_lens_per_point():
+    two = ("[[[0, 100, 200, 400, 909], [1, 0.8, 0.6, 0.25, 0]], "
+           "[[0, 50, 100, 200], [1, 0.7, 0.4, 0]]]")
+    space = parse_config(LENS_CONFIG % two).space
+    tables = space.evaluate_options["lens_mtf"]
+    assert space.lens_count == 2 and tables[1].frequencies.tolist() == [0.0, 50.0, 100.0, 200.0]
+    one = "[[0, 50, 100, 200], [1, 0.7, 0.4, 0]]"  # one table: only lens = 0
+    with pytest.raises(ConfigError, match=r"lens = choice value 1: expected every value in "
+                                          r"\[0, 0\] integers"):
+        parse_config(LENS_CONFIG % one).space
+    for bad, message in (("[[0, 50], [1, 1.2]]", "lens_mtf's mtf 1.2 at index 1"),
+                         ("[[0], [1]]", "lens_mtf has 1 point"), ("3", "lens_mtf = 3")):
+        with pytest.raises(ConfigError, match=re.escape(message)):
+            parse_config(LENS_CONFIG % bad).space

@@ -10,6 +10,7 @@ import textwrap
 import numpy as np
 import pytest
 
+import epc_fast.scan
 import epc_fast.scan.tasks
 from epc_fast import evaluate
 from epc_fast.presets import HIGH_TIER
@@ -243,3 +244,29 @@ def test_a_chunk_asks_for_each_output_its_reductions_summarise():
                    for name in ("share_pixel", "epc"))
     assert epc_fast.scan.tasks.chunk_outputs(shares, parquet=True) == tuple(
         epc_fast.api.OUTPUT_DTYPES) + ("share_pixel",)
+
+
+def test_a_scan_over_lens_tables_is_evaluate_on_its_points_per_lens():
+    from epc_fast import Status, evaluate
+    from epc_fast.scan import Choice, LogUniform, Space, Summary
+
+    tables = [(np.array([0.0, 100.0, 200.0, 400.0, 909.0]),
+               np.array([1.0, 0.8, 0.6, 0.25, 0.0])),
+              (np.array([0.0, 50.0, 100.0, 200.0]), np.array([1.0, 0.7, 0.4, 0.0]))]
+    space = Space(illuminance_lux=LogUniform(10, 1e4), pixel_pitch_um=1.4, f_number=2.0,
+                  focal_length_mm=4.0, pixel_count=8e6, lens=Choice((0.0, 1.0)),
+                  evaluate_options={"lens_mtf": tables})
+    n = 1 << 14
+    with pytest.raises(NotImplementedError, match='backend="reference"'):
+        epc_fast.scan.run(space, n, seed=5)
+    result = epc_fast.scan.run(space, n, seed=5, backend="reference",
+                               reductions={"s": Summary(by="lens", of="epc")})["s"]
+    points = space.points(5, 0, n)
+    direct = evaluate(**points.parameters, lens_mtf=tables, backend="reference")
+    assert np.all(direct.status == Status.OK)
+    for lens in (0, 1):
+        picked = points.parameters["lens"] == lens
+        assert result.status_counts[lens, Status.OK] == picked.sum()
+        # the summary's blockwise mean against NumPy's: rounding only
+        assert result.mean[lens] == pytest.approx(direct.epc[picked].mean(), rel=1e-12)
+    assert result.mean[1] < result.mean[0]  # the softer lens

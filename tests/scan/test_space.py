@@ -241,3 +241,25 @@ def test_the_space_says_which_share_of_a_distributions_draws_falls_outside_the_d
     assert "f_number: Normal(mean=2.0, std=1.0): 2.3% of the draws fall outside the domain " \
            "(1e-30, inf) and are INVALID points" in lines
     assert "shake_deg_per_s: LogNormal(median=4.39, sigma=0.5)" in lines
+
+
+# --- Lens tables (evaluate_options lens_mtf, lens per point) ---------------------------------
+
+LENS_TABLES = [(np.array([0.0, 100.0, 200.0, 400.0, 909.0]), np.array([1.0, 0.8, 0.6, 0.25, 0.0])),
+               (np.array([0.0, 50.0, 100.0, 200.0]), np.array([1.0, 0.7, 0.4, 0.0]))]
+LENS_SPACE = dict(illuminance_lux=LogUniform(10, 1e4), pixel_pitch_um=1.4, f_number=2.0,
+                  focal_length_mm=4.0, pixel_count=8e6)
+
+
+def test_a_lens_index_is_checked_against_the_spaces_tables():
+    space = Space(**LENS_SPACE, lens=Choice((0.0, 1.0)), evaluate_options={"lens_mtf": LENS_TABLES})
+    assert space.lens_count == 2
+    with pytest.raises(ValueError, match=r"lens = choice value 2: expected every value in "
+                                         r"\[0, 1\] integers"):
+        Space(**LENS_SPACE, lens=Choice((0.0, 2.0)), evaluate_options={"lens_mtf": LENS_TABLES})
+    with pytest.raises(ValueError, match=r"lens = 1: expected a value in \[0, 0\] integers"):
+        Space(**LENS_SPACE, lens=1.0)  # without tables only 0
+    with pytest.raises(ValueError, match="lens_mtf\\[1\\] rises"):
+        Space(**LENS_SPACE, evaluate_options={"lens_mtf": [LENS_TABLES[0], ([0, 1], [0.5, 0.6])]})
+    with pytest.raises(ValueError, match="give lens_mtf or wavefront_rms_waves, not both"):
+        Space(**LENS_SPACE, wavefront_rms_waves=0.05, evaluate_options={"lens_mtf": LENS_TABLES})

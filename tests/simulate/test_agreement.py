@@ -91,3 +91,20 @@ def test_a_bursts_alignment_agrees_with_its_simulated_captures():
     # alignment's with the noise's, carry the comparison.
     check(agreement(3000.0, seeds=6, **PHONE, frames=4, alignment_error_um=0.6),
           noiseless=False)
+
+
+#: A soft lens's MTF from a data sheet: 21 points to 400 cycles/mm, where it reaches 0.
+LENS_TABLE = (np.linspace(0.0, 400.0, 21),
+              np.append(np.exp(-(np.linspace(0.0, 380.0, 20) / 180.0) ** 1.6), 0.0))
+
+
+@pytest.mark.parametrize("lux", [300.0, 3000.0])
+def test_a_lens_tables_f50_agrees_with_captures_through_that_lens(lux):
+    # The captures image through the table's MTF as the lens's OTF (simulate.optics.
+    # table_transfer), the model puts the same interpolant in place of diffraction: the e-SFR
+    # of the noise-free capture within its own error, the noisy captures' within their scatter
+    # (check). f50 is set by the lens and the pixel at 3000 lux, by the motion at 300.
+    a = agreement(lux, seeds=8, **PHONE, lens_mtf=LENS_TABLE, backend="reference")
+    check(a)
+    plain = agreement(lux, seeds=2, **PHONE)
+    assert a.f50_model_cyc_per_mm < plain.f50_model_cyc_per_mm  # the soft lens costs f50

@@ -70,3 +70,26 @@ def test_defocus_of_a_quarter_wave_peak_to_valley_is_the_textbook_one():
     nu, defocused = optics.otf_profile(0.25 / (2 * np.sqrt(3)), "defocus")
     strehl = np.trapezoid(defocused * nu, nu) / np.trapezoid(clean * nu, nu)
     assert abs(strehl - 0.811) < 0.005
+
+
+def test_a_lens_tables_transfer_is_its_interpolant_up_to_its_end_and_0_beyond():
+    from epc_fast.mtf_table import mtf_table
+
+    # a diffraction MTF tabulated at 400 points: the table's transfer is the pupil's within the
+    # pupil profile's 5e-5 and the interpolant's 1e-8 (tests/reference/test_lens.py)
+    cutoff = 1 / (550e-6 * 2.8)
+    f = np.linspace(0, cutoff, 400)
+    m = closed_form(f / cutoff)
+    m[-1] = 0.0
+    table = mtf_table("lens_mtf", (f, m))
+    grid = np.linspace(0, 1.2 * cutoff, 301)
+    pupil = optics.diffraction_transfer(grid, 2.8, [550.0], [1.0])
+    assert np.max(np.abs(optics.table_transfer(grid, table) - pupil)) < 1e-4
+    assert optics.table_cutoff_cyc_per_mm(table) == f[-1]
+    # a table that ends above 0: the lens passes nothing past its last frequency
+    short = mtf_table("lens_mtf", ([0.0, 50.0, 100.0], [1.0, 0.7, 0.4]))
+    got = optics.table_transfer(np.array([0.0, 75.0, 100.0, 100.5]), short)
+    # (at the last knot the last segment's cubic, to its rounding)
+    assert got[0] == 1.0 and 0.4 < got[1] < 0.7 and got[3] == 0.0
+    assert got[2] == pytest.approx(0.4, abs=1e-15)
+    assert optics.table_cutoff_cyc_per_mm(short) == 100.0

@@ -1,6 +1,7 @@
 """The NumPy reference implementation of the model, readable as the spec (docs/model.md).
 
-:mod:`~epc_fast.reference.model` is the model, one formula a function;
+:mod:`~epc_fast.reference.model` is the model, one formula a function (its MTF factors in
+:mod:`~epc_fast.reference.mtf`, a lens table's in :mod:`~epc_fast.reference.lens`);
 :mod:`~epc_fast.reference.sensitivity` what limits a design and how sensitive it is (the
 shares and the elasticities); :mod:`~epc_fast.reference.optics` the lens's wavefront error and
 denoising. Every function carries the same name as its C++ counterpart in
@@ -10,10 +11,10 @@ from here (``epc_fast.reference.mtf_diffraction``).
 
 from __future__ import annotations
 
-from . import model, optics, sensitivity
+from . import lens, model, mtf, optics, sensitivity
 from .model import *  # noqa: F401,F403  (the model's names, as its __all__ lists them)
 from .model import __all__ as _model_names
 from .optics import *  # noqa: F401,F403
 from .optics import __all__ as _optics_names
 
-__all__ = ["model", "optics", "sensitivity", *_model_names, *_optics_names]
+__all__ = ["lens", "model", "mtf", "optics", "sensitivity", *_model_names, *_optics_names]

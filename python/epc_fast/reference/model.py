@@ -11,11 +11,12 @@ Units: lengths in the MTF are in mm, spatial frequencies in cycles/mm, time in s
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..status import Cause, Status
+from .lens import lens_bracket, mtf_lens
+from .mtf import (gaussian_blur_mm, mtf_alignment, mtf_binned_pixel, mtf_diffraction, mtf_jitter,
+                  mtf_motion, mtf_pixel, sinc, sinpi)
 from .optics import mtf_aberration, mtf_denoise, noise_gain_denoise
 
 __all__ = [
@@ -226,112 +227,31 @@ def blur_length_mm(focal_length_mm, shake_deg_per_s, stabilization, t_mpe_s):
                         np.inf)
 
 
-# --- MTF factors (docs/model.md, "System MTF") -----------------------------------------------
-
-
-def sinpi(x):
-    """1: sin(pi x), from r = x - round(x), which is exact: sin(pi x) = (-1)^round(x) sin(pi r).
-
-    sin(np.pi * x) would lose the digits of x's distance to the nearest integer (the zeros).
-    """
-    x = np.asarray(x, dtype=np.float64)
-    k = np.round(x)
-    s = np.sin(np.pi * (x - k))
-    return np.where(np.fmod(k, 2.0) == 0.0, s, -s)
-
-
-def sinc(x):
-    """1: the normalised sinc, sin(pi x) / (pi x), equal to 1 at x = 0."""
-    x = np.asarray(x, dtype=np.float64)
-    safe = np.where(x == 0.0, 1.0, x)
-    return np.where(x == 0.0, 1.0, sinpi(safe) / (np.pi * safe))
-
-
-#: x - sin x = x^3 * sum_k (-1)^k x^(2k) / (2k+3)!: enough terms for 2e-17 relative at x <= 2.1.
-_X_MINUS_SIN_SERIES = [(-1) ** k / math.factorial(2 * k + 3) for k in range(13)]
-
-
-def mtf_diffraction(f_cyc_per_mm, wavelength_nm, f_number):
-    """1: aberration-free circular-pupil diffraction MTF at normalised frequency nu = f lambda F.
-
-    D = (2/pi) (acos nu - nu sqrt(1 - nu^2)) for nu < 1, else 0. Up to nu = 1/2 this is
-    evaluated as written (1 - nu^2 as (1 - nu)(1 + nu)). Above, its two terms cancel as
-    nu -> 1, and D is written with phi = acos nu as (2 phi - sin 2 phi) / pi: phi is
-    2 asin(sqrt((1 - nu)/2)), exact near nu = 1, and 2 phi - sin 2 phi (2 phi <= 2 pi/3) is
-    summed from its Taylor series, whose terms alternate and fall fast: D keeps its relative
-    precision down to the cut-off, where it vanishes as (1 - nu)^(3/2).
-    """
-    nu = np.minimum(f_cyc_per_mm * (wavelength_nm * 1e-6) * f_number, 1.0)
-    low = (2.0 / np.pi) * (np.arccos(nu) - nu * np.sqrt((1.0 - nu) * (1.0 + nu)))
-    x = 4.0 * np.arcsin(np.sqrt(0.5 * (1.0 - nu)))  # 2 phi
-    high = x**3 * np.polynomial.polynomial.polyval(x * x, _X_MINUS_SIN_SERIES) / np.pi
-    return np.where(nu <= 0.5, low, high)
-
-
-def mtf_pixel(f_cyc_per_mm, pixel_pitch_um, fill_factor):
-    """1: square pixel aperture of side sqrt(a) p: ``|sinc(sqrt(a) p f)|``, p in mm."""
-    return np.abs(sinc(np.sqrt(fill_factor) * (pixel_pitch_um * 1e-3) * f_cyc_per_mm))
-
-
-def mtf_binned_pixel(f_cyc_per_mm, pixel_pitch_um, fill_factor, binning):
-    """1: k x k pixels read as one: ``|sinc(sqrt(a) p f) sin(k pi p f) / (k sin(pi p f))|``.
-
-    Where sin(pi p f) = 0 (p f a whole number) the ratio takes its limit, cos(k pi p f) /
-    cos(pi p f) = +-1. At k = 1 the ratio is 1 and this is :func:`mtf_pixel` (whatever p f: a
-    small fill factor takes f50 far past 1/p); at a = 1 it is sinc(k p f).
-    """
-    y = (pixel_pitch_um * 1e-3) * f_cyc_per_mm
-    k = np.asarray(binning, dtype=np.float64)
-    sin_y = sinpi(y)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(sin_y == 0.0, sinpi(k * y + 0.5) / sinpi(y + 0.5),
-                         sinpi(k * y) / (k * sin_y))
-    ratio = np.where(k == 1.0, 1.0, ratio)
-    return np.abs(sinc(np.sqrt(fill_factor) * (pixel_pitch_um * 1e-3) * f_cyc_per_mm) * ratio)
-
-
-def mtf_motion(f_cyc_per_mm, blur_mm):
-    """1: linear motion of length b: ``|sinc(b f)|``."""
-    return np.abs(sinc(blur_mm * f_cyc_per_mm))
-
-
-def mtf_jitter(f_cyc_per_mm, jitter_um):
-    """1: Gaussian jitter of rms sigma_j: exp(-2 pi^2 (sigma_j f)^2), sigma_j in mm."""
-    return np.exp(-2.0 * np.pi**2 * (jitter_um * 1e-3 * f_cyc_per_mm) ** 2)
-
-
-def gaussian_blur_mm(jitter_um, alignment_error_um, frames):
-    """mm: jitter and a burst's alignment residual as one Gaussian, J(f) A(f), of rms
-    sqrt(sigma_j^2 + sigma_a^2 (1 - 1/n)): what bounds f50's bracket where they are the only
-    factors that fall."""
-    residual_um = alignment_error_um * np.sqrt(1.0 - 1.0 / np.asarray(frames, dtype=np.float64))
-    return np.hypot(jitter_um, residual_um) * 1e-3
-
-
-def mtf_alignment(f_cyc_per_mm, alignment_error_um, frames):
-    """1: the alignment residual of a burst of n frames, each aligned to within sigma_a rms:
-    the frames' offsets about their mean, of variance sigma_a^2 (1 - 1/n), blur the sum by
-    exp(-2 pi^2 sigma_a^2 (1 - 1/n) f^2), sigma_a in mm (1 for one frame)."""
-    variance_mm2 = (alignment_error_um * 1e-3) ** 2 * (1.0 - 1.0 / np.asarray(frames, dtype=np.float64))
-    return np.exp(-2.0 * np.pi**2 * variance_mm2 * f_cyc_per_mm**2)
+# --- The system MTF (docs/model.md, "System MTF"): the factors are in mtf.py ------------
 
 
 def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
                wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0,
-               wavefront_rms_waves=0.0, denoise_sigma_px=0.0):
+               wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0, lens_tables=None):
     """1: D(f) P_k(f) M(f) J(f) A(f) H(f), with D = sum_i w_i D_i(f) ATF_i(f) over a spectrum
     (weights sum to 1; ATF_i Shannon's at wavelength i, :func:`mtf_aberration`), P_k the binned
     pixel (:func:`mtf_binned_pixel`; P at k = 1) and H the denoising filter
-    (:func:`mtf_denoise`, on the output pitch k p).
+    (:func:`mtf_denoise`, on the output pitch k p). With ``lens_tables`` (a list of
+    :class:`epc_fast.mtf_table.MtfTable`), D is L(f), the table each point's ``lens`` index
+    picks (:func:`epc_fast.reference.lens.mtf_lens`): the spectrum plays no part then.
 
     ``wavelengths_nm`` and ``weights`` are 1-D and shared by every point; a monochromatic
     scene passes one wavelength with weight 1. ATF and H enter only calls that have them.
     """
     f = np.asarray(f_cyc_per_mm, dtype=np.float64)
     aberrated = np.any(np.asarray(wavefront_rms_waves) != 0.0)
-    diffraction = sum(w * mtf_diffraction(f, lam, f_number)
-                      * (mtf_aberration(f, lam, f_number, wavefront_rms_waves) if aberrated else 1.0)
-                      for lam, w in zip(wavelengths_nm, weights))
+    if lens_tables is not None:
+        diffraction = mtf_lens(f, lens, lens_tables)
+    else:
+        diffraction = sum(w * mtf_diffraction(f, lam, f_number)
+                          * (mtf_aberration(f, lam, f_number, wavefront_rms_waves)
+                             if aberrated else 1.0)
+                          for lam, w in zip(wavelengths_nm, weights))
     m = (diffraction * mtf_binned_pixel(f, pixel_pitch_um, fill_factor, binning)
          * mtf_motion(f, blur_mm) * mtf_jitter(f, jitter_um)
          * mtf_alignment(f, alignment_error_um, frames))
@@ -344,10 +264,13 @@ def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jit
 
 
 def f50_bracket(f_number, shortest_wavelength_nm, pixel_pitch_um, fill_factor, blur_mm,
-                jitter_um, mtf_threshold, binning=1.0, alignment_error_um=0.0, frames=1.0):
+                jitter_um, mtf_threshold, binning=1.0, alignment_error_um=0.0, frames=1.0,
+                lens_end_cyc_per_mm=None):
     """cycles/mm: f_hi, the end of the bracket [0, f_hi] holding the unique f50.
 
-    The smallest first zero of the factors (diffraction 1/(lambda_min F), the pixel
+    The smallest first zero of the factors (diffraction 1/(lambda_min F), or with a lens table
+    ``lens_end_cyc_per_mm``, the table's end: :func:`epc_fast.reference.lens.lens_bracket`; the
+    pixel
     1/(sqrt(a) p), binned 1/(k p) for k >= 2, which is min(1/(sqrt(a) p), 1/(k p)) there;
     motion 1/b) and, with jitter or a burst's alignment residual, the frequency where their
     Gaussian (:func:`gaussian_blur_mm`) alone falls to the threshold.
@@ -355,7 +278,8 @@ def f50_bracket(f_number, shortest_wavelength_nm, pixel_pitch_um, fill_factor, b
     blur_mm = np.asarray(blur_mm, dtype=np.float64)
     gaussian_mm = gaussian_blur_mm(jitter_um, alignment_error_um, frames)
     with np.errstate(divide="ignore"):
-        diffraction_zero = 1.0 / (shortest_wavelength_nm * 1e-6 * f_number)
+        diffraction_zero = (1.0 / (shortest_wavelength_nm * 1e-6 * f_number)
+                            if lens_end_cyc_per_mm is None else lens_end_cyc_per_mm)
         pixel_zero = np.where(np.asarray(binning) > 1.0,
                               1.0 / (binning * (pixel_pitch_um * 1e-3)),
                               1.0 / (np.sqrt(fill_factor) * pixel_pitch_um * 1e-3))
@@ -399,7 +323,7 @@ def effective_pixel_count(sensor_area_mm2, f50_cyc_per_mm):
 
 
 def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
-                    charge_binning=False):
+                    charge_binning=False, lens_tables=None):
     """Evaluate the model on 1-D arrays of equal length.
 
     Parameters
@@ -414,6 +338,9 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
         Which points have every input inside its domain (:func:`epc_fast.params.in_domain`).
     charge_binning : bool
         Binning's read-out: one read of the k x k pixels' charge (True), or k^2 reads.
+    lens_tables : list of MtfTable, optional
+        The call's lens tables (``lens_mtf``): point i's optics MTF is table ``p["lens"][i]``'s
+        in place of diffraction (:func:`mtf_system`).
 
     Returns
     -------
@@ -428,10 +355,11 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
          for name, v in p.items()}
     with np.errstate(all="ignore"):  # extreme but valid points may overflow; statuses tell
         return _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid,
-                               charge_binning)
+                               charge_binning, lens_tables)
 
 
-def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, charge_binning):
+def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, charge_binning,
+                    lens_tables=None):
     k, n = q["binning"], q["frames"]
     pixels = binned_pixels(k)
     rate = electron_rate(q["illuminance_lux"], q["reflectance"], q["lens_transmittance"],
@@ -469,20 +397,25 @@ def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, char
     blur_solved = np.where(solve, blur, 0.0)
     f_hi = f50_bracket(q["f_number"], shortest, q["pixel_pitch_um"], q["fill_factor"],
                        blur_solved, q["jitter_um"], q["mtf_threshold"], k,
-                       q["alignment_error_um"], n)
+                       q["alignment_error_um"], n,
+                       None if lens_tables is None else lens_bracket(q["lens"], lens_tables))
 
     def mtf(f):
         return mtf_system(f, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_solved,
                           q["jitter_um"], wavelengths, spectral_weights, k,
                           q["alignment_error_um"], n, q["wavefront_rms_waves"],
-                          q["denoise_sigma_px"])
+                          q["denoise_sigma_px"], q["lens"], lens_tables)
 
+    # a lens table that ends above the threshold holds no f50: a status, not a number
+    beyond = solve & (mtf(f_hi) > q["mtf_threshold"]) if lens_tables is not None else False
     f50 = np.where(solve, f50_bisection(mtf, f_hi, q["mtf_threshold"]), 0.0)
+    f50 = np.where(beyond, np.nan, f50)
     area_mm2 = q["size"] * (q["pixel_pitch_um"] * 1e-3) ** 2 if size_is_pixel_count else q["size"]
     epc = effective_pixel_count(area_mm2, f50)
 
-    status = np.select([~valid, unreachable, unbounded],
-                       [Status.INVALID, Status.UNREACHABLE, Status.BLUR_UNBOUNDED],
+    status = np.select([~valid, unreachable, unbounded, beyond],
+                       [Status.INVALID, Status.UNREACHABLE, Status.BLUR_UNBOUNDED,
+                        Status.BEYOND_TABLE],
                        Status.OK).astype(np.uint8)
     cause = np.select([~valid, no_light, prnu_cap, full_well],
                       [Cause.NONE, Cause.NO_LIGHT, Cause.PRNU, Cause.FULL_WELL],

@@ -6,10 +6,10 @@ Every function carries the same name as its C++ counterpart in
 against 40-digit mpmath central differences (tests/test_sensitivity.py).
 
 **Shares.** At f50 the system MTF is c, so ln D + ln P + ln M + ln J + ln A + ln(D_W/D) +
-ln H = ln c: the share of a factor is ln MTF_i(f50) / ln MTF_sys(f50) (= ln c at the root), and
-the seven shares sum to 1. The binned pixel P_k is the pixel's share; a burst's alignment
-residual A, the wavefront error's ATF (D_W the aberrated diffraction MTF) and denoising's H have
-their own. Denoising's target s g puts d ln g / d ln sigma on T_MPE's d ln T / d ln s.
+ln H + ln(L/D) = ln c: the share of a factor is ln MTF_i(f50) / ln MTF_sys(f50) (= ln c at the
+root), and the eight shares sum to 1. The binned pixel P_k is the pixel's share; a burst's
+alignment residual A, the wavefront error's ATF (D_W the aberrated diffraction MTF), denoising's
+H and a lens table's L against the aberration-free D have their own. Denoising's target s g puts d ln g / d ln sigma on T_MPE's d ln T / d ln s.
 
 **Elasticities.** EPC = 4 S f50^2, so d ln EPC / d ln theta = d ln S / d ln theta +
 2 d ln f50 / d ln theta. f50 is defined by ln MTF(f50; theta) = ln c; differentiating it,
@@ -36,7 +36,12 @@ Every one is a ratio of sums of positive terms. With binning and bursts, T_MPE i
 output pixel of the burst (epc_fast.reference.model.binned_pixels): its rate k^2 r, dark
 current k^2 D, read noise sigma_r sqrt(n k^2) or sigma_r sqrt(n), PRNU u / k, each proportional
 to its input, so the same log-slopes hold with these values; the blur angle is divided by n as
-by the stabilisation. binning and frames are whole numbers: they have no elasticity (NaN).
+by the stabilisation. binning, frames and lens are whole numbers: they have no elasticity
+(NaN).
+
+With a lens table, L(f) takes the place of D(f) D_W(f)/D(f): its log-slope f L'/L is the
+optics' slope in A, and the f-number and the wavelength no longer reach the MTF (L is the
+table's alone): the f-number moves only the light, through the rate, and the wavelength nothing.
 
 An elasticity is theta times the partial
 derivative of ln EPC, all other parameters of docs/model.md, "Quantities, units and defaults"
@@ -53,6 +58,7 @@ from ..elasticity_outputs import ELASTICITY_PARAMETERS
 from ..outputs import SHARE_NAMES
 from ..status import Status
 from .model import binned_pixels, burst_read_noise_e, mtf_diffraction, scaled_product, sinpi
+from .lens import lens_log_factor
 from .optics import SHANNON_W0, denoise_log_factor, noise_gain_log_slope
 
 __all__ = [
@@ -146,8 +152,8 @@ def log_mtf_diffraction(value, loss):
 
 def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
                     wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0,
-                    wavefront_rms_waves=0.0, denoise_sigma_px=0.0):
-    """1: (ln D, ln P_k, ln M, ln J, ln A, ln(D_W/D), ln H) at f, and (nu dD/dnu / D,
+                    wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0, lens_tables=None):
+    """1: (ln D, ln P_k, ln M, ln J, ln A, ln(D_W/D), ln H, ln(L/D)) at f, and (nu dD/dnu / D,
     f dlnP_k/df, y_m dlnM/dy_m, y_a dln sinc(y_a)/dy_a, f dln(D_W/D)/df, W dlnD_W/dW,
     f dlnH/df, sigma dlnH/dsigma): each factor's log and the log-slopes the elasticities need,
     the fourth the pixel's own aperture y_a = sqrt(a) p f alone (what the fill factor moves; the
@@ -155,7 +161,9 @@ def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm
     wavefront error's (:func:`aberration_log_factor`) and denoising's
     (:func:`epc_fast.reference.optics.denoise_log_factor`), 0 where they are off.
     ``wavelengths_nm`` and ``weights`` as in :func:`epc_fast.reference.mtf_system` (a
-    per-point wavelength array with weight 1 for a monochromatic scene)."""
+    per-point wavelength array with weight 1 for a monochromatic scene). With ``lens_tables``,
+    ln(L/D) is the lens table's (:func:`epc_fast.reference.lens.lens_log_factor`) and the first
+    slope is the optics' own, f L'/L (0 for ln(L/D) without tables)."""
     f = np.asarray(f_cyc_per_mm, dtype=np.float64)
     loss = 0.0
     slope_numerator = 0.0
@@ -184,10 +192,13 @@ def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm
     denoise = (zero, zero, zero)
     if np.any(np.asarray(denoise_sigma_px) != 0.0):
         denoise = denoise_log_factor(f, denoise_sigma_px, pixel_pitch_um * np.asarray(binning))
+    log_lens, optics_slope = zero, slope_numerator / value
+    if lens_tables is not None:
+        log_lens, optics_slope = lens_log_factor(f, lens, lens_tables, value)
     logs = (log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
             -2.0 * np.pi**2 * sigma_f * sigma_f, -2.0 * np.pi**2 * residual_f * residual_f,
-            aberration[0], denoise[0])
-    slopes = (slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill,
+            aberration[0], denoise[0], log_lens)
+    slopes = (optics_slope, slope_pixel, sinc_log_slope(y_motion), slope_fill,
               aberration[1], aberration[2], denoise[1], denoise[2])
     return logs, slopes
 
@@ -277,7 +288,7 @@ def field_angle_rate_log_slope(field_angle_deg):
 
 
 def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s, blur_mm,
-                     wavelengths_nm, weights, charge_binning=False):
+                     wavelengths_nm, weights, charge_binning=False, lens_tables=None):
     """1: d ln EPC / d ln theta for every parameter of :data:`ELASTICITY_PARAMETERS`, a dict
     of arrays, at points whose status is OK (f50 > 0); ``q`` holds the parameters by name (as
     :func:`epc_fast.reference.evaluate_points` does), the rest are the model's outputs there.
@@ -286,7 +297,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     logs, slopes = mtf_log_factors(
         f50_cyc_per_mm, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_mm,
         q["jitter_um"], wavelengths_nm, weights, binning, q["alignment_error_um"], frames,
-        q["wavefront_rms_waves"], q["denoise_sigma_px"])
+        q["wavefront_rms_waves"], q["denoise_sigma_px"], q["lens"], lens_tables)
     g_fill = slopes[3]
     g_ab, w_ab, g_h, s_h = slopes[4:]
     slopes = slopes[:3]
@@ -317,10 +328,13 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     via_rate = mu * t["rate"]
     snr_scale = q["snr_db"] * (math.log(10.0) / 10.0)  # d ln s / d ln snr_db
     zero = np.zeros_like(a_slope)
+    # F d ln MTF / dF = lambda d ln MTF / d lambda: diffraction's and the ATF's (functions of
+    # nu = f lambda F), none for a lens table
+    optics = zero if lens_tables is not None else g_d + g_ab
     mtf_slopes = {
         "illuminance_lux": via_rate,
         "pixel_pitch_um": g_p + g_h + 2.0 * via_rate,
-        "f_number": g_d + g_ab - 2.0 * via_rate,
+        "f_number": optics - 2.0 * via_rate,
         "focal_length_mm": g_m,
         "size": zero,
         "reflectance": via_rate,
@@ -336,7 +350,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         "shake_deg_per_s": mu,
         "stabilization": -mu,
         "jitter_um": 2.0 * log_j,
-        "wavelength_nm": g_d + g_ab,
+        "wavelength_nm": optics,
         "mtf_threshold": zero - threshold_term,
         "binning": zero + np.nan,
         "frames": zero + np.nan,
@@ -345,6 +359,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         # sigma); denoising moves the MTF and, through the target s g, T_MPE and the blur
         "wavefront_rms_waves": w_ab,
         "denoise_sigma_px": s_h + mu * t["target"] * noise_gain_log_slope(q["denoise_sigma_px"]),
+        "lens": zero + np.nan,
     }
     area = {"size": 1.0, "pixel_pitch_um": 2.0 if size_is_pixel_count else 0.0}
     return {name: area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope
@@ -352,7 +367,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
 
 
 def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, shares=True,
-                       elasticities=True, charge_binning=False):
+                       elasticities=True, charge_binning=False, lens_tables=None):
     """The shares and elasticities of 1-D points, from their :func:`epc_fast.reference.
     evaluate_points` ``result``: one ``share_<name>`` per
     :data:`epc_fast.outputs.SHARE_NAMES` entry (each 1-D) and ``elasticities`` (one row per
@@ -360,7 +375,7 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
 
     Only OK points have them; elsewhere they are NaN, but where the blur is unbounded (f50 = 0,
     EPC = 0: motion takes all of the loss) motion's share is 1 and the others 0. ``p``,
-    ``wavelengths_nm``, ``weights`` and ``charge_binning`` as
+    ``wavelengths_nm``, ``weights``, ``charge_binning`` and ``lens_tables`` as
     :func:`epc_fast.reference.evaluate_points` takes them.
     """
     status = result["status"]
@@ -383,14 +398,16 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
                                       stand["fill_factor"], blur, stand["jitter_um"],
                                       wavelengths, spectral_weights, stand["binning"],
                                       stand["alignment_error_um"], stand["frames"],
-                                      stand["wavefront_rms_waves"], stand["denoise_sigma_px"])
+                                      stand["wavefront_rms_waves"], stand["denoise_sigma_px"],
+                                      stand["lens"], lens_tables)
             unbounded = status == Status.BLUR_UNBOUNDED
             for name, share in zip(SHARE_NAMES, mtf_loss_shares(logs, stand["mtf_threshold"])):
                 limit = 1.0 if name == "motion" else 0.0
                 out[f"share_{name}"] = np.where(ok, share, np.where(unbounded, limit, np.nan))
         if elasticities:
             values = epc_elasticities(stand, size_is_pixel_count, f50, electrons, t_mpe, blur,
-                                      wavelengths, spectral_weights, charge_binning)
+                                      wavelengths, spectral_weights, charge_binning,
+                                      lens_tables)
             out["elasticities"] = np.stack(
                 [np.where(ok, np.broadcast_to(values[name], ok.shape), np.nan)
                  for name in ELASTICITY_PARAMETERS])

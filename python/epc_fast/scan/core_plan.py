@@ -14,7 +14,9 @@ import numpy as np
 
 from .. import api, params
 from .._validation import choice, integer, tolerance
+from ..core_call import core_slots
 from ..spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
+from ..status import Status
 from .best import TopK
 from .chunk import OUTPUTS
 from .distributions import Choice, Grid
@@ -98,10 +100,16 @@ class CorePlan:
         wavelengths = weights = np.empty(0)
         if spectrum is not None:
             wavelengths, weights = spectrum.wavelengths_nm, spectrum.weights
-        return {"seed": self.seed, "axes": axes, "params": sources,
+        slots = core_slots()
+        for j in sorted(set(range(len(sources))) - set(slots)):  # a parameter the core lacks
+            if sources[j] != {"kind": "fixed", "value": _default(params.PARAMETER_NAMES[j])}:
+                raise NotImplementedError(
+                    f"{params.PARAMETER_NAMES[j]} is not scanned by the core yet: leave it at "
+                    f"its default, {_default(params.PARAMETER_NAMES[j]):g}")
+        return {"seed": self.seed, "axes": axes, "params": [sources[j] for j in slots],
                 "size_is_pixel_count": self.names[params.PARAMETER_NAMES.index("size")]
                 == "pixel_count",
-                "domains": params.domain_table(),
+                "domains": np.ascontiguousarray(params.domain_table()[list(slots)]),
                 "wavelengths_nm": np.ascontiguousarray(wavelengths, dtype=np.float64),
                 "weights": np.ascontiguousarray(weights, dtype=np.float64)}
 
@@ -207,6 +215,8 @@ class CorePlan:
         for item, partial in zip(self.plan, partials):
             if isinstance(item.reduction, TopK):
                 partial = self._top_k_partial(item.reduction, partial)
+            elif isinstance(item.reduction, Summary):
+                partial = _every_status(partial)
             result[item.name] = partial
         return result
 
@@ -253,3 +263,14 @@ def checked_seed(seed) -> int:
         raise ValueError(f"seed must be an integer in [0, 2**64), got {seed!r}")
     return value
 
+
+def _every_status(partial: dict) -> dict:
+    """A summary's partial with a status count for every :class:`epc_fast.Status`: the core
+    counts the statuses it can give (it has no tabulated MTF, so no BEYOND_TABLE), the others
+    are 0."""
+    counts = partial["status"]
+    if counts.shape[1] == len(Status):
+        return partial
+    padded = np.zeros((counts.shape[0], len(Status)), np.int64)
+    padded[:, :counts.shape[1]] = counts
+    return {**partial, "status": padded}

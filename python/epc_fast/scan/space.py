@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..modes import MODE_DEFAULTS
+from ..mtf_table import lens_tables_of
 from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
 from ..presets import Design
 from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
@@ -44,7 +45,7 @@ MIN_REPORTED_SHARE = 1e-6
 DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
 EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
-                    "precision")
+                    "precision", "lens_mtf")
 
 
 @dataclass
@@ -111,7 +112,8 @@ class Space:
         parameter some designs give and others leave out takes evaluate's default in those.
     evaluate_options : mapping, optional
         Options of :func:`epc_fast.evaluate` shared by every point: ``spectrum``, ``f50_rtol``,
-        ``t_mpe_solver``, ``t_mpe_rtol``.
+        ``t_mpe_solver``, ``t_mpe_rtol``, ``lens_mtf`` (a lens table or a list of them, which
+        ``lens`` picks per point; the reference backend only, for now).
     **parameters : float, Grid, Choice or a distribution
         Any per-point parameter of :func:`epc_fast.evaluate`, in its unit: a number (fixed), a
         :class:`Grid`, a :class:`Choice` or a distribution (:class:`Uniform`,
@@ -156,6 +158,8 @@ class Space:
         if bad:
             raise TypeError(f"unknown evaluate option(s) {', '.join(bad)}; the options are "
                             f"{', '.join(EVALUATE_OPTIONS)}")
+        if self.evaluate_options.get("lens_mtf") is not None:
+            self.evaluate_options["lens_mtf"] = self._lens_tables()
         self._check_required()
         self._check_domains()
         self.grid_axes = tuple(n for n, a in self.axes.items() if isinstance(a, Grid))
@@ -230,17 +234,32 @@ class Space:
             raise TypeError(f"give exactly one of {' and '.join(SIZE_PARAMETERS)} "
                             f"(given: {sizes or 'neither'})")
 
+    def _lens_tables(self) -> tuple:
+        """The space's checked lens tables; a ValueError for a wavefront error beside them."""
+        given = ("wavefront_rms_waves" in self.axes and self.axes["wavefront_rms_waves"] != 0.0
+                 or np.any(self.design_table.get("wavefront_rms_waves", 0.0) != 0.0))
+        if given:
+            raise ValueError("give lens_mtf or wavefront_rms_waves, not both: a lens's MTF "
+                             "table includes its aberrations")
+        return lens_tables_of(self.evaluate_options["lens_mtf"])
+
+    @property
+    def lens_count(self) -> int:
+        """The number of lens tables (``lens`` takes 0 .. lens_count - 1); 1 without them."""
+        return len(self.evaluate_options.get("lens_mtf") or ()) or 1
+
     def _check_domains(self):
         """A ValueError naming the parameter, its value and its domain when a fixed value, a
         grid's or a choice's value, a distribution or a design's value lies outside the
         parameter's domain (:func:`domain_problem`): refused before the first point."""
         for name, axis in self.axes.items():
-            problem = None if name == "design" else domain_problem(name, axis)
+            problem = (None if name == "design"
+                       else domain_problem(name, axis, self.lens_count))
             if problem:
                 raise ValueError(f"{name} = {problem}")
         for name, values in self.design_table.items():
             for design, value in zip(self.design_names, values):
-                problem = domain_problem(name, float(value))
+                problem = domain_problem(name, float(value), self.lens_count)
                 if problem:
                     raise ValueError(f"design {design!r}: {name} = {problem}")
 

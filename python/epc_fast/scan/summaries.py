@@ -39,7 +39,7 @@ class SummaryResult:
     of : str, the output (e.g. ``"epc"``: pixels).
     labels : {column: list}, each group's label.
     points : int64 (groups,), points in each group, whatever their status.
-    status_counts : int64 (groups, 4), points per :class:`epc_fast.Status`.
+    status_counts : int64 (groups, len(Status)), points per :class:`epc_fast.Status`.
     count : int64 (groups,), points whose output is finite.
     mean, std, min, max : float64 (groups,), in the output's unit; std with ddof=0. NaN (and
         +inf, -inf for min, max) where a group has no finite value.
@@ -71,8 +71,10 @@ class SummaryResult:
 
     def columns(self) -> dict:
         """Table columns, one row per group."""
+        # BEYOND_TABLE only where a point has it: a scan without tabulated MTFs has none
         statuses = {s.name.lower().replace("_", " "): self.status_counts[:, s]
-                    for s in Status}
+                    for s in Status
+                    if s != Status.BEYOND_TABLE or self.status_counts[:, s].any()}
         # a group with no finite value has no extremes: NaN, not the empty min's +inf
         empty = ~np.isfinite(self.mean)
         columns = {**self.labels, "points": self.points, **statuses, "mean": self.mean,
@@ -89,7 +91,7 @@ class SummaryResult:
 
 
 def _status_counts(chunk: Chunk, key: GroupKey) -> np.ndarray:
-    """int64 (groups, 4): points per group and status."""
+    """int64 (groups, len(Status)): points per group and status."""
     status = chunk.result.status
     if not np.any(status):
         counts = np.zeros((key.size, STATUS_COUNT), np.int64)

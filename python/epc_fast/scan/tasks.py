@@ -112,9 +112,11 @@ def _evaluate(space: Space, points, **options):
 
 
 def _options(space: Space, backend: str) -> dict:
-    """The space's evaluate options; the reference backend takes the spectrum only."""
+    """The space's evaluate options; the reference backend takes the spectrum and the lens
+    tables only."""
     if backend == "reference":
-        return {k: v for k, v in space.evaluate_options.items() if k == "spectrum"}
+        return {k: v for k, v in space.evaluate_options.items()
+                if k in ("spectrum", "lens_mtf")}
     return space.evaluate_options
 
 

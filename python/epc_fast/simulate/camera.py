@@ -26,7 +26,8 @@ from ..cfa import check_cfa, check_demosaic
 from ..status import Status
 from .charts import Chart
 from .focal_plane import Optics, frame_irradiance
-from .optics import cutoff_cyc_per_mm
+from ..mtf_table import lens_tables_of
+from .optics import cutoff_cyc_per_mm, table_cutoff_cyc_per_mm
 from .processing import denoise, kernel_reach_px
 from . import bayer as _bayer
 from .readout import bin_sum, read_out
@@ -103,10 +104,12 @@ class Capture:
 
 
 def grid_oversample(pixel_pitch_um: float, f_number: float,
-                    shortest_wavelength_nm: float) -> int:
-    """The smallest odd q with q / p >= BAND_FACTOR / (lambda F): the fine grid's samples per
-    pixel a side that carry the image without loss."""
-    cutoff = cutoff_cyc_per_mm(f_number, shortest_wavelength_nm)
+                    shortest_wavelength_nm: float, lens_cutoff_cyc_per_mm=None) -> int:
+    """The smallest odd q with q / p >= BAND_FACTOR / (lambda F), or BAND_FACTOR times a lens
+    table's end (``lens_cutoff_cyc_per_mm``): the fine grid's samples per pixel a side that
+    carry the image without loss."""
+    cutoff = (cutoff_cyc_per_mm(f_number, shortest_wavelength_nm)
+              if lens_cutoff_cyc_per_mm is None else lens_cutoff_cyc_per_mm)
     q = max(1, math.ceil(BAND_FACTOR * cutoff * pixel_pitch_um * 1e-3 - 1e-9))
     return q if q % 2 == 1 else q + 1
 
@@ -179,6 +182,9 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     aberration : {"defocus", "spherical"}
         The shape of the lens's wavefront error when the design has one
         (``wavefront_rms_waves``): its pupil's phase is that Zernike polynomial, of that rms.
+        A design with ``lens_mtf`` (and ``backend="reference"``, which computes it) images
+        through its table's MTF instead of a pupil: the table's interpolant at the radial
+        frequency, 0 past the table's end.
     cfa : {"none", "bayer"}
         "bayer": each pixel sits under a filter of the RGGB cell (with binning k, each output
         pixel's k x k sensor pixels under one), its expected electrons times the filter's
@@ -244,7 +250,9 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     shake = float(d["shake_deg_per_s"]) * math.pi / 180.0 / float(d["stabilization"])
     t = _exposure(exposure_s, result, shake)
     wavelengths, weights = _spectrum(d)
-    q_min = grid_oversample(p, f_number, float(wavelengths.min()))
+    table = _lens_table(d)
+    q_min = grid_oversample(p, f_number, float(wavelengths.min()),
+                            None if table is None else table_cutoff_cyc_per_mm(table))
     q = q_min if oversample is None else _oversample(oversample, q_min)
     threads = threads_of(d.get("threads"))
     k, n = int(d.get("binning", 1)), int(d.get("frames", 1))
@@ -258,7 +266,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                     irradiance_lux=(lux * float(d["lens_transmittance"])
                                     * math.cos(math.radians(angle)) ** 4 / (4.0 * f_number ** 2)),
                     wavefront_rms_waves=float(d.get("wavefront_rms_waves", 0.0)),
-                    aberration=_aberration(aberration))
+                    aberration=_aberration(aberration), lens_table=table)
     sigma = float(d.get("denoise_sigma_px", 0.0))
     border = kernel_reach_px(sigma)
     if sensor_cfa is not None:
@@ -291,6 +299,13 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                    seed=seed, chart=chart, result=result, readout=sensor, frames_e=frames_e,
                    recapture=recapture, denoise_sigma_px=sigma, border_px=border, cfa=cfa,
                    bayer=sensor_cfa)
+
+
+def _lens_table(d: dict):
+    """The design's lens table, ``lens_mtf[lens]`` (evaluate has checked both), or None."""
+    if d.get("lens_mtf") is None:
+        return None
+    return lens_tables_of(d["lens_mtf"])[int(_scalar("lens", d.get("lens", 0.0)))]
 
 
 def _processed(image, sigma_px: float, border_px: int, sensor_cfa=None) -> np.ndarray:

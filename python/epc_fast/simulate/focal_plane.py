@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .blur import aperture_transfer, jitter_transfer, motion_transfer
-from .optics import cutoff_cyc_per_mm, diffraction_transfer
+from .optics import cutoff_cyc_per_mm, diffraction_transfer, table_cutoff_cyc_per_mm, table_transfer
 
 __all__ = ["Optics", "frame_irradiance", "BYTES_PER_SAMPLE", "MARGIN_PX", "PSF_REACH"]
 
@@ -46,7 +46,9 @@ class Optics:
     jitter_mm : rms a side; aperture_mm : the side of the pixel's square aperture;
     irradiance_lux : the focal-plane illuminance of reflectance 1; wavefront_rms_waves and
     aberration : the lens's wavefront error, waves rms of a Zernike defocus or spherical
-    aberration (:data:`~epc_fast.simulate.optics.ABERRATIONS`).
+    aberration (:data:`~epc_fast.simulate.optics.ABERRATIONS`); lens_table : an
+    :class:`epc_fast.mtf_table.MtfTable`, the lens's MTF in place of its pupil's (None: the
+    pupil's).
     """
 
     pitch_mm: float
@@ -62,10 +64,22 @@ class Optics:
     irradiance_lux: float
     wavefront_rms_waves: float = 0.0
     aberration: str = "defocus"
+    lens_table: object = None
 
     @property
     def cutoff(self) -> float:
+        """cycles/mm, the frequency above which the lens passes nothing."""
+        if self.lens_table is not None:
+            return table_cutoff_cyc_per_mm(self.lens_table)
         return cutoff_cyc_per_mm(self.f_number, float(np.min(self.wavelengths_nm)))
+
+    def transfer(self, frequency_cyc_per_mm) -> np.ndarray:
+        """The lens's OTF at frequencies of magnitude ``frequency_cyc_per_mm``: its table's,
+        or its pupil's over the spectrum."""
+        if self.lens_table is not None:
+            return table_transfer(frequency_cyc_per_mm, self.lens_table)
+        return diffraction_transfer(frequency_cyc_per_mm, self.f_number, self.wavelengths_nm,
+                                    self.weights, self.wavefront_rms_waves, self.aberration)
 
 
 def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offsets_mm,
@@ -112,9 +126,7 @@ def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offs
     fx = fft.rfftfreq(nx, dx)
     iy, ix = np.nonzero(np.abs(fy) < cutoff)[0], np.nonzero(fx < cutoff)[0]
     fyk, fxk = fy[iy], fx[ix]
-    common = diffraction_transfer(np.hypot(fyk[:, None], fxk[None, :]), o.f_number,
-                                  o.wavelengths_nm, o.weights, o.wavefront_rms_waves,
-                                  o.aberration).astype(complex)
+    common = o.transfer(np.hypot(fyk[:, None], fxk[None, :])).astype(complex)
     common *= (aperture_transfer(fyk, o.aperture_mm) * jitter_transfer(fyk, o.jitter_mm))[:, None]
     common *= (aperture_transfer(fxk, o.aperture_mm) * jitter_transfer(fxk, o.jitter_mm))[None, :]
     common *= spectrum[np.ix_(iy, ix)]

@@ -6,6 +6,9 @@ transform of that PSF: both are computed here by FFT on a sampled pupil, not fro
 The OTF of a circular pupil depends on the frequency's magnitude only and scales with the
 wavelength: at wavelength lambda and f-number F it is O(nu * lambda * F), where O is computed
 once, in units of the cut-off frequency 1/(lambda F).
+
+A lens given by its MTF table (``lens_mtf``) has no pupil here: its OTF is the table's
+(:func:`table_transfer`).
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ import math
 import numpy as np
 
 __all__ = ["PUPIL_RADIUS_SAMPLES", "ABERRATIONS", "pupil", "otf_profile", "diffraction_transfer",
-           "cutoff_cyc_per_mm"]
+           "cutoff_cyc_per_mm", "table_transfer", "table_cutoff_cyc_per_mm"]
 
 #: Samples, the pupil's radius on its grid. The OTF is the pupil's autocorrelation, sampled at
 #: lags of 1/(2 R) of the cut-off: at R = 480 the sampled disc's autocorrelation is within
@@ -107,3 +110,20 @@ def diffraction_transfer(frequency_cyc_per_mm, f_number: float, wavelengths_nm,
 def cutoff_cyc_per_mm(f_number: float, shortest_wavelength_nm: float) -> float:
     """cycles/mm, the frequency above which the lens passes nothing: 1/(lambda F)."""
     return 1.0 / (shortest_wavelength_nm * 1e-6 * f_number) if f_number > 0 else math.inf
+
+
+def table_transfer(frequency_cyc_per_mm, table) -> np.ndarray:
+    """A lens's OTF from its MTF table (an :class:`epc_fast.mtf_table.MtfTable`, cycles/mm):
+    radially symmetric and real, the table's monotone interpolant at the frequency's magnitude
+    up to the table's end (:func:`table_cutoff_cyc_per_mm`), 0 beyond. A table is an MTF, the
+    OTF's magnitude: taking it as the OTF assumes no phase (a radially symmetric pupil with
+    a real, non-negative OTF, as one free of odd aberrations and below its first zero has)."""
+    f = np.asarray(frequency_cyc_per_mm, dtype=float)
+    return np.where(f <= table_cutoff_cyc_per_mm(table), table(f), 0.0)
+
+
+def table_cutoff_cyc_per_mm(table) -> float:
+    """cycles/mm, the frequency above which a lens of MTF table ``table`` passes nothing: the
+    table's first frequency with MTF 0, or its last frequency."""
+    zero = np.flatnonzero(table.values == 0.0)
+    return float(table.frequencies[zero[0]]) if zero.size else table.last_frequency

@@ -18,7 +18,10 @@ The format, section by section (every value in the unit of the parameter it sets
                                  #   | "normal" (mean, std) | "lognormal" (median, sigma)
                                  #   | "empirical" (samples = [...] or file = "one value a line")
                                  #   any distribution takes truncate = [low, high]
-    [evaluate]                   # f50_rtol, t_mpe_solver, t_mpe_rtol
+    [evaluate]                   # f50_rtol, t_mpe_solver, t_mpe_rtol, spectrum,
+                                 #   lens_mtf = [[frequencies_cyc_per_mm], [mtf]] or a list
+                                 #   of such tables, which lens = {choice = [0, 1, ...]}
+                                 #   picks per point (the reference backend only, for now)
     [reductions.NAME]            # kind = "summary" | "histogram" | "quantiles"
                                  #   | "fraction_below" | "top_k", their arguments, and
                                  #   by = "design" | [part, ...] where a part is a name or
@@ -54,6 +57,7 @@ from ..runner import DEFAULT_CHUNK_POINTS
 from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
                      boolean, check_size, choice, file_name, integer, number, number_list, short,
                      string, table_of, take, wrapped)
+from ...mtf_table import lens_tables_of
 from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
 from ..readout import READOUT_KEYS
@@ -248,8 +252,9 @@ def _custom_design(entry, index: int) -> dict:
         else:
             design[key] = number(where, key, value)
     label = f"[{where}]" + (f" {design['name']!r}" if "name" in design else "")
-    for key, value in design.items():
-        problem = domain_problem(key, value) if key in POINT_PARAMETERS else None
+    for key, value in design.items():  # (lens: by the Space, which knows the tables)
+        problem = (domain_problem(key, value) if key in POINT_PARAMETERS and key != "lens"
+                   else None)
         if problem:
             raise ConfigError(f"scan config {label}: {key} = {problem}")
     if "modes" in design:
@@ -336,13 +341,16 @@ def _parameter(name: str, value, base: Path):
 
 def _evaluate_options(table) -> dict:
     table = take(table_of("evaluate", table), "evaluate",
-                 optional=tuple(EVALUATE_CHOICES) + EVALUATE_TOLERANCES + ("spectrum",))
+                 optional=tuple(EVALUATE_CHOICES) + EVALUATE_TOLERANCES + ("spectrum",
+                                                                          "lens_mtf"))
     options = {}
     for key, value in table.items():
         if key in EVALUATE_CHOICES:
             options[key] = choice("evaluate", key, value, EVALUATE_CHOICES[key])
         elif key in EVALUATE_TOLERANCES:
             options[key] = number("evaluate", key, value, 0.0, 1.0, high_open=True)
+        elif key == "lens_mtf":
+            options[key] = _lens_tables(value)
         else:
             if not (isinstance(value, list) and len(value) == 2):
                 raise ConfigError(f"scan config [evaluate]: spectrum = {short(value)}: expected "
@@ -350,6 +358,18 @@ def _evaluate_options(table) -> dict:
             options[key] = (number_list("evaluate", "spectrum", value[0], low=0.0),
                             number_list("evaluate", "spectrum", value[1], low=0.0))
     return options
+
+
+def _lens_tables(value) -> tuple:
+    """``[evaluate] lens_mtf``: one table [[frequencies_cyc_per_mm, ...], [mtf, ...]] or a list
+    of them (``lens`` picks one per point), each checked (epc_fast.mtf_table)."""
+    if not isinstance(value, list) or not value:
+        raise ConfigError(f"scan config [evaluate]: lens_mtf = {short(value)}: expected "
+                          "[[frequencies_cyc_per_mm, ...], [mtf, ...]] or a list of them")
+    try:
+        return lens_tables_of(value)
+    except ValueError as error:
+        raise ConfigError(f"scan config [evaluate]: {error}") from None
 
 
 def _scan_table(scan) -> dict:

@@ -1,0 +1,115 @@
+"""evaluate's lens_mtf= and lens=: the tables checked with one line naming the argument, the
+lens index's domain set by the number of tables (INVALID per point, or a ValueError naming it),
+lens_mtf refused with a wavefront error and, for now, by the core; the default call the same
+bits with lens=0 given or not, on both backends, and the core's share_lens and lens elasticity
+(0 and NaN: it has no lens term yet).
+"""
+
+import re
+
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast import Status
+
+DESIGN = dict(illuminance_lux=np.array([10.0, 300.0, 5000.0]), pixel_pitch_um=1.4, f_number=2.4,
+              focal_length_mm=4.0, pixel_count=8e6, read_noise_e=2.0)
+TABLE = (np.array([0.0, 50.0, 100.0, 200.0, 400.0]), np.array([1.0, 0.8, 0.55, 0.2, 0.0]))
+
+
+@pytest.mark.parametrize("table, message", [
+    ((np.array([0.0]), np.array([1.0])), "lens_mtf has 1 point(s); a table needs at least 2"),
+    ((np.array([0.0, 100.0, 50.0]), np.array([1.0, 0.5, 0.4])),
+     "lens_mtf's frequencies must increase strictly: 100.0 at index 1 is followed by 50.0"),
+    ((np.array([0.0, 50.0, 50.0]), np.array([1.0, 0.5, 0.4])),
+     "lens_mtf's frequencies must increase strictly: 50.0 at index 1 is followed by 50.0"),
+    ((np.array([0.0, 50.0, 100.0]), np.array([1.0, 0.4, 0.5])),
+     "lens_mtf rises from 0.4 to 0.5 between frequencies 50.0 and 100.0"),
+    ((np.array([0.0, np.nan]), np.array([1.0, 0.5])),
+     "lens_mtf holds a NaN or infinite value at index 1"),
+    ((np.array([0.0, 50.0]), np.array([1.0, np.nan])),
+     "lens_mtf holds a NaN or infinite value at index 1"),
+    ((np.array([10.0, 50.0]), np.array([1.2, 0.5])),
+     "lens_mtf's mtf 1.2 at index 0 is outside [0, 1]"),
+    ((np.array([0.0, 50.0]), np.array([0.9, 0.5])), "lens_mtf's mtf at frequency 0 is 0.9"),
+    ((np.array([-1.0, 50.0]), np.array([1.0, 0.5])), "lens_mtf's first frequency is -1.0"),
+    (3.0, "lens_mtf must be a pair (frequencies_cyc_per_mm, mtf) of 1-D arrays or a list"),
+])
+def test_a_bad_table_is_refused_in_one_line_naming_it(table, message):
+    with pytest.raises(ValueError, match=re.escape(message)) as error:
+        epc_fast.evaluate(**DESIGN, lens_mtf=table, backend="reference")
+    assert "\n" not in str(error.value)
+
+
+def test_a_bad_table_in_a_list_is_named_by_its_index():
+    bad = (np.array([0.0, 50.0]), np.array([1.0, 1.0 + 1e-9]))
+    with pytest.raises(ValueError, match=re.escape("lens_mtf[1]'s mtf 1.000000001 at index 1")):
+        epc_fast.evaluate(**DESIGN, lens_mtf=[TABLE, bad], backend="reference")
+    with pytest.raises(ValueError, match="lens_mtf is an empty list"):
+        epc_fast.evaluate(**DESIGN, lens_mtf=[], backend="reference")
+
+
+def test_a_table_and_a_wavefront_error_are_refused_together():
+    with pytest.raises(ValueError, match="give lens_mtf or wavefront_rms_waves, not both"):
+        epc_fast.evaluate(**DESIGN, lens_mtf=TABLE, wavefront_rms_waves=[0.0, 0.05, 0.0],
+                          backend="reference")
+    # 0, the term off, goes with a table
+    r = epc_fast.evaluate(**DESIGN, lens_mtf=TABLE, wavefront_rms_waves=0.0, backend="reference")
+    assert np.all(r.status == Status.OK)
+
+
+@pytest.mark.parametrize("lens_mtf, bad, backend", [
+    (None, [1.0, -1.0, 0.5, np.nan, np.inf], "reference"),  # without tables only 0 is valid
+    (None, [1.0, -1.0, 0.5, np.nan, np.inf], "core"),
+    ([TABLE, TABLE], [2.0, -1.0, 0.5, np.nan, -np.inf], "reference"),  # two tables: 0 and 1
+])
+def test_a_lens_index_outside_its_tables_is_invalid_or_raises_naming_it(lens_mtf, bad, backend):
+    p = dict(DESIGN, illuminance_lux=300.0, lens_mtf=lens_mtf, backend=backend)
+    r = epc_fast.evaluate(**p, lens=bad)
+    assert np.all(r.status == Status.INVALID) and np.all(np.isnan(r.epc))
+    top = 0 if lens_mtf is None else len(lens_mtf) - 1
+    valid = epc_fast.evaluate(**p, lens=np.arange(top + 1.0))
+    assert np.all(valid.status == Status.OK)
+    for value in bad:
+        message = (f"lens={value!r} at index (1,) is outside its domain [0, {top}] integers")
+        with pytest.raises(ValueError, match=re.escape(message)):
+            epc_fast.evaluate(**p, lens=[0.0, value], invalid="raise")
+
+
+def test_the_core_refuses_lens_tables_until_it_has_them():
+    with pytest.raises(NotImplementedError, match='lens_mtf is computed by the NumPy reference '
+                                                  'only, for now: pass backend="reference"'):
+        epc_fast.evaluate(**DESIGN, lens_mtf=TABLE)
+
+
+@pytest.mark.parametrize("backend", ["reference", "core"])
+def test_lens_0_and_no_lens_give_the_same_bits(backend):
+    names = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
+             "epc", "status", "cause")
+    plain = epc_fast.evaluate(**DESIGN, backend=backend)
+    zero = epc_fast.evaluate(**DESIGN, lens=np.zeros(3), backend=backend)
+    for name in names:
+        assert np.array_equal(getattr(plain, name), getattr(zero, name)), name
+
+
+def test_the_core_gives_share_lens_0_and_a_lens_elasticity_of_nan_as_the_reference():
+    asked = ("epc", "status", "share_lens", "share_aberration", "elasticities")
+    p = dict(DESIGN, illuminance_lux=np.array([10.0, 300.0, 0.0]))  # the last: no light
+    core = epc_fast.evaluate(**p, outputs=asked)
+    ref = epc_fast.evaluate(**p, outputs=asked, backend="reference")
+    for r in (core, ref):
+        assert r.status.tolist() == [Status.OK, Status.OK, Status.UNREACHABLE]
+        assert r.share_lens[:2].tolist() == [0.0, 0.0] and np.isnan(r.share_lens[2])
+        assert np.all(np.isnan(r.elasticities["lens"]))
+    np.testing.assert_allclose(core.elasticities["f_number"], ref.elasticities["f_number"],
+                               rtol=1e-9)
+    # one elasticity row, and out= arrays for every one of them
+    single = epc_fast.evaluate(**p, outputs=("elasticity_lens", "elasticity_f_number"))
+    assert np.all(np.isnan(single.elasticities["lens"]))
+    assert np.array_equal(single.elasticities["f_number"], core.elasticities["f_number"],
+                          equal_nan=True)
+    out = {name: np.full(3, 7.0) for name in ("share_lens",)}
+    given = epc_fast.evaluate(**p, outputs=("share_lens",), out=out)
+    assert given.share_lens is out["share_lens"]
+    assert np.array_equal(out["share_lens"], core.share_lens, equal_nan=True)
