@@ -1,8 +1,7 @@
 """evaluate's lens_mtf= and lens=: the tables checked with one line naming the argument, the
 lens index's domain set by the number of tables (INVALID per point, or a ValueError naming it),
-lens_mtf refused with a wavefront error and, for now, by the core; the default call the same
-bits with lens=0 given or not, on both backends, and the core's share_lens and lens elasticity
-(0 and NaN: it has no lens term yet).
+lens_mtf refused with a wavefront error; the default call the same bits with lens=0 given or
+not, on both backends, and share_lens and the lens elasticity without tables (0 and NaN).
 """
 
 import re
@@ -75,12 +74,6 @@ def test_a_lens_index_outside_its_tables_is_invalid_or_raises_naming_it(lens_mtf
         message = (f"lens={value!r} at index (1,) is outside its domain [0, {top}] integers")
         with pytest.raises(ValueError, match=re.escape(message)):
             epc_fast.evaluate(**p, lens=[0.0, value], invalid="raise")
-
-
-def test_the_core_refuses_lens_tables_until_it_has_them():
-    with pytest.raises(NotImplementedError, match='lens_mtf is computed by the NumPy reference '
-                                                  'only, for now: pass backend="reference"'):
-        epc_fast.evaluate(**DESIGN, lens_mtf=TABLE)
 
 
 @pytest.mark.parametrize("backend", ["reference", "core"])

@@ -30,7 +30,6 @@ import numpy as np
 
 from . import api, params
 from ._validation import as_float_array, choice, column, integer, short, threads_of, tolerance
-from .core_call import for_core
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from .status import Status
 
@@ -111,7 +110,7 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
     if backend == "core":
         from . import _core
 
-        core_columns, domains = for_core(columns, params.domain_table())
+        core_columns, domains = columns, params.domain_table()
         out = _core.lux_for_epc(core_columns, inputs.size_is_pixel_count, domains,
                                 *inputs.spectrum_arrays(), n, targets, lux_lo, lux_hi, rtol,
                                 f50_rtol, threads_of(threads))
@@ -161,8 +160,7 @@ def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE
     if backend == "core":
         from . import _core
 
-        columns_a, domains = for_core(columns_a, params.domain_table())
-        columns_b, _ = for_core(columns_b, params.domain_table())
+        domains = params.domain_table()
         out = _core.crossover_lux(columns_a, columns_b, a.size_is_pixel_count,
                                   b.size_is_pixel_count, domains,
                                   *a.spectrum_arrays(), n, lux_lo, lux_hi, grid_points, rtol,

@@ -199,7 +199,11 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
     }
     if (table != nullptr) {  // L in place of D: ln(L / D), and the optics' slope f L'/L
         const TableValue l = tabulated(*table, f);
-        m.log[share_lens] = std::log(l.value) - std::log(value);
+        // where D(f50) is 0 (a table passing frequencies past the cut-off at the point's
+        // f-number), ln(L/D) is undefined: the lens's share is ln L, diffraction's 0
+        const bool past = value == 0.0;
+        m.log[share_lens] = past ? std::log(l.value) : std::log(l.value) - std::log(value);
+        m.log[share_diffraction] = past ? 0.0 : m.log[share_diffraction];
         m.slope_diffraction = f * l.d1 / l.value;
     }
     if (denoise_sigma_px > 0.0) {  // on the output pitch k p

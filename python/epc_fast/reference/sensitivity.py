@@ -58,7 +58,7 @@ from ..elasticity_outputs import ELASTICITY_PARAMETERS
 from ..outputs import SHARE_NAMES
 from ..status import Status
 from .model import binned_pixels, burst_read_noise_e, mtf_diffraction, scaled_product, sinpi
-from .lens import lens_log_factor
+from .lens import lens_log_factor, mtf_lens
 from .optics import SHANNON_W0, denoise_log_factor, noise_gain_log_slope
 
 __all__ = [
@@ -193,9 +193,16 @@ def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm
     if np.any(np.asarray(denoise_sigma_px) != 0.0):
         denoise = denoise_log_factor(f, denoise_sigma_px, pixel_pitch_um * np.asarray(binning))
     log_lens, optics_slope = zero, slope_numerator / value
+    log_d = log_mtf_diffraction(value, loss)
     if lens_tables is not None:
         log_lens, optics_slope = lens_log_factor(f, lens, lens_tables, value)
-    logs = (log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
+        # where the aberration-free D is 0 at f50 (a table that passes frequencies beyond the
+        # cut-off at the point's f-number: a table of another aperture), ln(L/D) is undefined:
+        # the table's whole ln L is the lens's share and diffraction's is 0
+        past = np.broadcast_to(value, np.shape(log_lens)) == 0.0
+        log_lens = np.where(past, np.log(mtf_lens(f, lens, lens_tables)), log_lens)
+        log_d = np.where(past, 0.0, log_d)
+    logs = (log_d, log_pixel, log_sinc(y_motion),
             -2.0 * np.pi**2 * sigma_f * sigma_f, -2.0 * np.pi**2 * residual_f * residual_f,
             aberration[0], denoise[0], log_lens)
     slopes = (optics_slope, slope_pixel, sinc_log_slope(y_motion), slope_fill,
@@ -221,9 +228,15 @@ def aberration_log_factor(f_cyc_per_mm, f_number, wavelengths_nm, weights, wavef
         slope_numerator = slope_numerator + w * (diffraction_log_slope_numerator(nu) * atf
                                                  + d_i * 8.0 * a * nu * (nu - 0.5))
     aberrated = diffraction_value - deficit
-    log_factor = np.log1p(-deficit / diffraction_value)
-    slope = slope_numerator / aberrated - diffraction_slope_numerator / diffraction_value
-    return log_factor, slope, -2.0 * deficit / aberrated
+    with np.errstate(divide="ignore", invalid="ignore"):
+        log_factor = np.log1p(-deficit / diffraction_value)
+        slope = slope_numerator / aberrated - diffraction_slope_numerator / diffraction_value
+        w_slope = -2.0 * deficit / aberrated
+    # a point without a wavefront error has the factor 1 (its log and slopes 0), even where D
+    # is 0 at f (0/0 otherwise)
+    off = a == 0.0
+    return (np.where(off, 0.0, log_factor), np.where(off, 0.0, slope),
+            np.where(off, 0.0, w_slope))
 
 
 #: The relative distance of sum_i ln MTF_i(f50) from ln c beyond which f50 is a factor's zero to

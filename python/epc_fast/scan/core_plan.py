@@ -14,7 +14,6 @@ import numpy as np
 
 from .. import api, params
 from .._validation import choice, integer, tolerance
-from ..core_call import core_slots
 from ..spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from ..status import Status
 from .best import TopK
@@ -100,16 +99,10 @@ class CorePlan:
         wavelengths = weights = np.empty(0)
         if spectrum is not None:
             wavelengths, weights = spectrum.wavelengths_nm, spectrum.weights
-        slots = core_slots()
-        for j in sorted(set(range(len(sources))) - set(slots)):  # a parameter the core lacks
-            if sources[j] != {"kind": "fixed", "value": _default(params.PARAMETER_NAMES[j])}:
-                raise NotImplementedError(
-                    f"{params.PARAMETER_NAMES[j]} is not scanned by the core yet: leave it at "
-                    f"its default, {_default(params.PARAMETER_NAMES[j]):g}")
-        return {"seed": self.seed, "axes": axes, "params": [sources[j] for j in slots],
+        return {"seed": self.seed, "axes": axes, "params": list(sources),
                 "size_is_pixel_count": self.names[params.PARAMETER_NAMES.index("size")]
                 == "pixel_count",
-                "domains": np.ascontiguousarray(params.domain_table()[list(slots)]),
+                "domains": params.domain_table(),
                 "wavelengths_nm": np.ascontiguousarray(wavelengths, dtype=np.float64),
                 "weights": np.ascontiguousarray(weights, dtype=np.float64)}
 
