@@ -182,9 +182,6 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {', '.join(map(repr, BACKENDS))}; "
                          f"got {backend!r}")
-    if space.evaluate_options.get("lens_mtf") is not None and backend != "reference":
-        raise NotImplementedError('lens_mtf is computed by the NumPy reference only, for now: '
-                                  f'run the scan with backend="reference" (got {backend!r})')
     reductions = default_reductions(space) if reductions is None else dict(reductions)
     plan = tuple(PlanItem(name, r, group_key(space, r.by)) for name, r in reductions.items())
     states = {item.name: item.reduction.start(item.key, points) for item in plan}

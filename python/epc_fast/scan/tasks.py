@@ -131,10 +131,11 @@ def _core_plan(space, plan, seed, points_total) -> tuple:
     if (last is not None and last[0][0] is space and last[0][1] is plan
             and last[0][2:] == (seed, points_total)):
         return last[1]
-    # the fused pass reads every point one way: a design's modes or charge binning are
-    # evaluated as arrays (scan/readout.py)
+    # the fused pass reads every point one way and has no lens tables: a design's modes or
+    # charge binning (scan/readout.py) and a space's lens tables are evaluated as arrays
+    tables = space.evaluate_options.get("lens_mtf") is not None
     fused = tuple(item for item in plan if not _per_point(item, points_total)
-                  and not space.has_readouts)
+                  and not space.has_readouts and not tables)
     arrays = tuple(item for item in plan if item not in fused)
     entry = ((space, plan, seed, points_total), (CorePlan(space, seed, fused), arrays))
     _last_plan[0] = entry
