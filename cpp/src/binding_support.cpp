@@ -98,29 +98,40 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
     return in;
 }
 
+namespace {
+
+// One table from its (knots, values, coefficients) triple, checked.
+MtfTable table_of(const py::handle& item) {
+    const auto triple = py::reinterpret_borrow<py::tuple>(item);
+    if (triple.size() != 3) throw std::invalid_argument("an MTF table is (knots, values, coefficients)");
+    const auto knots = py::cast<double_array>(triple[0]);
+    const auto values = py::cast<double_array>(triple[1]);
+    const auto coefficients = py::cast<double_array>(triple[2]);
+    const py::ssize_t m = knots.size();
+    if (knots.ndim() != 1 || m < 2 || values.size() != m || coefficients.size() != 4 * (m - 1))
+        throw std::invalid_argument("an MTF table needs knots and values of one length >= 2 and "
+                                    "4 coefficients per segment");
+    MtfTable t;
+    t.knots.assign(knots.data(), knots.data() + m);
+    t.coefficients.assign(coefficients.data(), coefficients.data() + 4 * (m - 1));
+    t.last_value = values.data()[m - 1];
+    for (py::ssize_t k = 0; k < m; ++k)
+        if (!(std::isfinite(t.knots[k]) && (k == 0 ? t.knots[k] == 0.0 : t.knots[k] > t.knots[k - 1])))
+            throw std::invalid_argument("an MTF table's knots must rise strictly from 0");
+    finish_table(t);
+    return t;
+}
+
+}  // namespace
+
+void set_demosaic_table(Inputs& in, const py::object& table) {
+    in.demosaic = table.is_none() ? MtfTable{} : table_of(table);
+}
+
 void set_lens_tables(Inputs& in, const py::object& tables) {
     in.lens_tables.clear();
     if (tables.is_none()) return;
-    for (const py::handle item : tables) {
-        const auto triple = py::reinterpret_borrow<py::tuple>(item);
-        if (triple.size() != 3) throw std::invalid_argument("a lens table is (knots, values, coefficients)");
-        const auto knots = py::cast<double_array>(triple[0]);
-        const auto values = py::cast<double_array>(triple[1]);
-        const auto coefficients = py::cast<double_array>(triple[2]);
-        const py::ssize_t m = knots.size();
-        if (knots.ndim() != 1 || m < 2 || values.size() != m || coefficients.size() != 4 * (m - 1))
-            throw std::invalid_argument("a lens table needs knots and values of one length >= 2 and "
-                                        "4 coefficients per segment");
-        MtfTable t;
-        t.knots.assign(knots.data(), knots.data() + m);
-        t.coefficients.assign(coefficients.data(), coefficients.data() + 4 * (m - 1));
-        t.last_value = values.data()[m - 1];
-        for (py::ssize_t k = 0; k < m; ++k)
-            if (!(std::isfinite(t.knots[k]) && (k == 0 ? t.knots[k] == 0.0 : t.knots[k] > t.knots[k - 1])))
-                throw std::invalid_argument("a lens table's knots must rise strictly from 0");
-        finish_table(t);
-        in.lens_tables.push_back(std::move(t));
-    }
+    for (const py::handle item : tables) in.lens_tables.push_back(table_of(item));
     if (in.lens_tables.empty()) throw std::invalid_argument("lens tables: give at least one, or None");
     in.domains[wavefront_rms_waves] = Domain{0.0, 0.0, true, true, false};
 }

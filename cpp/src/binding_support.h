@@ -46,6 +46,10 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
 // error other than 0 is outside its domain (a lens table includes its aberrations).
 void set_lens_tables(Inputs& in, const py::object& tables);
 
+// A colour sensor's demosaicker's table into `in` (Inputs::demosaic): None, or one
+// (knots, values, coefficients) triple as set_lens_tables reads them, in cycles per pixel.
+void set_demosaic_table(Inputs& in, const py::object& table);
+
 // The solvers, tolerances and precision of a call, by their Python names.
 Options options_of(const std::string& f50_solver, double f50_rtol,
                    const std::string& t_mpe_solver, double t_mpe_rtol,

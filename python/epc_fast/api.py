@@ -14,6 +14,7 @@ from .core_call import run_core
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .footprint import check_memory
 from .modes import evaluate_modes
+from .cfa import sensor_colour
 from .mtf_table import lens_tables_of
 from .outputs import (ALL_OUTPUT_DTYPES, DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
                       SHARE_OUTPUTS, Result, out_arrays, result_of, selected_outputs)
@@ -176,6 +177,8 @@ class _Options:
     binning_readout: str = "digital"
     #: the checked lens_mtf tables (a tuple of MtfTable), None without lens_mtf
     lens_tables: tuple | None = None
+    #: a colour sensor's demosaicker's table (epc_fast.cfa), None for the monochrome sensor
+    demosaic_table: object = None
 
     @property
     def lens_count(self) -> int:
@@ -191,7 +194,7 @@ class _Options:
 
 def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
                 outputs, is_pixel_count=False, binning_readout="digital",
-                lens_tables=None) -> _Options:
+                lens_tables=None, demosaic_table=None) -> _Options:
     choice("backend", backend, BACKENDS)
     choice("binning_readout", binning_readout, BINNING_READOUTS)
     choice("invalid", invalid, INVALID_POLICIES)
@@ -200,7 +203,8 @@ def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol
     choice("precision", precision, PRECISIONS)
     return _Options(backend, invalid, f50_solver, tolerance("f50_rtol", f50_rtol),
                     t_mpe_solver, tolerance("t_mpe_rtol", t_mpe_rtol), precision,
-                    selected_outputs(outputs, is_pixel_count), binning_readout, lens_tables)
+                    selected_outputs(outputs, is_pixel_count), binning_readout, lens_tables,
+                    demosaic_table)
 
 
 def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, given) -> dict:
@@ -216,11 +220,12 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
                         binning_readout=options.binning_readout,
                         allocate=[k for k in options.computed if k not in flat and
                                   not (k == elasticity_outputs.ALL and given is not None)],
-                        lens_tables=options.lens_tables, chunk_points=CHUNK_POINTS)
+                        lens_tables=options.lens_tables, demosaic_table=options.demosaic_table,
+                        chunk_points=CHUNK_POINTS)
     if threads is not None:
         threads_of(threads)
     result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed,
-                            options.binning_readout, options.lens_tables)
+                            options.binning_readout, options.lens_tables, options.demosaic_table)
     if given is not None:  # the caller's arrays: every elasticity in one, or one row each
         rows = dict(zip(elasticity_outputs.ROWS, result.get(elasticity_outputs.ALL, ())))
         for name, array in given.items():
@@ -256,7 +261,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0,
              wavelength_nm=550.0, mtf_threshold=0.5, binning=1.0, frames=1.0,
              alignment_error_um=0.0, wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0,
-             lens_mtf=None, binning_readout="digital", spectrum=None, threads=None,
+             lens_mtf=None, cfa="none", demosaic="malvar2004", cfa_transmittance=None,
+             color_noise_gain=None, binning_readout="digital", spectrum=None, threads=None,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
              t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None, modes=None) -> Result:
@@ -318,6 +324,16 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         ``lens`` index. Not with ``wavefront_rms_waves`` (the table has the lens's
         aberrations). A point whose f50 lies past its table's last frequency has status
         BEYOND_TABLE.
+    cfa : {"none", "bayer"}
+        The monochrome sensor, or a Bayer colour filter array (docs/model.md, "The colour
+        filter array"): the rate times ``cfa_transmittance``, every noise variance times
+        ``color_noise_gain`` and the demosaicker's noise gain, the MTF times its luminance MTF.
+    demosaic : {"malvar2004", "bilinear", "menon2007"}
+        The Bayer sensor's demosaicker (:mod:`epc_fast.cfa`).
+    cfa_transmittance : 1, the Bayer cell's mean transmittance against a monochrome pixel, in
+        (0, 1]; default :data:`epc_fast.cfa.DEFAULT_CFA_TRANSMITTANCE` with ``cfa="bayer"``.
+    color_noise_gain : 1, the colour correction's noise variance gain to luminance, > 0;
+        default :data:`epc_fast.cfa.DEFAULT_COLOR_NOISE_GAIN` with ``cfa="bayer"``.
     binning_readout : {"digital", "charge"}
         How a binned pixel is read, for the whole call: k^2 reads summed digitally (read noise
         variance k^2 sigma_r^2, the default), or the k x k pixels' charge summed before one
@@ -403,6 +419,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         aspect, snr_at, field_angle_deg, focal_length_mm)
     if electrons_per_lux_s_m2 is None:
         electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
+    colour = sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain)
     values = {
         "illuminance_lux": illuminance_lux, "pixel_pitch_um": pixel_pitch_um,
         "f_number": f_number, "focal_length_mm": focal_length_mm, "size": sensor.value,
@@ -414,13 +431,15 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
         "binning": binning, "frames": frames, "alignment_error_um": alignment_error_um,
         "wavefront_rms_waves": wavefront_rms_waves, "denoise_sigma_px": denoise_sigma_px,
-        "lens": lens,
+        "lens": lens, "cfa_transmittance": colour.transmittance,
+        "color_noise_gain": colour.noise_gain,
     }
     names, arrays, shape = _broadcast_inputs(values, sensor.name)
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
     options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                          precision, outputs, sensor.is_pixel_count, binning_readout, tables)
+                          precision, outputs, sensor.is_pixel_count, binning_readout, tables,
+                          colour.demosaic_table)
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
     if options.backend == "core":  # the threads first: their stacks take memory too
@@ -432,7 +451,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
-                   binning_readout="digital", lens_tables=None):
+                   binning_readout="digital", lens_tables=None, demosaic_table=None):
     from . import reference  # the NumPy reference, loaded only by calls that ask for it
     from .reference import sensitivity
 
@@ -447,13 +466,15 @@ def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
         wavelengths, weights = spec.wavelengths_nm, spec.weights
     charge = binning_readout == "charge"
     result = reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid,
-                                       charge_binning=charge, lens_tables=lens_tables)
+                                       charge_binning=charge, lens_tables=lens_tables,
+                                       demosaic_table=demosaic_table)
     shares = any(name in computed for name in SHARE_OUTPUTS)
     rows = elasticity_outputs.rows_in(computed)
     if shares or rows:
         result.update(sensitivity.sensitivity_points(
             p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
-            elasticities=bool(rows), charge_binning=charge, lens_tables=lens_tables))
+            elasticities=bool(rows), charge_binning=charge, lens_tables=lens_tables,
+            demosaic_table=demosaic_table))
     if rows and elasticity_outputs.ALL not in computed:  # the rows asked for, one output each
         every = dict(zip(elasticity_outputs.ROWS, result.pop(elasticity_outputs.ALL)))
         result.update({row: every[row] for row in rows})

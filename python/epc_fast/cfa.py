@@ -14,6 +14,7 @@ and tools/demosaic_mtf.py (g_d and the table); nothing here imports colour-scien
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +25,7 @@ from .mtf_table import MtfTable, mtf_table
 __all__ = ["CFAS", "DEMOSAICS", "DEFAULT_CFA_TRANSMITTANCE", "DEFAULT_COLOR_NOISE_GAIN",
            "DEFAULT_CHANNEL_TRANSMITTANCES", "DEFAULT_LUMINANCE_WEIGHTS", "DEMOSAIC_NOISE_GAIN",
            "DEMOSAIC_MTF_PATH", "check_cfa", "check_demosaic", "color_noise_gain",
-           "demosaic_mtf_table"]
+           "demosaic_mtf_table", "SensorColour", "sensor_colour"]
 
 #: The colour filter arrays: none (the monochrome sensor) and Bayer's RGGB cell.
 CFAS = ("none", "bayer")
@@ -120,3 +121,40 @@ def demosaic_mtf_table(algorithm) -> MtfTable:
     columns = _table_columns()
     name = check_demosaic(algorithm)
     return mtf_table(f"demosaic_mtf[{name!r}]", (columns["f_cyc_per_px"], columns[name]))
+
+
+@dataclass(frozen=True)
+class SensorColour:
+    """A call's colour sensor as the model takes it: the ``cfa_transmittance`` t and
+    ``color_noise_gain`` columns (the latter g_c g_d, the colour correction's gain times the
+    demosaicker's) and the demosaicker's table (None for the monochrome sensor)."""
+
+    transmittance: object
+    noise_gain: object
+    demosaic_table: MtfTable | None
+
+
+def sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorColour:
+    """evaluate's ``cfa``, ``demosaic``, ``cfa_transmittance`` and ``color_noise_gain`` as
+    :class:`SensorColour`. ``cfa="none"``: t = g = 1 and no table; a transmittance or gain
+    given other than 1 is a ValueError naming it (they are a colour sensor's). ``"bayer"``:
+    t and g_c as given (per point) or the defaults, times the demosaicker's g_d, and its
+    table."""
+    check_cfa(cfa)
+    check_demosaic(demosaic)
+    if cfa == "none":
+        for name, value in (("cfa_transmittance", cfa_transmittance),
+                            ("color_noise_gain", color_noise_gain)):
+            if value is not None and np.any(np.asarray(value, dtype=np.float64) != 1.0):
+                raise ValueError(f"{name}={short(value)} is a colour sensor's: give "
+                                 'cfa="bayer" with it (the monochrome sensor has 1)')
+        return SensorColour(1.0, 1.0, None)
+    t = DEFAULT_CFA_TRANSMITTANCE if cfa_transmittance is None else cfa_transmittance
+    g_c = DEFAULT_COLOR_NOISE_GAIN if color_noise_gain is None else color_noise_gain
+    g_d = DEMOSAIC_NOISE_GAIN[demosaic]
+    try:
+        gain = np.asarray(g_c, dtype=np.float64) * g_d
+    except (TypeError, ValueError):
+        raise TypeError(f"color_noise_gain must be a number or an array of numbers, got "
+                        f"{short(g_c)}") from None
+    return SensorColour(t, gain if gain.ndim else float(gain), demosaic_mtf_table(demosaic))

@@ -25,10 +25,12 @@ def core_tables(lens_tables) -> list | None:
 
 def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
              t_mpe_rtol, threads, out=None, precision="float64", allocate=None,
-             binning_readout="digital", lens_tables=None, chunk_points=1 << 18):
+             binning_readout="digital", lens_tables=None, demosaic_table=None,
+             chunk_points=1 << 18):
     """The core's flat outputs for the model parameters ``arrays`` (PARAMETERS' order) over
     the broadcast ``shape``: ``out``'s arrays (name -> flat array) written and those named in
-    ``allocate`` new. ``lens_tables``: the checked ``lens_mtf`` (a list of MtfTable), or None.
+    ``allocate`` new. ``lens_tables``: the checked ``lens_mtf`` (a list of MtfTable), or None;
+    ``demosaic_table``: a colour sensor's demosaicker's MtfTable, or None.
     The core checks for Ctrl-C between chunks of ``chunk_points`` points (it releases the GIL
     inside)."""
     from . import _core
@@ -51,4 +53,6 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
                           np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
                           f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, chunk_points,
                           out, allocate, binning_readout=binning_readout,
-                          lens_tables=core_tables(lens_tables))
+                          lens_tables=core_tables(lens_tables),
+                          demosaic_table=None if demosaic_table is None
+                          else core_tables((demosaic_table,))[0])

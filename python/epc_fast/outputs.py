@@ -37,11 +37,12 @@ class Result:
     status : :class:`Status` codes (uint8 array).
     cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
     share_diffraction, share_pixel, share_motion, share_jitter, share_alignment,
-    share_aberration, share_denoise, share_lens : 1, each MTF factor's share ln MTF_i(f50) /
-        ln MTF_sys(f50) of the loss at f50 (the denominator is ln c at the root); the eight sum
-        to 1. The binned pixel (``binning``) is the pixel's share; a burst's alignment residual,
-        the wavefront error's ATF, denoising's filter and a lens table's L(f50) / D(f50) (the
-        lens against aberration-free diffraction) have their own (0 without them). NaN
+    share_aberration, share_denoise, share_lens, share_demosaic : 1, each MTF factor's share
+        ln MTF_i(f50) / ln MTF_sys(f50) of the loss at f50 (the denominator is ln c at the
+        root); the nine sum to 1. The binned pixel (``binning``) is the pixel's share; a burst's
+        alignment residual, the wavefront error's ATF, denoising's filter, a lens table's
+        L(f50) / D(f50) (the lens against aberration-free diffraction) and a Bayer sensor's
+        demosaicker have their own (0 without them). NaN
         where the status is not OK, except where the blur is unbounded: motion's is 1, the
         others 0. Computed only when ``outputs=`` names them.
     elasticities : dict of parameter name to 1, the elasticity d ln EPC / d ln theta of every
@@ -72,6 +73,7 @@ class Result:
     share_aberration: np.ndarray | float | None = None
     share_denoise: np.ndarray | float | None = None
     share_lens: np.ndarray | float | None = None
+    share_demosaic: np.ndarray | float | None = None
     elasticities: dict | None = None
     mode: np.ndarray | int | None = None
 
@@ -87,7 +89,7 @@ class Result:
 
 #: The MTF factors whose shares of the loss at f50 evaluate gives, in the core's order.
 SHARE_NAMES = ("diffraction", "pixel", "motion", "jitter", "alignment", "aberration", "denoise",
-               "lens")
+               "lens", "demosaic")
 #: The shares of the loss at f50, one output each (``outputs=`` names them; docs/limits.md).
 SHARE_OUTPUTS = tuple(f"share_{name}" for name in SHARE_NAMES)
 #: The outputs computed only when ``outputs=`` names them.

@@ -171,6 +171,12 @@ PARAMETERS: tuple[Param, ...] = ParameterTable((
     _p("lens", 0.0, 0, 0, True, True,
        "1: index of the point's table in lens_mtf, a whole number (0 without lens_mtf)",
        integer=True),
+    # a colour sensor's (cfa="bayer"): 1 for the monochrome sensor (docs/model.md, "The colour
+    # filter array")
+    _p("cfa_transmittance", 1.0, 0, 1, False, True,
+       "1: the colour filter array's mean transmittance, relative to a monochrome pixel"),
+    _p("color_noise_gain", 1.0, 0, BIG, False, False,
+       "1: the noise variance gain of colour correction and demosaicking to luminance"),
 ))
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)

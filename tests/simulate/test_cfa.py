@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
+import epc_fast
 from epc_fast import cfa, presets, simulate
 from epc_fast.reference.model import mtf_system
 from epc_fast.simulate import camera
@@ -69,13 +70,21 @@ def test_a_bayer_flat_patch_collects_t_of_the_monochrome_electrons(demosaic, tra
     chart = simulate.flat(24)
     mono = simulate.capture(chart, illuminance_lux=1000.0, **design)
     c = simulate.capture(chart, illuminance_lux=1000.0, cfa="bayer", demosaic=demosaic,
-                         cfa_transmittance=transmittance, **design)
+                         cfa_transmittance=transmittance, exposure_s=mono.exposure_s, **design)
     t = cfa.DEFAULT_CFA_TRANSMITTANCE if transmittance is None else transmittance
     # White balance makes the flat mosaic flat, every demosaicker keeps a flat image flat and
     # the luminance weights sum to 1: exact to rounding (the defaults' t to 4 decimals).
     np.testing.assert_allclose(c.expected_e, t * mono.expected_e, rtol=2e-4 if
                                transmittance is None else 1e-12)
-    assert c.exposure_s == mono.exposure_s
+    # without a given exposure, the model's for this colour sensor: its rate t r and noise
+    # gain g_c g_d (g_c of its channels and weights), longer than the monochrome sensor's
+    own = simulate.capture(chart, illuminance_lux=1000.0, cfa="bayer", demosaic=demosaic,
+                           cfa_transmittance=transmittance, **design)
+    model = epc_fast.evaluate(1000.0, **design, cfa="bayer", demosaic=demosaic,
+                              cfa_transmittance=own.bayer.transmittance,
+                              color_noise_gain=cfa.color_noise_gain(own.bayer.channels,
+                                                                    own.bayer.weights))
+    assert own.exposure_s == model.t_mpe_s > mono.exposure_s
 
 
 @functools.lru_cache(maxsize=None)

@@ -77,18 +77,21 @@ struct alignas(64) Block {
     // filter's 1 / (2 sigma^2), 1 / Z and reach R, and the largest R (`denoise_taps`); the
     // filter's x = min(f p, 1/2) and its transfer with two derivatives, per lane
     T atf_depth[block_size];
-    T denoise_pitch_mm[block_size], denoise_scale[block_size], denoise_inverse_norm[block_size];
+    T output_pitch_mm[block_size], denoise_scale[block_size], denoise_inverse_norm[block_size];
     T denoise_reach[block_size];
     T denoise_x[block_size], denoise_value[block_size], denoise_d1[block_size], denoise_d2[block_size];
     bool aberration = false, denoise = false;
     // the call's lens tables (Inputs::lens_tables; null: none): every lane's optics MTF is its
     // table's, the lane's index in x[lens]
     const std::vector<MtfTable>* lens_tables = nullptr;
+    // a colour sensor's demosaicker's table (Inputs::demosaic; null: none), at f p_out
+    const MtfTable* demosaic_table = nullptr;
     int denoise_taps = 0;
     // denoising's noise gain in the exposure stage: sqrt(g) per lane, where `gained`
     double root_gain[block_size];
     bool gained = false;
-    double memo_sigma = nan, memo_root_gain = 1.0;  // a broadcast sigma's sqrt(g)
+    // a broadcast sigma's and colour noise gain's sqrt(g)
+    double memo_sigma = nan, memo_color_gain = nan, memo_root_gain = 1.0;
     T lo[block_size], hi[block_size], at[block_size];
     // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
     // over the factors, so that M''/M = R^2 + S

@@ -123,6 +123,7 @@ void exposure_lane(const Options& opt, Block<T>& b, std::size_t i) {
                               x[field_angle_deg][i], x[f_number][i],
                               x[electrons_per_lux_s_m2][i], x[fill_factor][i],
                               x[pixel_pitch_um][i]);
+    b.rate[i] *= x[cfa_transmittance][i];  // a colour sensor's filters (1: monochrome)
     if (b.sensor) b.rate[i] *= b.sensor_store[sensor_pixels][i];  // the output pixel's rate
     SnrTarget target(x[snr_db][i]);
     if (b.gained) target.root_s *= b.root_gain[i];  // denoising: the target s g
@@ -148,22 +149,28 @@ void exposure_lane(const Options& opt, Block<T>& b, std::size_t i) {
 // filter, so the target sqrt(s) becomes sqrt(s g). A block whose sigma is a broadcast 0 has no
 // gain (`gained` false: sqrt(s) as it is, bit for bit); else b.root_gain holds sqrt(g) per lane,
 // a broadcast sigma's computed once for the call.
+//
+// A colour sensor's colour correction and demosaicking (color_noise_gain, g_c) multiply every
+// variance too: g = g_denoise(sigma) g_c.
 template <class T>
 void noise_gain_roots(Block<T>& b) {
-    b.gained = !b.broadcast_is(denoise_sigma_px, 0.0);
+    b.gained = !(b.broadcast_is(denoise_sigma_px, 0.0) && b.broadcast_is(color_noise_gain, 1.0));
     if (!b.gained) return;
     double* __restrict root_gain = b.root_gain;
-    if (b.is_broadcast(denoise_sigma_px)) {
-        const double sigma = b.broadcast[denoise_sigma_px];
-        if (!(sigma == b.memo_sigma)) {
-            b.memo_root_gain = std::sqrt(noise_gain_denoise(sigma));
+    if (b.is_broadcast(denoise_sigma_px) && b.is_broadcast(color_noise_gain)) {
+        const double sigma = b.broadcast[denoise_sigma_px], color = b.broadcast[color_noise_gain];
+        if (!(sigma == b.memo_sigma && color == b.memo_color_gain)) {
+            b.memo_root_gain = std::sqrt(noise_gain_denoise(sigma) * color);
             b.memo_sigma = sigma;
+            b.memo_color_gain = color;
         }
         for (std::size_t i = 0; i < block_size; ++i) root_gain[i] = b.memo_root_gain;
         return;
     }
     const double* __restrict sigma = b.x[denoise_sigma_px];
-    for (std::size_t i = 0; i < block_size; ++i) root_gain[i] = std::sqrt(noise_gain_denoise(sigma[i]));
+    const double* __restrict color = b.x[color_noise_gain];
+    for (std::size_t i = 0; i < block_size; ++i)
+        root_gain[i] = std::sqrt(noise_gain_denoise(sigma[i]) * color[i]);
 }
 
 // Binning and bursts (exposure.h): a block whose binning or frames are not a broadcast 1 reads
@@ -397,6 +404,15 @@ void exposure_of_inputs(const Options& opt, Block<T>& b) {
         const bool ok = moderate(least) & moderate(most);
         rate[i] = rv;
         rate_normal[i] = ok;
+    }
+    if (!b.broadcast_is(cfa_transmittance, 1.0)) {  // a colour sensor's filters: t r
+        const double* __restrict t = x[cfa_transmittance];
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const double rt = rate[i] * t[i];
+            rate[i] = rt;
+            rate_normal[i] &= moderate(rt);
+        }
     }
     if (b.sensor) {  // the output pixel's rate, k^2 r (exposure_lane's too)
         const double* __restrict pixels = b.sensor_store[sensor_pixels];

@@ -97,6 +97,7 @@ void system_mtf(const Spectrum& spectrum, Block<T>& b) {
     }
     if (b.aberration && !Poly) apply_aberration(b);
     if (b.denoise) apply_denoise(b);
+    if (b.demosaic_table != nullptr) apply_demosaic(b);
 }
 
 // Monochromatic diffraction at b.at: its value into b.mtf, its log-slopes' numerators, in f,
@@ -229,6 +230,7 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
     }
     if (b.aberration && !Poly) apply_aberration_slopes<Curvature>(b);
     if (b.denoise) apply_denoise_slopes<Curvature>(b);
+    if (b.demosaic_table != nullptr) apply_demosaic_slopes<Curvature>(b);
 }
 
 // Bisection: lo, hi hold the bracket; the answer is written to b.f50.

@@ -411,7 +411,8 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     // bracket ends at the table's end, the start scales by where it falls to 1/2, no start is
     // certified, and float32 leaves its lanes to float64
     const bool any_lens = b.lens_tables != nullptr;
-    const bool any_optics = any_aberration | any_denoise | any_lens;
+    // (a demosaicker's table: no certified start either, as the starts do not know it)
+    const bool any_optics = any_aberration | any_denoise | any_lens | (b.demosaic_table != nullptr);
     const double* __restrict wavefront = x[wavefront_rms_waves];
     const double* __restrict sigma_px = x[denoise_sigma_px];
     const double* __restrict wavelength = x[wavelength_nm];
@@ -565,7 +566,8 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                 const bool s_i = (solve[i] != 0) & (row_code[i] == Row + 1) &
                                  certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
                                  (f0 >= 0x1p-100) & (f0 <= 0x1p100) &
-                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !any_lens));
+                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !any_lens &
+                                                (b.demosaic_table == nullptr)));
                 settled[i] = s_i ? 1 : settled[i];
                 narrow_start[i] = s_i ? f0 : narrow_start[i];  // read back where settled
                 at[i] = s_i ? static_cast<T>(f0) : at[i];
@@ -736,7 +738,8 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                 const bool s_i = (solve[i] != 0) & row_certified &
                                  certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
                                  (at[i] != T(0.5) * hi[i]) &
-                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !any_lens));
+                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !any_lens &
+                                                (b.demosaic_table == nullptr)));
                 settled[i] = s_i;
                 n_settled += s_i;
             }
@@ -744,6 +747,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         }
     }
     b.n_settled = n_settled;
+    if (b.demosaic_table != nullptr) demosaic_lanes(b);
     if (any_aberration | any_denoise) optics_lanes(b, any_aberration, any_denoise, ln_inv_c);
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)

@@ -210,6 +210,7 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
         // wavelength (the shares' aberration-free D keeps the call's spectrum: sensitivity.h)
         static const Spectrum no_spectrum{};
         b.lens_tables = in.lens_tables.empty() ? nullptr : &in.lens_tables;
+        b.demosaic_table = in.demosaic.knots.empty() ? nullptr : &in.demosaic;
         f50(b.lens_tables != nullptr ? no_spectrum : in.spectrum, opt, b);
     } else {  // f50 not asked for: not solved (status and the rest need only the exposure)
         for (std::size_t i = 0; i < block_size; ++i) b.wide[i] = 0;

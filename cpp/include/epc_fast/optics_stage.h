@@ -53,7 +53,7 @@ void optics_lanes(Block<T>& b, bool any_aberration, bool any_denoise, const T* l
         b.denoise_reach[i] = static_cast<T>(reach);
         b.denoise_scale[i] = static_cast<T>(on ? denoise_exponent_scale(sigma[i]) : 0.0);
         b.denoise_inverse_norm[i] = static_cast<T>(on ? 1.0 / (same ? same_norm : denoise_norm(sigma[i])) : 1.0);
-        b.denoise_pitch_mm[i] = static_cast<T>(pitch[i] * k[i] * um_to_mm);
+        b.output_pitch_mm[i] = static_cast<T>(pitch[i] * k[i] * um_to_mm);
         taps = reach > taps ? static_cast<int>(reach) : taps;
     }
     b.denoise_taps = taps;
@@ -63,7 +63,7 @@ void optics_lanes(Block<T>& b, bool any_aberration, bool any_denoise, const T* l
     const T* __restrict hi = b.hi;
     for (std::size_t i = 0; i < block_size; ++i) {
         if (!(b.denoise_reach[i] > T(0))) continue;  // (a denoised lane is never settled)
-        const double width_mm = sigma[i] * static_cast<double>(b.denoise_pitch_mm[i]);
+        const double width_mm = sigma[i] * static_cast<double>(b.output_pitch_mm[i]);
         const double f_c = std::sqrt(static_cast<double>(ln_inverse_c[i]) / (2.0 * pi * pi)) / width_mm;
         const double f0 = static_cast<double>(at[i]);
         const double joined = 1.0 / std::sqrt(1.0 / (f0 * f0) + 1.0 / (f_c * f_c));
@@ -79,7 +79,7 @@ template <bool Slopes, class T>
 void denoise_factor(Block<T>& b) {
     constexpr std::size_t n = block_size;
     const T* __restrict at = b.at;
-    const T* __restrict pitch = b.denoise_pitch_mm;
+    const T* __restrict pitch = b.output_pitch_mm;
     const T* __restrict scale = b.denoise_scale;
     const T* __restrict inverse_norm = b.denoise_inverse_norm;
     const T* __restrict reach = b.denoise_reach;
@@ -213,6 +213,40 @@ void lens_factor(Block<T>& b) {
         b.slope[i] = static_cast<T>(v.d1);
         if (Curvature) b.curvature[i] = static_cast<T>(v.d2);
         b.denominator[i] = static_cast<T>(v.value);
+    }
+}
+
+// A colour sensor's demosaicker (Inputs::demosaic): every lane's output pitch p_out = k p in
+// mm, in T, for its M_dem(f p_out).
+template <class T>
+void demosaic_lanes(Block<T>& b) {
+    const double* __restrict pitch = b.x[pixel_pitch_um];
+    const double* __restrict k = b.x[binning];
+    for (std::size_t i = 0; i < block_size; ++i)
+        b.output_pitch_mm[i] = static_cast<T>(pitch[i] * k[i] * um_to_mm);
+}
+
+// b.mtf times M_dem(f p_out) at b.at (values only).
+template <class T>
+void apply_demosaic(Block<T>& b) {
+    const MtfTable& table = *b.demosaic_table;
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const double x = static_cast<double>(b.at[i]) * static_cast<double>(b.output_pitch_mm[i]);
+        b.mtf[i] *= static_cast<T>(tabulated(table, x).value);
+    }
+}
+
+// The same with its log-slopes in f: R + p M'/M, S + p^2 (M''/M - (M'/M)^2), M' in x = f p.
+template <bool Curvature, class T>
+void apply_demosaic_slopes(Block<T>& b) {
+    const MtfTable& table = *b.demosaic_table;
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const double p = static_cast<double>(b.output_pitch_mm[i]);
+        const TableValue v = tabulated(table, static_cast<double>(b.at[i]) * p);
+        const double r = p * v.d1 / v.value;
+        b.mtf[i] *= static_cast<T>(v.value);
+        b.slope[i] += static_cast<T>(r);
+        if (Curvature) b.curvature[i] += static_cast<T>(p * p * v.d2 / v.value - r * r);
     }
 }
 

@@ -41,6 +41,8 @@ enum Param : int {
     wavefront_rms_waves,  // rms wavefront error in waves (0: off)
     denoise_sigma_px,     // Gaussian denoising sigma in output pixels (0: off)
     lens,                 // index of the point's lens table (Inputs::lens_tables), a whole number
+    cfa_transmittance,    // a colour sensor's mean filter transmittance (1: monochrome)
+    color_noise_gain,     // its colour correction's and demosaicker's noise gain (1: monochrome)
     n_params
 };
 
@@ -50,7 +52,8 @@ constexpr const char* param_names[n_params] = {
     "lens_transmittance", "field_angle_deg", "fill_factor", "electrons_per_lux_s_m2",
     "read_noise_e", "dark_current_e_per_s", "prnu", "full_well_e", "snr_db", "shake_deg_per_s",
     "stabilization", "jitter_um", "wavelength_nm", "mtf_threshold", "binning", "frames",
-    "alignment_error_um", "wavefront_rms_waves", "denoise_sigma_px", "lens"};
+    "alignment_error_um", "wavefront_rms_waves", "denoise_sigma_px", "lens", "cfa_transmittance",
+    "color_noise_gain"};
 
 // A value lies in [lo, hi] with each end open or closed, and is a whole number where `integer`
 // (binning, frames); NaN lies in no domain.
@@ -114,6 +117,9 @@ struct Inputs {
     // the call's lens tables (mtf_table.h): point i's optics MTF is table lens[i]'s, in place
     // of diffraction; none: diffraction (and the spectrum) for every point
     std::vector<MtfTable> lens_tables;
+    // a colour sensor's demosaicker's luminance MTF in cycles per output pixel (mtf_table.h),
+    // at f p_out for every point; no knots: none
+    MtfTable demosaic;
 };
 
 enum class TMpeSolver { closed_form, brent };
@@ -142,7 +148,7 @@ struct Options {
 // aberration-free diffraction (ln(L / D)).
 enum Share : int {
     share_diffraction, share_pixel, share_motion, share_jitter, share_alignment,
-    share_aberration, share_denoise, share_lens, n_shares
+    share_aberration, share_denoise, share_lens, share_demosaic, n_shares
 };
 
 // The outputs of what limits a design and how sensitive it is (sensitivity.h); null: not

@@ -116,6 +116,7 @@ struct MtfLogFactors {
     // the wavefront error's f d ln(D_W/D) / df and W d ln D_W / dW, denoising's f d ln H / df
     // and sigma d ln H / d sigma (0 where the term is off)
     double slope_aberration = 0.0, wave_aberration = 0.0, slope_denoise = 0.0, sigma_denoise = 0.0;
+    double slope_demosaic = 0.0;  // f d ln M_dem / df (also p d ln M_dem / dp)
 };
 
 // (ln(D_W / D), f d ln(D_W / D) / df, W d ln D_W / dW) at f: the wavefront error's factor of the
@@ -161,7 +162,8 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
                                               double pitch_mm = 0.0, double binning = 1.0,
                                               double residual_mm = 0.0, double depth = 0.0,
                                               double denoise_sigma_px = 0.0,
-                                              const MtfTable* table = nullptr) {
+                                              const MtfTable* table = nullptr,
+                                              const MtfTable* demosaic = nullptr) {
     double loss = 0.0, slope_numerator = 0.0, value = 0.0;
     if (spectrum.polychromatic()) {
         for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
@@ -188,7 +190,7 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
     }
     MtfLogFactors m{{log_mtf_diffraction(value, loss), log_pixel, log_sinc(y_motion),
                      -2.0 * pi * pi * sigma_f * sigma_f, -2.0 * pi * pi * residual_f * residual_f,
-                     0.0, 0.0, 0.0},
+                     0.0, 0.0, 0.0, 0.0},
                     slope_numerator / value, slope_pixel, sinc_log_slope(y_motion), slope_fill};
     if (depth > 0.0) {
         const AberrationLogFactor a = aberration_log_factor(f, f_number, wavelength_nm, spectrum,
@@ -205,6 +207,12 @@ EPC_FAST_INLINE MtfLogFactors mtf_log_factors(double f, double f_number, double 
         m.log[share_lens] = past ? std::log(l.value) : std::log(l.value) - std::log(value);
         m.log[share_diffraction] = past ? 0.0 : m.log[share_diffraction];
         m.slope_diffraction = f * l.d1 / l.value;
+    }
+    if (demosaic != nullptr) {  // a colour sensor's demosaicker at x = f p_out
+        const double x = f * (pitch_mm * binning);
+        const TableValue v = tabulated(*demosaic, x);
+        m.log[share_demosaic] = std::log(v.value);
+        m.slope_demosaic = x * v.d1 / v.value;
     }
     if (denoise_sigma_px > 0.0) {  // on the output pitch k p
         const DenoiseLogFactor h = denoise_log_factor(f, denoise_sigma_px, pitch_mm * binning);
@@ -269,6 +277,7 @@ EPC_FAST_INLINE double area_slope(double slope_diffraction, double slope_pixel, 
 struct OpticsSlopes {
     double aberration = 0.0, wave = 0.0, denoise = 0.0, sigma = 0.0, gain = 0.0;
 };
+// (denoise: the filter's and a demosaicker's f-slopes together, both functions of f p_out)
 
 // d ln MTF / d ln theta of every parameter at one lane, from the factors' log-slopes there (m),
 // T_MPE's log-slopes (t), mu = d ln M / d ln alpha, the field angle's rate log-slope and the
@@ -312,6 +321,9 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[binning][i] = nan;
     out[frames][i] = nan;
     out[lens][i] = nan;
+    // a colour sensor's transmittance is the rate's; its noise gain the target's s g
+    out[cfa_transmittance][i] = via_rate * two_over_a;
+    out[color_noise_gain][i] = mu * t.target * two_over_a;
     out[alignment_error_um][i] = 2.0 * log_alignment * two_over_a;
     // 0 where the term is off (W d ln ATF / dW and sigma d ln H / d sigma vanish with W and
     // sigma); denoising moves the MTF and, through the target s g, T_MPE and the blur
@@ -384,10 +396,11 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
         pixel_aperture_mm(x[pixel_pitch_um][i], x[fill_factor][i]), b.blur[i],
         x[jitter_um][i] * um_to_mm, in.spectrum, x[pixel_pitch_um][i] * um_to_mm, k,
         residual_um * um_to_mm, aberration_depth(x[wavefront_rms_waves][i]), x[denoise_sigma_px][i],
-        b.lens_tables != nullptr ? &lens_table(b, i) : nullptr);
+        b.lens_tables != nullptr ? &lens_table(b, i) : nullptr, b.demosaic_table);
     const double ln_c = std::log(x[mtf_threshold][i]);
     double total = (((m.log[0] + m.log[1]) + (m.log[2] + m.log[3])) + m.log[4]) +
-                   ((m.log[share_aberration] + m.log[share_denoise]) + m.log[share_lens]);
+                   ((m.log[share_aberration] + m.log[share_denoise]) +
+                    (m.log[share_lens] + m.log[share_demosaic]));
     const bool pinned = !(std::fabs(total - ln_c) <= 1e-3 * std::fabs(ln_c));
     if (pinned) {
         auto least = [&m](int s) {  // a NaN log (a sinc past its zero) counts as -inf
@@ -412,7 +425,8 @@ void sensitivity_lane(const Inputs& in, const Block<T>& b, std::size_t i, double
     double log_jitter = m.log[share_jitter], log_alignment = m.log[share_alignment];
     double threshold_term = 1.0;
     const double sigma_px = x[denoise_sigma_px][i];
-    OpticsSlopes optics{m.slope_aberration, m.wave_aberration, m.slope_denoise, m.sigma_denoise,
+    OpticsSlopes optics{m.slope_aberration, m.wave_aberration, m.slope_denoise + m.slope_demosaic,
+                        m.sigma_denoise,
                         sigma_px > 0.0 ? noise_gain_log_slope(sigma_px) : 0.0};
     int infinite = -1;
     for (int s = 0; s < 3; ++s)
@@ -527,6 +541,7 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
         logs[share_aberration][i] = 0.0;  // neither term is in the core yet
         logs[share_denoise][i] = 0.0;
         logs[share_lens][i] = 0.0;
+        logs[share_demosaic][i] = 0.0;
         if (Elasticities) {
             slope_numerator[i] *= d_sincs * inverse;  // now nu dD/dnu / D
             slope_pixel[i] = pixel.slope;
@@ -610,7 +625,7 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     // a block with binning, bursts, the wavefront error or denoising: every OK lane by
     // sensitivity_lane, which has their terms
     if (b.sensor || !b.broadcast_is(wavefront_rms_waves, 0.0) || !b.broadcast_is(denoise_sigma_px, 0.0) ||
-        b.lens_tables != nullptr)
+        b.lens_tables != nullptr || b.demosaic_table != nullptr)
         for (std::size_t i = 0; i < n; ++i) slow[i] |= ok[i];
     // the slow lanes, eight flags at a time (most blocks have none)
     for (std::size_t first = 0; first < n; first += 8) {

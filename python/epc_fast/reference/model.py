@@ -14,6 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..status import Cause, Status
+from .cfa import mtf_demosaic
 from .lens import lens_bracket, mtf_lens
 from .mtf import (gaussian_blur_mm, mtf_alignment, mtf_binned_pixel, mtf_diffraction, mtf_jitter,
                   mtf_motion, mtf_pixel, sinc, sinpi)
@@ -232,13 +233,16 @@ def blur_length_mm(focal_length_mm, shake_deg_per_s, stabilization, t_mpe_s):
 
 def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
                wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0,
-               wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0, lens_tables=None):
+               wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0, lens_tables=None,
+               demosaic_table=None):
     """1: D(f) P_k(f) M(f) J(f) A(f) H(f), with D = sum_i w_i D_i(f) ATF_i(f) over a spectrum
     (weights sum to 1; ATF_i Shannon's at wavelength i, :func:`mtf_aberration`), P_k the binned
     pixel (:func:`mtf_binned_pixel`; P at k = 1) and H the denoising filter
     (:func:`mtf_denoise`, on the output pitch k p). With ``lens_tables`` (a list of
     :class:`epc_fast.mtf_table.MtfTable`), D is L(f), the table each point's ``lens`` index
-    picks (:func:`epc_fast.reference.lens.mtf_lens`): the spectrum plays no part then.
+    picks (:func:`epc_fast.reference.lens.mtf_lens`): the spectrum plays no part then. With
+    ``demosaic_table``, times a Bayer demosaicker's M_dem(f p_out)
+    (:func:`epc_fast.reference.cfa.mtf_demosaic`).
 
     ``wavelengths_nm`` and ``weights`` are 1-D and shared by every point; a monochromatic
     scene passes one wavelength with weight 1. ATF and H enter only calls that have them.
@@ -257,6 +261,8 @@ def mtf_system(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jit
          * mtf_alignment(f, alignment_error_um, frames))
     if np.any(np.asarray(denoise_sigma_px) != 0.0):
         m = m * mtf_denoise(f, denoise_sigma_px, pixel_pitch_um * np.asarray(binning))
+    if demosaic_table is not None:  # a Bayer sensor's demosaicker, at f p_out
+        m = m * mtf_demosaic(f, pixel_pitch_um * np.asarray(binning), demosaic_table)
     return m
 
 
@@ -323,7 +329,7 @@ def effective_pixel_count(sensor_area_mm2, f50_cyc_per_mm):
 
 
 def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
-                    charge_binning=False, lens_tables=None):
+                    charge_binning=False, lens_tables=None, demosaic_table=None):
     """Evaluate the model on 1-D arrays of equal length.
 
     Parameters
@@ -341,6 +347,10 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
     lens_tables : list of MtfTable, optional
         The call's lens tables (``lens_mtf``): point i's optics MTF is table ``p["lens"][i]``'s
         in place of diffraction (:func:`mtf_system`).
+    demosaic_table : MtfTable, optional
+        A Bayer sensor's demosaicker's luminance MTF in cycles per output pixel
+        (:func:`epc_fast.cfa.demosaic_mtf_table`); the CFA's transmittance and noise gain are
+        the columns ``cfa_transmittance`` and ``color_noise_gain``.
 
     Returns
     -------
@@ -355,20 +365,21 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
          for name, v in p.items()}
     with np.errstate(all="ignore"):  # extreme but valid points may overflow; statuses tell
         return _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid,
-                               charge_binning, lens_tables)
+                               charge_binning, lens_tables, demosaic_table)
 
 
 def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, charge_binning,
-                    lens_tables=None):
+                    lens_tables=None, demosaic_table=None):
     k, n = q["binning"], q["frames"]
     pixels = binned_pixels(k)
     rate = electron_rate(q["illuminance_lux"], q["reflectance"], q["lens_transmittance"],
                          q["field_angle_deg"], q["f_number"], q["electrons_per_lux_s_m2"],
-                         q["fill_factor"], q["pixel_pitch_um"]) * pixels
+                         q["fill_factor"], q["pixel_pitch_um"]) * q["cfa_transmittance"] * pixels
     read_noise = burst_read_noise_e(q["read_noise_e"], k, n, charge_binning)
     prnu = q["prnu"] / k
-    # denoising: every noise variance times g, met after the filter
-    gain = noise_gain_denoise(q["denoise_sigma_px"])
+    # denoising, and a colour sensor's colour correction and demosaicking: every noise
+    # variance times g, met after them
+    gain = noise_gain_denoise(q["denoise_sigma_px"]) * q["color_noise_gain"]
     electrons = signal_electrons(rate, q["snr_db"], read_noise,
                                  q["dark_current_e_per_s"] * pixels, prnu, gain)
     t_mpe = electrons / rate
@@ -404,7 +415,7 @@ def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, char
         return mtf_system(f, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_solved,
                           q["jitter_um"], wavelengths, spectral_weights, k,
                           q["alignment_error_um"], n, q["wavefront_rms_waves"],
-                          q["denoise_sigma_px"], q["lens"], lens_tables)
+                          q["denoise_sigma_px"], q["lens"], lens_tables, demosaic_table)
 
     # a lens table that ends above the threshold holds no f50: a status, not a number
     beyond = solve & (mtf(f_hi) > q["mtf_threshold"]) if lens_tables is not None else False

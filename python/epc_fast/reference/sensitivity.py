@@ -58,6 +58,7 @@ from ..elasticity_outputs import ELASTICITY_PARAMETERS
 from ..outputs import SHARE_NAMES
 from ..status import Status
 from .model import binned_pixels, burst_read_noise_e, mtf_diffraction, scaled_product, sinpi
+from .cfa import demosaic_log_factor
 from .lens import lens_log_factor, mtf_lens
 from .optics import SHANNON_W0, denoise_log_factor, noise_gain_log_slope
 
@@ -152,10 +153,11 @@ def log_mtf_diffraction(value, loss):
 
 def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm, jitter_um,
                     wavelengths_nm, weights, binning=1.0, alignment_error_um=0.0, frames=1.0,
-                    wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0, lens_tables=None):
-    """1: (ln D, ln P_k, ln M, ln J, ln A, ln(D_W/D), ln H, ln(L/D)) at f, and (nu dD/dnu / D,
-    f dlnP_k/df, y_m dlnM/dy_m, y_a dln sinc(y_a)/dy_a, f dln(D_W/D)/df, W dlnD_W/dW,
-    f dlnH/df, sigma dlnH/dsigma): each factor's log and the log-slopes the elasticities need,
+                    wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0, lens_tables=None,
+                    demosaic_table=None):
+    """1: (ln D, ln P_k, ln M, ln J, ln A, ln(D_W/D), ln H, ln(L/D), ln M_dem) at f, and
+    (nu dD/dnu / D, f dlnP_k/df, y_m dlnM/dy_m, y_a dln sinc(y_a)/dy_a, f dln(D_W/D)/df,
+    W dlnD_W/dW, f dlnH/df, sigma dlnH/dsigma, f dlnM_dem/df): each factor's log and the log-slopes the elasticities need,
     the fourth the pixel's own aperture y_a = sqrt(a) p f alone (what the fill factor moves; the
     binned pixel adds its array factor sinc(k p f) / sinc(p f) to P), the last four the
     wavefront error's (:func:`aberration_log_factor`) and denoising's
@@ -163,7 +165,8 @@ def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm
     ``wavelengths_nm`` and ``weights`` as in :func:`epc_fast.reference.mtf_system` (a
     per-point wavelength array with weight 1 for a monochromatic scene). With ``lens_tables``,
     ln(L/D) is the lens table's (:func:`epc_fast.reference.lens.lens_log_factor`) and the first
-    slope is the optics' own, f L'/L (0 for ln(L/D) without tables)."""
+    slope is the optics' own, f L'/L (0 for ln(L/D) without tables). With ``demosaic_table``,
+    the demosaicker's (:func:`epc_fast.reference.cfa.demosaic_log_factor`), 0 without."""
     f = np.asarray(f_cyc_per_mm, dtype=np.float64)
     loss = 0.0
     slope_numerator = 0.0
@@ -202,11 +205,14 @@ def mtf_log_factors(f_cyc_per_mm, f_number, pixel_pitch_um, fill_factor, blur_mm
         past = np.broadcast_to(value, np.shape(log_lens)) == 0.0
         log_lens = np.where(past, np.log(mtf_lens(f, lens, lens_tables)), log_lens)
         log_d = np.where(past, 0.0, log_d)
+    demosaic = (zero, zero)
+    if demosaic_table is not None:
+        demosaic = demosaic_log_factor(f, pixel_pitch_um * np.asarray(binning), demosaic_table)
     logs = (log_d, log_pixel, log_sinc(y_motion),
             -2.0 * np.pi**2 * sigma_f * sigma_f, -2.0 * np.pi**2 * residual_f * residual_f,
-            aberration[0], denoise[0], log_lens)
+            aberration[0], denoise[0], log_lens, demosaic[0])
     slopes = (optics_slope, slope_pixel, sinc_log_slope(y_motion), slope_fill,
-              aberration[1], aberration[2], denoise[1], denoise[2])
+              aberration[1], aberration[2], denoise[1], denoise[2], demosaic[1])
     return logs, slopes
 
 
@@ -301,7 +307,8 @@ def field_angle_rate_log_slope(field_angle_deg):
 
 
 def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s, blur_mm,
-                     wavelengths_nm, weights, charge_binning=False, lens_tables=None):
+                     wavelengths_nm, weights, charge_binning=False, lens_tables=None,
+                     demosaic_table=None):
     """1: d ln EPC / d ln theta for every parameter of :data:`ELASTICITY_PARAMETERS`, a dict
     of arrays, at points whose status is OK (f50 > 0); ``q`` holds the parameters by name (as
     :func:`epc_fast.reference.evaluate_points` does), the rest are the model's outputs there.
@@ -310,9 +317,9 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     logs, slopes = mtf_log_factors(
         f50_cyc_per_mm, q["f_number"], q["pixel_pitch_um"], q["fill_factor"], blur_mm,
         q["jitter_um"], wavelengths_nm, weights, binning, q["alignment_error_um"], frames,
-        q["wavefront_rms_waves"], q["denoise_sigma_px"], q["lens"], lens_tables)
+        q["wavefront_rms_waves"], q["denoise_sigma_px"], q["lens"], lens_tables, demosaic_table)
     g_fill = slopes[3]
-    g_ab, w_ab, g_h, s_h = slopes[4:]
+    g_ab, w_ab, g_h, s_h, g_dm = slopes[4:]
     slopes = slopes[:3]
     # where f50 is a factor's zero to within rounding (a tiny threshold), its log-slope is not
     # finite: every slope over |that slope|, the limit as it goes to -infinity (f50 follows the
@@ -329,8 +336,9 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     log_a = np.where(limit, 0.0, logs[4])
     threshold_term = np.where(limit, 0.0, 1.0)
     # the wavefront error's and denoising's slopes are finite: 0 in that limit
-    g_ab, w_ab, g_h, s_h = (np.where(limit, 0.0, g) for g in (g_ab, w_ab, g_h, s_h))
-    a_slope = -(g_d + g_ab + g_p + g_h + g_m + 2.0 * (log_j + log_a))  # -d ln MTF / d ln f > 0
+    g_ab, w_ab, g_h, s_h, g_dm = (np.where(limit, 0.0, g) for g in (g_ab, w_ab, g_h, s_h, g_dm))
+    # -d ln MTF / d ln f > 0
+    a_slope = -(g_d + g_ab + g_p + g_h + g_dm + g_m + 2.0 * (log_j + log_a))
     # T_MPE of the output pixel of the burst (its inputs each proportional to the parameter's)
     t = t_mpe_log_slopes(electrons, t_mpe_s,
                          burst_read_noise_e(q["read_noise_e"], binning, frames, charge_binning),
@@ -346,7 +354,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     optics = zero if lens_tables is not None else g_d + g_ab
     mtf_slopes = {
         "illuminance_lux": via_rate,
-        "pixel_pitch_um": g_p + g_h + 2.0 * via_rate,
+        "pixel_pitch_um": g_p + g_h + g_dm + 2.0 * via_rate,
         "f_number": optics - 2.0 * via_rate,
         "focal_length_mm": g_m,
         "size": zero,
@@ -373,6 +381,9 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         "wavefront_rms_waves": w_ab,
         "denoise_sigma_px": s_h + mu * t["target"] * noise_gain_log_slope(q["denoise_sigma_px"]),
         "lens": zero + np.nan,
+        # the CFA's transmittance is the rate's, its noise gain the target's s g
+        "cfa_transmittance": via_rate,
+        "color_noise_gain": mu * t["target"],
     }
     area = {"size": 1.0, "pixel_pitch_um": 2.0 if size_is_pixel_count else 0.0}
     return {name: area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope
@@ -380,7 +391,8 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
 
 
 def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, shares=True,
-                       elasticities=True, charge_binning=False, lens_tables=None):
+                       elasticities=True, charge_binning=False, lens_tables=None,
+                       demosaic_table=None):
     """The shares and elasticities of 1-D points, from their :func:`epc_fast.reference.
     evaluate_points` ``result``: one ``share_<name>`` per
     :data:`epc_fast.outputs.SHARE_NAMES` entry (each 1-D) and ``elasticities`` (one row per
@@ -388,7 +400,7 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
 
     Only OK points have them; elsewhere they are NaN, but where the blur is unbounded (f50 = 0,
     EPC = 0: motion takes all of the loss) motion's share is 1 and the others 0. ``p``,
-    ``wavelengths_nm``, ``weights``, ``charge_binning`` and ``lens_tables`` as
+    ``wavelengths_nm``, ``weights``, ``charge_binning``, ``lens_tables`` and ``demosaic_table`` as
     :func:`epc_fast.reference.evaluate_points` takes them.
     """
     status = result["status"]
@@ -412,7 +424,7 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
                                       wavelengths, spectral_weights, stand["binning"],
                                       stand["alignment_error_um"], stand["frames"],
                                       stand["wavefront_rms_waves"], stand["denoise_sigma_px"],
-                                      stand["lens"], lens_tables)
+                                      stand["lens"], lens_tables, demosaic_table)
             unbounded = status == Status.BLUR_UNBOUNDED
             for name, share in zip(SHARE_NAMES, mtf_loss_shares(logs, stand["mtf_threshold"])):
                 limit = 1.0 if name == "motion" else 0.0
@@ -420,7 +432,7 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
         if elasticities:
             values = epc_elasticities(stand, size_is_pixel_count, f50, electrons, t_mpe, blur,
                                       wavelengths, spectral_weights, charge_binning,
-                                      lens_tables)
+                                      lens_tables, demosaic_table)
             out["elasticities"] = np.stack(
                 [np.where(ok, np.broadcast_to(values[name], ok.shape), np.nan)
                  for name in ELASTICITY_PARAMETERS])

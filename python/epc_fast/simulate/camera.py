@@ -23,6 +23,7 @@ import numpy as np
 from .. import api, spectra
 from .._validation import short, threads_of
 from ..cfa import check_cfa, check_demosaic
+from ..cfa import color_noise_gain as cfa_color_noise_gain
 from ..status import Status
 from .charts import Chart
 from .focal_plane import Optics, frame_irradiance
@@ -191,8 +192,8 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
         transmittance, read out as any pixel; the mosaic is demosaicked by ``demosaic`` (the
         colour-demosaicing package's algorithm), white-balanced, and its luminance taken by
         the colour correction's luminance row (:mod:`~epc_fast.simulate.bayer`); denoising
-        then filters the luminance. The exposure stays ``evaluate``'s unless the model takes
-        ``cfa`` itself.
+        then filters the luminance. The exposure is ``evaluate``'s for that sensor: its
+        ``cfa_transmittance`` and the ``color_noise_gain`` of its channels and weights.
     demosaic : {"bilinear", "malvar2004", "menon2007"}
     cfa_transmittance : 1, optional, the cell's mean transmittance t relative to the
         monochrome sensor; the channels are scaled by one factor to it. Default: the
@@ -230,6 +231,10 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     cfa_terms = {k: v for k, v in (("cfa", cfa), ("demosaic", demosaic),
                                    ("cfa_transmittance", cfa_transmittance))
                  if k in _EVALUATE and v is not None}
+    if sensor_cfa is not None:  # the model's exposure for this sensor's channels and weights
+        cfa_terms["cfa_transmittance"] = sensor_cfa.transmittance
+        cfa_terms["color_noise_gain"] = cfa_color_noise_gain(sensor_cfa.channels,
+                                                             sensor_cfa.weights)
     d = _design(design)
     d.pop("invalid", None)
     d.update(cfa_terms)

@@ -1,0 +1,102 @@
+"""The colour filter array in the NumPy reference (epc_fast.reference.cfa and its place in the
+model): the rate times t, every noise variance times g_c g_d, the MTF times the demosaicker's
+table at f p_out; closed forms, the arguments' checks and the elasticities."""
+
+import math
+
+import numpy as np
+import pytest
+
+import epc_fast
+from epc_fast import Status, cfa
+from epc_fast.reference.cfa import mtf_demosaic
+
+DESIGN = dict(pixel_pitch_um=1.4, f_number=2.0, focal_length_mm=4.0, sensor_width_mm=4.57,
+              sensor_height_mm=3.43, read_noise_e=2.0)
+LUX = np.array([10.0, 100.0, 1000.0, 10000.0])
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+def test_menons_flat_table_is_the_monochrome_model_with_less_light_and_a_higher_target(backend):
+    # Menon's luminance MTF is 1 on grey edges (its table is flat): a Bayer sensor with it is
+    # the monochrome model whose rate is t r and whose target is s g_c g_d, i.e. the lens
+    # transmittance times t and snr_db + 10 log10(g_c g_d), up to rounding (1e-12)
+    bayer = epc_fast.evaluate(LUX, **DESIGN, cfa="bayer", demosaic="menon2007", backend=backend)
+    gain = cfa.DEFAULT_COLOR_NOISE_GAIN * cfa.DEMOSAIC_NOISE_GAIN["menon2007"]
+    mono = epc_fast.evaluate(LUX, **DESIGN, lens_transmittance=cfa.DEFAULT_CFA_TRANSMITTANCE,
+                             snr_db=30.0 + 10.0 * math.log10(gain), backend=backend)
+    assert np.all(cfa.demosaic_mtf_table("menon2007").values == 1.0)
+    np.testing.assert_allclose(bayer.epc, mono.epc, rtol=1e-12)
+    np.testing.assert_allclose(bayer.t_mpe_s, mono.t_mpe_s, rtol=1e-13)
+
+
+def test_the_demosaicker_multiplies_the_mtf_by_its_table_at_f_times_the_output_pitch():
+    table = cfa.demosaic_mtf_table("bilinear")
+    f = np.linspace(0.0, 700.0, 71)
+    for pitch_um, k in ((1.4, 1), (0.7, 2)):  # the same output pitch: the same factor
+        np.testing.assert_array_equal(mtf_demosaic(f, pitch_um * k, table), table(f * 1.4e-3))
+
+
+def test_a_bayer_sensor_needs_1_over_t_more_light_for_the_same_shot_noise_exposure():
+    # shot noise alone (no read noise) with Menon's table and g = 1 by color_noise_gain = 1/g_d:
+    # t r T = the monochrome r T', so T = T' / t
+    shot = {**DESIGN, "read_noise_e": 0.0, "shake_deg_per_s": 0.0}
+    mono = epc_fast.evaluate(LUX, **shot, backend="reference")
+    bayer = epc_fast.evaluate(LUX, **shot, cfa="bayer", demosaic="menon2007", cfa_transmittance=0.5,
+                              color_noise_gain=1.0 / cfa.DEMOSAIC_NOISE_GAIN["menon2007"],
+                              backend="reference")
+    np.testing.assert_allclose(bayer.t_mpe_s, mono.t_mpe_s / 0.5, rtol=1e-14)
+    np.testing.assert_allclose(bayer.electron_rate_e_per_s, 0.5 * mono.electron_rate_e_per_s,
+                               rtol=1e-15)
+
+
+@pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
+def test_a_colour_sensor_falls_below_the_monochrome_upper_bound(demosaic):
+    mono = epc_fast.evaluate(LUX, **DESIGN)
+    bayer = epc_fast.evaluate(LUX, **DESIGN, cfa="bayer", demosaic=demosaic)
+    assert np.all(bayer.epc < mono.epc)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(cfa_transmittance=0.5), "cfa_transmittance=0.5 is a colour sensor's"),
+    (dict(color_noise_gain=[1.0, 2.0]), "color_noise_gain=[1.0, 2.0] is a colour sensor's"),
+    (dict(cfa="rggb"), "cfa: one of 'none', 'bayer', got 'rggb'"),
+    (dict(cfa="bayer", demosaic="ahd"), "demosaic: one of 'bilinear', 'malvar2004', 'menon2007'"),
+])
+def test_bad_cfa_arguments_are_refused_naming_them(kwargs, message):
+    with pytest.raises(ValueError, match=message.replace("[", r"\[").replace("]", r"\]")):
+        epc_fast.evaluate(100.0, **DESIGN, **kwargs)
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+def test_values_outside_the_cfa_domains_are_invalid(backend):
+    r = epc_fast.evaluate(100.0, **DESIGN, cfa="bayer", backend=backend,
+                          cfa_transmittance=[0.3, 0.0, 1.5, np.nan, 0.3, 0.3],
+                          color_noise_gain=[1.0, 1.0, 1.0, 1.0, 0.0, -1.0])
+    assert r.status.tolist() == [Status.OK] + [Status.INVALID] * 5
+    with pytest.raises(ValueError, match="cfa_transmittance=1.5"):
+        epc_fast.evaluate(100.0, **DESIGN, cfa="bayer", cfa_transmittance=1.5, invalid="raise",
+                          backend=backend)
+
+
+@pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
+def test_the_cfa_elasticities_are_the_central_differences_of_ln_epc(demosaic):
+    # central differences at h = 1e-5 (truncation ~1e-10, rounding ~1e-11); the table's cubic
+    # is smooth inside its segments, and no f50 here sits on a knot
+    p = dict(DESIGN, illuminance_lux=LUX, cfa="bayer", demosaic=demosaic, backend="reference",
+             cfa_transmittance=0.4, color_noise_gain=0.9)
+    r = epc_fast.evaluate(**p, outputs=("epc", "status", "elasticities", "share_demosaic"))
+    h = 1e-5
+    for name in ("cfa_transmittance", "color_noise_gain", "pixel_pitch_um"):
+        up = epc_fast.evaluate(**{**p, name: p[name] * (1 + h)}).epc
+        down = epc_fast.evaluate(**{**p, name: p[name] * (1 - h)}).epc
+        central = (np.log(up) - np.log(down)) / (2 * h)
+        np.testing.assert_allclose(r.elasticities[name], central, rtol=1e-6, atol=1e-9,
+                                   err_msg=name)
+    # a transmittance is light: its elasticity is the illuminance's
+    np.testing.assert_array_equal(r.elasticities["cfa_transmittance"],
+                                  r.elasticities["illuminance_lux"])
+    if demosaic == "menon2007":  # a flat table loses nothing
+        assert np.all(r.share_demosaic == 0.0)
+    else:
+        assert np.all(r.share_demosaic >= 0.0) and np.any(r.share_demosaic > 0.05)
