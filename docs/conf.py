@@ -34,8 +34,7 @@ extensions = [
 
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 root_doc = "index"
-# "_*.md": a section written beside the page it belongs to, not a page of its own.
-exclude_patterns = ["_build", "_*.md"]
+exclude_patterns = ["_build"]
 
 # Markdown: links between pages as the repository has them (``[the model](model.md)``), and
 # anchors for headings so that ``page.md#a-heading`` resolves.

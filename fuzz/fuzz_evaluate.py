@@ -34,7 +34,7 @@ from helpers.core_override import load_core_override  # noqa: E402
 load_core_override()  # EPC_FAST_CORE_DIR's core, loaded before epc_fast loads its own
 
 import epc_fast  # noqa: E402
-from epc_fast import Status, _core, api, core_call, outputs, params  # noqa: E402
+from epc_fast import Status, _core, api, outputs, params  # noqa: E402
 
 
 def instrument_package(package, skip=()):
@@ -238,12 +238,11 @@ def _core_call(fdp):
                          EDGES[fdp.ConsumeIntInRange(0, len(EDGES) - 1)]
                          for _ in range(min(size, 80))] + [1.0] * max(size - 80, 0))
 
-    # the parameters the core takes (epc_fast.core_call: lens, until it has lens tables)
     count = _core.n_params + (fdp.ConsumeIntInRange(-1, 1) if flaw == 0 else 0)
     columns = [good_column() for _ in range(count)]
     if flaw == 1 and columns:
         columns[fdp.ConsumeIntInRange(0, len(columns) - 1)] = _array(fdp, max(n, 0))
-    domains = params.domain_table()[list(core_call.core_slots())] if flaw != 2 else np.array(
+    domains = params.domain_table() if flaw != 2 else np.array(
         [[fdp.ConsumeFloat() for _ in range(5)] for _ in range(fdp.ConsumeIntInRange(0, 24))])
     k = fdp.ConsumeIntInRange(0, 4)
     wavelengths = np.array([fdp.ConsumeFloat() for _ in range(k)])

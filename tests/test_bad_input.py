@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast import Cause, Result, Status, _core, api, core_call, params
+from epc_fast import Cause, Result, Status, _core, api, params
 
 BACKENDS = ("core", "reference")
 FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
@@ -33,7 +33,8 @@ DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8, focal_le
               read_noise_e=3.0, dark_current_e_per_s=10.0, prnu=0.005, full_well_e=1e5,
               snr_db=30.0, shake_deg_per_s=4.39, stabilization=2.0, jitter_um=0.5,
               wavelength_nm=550.0, mtf_threshold=0.5, binning=2.0, frames=4.0,
-              alignment_error_um=0.5, wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0)
+              alignment_error_um=0.5, wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0,
+              cfa_transmittance=0.6, color_noise_gain=1.2)
 # (the wavefront error, denoising and lens tables are off: the core refuses them until it has them;
 # tests/reference/test_optics.py holds their bad input in the reference)
 TABLE = {p.name: p for p in params.PARAMETERS}
@@ -153,7 +154,8 @@ def test_a_value_that_is_not_a_real_number_raises_type_error_naming_the_argument
 
 
 @pytest.mark.parametrize("keyword", [k for k in KEYWORDS if k != "electrons_per_lux_s_m2"
-                                     and k not in params.SIZE_PARAMETERS])
+                                     and k not in params.SIZE_PARAMETERS
+                                     and k not in params.CFA_PARAMETERS])  # None: a default
 def test_none_where_a_number_is_needed_raises_type_error_naming_the_argument(keyword):
     # (None means "not given" for the two size keywords and "the D50 default" for K.)
     with pytest.raises(TypeError, match=rf"^{keyword} must be a number"):
@@ -327,8 +329,7 @@ def test_a_grid_too_large_for_memory_raises_memory_error_before_allocating(backe
 
 def test_the_core_refuses_an_impossible_point_count_without_crashing():
     # Beneath the API: the binding asked for outputs of 10^12 (7 TiB) or 2^62 points.
-    columns, domains = core_call.for_core([np.zeros(1)] * len(params.PARAMETERS),
-                                          params.domain_table())  # the parameters it takes
+    columns, domains = [np.zeros(1)] * len(params.PARAMETERS), params.domain_table()
     none = np.empty(0)
     for n, error in [(10**12, MemoryError), (2**62, ValueError)]:
         with pytest.raises(error):
@@ -340,8 +341,7 @@ def test_the_core_refuses_an_impossible_point_count_without_crashing():
 def test_the_core_refuses_spectrum_weights_that_do_not_sum_to_one(weights, shown):
     # Beneath the API (epc_fast.Spectrum divides the weights by their sum): the MTF is the
     # weighted sum itself, so weights summing to 2e-300 would put it below any threshold.
-    columns, domains = core_call.for_core([np.zeros(1)] * len(params.PARAMETERS),
-                                          params.domain_table())
+    columns, domains = [np.zeros(1)] * len(params.PARAMETERS), params.domain_table()
     with pytest.raises(ValueError, match=rf"weights must sum to 1 .*got sum {shown}\b"):
         _core.evaluate(columns, False, domains, np.array([500.0, 600.0]),
                        np.array(weights), 1, "halley", 1e-14, "closed_form", 1e-15, "float64",

@@ -9,7 +9,7 @@ import pytest
 from helpers.designs import random_design_points
 
 import epc_fast
-from epc_fast import _core, core_call, elasticity_outputs, params
+from epc_fast import _core, elasticity_outputs, params
 from epc_fast.api import ELASTICITY_PARAMETERS
 
 BASE = dict(pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6, sensor_width_mm=4.57,
@@ -19,11 +19,8 @@ AREA_KEYS = [elasticity_outputs.key(p, False) for p in ELASTICITY_PARAMETERS]
 
 
 def test_the_core_orders_the_parameters_as_python_does():
-    # the core takes PARAMETERS' names in their order; the one it may lack is lens (the last),
-    # whose column epc_fast.core_call leaves out until the core computes lens tables
-    n = len(_core.parameter_names)
-    assert _core.parameter_names == params.PARAMETER_NAMES[:n]
-    assert params.PARAMETER_NAMES[n:] in ((), ("lens",))
+    # the core takes PARAMETERS' names in their order
+    assert _core.parameter_names == params.PARAMETER_NAMES
     assert params.PARAMETER_NAMES == ELASTICITY_PARAMETERS
 
 
@@ -156,9 +153,10 @@ def test_the_core_takes_every_elasticity_in_one_array_or_single_ones_not_both():
                  dark_current_e_per_s=0.0, prnu=0.0, full_well_e=np.inf, snr_db=30.0,
                  shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0, wavelength_nm=550.0,
                  mtf_threshold=0.5, binning=1.0, frames=1.0, alignment_error_um=0.0,
-                 wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0)
+                 wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0,
+                 cfa_transmittance=0.6, color_noise_gain=1.2)
     columns = [np.array([point[name]]) for name in params.PARAMETER_NAMES]
-    columns, domains = core_call.for_core(columns, params.domain_table())  # those it takes
+    domains = params.domain_table()
     names = _core.parameter_names
     none = np.empty(0)
     args = (columns, True, domains, none, none, 3, "halley", 1e-14,

@@ -313,7 +313,7 @@ def test_a_subnormal_input_gives_the_status_and_values_mpmath_gives(options):
     # point's conditioning allows (the products are scaled_products, so a subnormal factor
     # loses no digit of the others).
     designs = [full(**{name: value}) for name, value in SUBNORMAL_CASES]
-    assert len(designs) == 34  # the 17 parameters whose domain reaches 0, two values each
+    assert len(designs) == 36  # the 18 parameters whose domain reaches 0, two values each
     points = points_of(designs)
     r = evaluate_quietly(**points, **options)
     kappa = condition_numbers(points)

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast import _core, _limits, _validation, api, core_call, memory, params
+from epc_fast import _core, _limits, _validation, api, memory, params
 from helpers.designs import random_design_points
 
 MIB = 2**20
@@ -202,8 +202,7 @@ def test_the_default_limit_is_a_sixteenth_of_memory_up_to_1_gib(monkeypatch):
 
 
 def test_the_core_s_allocate_argument_is_checked():
-    columns, domains = core_call.for_core([np.zeros(1)] * len(params.PARAMETERS),
-                                          params.domain_table())  # the parameters it takes
+    columns, domains = [np.zeros(1)] * len(params.PARAMETERS), params.domain_table()
     none = np.empty(0)
     args = (columns, False, domains, none, none, 3, "halley", 1e-14,
             "closed_form", 1e-15, "float64", 1, 1 << 18)

@@ -40,7 +40,9 @@ def test_evaluate_has_the_documented_signature():
 def test_parameter_table_defaults_match_the_signature():
     sig = inspect.signature(epc_fast.evaluate)
     for p in params.PARAMETERS:
-        if p.default is not None:
+        if p.name in params.CFA_PARAMETERS:  # None: 1 (the table's) or the Bayer CFA's
+            assert sig.parameters[p.name].default is None and p.default == 1.0, p.name
+        elif p.default is not None:
             assert sig.parameters[p.name].default == p.default, p.name
 
 

@@ -304,7 +304,7 @@ def test_statuses_give_the_documented_values(backend):
                               Status.INVALID, Status.UNREACHABLE]
     shares = np.stack([getattr(r, name) for name in SHARE_OUTPUTS])
     assert np.all(np.isnan(shares[:, [0, 3, 4]]))
-    assert list(shares[:, 2]) == [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+    assert list(shares[:, 2]) == [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
     assert np.all(np.isfinite(shares[:, 1]))
     for name, values in r.elasticities.items():
         assert np.isnan(values[[0, 2, 3, 4]]).all(), name

@@ -50,8 +50,10 @@ struct InverseResult {
 py::dict lux_for_epc_py(const py::list& columns, bool size_is_pixel_count,
                         const double_array& domains, const double_array& wavelengths_nm,
                         const double_array& weights, py::ssize_t n, const py::object& target_epc,
-                        double lux_lo, double lux_hi, double rtol, double f50_rtol, int threads) {
-    const Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
+                        double lux_lo, double lux_hi, double rtol, double f50_rtol, int threads,
+                        const py::object& demosaic_table) {
+    Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
+    set_demosaic_table(in, demosaic_table);
     const Column target = column_of(target_epc, -1, n);
     const Options opt = options_of("halley", f50_rtol, "closed_form", 0.0);
     const InverseOptions inv = inverse_options_of(lux_lo, lux_hi, rtol, 2);
@@ -68,9 +70,12 @@ py::dict crossover_lux_py(const py::list& columns_a, const py::list& columns_b,
                           const double_array& domains, const double_array& wavelengths_nm,
                           const double_array& weights, py::ssize_t n, double lux_lo,
                           double lux_hi, int grid_points, double rtol, double f50_rtol,
-                          int threads) {
-    const Inputs a = inputs_of(columns_a, size_is_pixel_count_a, domains, wavelengths_nm, weights, n);
-    const Inputs b = inputs_of(columns_b, size_is_pixel_count_b, domains, wavelengths_nm, weights, n);
+                          int threads, const py::object& demosaic_table_a,
+                          const py::object& demosaic_table_b) {
+    Inputs a = inputs_of(columns_a, size_is_pixel_count_a, domains, wavelengths_nm, weights, n);
+    Inputs b = inputs_of(columns_b, size_is_pixel_count_b, domains, wavelengths_nm, weights, n);
+    set_demosaic_table(a, demosaic_table_a);
+    set_demosaic_table(b, demosaic_table_b);
     const Options opt = options_of("halley", f50_rtol, "closed_form", 0.0);
     const InverseOptions inv = inverse_options_of(lux_lo, lux_hi, rtol, grid_points);
     InverseResult result(n);
@@ -87,13 +92,14 @@ void register_inverse(py::module_& m) {
     m.def("lux_for_epc", &lux_for_epc_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("target_epc"), py::arg("lux_lo"), py::arg("lux_hi"), py::arg("rtol"),
-          py::arg("f50_rtol"), py::arg("threads"),
+          py::arg("f50_rtol"), py::arg("threads"), py::arg("demosaic_table") = py::none(),
           "Illuminance at which each design reaches target_epc (Brent on ln L).");
     m.def("crossover_lux", &crossover_lux_py, py::arg("columns_a"), py::arg("columns_b"),
           py::arg("size_is_pixel_count_a"), py::arg("size_is_pixel_count_b"), py::arg("domains"),
           py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"), py::arg("lux_lo"),
           py::arg("lux_hi"), py::arg("grid_points"), py::arg("rtol"), py::arg("f50_rtol"),
-          py::arg("threads"),
+          py::arg("threads"), py::arg("demosaic_table_a") = py::none(),
+          py::arg("demosaic_table_b") = py::none(),
           "Highest illuminance in [lux_lo, lux_hi] where designs a and b have equal EPC.");
 }
 

@@ -325,14 +325,15 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         aberrations). A point whose f50 lies past its table's last frequency has status
         BEYOND_TABLE.
     cfa : {"none", "bayer"}
-        The monochrome sensor, or a Bayer colour filter array (docs/model.md, "The colour
-        filter array"): the rate times ``cfa_transmittance``, every noise variance times
+        The monochrome sensor, or a Bayer colour filter array (docs/model.md,
+        "The colour filter array"): the rate times ``cfa_transmittance``, every noise variance times
         ``color_noise_gain`` and the demosaicker's noise gain, the MTF times its luminance MTF.
     demosaic : {"malvar2004", "bilinear", "menon2007"}
         The Bayer sensor's demosaicker (:mod:`epc_fast.cfa`).
     cfa_transmittance : 1, the Bayer cell's mean transmittance against a monochrome pixel, in
         (0, 1]; default :data:`epc_fast.cfa.DEFAULT_CFA_TRANSMITTANCE` with ``cfa="bayer"``.
-    color_noise_gain : 1, the colour correction's noise variance gain to luminance, > 0;
+    color_noise_gain : 1, the colour correction's noise variance gain to luminance, in
+        [0.01, 100] (times the demosaicker's, at least 0.6);
         default :data:`epc_fast.cfa.DEFAULT_COLOR_NOISE_GAIN` with ``cfa="bayer"``.
     binning_readout : {"digital", "charge"}
         How a binned pixel is read, for the whole call: k^2 reads summed digitally (read noise

@@ -126,8 +126,8 @@ def demosaic_mtf_table(algorithm) -> MtfTable:
 @dataclass(frozen=True)
 class SensorColour:
     """A call's colour sensor as the model takes it: the ``cfa_transmittance`` t and
-    ``color_noise_gain`` columns (the latter g_c g_d, the colour correction's gain times the
-    demosaicker's) and the demosaicker's table (None for the monochrome sensor)."""
+    ``color_noise_gain`` columns (for a Bayer sensor g_c g_d, the colour correction's gain
+    times the demosaicker's) and the demosaicker's table (None for the monochrome sensor)."""
 
     transmittance: object
     noise_gain: object
@@ -136,25 +136,21 @@ class SensorColour:
 
 def sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorColour:
     """evaluate's ``cfa``, ``demosaic``, ``cfa_transmittance`` and ``color_noise_gain`` as
-    :class:`SensorColour`. ``cfa="none"``: t = g = 1 and no table; a transmittance or gain
-    given other than 1 is a ValueError naming it (they are a colour sensor's). ``"bayer"``:
-    t and g_c as given (per point) or the defaults, times the demosaicker's g_d, and its
-    table."""
+    :class:`SensorColour`. The transmittance t and the colour noise gain g_c are model
+    parameters either way (a monochrome sensor behind a filter has a t too); None takes 1 for
+    ``cfa="none"`` and the defaults (:data:`DEFAULT_CFA_TRANSMITTANCE`,
+    :data:`DEFAULT_COLOR_NOISE_GAIN`) for ``"bayer"``, whose demosaicker adds its noise gain
+    g_d to g_c and its table."""
     check_cfa(cfa)
     check_demosaic(demosaic)
-    if cfa == "none":
-        for name, value in (("cfa_transmittance", cfa_transmittance),
-                            ("color_noise_gain", color_noise_gain)):
-            if value is not None and np.any(np.asarray(value, dtype=np.float64) != 1.0):
-                raise ValueError(f"{name}={short(value)} is a colour sensor's: give "
-                                 'cfa="bayer" with it (the monochrome sensor has 1)')
-        return SensorColour(1.0, 1.0, None)
-    t = DEFAULT_CFA_TRANSMITTANCE if cfa_transmittance is None else cfa_transmittance
-    g_c = DEFAULT_COLOR_NOISE_GAIN if color_noise_gain is None else color_noise_gain
-    g_d = DEMOSAIC_NOISE_GAIN[demosaic]
-    try:
-        gain = np.asarray(g_c, dtype=np.float64) * g_d
-    except (TypeError, ValueError):
-        raise TypeError(f"color_noise_gain must be a number or an array of numbers, got "
-                        f"{short(g_c)}") from None
+    bayer = cfa == "bayer"
+    t = (DEFAULT_CFA_TRANSMITTANCE if bayer else 1.0) if cfa_transmittance is None \
+        else cfa_transmittance
+    g_c = (DEFAULT_COLOR_NOISE_GAIN if bayer else 1.0) if color_noise_gain is None \
+        else color_noise_gain
+    if not bayer:
+        return SensorColour(t, g_c, None)
+    from ._validation import as_float_array
+
+    gain = as_float_array("color_noise_gain", g_c) * DEMOSAIC_NOISE_GAIN[demosaic]
     return SensorColour(t, gain if gain.ndim else float(gain), demosaic_mtf_table(demosaic))

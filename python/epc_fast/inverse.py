@@ -30,6 +30,7 @@ import numpy as np
 
 from . import api, params
 from ._validation import as_float_array, choice, column, integer, short, threads_of, tolerance
+from .cfa import sensor_colour
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from .status import Status
 
@@ -113,7 +114,8 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
         core_columns, domains = columns, params.domain_table()
         out = _core.lux_for_epc(core_columns, inputs.size_is_pixel_count, domains,
                                 *inputs.spectrum_arrays(), n, targets, lux_lo, lux_hi, rtol,
-                                f50_rtol, threads_of(threads))
+                                f50_rtol, threads_of(threads),
+                                demosaic_table=inputs.demosaic_argument())
     else:
         _check_threads(threads)
         out = _reference_lux_for_epc(_Model(inputs, columns), np.broadcast_to(targets, (n,)),
@@ -164,7 +166,9 @@ def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE
         out = _core.crossover_lux(columns_a, columns_b, a.size_is_pixel_count,
                                   b.size_is_pixel_count, domains,
                                   *a.spectrum_arrays(), n, lux_lo, lux_hi, grid_points, rtol,
-                                  f50_rtol, threads_of(threads))
+                                  f50_rtol, threads_of(threads),
+                                  demosaic_table_a=a.demosaic_argument(),
+                                  demosaic_table_b=b.demosaic_argument())
     else:
         _check_threads(threads)
         out = _reference_crossover_lux(_Model(a, columns_a), _Model(b, columns_b), n, lux_lo,
@@ -215,8 +219,8 @@ def _broadcast_shape(shapes: dict) -> tuple:
 _EVALUATE = inspect.signature(api.evaluate)
 _SENSOR_KEYWORDS = ("pixel_count", "sensor_area_mm2", "sensor_width_mm", "sensor_height_mm",
                     "sensor_diagonal_mm", "aspect", "snr_at")
-_DESIGN_KEYWORDS = frozenset(params.PARAMETER_NAMES[1:]) - {"size"} | {
-    *_SENSOR_KEYWORDS, "spectrum", "binning_readout"}
+_DESIGN_KEYWORDS = frozenset(params.PARAMETER_NAMES[1:]) - {"size", "lens"} | {
+    *_SENSOR_KEYWORDS, "spectrum", "binning_readout", "cfa", "demosaic"}
 
 
 @dataclass(frozen=True)
@@ -230,6 +234,14 @@ class ModelInputs:
     shape: tuple
     size_is_pixel_count: bool
     spectrum: object
+    #: a colour sensor's demosaicker's table (epc_fast.cfa), None for the monochrome sensor
+    demosaic_table: object = None
+
+    def demosaic_argument(self):
+        """The demosaicker's table as the core takes it (epc_fast.core_call.core_tables)."""
+        from .core_call import core_tables
+
+        return None if self.demosaic_table is None else core_tables((self.demosaic_table,))[0]
 
     def columns(self, shape) -> list:
         """Contiguous 1-D columns of size 1 or prod(shape), as the core takes them."""
@@ -260,6 +272,10 @@ def model_inputs(design: dict) -> ModelInputs:
     Raises TypeError for an unknown or missing keyword, or for a sensor size given in no way
     or in more than one; ValueError where the shapes do not broadcast.
     """
+    if "lens_mtf" in design:
+        raise TypeError("lens_mtf: the inverse solvers take no lens tables (a design's EPC is "
+                        "undefined where its f50 passes its table's end, status BEYOND_TABLE); "
+                        "evaluate the design over a grid of illuminances instead")
     if "modes" in design:
         raise TypeError("modes: the inverse solvers take one readout a design; solve for "
                         "each mode (a design with that mode's binning, frames, ...) and take "
@@ -272,6 +288,10 @@ def model_inputs(design: dict) -> ModelInputs:
     bound.apply_defaults()
     values = dict(bound.arguments)
     readout = choice("binning_readout", values.pop("binning_readout"), api.BINNING_READOUTS)
+    colour = sensor_colour(values.pop("cfa"), values.pop("demosaic"),
+                           values["cfa_transmittance"], values["color_noise_gain"])
+    values["cfa_transmittance"], values["color_noise_gain"] = (colour.transmittance,
+                                                               colour.noise_gain)
     if readout == "charge":
         # one read of sigma_r for the k x k pixels is k^2 reads of sigma_r / k (docs/model.md:
         # only the read noise's variance, n k^2 sigma_r^2 or n sigma_r^2, differs)
@@ -290,7 +310,7 @@ def model_inputs(design: dict) -> ModelInputs:
     # a spectrum with all its weight on one wavelength becomes the monochromatic model at it
     spec, arrays = api._one_wavelength(
         api._spectrum_of(values["spectrum"], values["wavelength_nm"]), arrays)
-    return ModelInputs(tuple(arrays), shape, size_is_pixel_count, spec)
+    return ModelInputs(tuple(arrays), shape, size_is_pixel_count, spec, colour.demosaic_table)
 
 
 # --- The NumPy reference --------------------------------------------------------------------
@@ -310,7 +330,8 @@ class _Model:
         """
         columns = [np.repeat(c, repeat) if c.size > 1 else c for c in self.columns[1:]]
         out = api._run_reference([lux, *columns], lux.shape, self.inputs.size_is_pixel_count,
-                                 self.inputs.spectrum)
+                                 self.inputs.spectrum,
+                                 demosaic_table=self.inputs.demosaic_table)
         return np.where(out["status"] == Status.UNREACHABLE, 0.0, out["epc"])
 
 

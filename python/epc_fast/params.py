@@ -30,7 +30,8 @@ import numpy as np
 __all__ = ["Param", "ParameterTable", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PARAMETERS",
            "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX",
            "WAVEFRONT_RMS_WAVES_MAX", "DENOISE_SIGMA_PX_MAX", "domain_table", "parameters",
-           "LENS_INDEX"]
+           "LENS_INDEX", "CFA_PARAMETERS", "COLOR_NOISE_GAIN_MIN",
+           "COLOR_NOISE_GAIN_MAX"]
 
 INF = math.inf
 #: The largest magnitude of a parameter that physics leaves unbounded (see the module docstring).
@@ -46,6 +47,12 @@ SNR_DB_MAX = 1000.0
 #: W = 0.1642 waves its product with the diffraction MTF rises again past nu = 0.55 (at an MTF
 #: near 0.04), and f50's bracket needs a falling MTF (docs/model.md, "The cut-off frequency f50").
 WAVEFRONT_RMS_WAVES_MAX = 0.16
+#: The colour noise gain's domain (of the model's column, g_c g_d for a Bayer sensor: a g_c of
+#: 0.01 and more with any demosaicker): with denoising's smallest gain (8e-6 at sigma 100) and
+#: the lowest SNR target (-3000 dB, s = 1e-300), s g stays above 2.2e-308, a normal double, so
+#: T_MPE keeps its digits (docs/numerics.md); a real camera's gain is of order 1.
+COLOR_NOISE_GAIN_MIN = 0.005
+COLOR_NOISE_GAIN_MAX = 100.0
 #: output pixels: the largest denoising sigma; its kernel has 2 ceil(4 sigma) + 1 = 801 taps.
 DENOISE_SIGMA_PX_MAX = 100.0
 
@@ -171,15 +178,18 @@ PARAMETERS: tuple[Param, ...] = ParameterTable((
     _p("lens", 0.0, 0, 0, True, True,
        "1: index of the point's table in lens_mtf, a whole number (0 without lens_mtf)",
        integer=True),
-    # a colour sensor's (cfa="bayer"): 1 for the monochrome sensor (docs/model.md, "The colour
-    # filter array")
+    # a colour sensor's (docs/model.md, "The colour filter array"): 1, the monochrome
+    # sensor's; evaluate's None takes epc_fast.cfa's defaults with cfa="bayer" (CFA_PARAMETERS)
     _p("cfa_transmittance", 1.0, 0, 1, False, True,
-       "1: the colour filter array's mean transmittance, relative to a monochrome pixel"),
-    _p("color_noise_gain", 1.0, 0, BIG, False, False,
-       "1: the noise variance gain of colour correction and demosaicking to luminance"),
+       "1: the colour filters' mean transmittance against a monochrome pixel (1: none)"),
+    _p("color_noise_gain", 1.0, COLOR_NOISE_GAIN_MIN, COLOR_NOISE_GAIN_MAX, True, True,
+       "1: the noise variance gain of colour correction to luminance (1: none)"),
 ))
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)
+#: The colour sensor's parameters, whose default in evaluate's signature is None: 1 for the
+#: monochrome sensor (their default here), epc_fast.cfa's with cfa="bayer".
+CFA_PARAMETERS = ("cfa_transmittance", "color_noise_gain")
 
 #: The two public names of the "size" slot.
 SIZE_PARAMETERS = ("pixel_count", "sensor_area_mm2")

@@ -27,7 +27,8 @@ MODEL_DEFAULTS = dict(reflectance=0.4, lens_transmittance=1.0, field_angle_deg=0
                       fill_factor=1.0, read_noise_e=0.0, dark_current_e_per_s=0.0, prnu=0.0,
                       full_well_e=math.inf, snr_db=30.0, shake_deg_per_s=4.39, stabilization=1.0,
                       jitter_um=0.0, wavelength_nm=550.0, mtf_threshold=0.5, binning=1.0,
-                      frames=1.0, alignment_error_um=0.0)
+                      frames=1.0, alignment_error_um=0.0, cfa_transmittance=1.0,
+                      color_noise_gain=1.0)
 
 #: The smallest normal double and the largest double (the engine's conventions at its ends).
 SMALLEST_NORMAL = sys.float_info.min
@@ -92,15 +93,17 @@ def _mp_model(items, spectrum, charge):
         cos = mp.cos(x["field_angle_deg"] * pi / 180)
         rate = (x["illuminance_lux"] * x["reflectance"] * x["lens_transmittance"] * cos**4
                 / (4 * x["f_number"] ** 2) * x["electrons_per_lux_s_m2"] * x["fill_factor"]
-                * (x["pixel_pitch_um"] / 10**6) ** 2) * k**2
+                * (x["pixel_pitch_um"] / 10**6) ** 2) * x["cfa_transmittance"] * k**2
         out = {"electron_rate_e_per_s": rate}
-        s, u = mp.mpf(10) ** (x["snr_db"] / 10), x["prnu"] / k
+        # a colour sensor's noise gain g multiplies every variance: the target s g
+        snr_db = x["snr_db"] + 10 * mp.log10(x["color_noise_gain"])
+        s, u = mp.mpf(10) ** (snr_db / 10), x["prnu"] / k
         if rate == 0:
             return dict(out, status="unreachable", cause="no_light")
         if u * mp.sqrt(s) >= 1:
             return dict(out, status="unreachable", cause="prnu")
         read = x["read_noise_e"] * mp.sqrt(n * (1 if charge else k**2))
-        t = mp_t_mpe(rate, x["snr_db"], read, x["dark_current_e_per_s"] * k**2, u)
+        t = mp_t_mpe(rate, snr_db, read, x["dark_current_e_per_s"] * k**2, u)
         out.update(t_mpe_s=t, electrons=rate * t)
         if rate * t / n > v["full_well_e"] * k**2:  # the full well of each frame
             return dict(out, status="unreachable", cause="full_well")

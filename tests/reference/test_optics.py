@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import epc_fast
-from epc_fast import Status, _core, core_call, reference
+from epc_fast import Status, _core, reference
 from epc_fast.params import DENOISE_SIGMA_PX_MAX, WAVEFRONT_RMS_WAVES_MAX
 from epc_fast.reference import optics
 
