@@ -84,3 +84,63 @@ def test_a_denoised_camera_overtakes_an_unfiltered_one_below_a_crossover():
     below = epc_fast.evaluate(lux / 2, **denoised).epc > epc_fast.evaluate(lux / 2, **unfiltered).epc
     above = epc_fast.evaluate(lux * 2, **denoised).epc < epc_fast.evaluate(lux * 2, **unfiltered).epc
     assert below and above
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+def test_a_colour_sensor_scans_as_evaluate_gives_it_on_the_same_draws(backend):
+    space = scan.Space(design=HIGH_TIER, illuminance_lux=LogUniform(1, 1e5), read_noise_e=2.0,
+                       cfa_transmittance=Uniform(0.25, 0.45),
+                       evaluate_options={"cfa": "bayer", "demosaic": "bilinear"})
+    n = BLOCK_POINTS + 11
+    result = run(space, n, seed=41, reductions={"s": Summary(by="design")}, progress=False,
+                 backend=backend)
+    points = space.points(41, 0, n)
+    expected = epc_fast.evaluate(**points.parameters, cfa="bayer", demosaic="bilinear",
+                                 backend=backend)
+    design = points.indices["design"]
+    ok = np.isfinite(expected.epc)
+    means = [expected.epc[ok & (design == d)].mean() for d in range(4)]
+    np.testing.assert_allclose(result["s"].mean, means, rtol=1e-12)
+    # against the monochrome sensor without filters: t / (g_c g_d) < 1 of its light's worth
+    mono = epc_fast.evaluate(**{k: v for k, v in points.parameters.items()
+                                if k != "cfa_transmittance"})
+    both = (expected.status == 0) & (mono.status == 0)  # (in the dark both blur past all)
+    assert np.all(expected.epc[both] < mono.epc[both])
+
+
+def test_a_scan_config_takes_the_colour_sensor(tmp_path):
+    from epc_fast.scan.config import load_config
+
+    path = tmp_path / "bayer.toml"
+    path.write_text('[scan]\npoints = 1000\nseed = 1\n[design]\npresets = ["HIGH_TIER"]\n'
+                    '[parameters]\nilluminance_lux = 100.0\n'
+                    '[evaluate]\ncfa = "bayer"\ndemosaic = "menon2007"\n')
+    config = load_config(path)
+    assert config.space.evaluate_options["cfa"] == "bayer"
+    assert config.space.evaluate_options["demosaic"] == "menon2007"
+    path.write_text(path.read_text().replace('"menon2007"', '"ahd"'))
+    with pytest.raises(Exception, match="demosaic"):
+        load_config(path)
+
+
+def test_sobol_and_the_optimiser_take_lens_tables_and_a_colour_sensor():
+    from epc_fast.reference import mtf_diffraction
+
+    f = np.linspace(0.0, 1.0 / (550e-6 * 2.0), 20)
+    soft = (f, np.minimum.accumulate(mtf_diffraction(f, 550.0, 2.0) * np.exp(-(f / 600.0) ** 2)))
+    options = {"lens_mtf": soft, "cfa": "bayer", "demosaic": "malvar2004"}
+    design = epc_fast.presets.Design("phone", **PHONE)
+    space = scan.Space(design=[design], illuminance_lux=LogUniform(1e3, 1e5),
+                       cfa_transmittance=Uniform(0.25, 0.45), evaluate_options=options)
+    result = scan.sobol_indices(space, points=2**7, seed=3, of="log_epc")
+    column = result.parameters.index("cfa_transmittance")
+    assert result.st[0, 0, column] > 0.001
+    fixed = scan.Space(design=[design], illuminance_lux=30.0, shake_deg_per_s=4.39,
+                       evaluate_options=options)
+    problem = optimize.Problem(fixed, {"denoise_sigma_px": (0.0, 4.0)}, points=100, seed=1)
+    best = problem.maximize(batches=0).x["denoise_sigma_px"]
+    at_best = epc_fast.evaluate(30.0, **PHONE, shake_deg_per_s=4.39, snr_at="corner",
+                                denoise_sigma_px=best, **options).epc
+    grid = epc_fast.evaluate(30.0, **PHONE, shake_deg_per_s=4.39, snr_at="corner",
+                             denoise_sigma_px=np.linspace(0.0, 4.0, 401), **options).epc
+    assert at_best >= 0.999 * grid.max()

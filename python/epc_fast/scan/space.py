@@ -45,7 +45,7 @@ MIN_REPORTED_SHARE = 1e-6
 DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
 EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
-                    "precision", "lens_mtf")
+                    "precision", "lens_mtf", "cfa", "demosaic")
 
 
 @dataclass

@@ -112,11 +112,11 @@ def _evaluate(space: Space, points, **options):
 
 
 def _options(space: Space, backend: str) -> dict:
-    """The space's evaluate options; the reference backend takes the spectrum and the lens
-    tables only."""
+    """The space's evaluate options; the reference backend takes the spectrum, the lens tables
+    and the colour sensor only."""
     if backend == "reference":
         return {k: v for k, v in space.evaluate_options.items()
-                if k in ("spectrum", "lens_mtf")}
+                if k in ("spectrum", "lens_mtf", "cfa", "demosaic")}
     return space.evaluate_options
 
 
@@ -131,9 +131,11 @@ def _core_plan(space, plan, seed, points_total) -> tuple:
     if (last is not None and last[0][0] is space and last[0][1] is plan
             and last[0][2:] == (seed, points_total)):
         return last[1]
-    # the fused pass reads every point one way and has no lens tables: a design's modes or
-    # charge binning (scan/readout.py) and a space's lens tables are evaluated as arrays
-    tables = space.evaluate_options.get("lens_mtf") is not None
+    # the fused pass reads every point one way and has no tables: a design's modes or charge
+    # binning (scan/readout.py) and a space's lens tables or colour sensor are evaluated as
+    # arrays
+    tables = (space.evaluate_options.get("lens_mtf") is not None
+              or space.evaluate_options.get("cfa", "none") != "none")
     fused = tuple(item for item in plan if not _per_point(item, points_total)
                   and not space.has_readouts and not tables)
     arrays = tuple(item for item in plan if item not in fused)

@@ -21,7 +21,8 @@ The format, section by section (every value in the unit of the parameter it sets
     [evaluate]                   # f50_rtol, t_mpe_solver, t_mpe_rtol, spectrum,
                                  #   lens_mtf = [[frequencies_cyc_per_mm], [mtf]] or a list
                                  #   of such tables, which lens = {choice = [0, 1, ...]}
-                                 #   picks per point (the reference backend only, for now)
+                                 #   picks per point; cfa = "none" | "bayer",
+                                 #   demosaic = "malvar2004" | "bilinear" | "menon2007"
     [reductions.NAME]            # kind = "summary" | "histogram" | "quantiles"
                                  #   | "fraction_below" | "top_k", their arguments, and
                                  #   by = "design" | [part, ...] where a part is a name or
@@ -63,6 +64,7 @@ from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_paramet
 from ..readout import READOUT_KEYS
 from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
 from ...api import BINNING_READOUTS
+from ...cfa import CFAS, DEMOSAICS
 from ...modes import MODE_DEFAULTS, check_modes
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG",
@@ -119,7 +121,7 @@ DISTRIBUTION_KEYS = {"uniform": (("low", None, False), ("high", None, False)),
                      "lognormal": (("median", 0.0, True), ("sigma", 0.0, True))}
 #: The keys of [evaluate] and their checks.
 EVALUATE_CHOICES = {"f50_solver": F50_SOLVERS, "t_mpe_solver": T_MPE_SOLVERS,
-                    "precision": PRECISIONS}
+                    "precision": PRECISIONS, "cfa": CFAS, "demosaic": DEMOSAICS}
 EVALUATE_TOLERANCES = ("f50_rtol", "t_mpe_rtol")
 
 
