@@ -8,7 +8,8 @@ factors out of blocks that do not need them, takes binning and bursts only into 
 have them and never loops over a spectrum for one wavelength.
 
 The wavefront error and the denoising filter enter only blocks that have them; a filter costs
-its taps (2 ceil(4 sigma) + 1) at each MTF evaluation.
+its taps (2 ceil(4 sigma) + 1) at each MTF evaluation. Lens tables and a colour sensor's
+demosaicker are tables of the call: each MTF evaluation looks its point's segment up.
 """
 
 import numpy as np
@@ -30,6 +31,16 @@ def _scene(n=N, **extra):
     }
     kwargs.update(extra)
     return kwargs
+
+
+def _lens_table(points, f_number=2.8, wavelength_nm=550.0):
+    """A lens table of the aberration-free MTF at ``points`` frequencies up to its cut-off."""
+    from epc_fast.reference import mtf_diffraction
+
+    f = np.linspace(0.0, 1.0 / (wavelength_nm * 1e-6 * f_number), points)
+    m = mtf_diffraction(f, wavelength_nm, f_number)
+    m[-1] = 0.0
+    return f, m
 
 
 SCENES = {
@@ -56,6 +67,12 @@ SCENES = {
     "wavefront 0.07 + poly 16": {"wavefront_rms_waves": 0.07, "spectrum": diffraction_spectrum(16)},
     "denoise 1.0": {"denoise_sigma_px": 1.0},
     "denoise 3.0": {"denoise_sigma_px": 3.0},
+    # a lens's MTF table in place of diffraction, one of 20 points and two picked per point
+    "lens table 20": {"lens_mtf": _lens_table(20)},
+    "lens tables 2 x 20": {"lens_mtf": [_lens_table(20), _lens_table(20, 2.4)],
+                           "lens": np.arange(N) % 2},
+    # a colour sensor: its transmittance, noise gain and the demosaicker's table
+    "bayer malvar2004": {"cfa": "bayer", "demosaic": "malvar2004"},
 }
 
 
