@@ -16,7 +16,8 @@ from epc_fast.api import ELASTICITY_PARAMETERS, OUTPUT_DTYPES, SHARE_OUTPUTS
 from epc_fast.params import PARAMETERS
 
 N = 10**4 if QUICK else 10**6
-#: The elasticity rows a point has: the whole-number parameters (binning, frames) have none.
+#: The elasticity rows a point has: the whole-number parameters (binning, frames, lens) have
+#: none.
 CONTINUOUS_ROWS = [i for i, name in enumerate(ELASTICITY_PARAMETERS)
                    if not any(p.name == name and p.integer for p in PARAMETERS)]
 
@@ -64,6 +65,6 @@ def test_sensitivity_cost(benchmark, selection, threads):
         np.testing.assert_allclose(total[ok], 1.0, rtol=0, atol=1e-15)
     if "elasticities" in out:
         assert np.isfinite(out["elasticities"][CONTINUOUS_ROWS][:, ok]).all()
-        assert len(CONTINUOUS_ROWS) == len(ELASTICITY_PARAMETERS) - 2
+        assert len(CONTINUOUS_ROWS) == len(ELASTICITY_PARAMETERS) - 3
     for name in set(out) & set(FOUR):
         assert np.isfinite(out[name][ok]).all()
