@@ -72,6 +72,24 @@ struct alignas(64) Block {
     T blur_mm[block_size], threshold[block_size], f_number[block_size];
     // binning where a < 1 (mtf.h binned_lengths_mm): the array factor's pitch (0: none) and k
     T bin_pitch_mm[block_size], bin_k[block_size];
+    T lo[block_size], hi[block_size], at[block_size];
+    // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
+    // over the factors, so that M''/M = R^2 + S
+    T mtf[block_size], slope[block_size], curvature[block_size];
+    T denominator[block_size];  // monochromatic diffraction's slopes' (f50.h)
+    T previous_step[block_size];  // Newton/Halley: each lane's previous step
+    // Newton/Halley: the step tolerance last derived from f50_rtol (a cube or square root)
+    T memo_rtol = T(-1), memo_step_rtol = T(0);
+    bool memo_halley = false;
+    T f50[block_size];
+    unsigned char active[block_size];
+    // Halley/Newton: a lane whose start is certified within f50_rtol (f50_start.h,
+    // certified_start_error) takes it as f50 without a step; n_settled counts them
+    unsigned char settled[block_size];
+    int n_settled = 0;
+    double certified_start[block_size] = {};  // float32: the settled lanes' starts, in float64
+    // The terms beyond the paper's camera, last: a block without them never touches these, and
+    // the arrays every block uses stay together, as compact in the caches as without them.
     // the wavefront error and denoising (optics.h), in a block whose lanes to solve have them
     // (`aberration`, `denoise`): the ATF's depth a = (W / 0.18)^2; the output pitch (mm), the
     // filter's 1 / (2 sigma^2), 1 / Z and reach R, and the largest R (`denoise_taps`); the
@@ -92,22 +110,6 @@ struct alignas(64) Block {
     bool gained = false;
     // a broadcast sigma's and colour noise gain's sqrt(g)
     double memo_sigma = nan, memo_color_gain = nan, memo_root_gain = 1.0;
-    T lo[block_size], hi[block_size], at[block_size];
-    // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
-    // over the factors, so that M''/M = R^2 + S
-    T mtf[block_size], slope[block_size], curvature[block_size];
-    T denominator[block_size];  // monochromatic diffraction's slopes' (f50.h)
-    T previous_step[block_size];  // Newton/Halley: each lane's previous step
-    // Newton/Halley: the step tolerance last derived from f50_rtol (a cube or square root)
-    T memo_rtol = T(-1), memo_step_rtol = T(0);
-    bool memo_halley = false;
-    T f50[block_size];
-    unsigned char active[block_size];
-    // Halley/Newton: a lane whose start is certified within f50_rtol (f50_start.h,
-    // certified_start_error) takes it as f50 without a step; n_settled counts them
-    unsigned char settled[block_size];
-    int n_settled = 0;
-    double certified_start[block_size] = {};  // float32: the settled lanes' starts, in float64
 };
 
 }  // namespace detail

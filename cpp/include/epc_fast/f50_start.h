@@ -536,6 +536,19 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     }
     unsigned char* __restrict settled = b.settled;
     int n_settled = 0;
+    // a lane with the wavefront error, denoising, a lens table or a demosaicker is never
+    // settled either (the starts know none of them); a pass of its own, so that a block without
+    // them runs the settling loops as they are
+    auto unsettle_optics = [&]() {
+        if (!any_optics) return;
+        const bool tables = any_lens | (b.demosaic_table != nullptr);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool plain = (wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !tables;
+            const bool s_i = (settled[i] != 0) & plain;
+            n_settled -= (settled[i] != 0) - s_i;
+            settled[i] = s_i;
+        }
+    };
     // a binned lane with an array factor is never settled (its start is not certified)
     auto unsettle_binned = [&]() {
         if (!any_binning) return;
@@ -565,9 +578,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                 const double f0 = start_guess<false, Row>(d_length[i], ap[i], blur_in[i], jit[i], 1.0, Row);
                 const bool s_i = (solve[i] != 0) & (row_code[i] == Row + 1) &
                                  certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
-                                 (f0 >= 0x1p-100) & (f0 <= 0x1p100) &
-                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !any_lens &
-                                                (b.demosaic_table == nullptr)));
+                                 (f0 >= 0x1p-100) & (f0 <= 0x1p100) ;
                 settled[i] = s_i ? 1 : settled[i];
                 narrow_start[i] = s_i ? f0 : narrow_start[i];  // read back where settled
                 at[i] = s_i ? static_cast<T>(f0) : at[i];
@@ -581,6 +592,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         narrow_row(std::integral_constant<int, 3>{});
         narrow_row(std::integral_constant<int, jitter_start_row>{});
         unsettle_binned();
+        unsettle_optics();
         int n_solve = 0;
         EPC_FAST_SIMD_REDUCTION(+ : n_solve)
         for (std::size_t i = 0; i < n; ++i) n_solve += solve[i] != 0;
@@ -602,7 +614,6 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                             float32_length(jit[i]) & lambdas_fit &
                             (!poly | float32_factor(f_num_in[i]));
                 if (Binned) fits &= float32_length(zero_length[i]) & float32_length(bin_pitch[i]);
-                fits &= (!any_denoise | (sigma_px[i] == 0.0)) & !any_lens;
                 const bool s_i = settled[i] != 0;
                 wide[i] = (solve[i] != 0) & !s_i & !fits;
                 solve[i] = (solve[i] != 0) & (s_i | fits);
@@ -611,6 +622,13 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         };
         if (any_binning) fit_lanes(std::true_type{});
         else fit_lanes(std::false_type{});
+        if (any_denoise | any_lens) {  // their lanes are solved in float64 (the block's redo)
+            for (std::size_t i = 0; i < n; ++i) {
+                const bool wider = (solve[i] != 0) & (settled[i] == 0) & (any_lens | (sigma_px[i] != 0.0));
+                wide[i] = wider ? 1 : wide[i];
+                solve[i] = wider ? 0 : solve[i];
+            }
+        }
     } else {
         for (std::size_t i = 0; i < n; ++i) wide[i] = 0;
     }
@@ -737,13 +755,12 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
                                            ((code == 5) & c4);
                 const bool s_i = (solve[i] != 0) & row_certified &
                                  certified_lengths(d_length[i], ap[i], blur_in[i], jit[i]) &
-                                 (at[i] != T(0.5) * hi[i]) &
-                                 (!any_optics | ((wavefront[i] == 0.0) & (sigma_px[i] == 0.0) & !any_lens &
-                                                (b.demosaic_table == nullptr)));
+                                 (at[i] != T(0.5) * hi[i]) ;
                 settled[i] = s_i;
                 n_settled += s_i;
             }
             unsettle_binned();
+            unsettle_optics();
         }
     }
     b.n_settled = n_settled;
