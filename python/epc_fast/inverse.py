@@ -78,7 +78,9 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
         ``presets.Design.evaluate_kwargs()``); values broadcast against each other and against
         ``target_epc``. ``binning``, ``frames`` and ``alignment_error_um`` are per point as in
         evaluate, ``binning_readout`` one for the call; ``modes`` is not taken (solve for
-        each mode).
+        each mode), nor ``lens_mtf`` (a design's EPC past its table's end is undefined:
+        evaluate it over a grid of illuminances); ``cfa``, ``demosaic`` and the colour terms
+        are evaluate's.
     target_epc : array_like
         pixels, the EPC to reach (finite and > 0).
     lux_range : (float, float)
