@@ -16,6 +16,7 @@ import numpy as np
 from ..status import Cause, Status
 from .cfa import mtf_demosaic
 from .lens import lens_bracket, mtf_lens
+from .mtf import __all__ as _mtf_names
 from .mtf import (gaussian_blur_mm, mtf_alignment, mtf_binned_pixel, mtf_diffraction, mtf_jitter,
                   mtf_motion, mtf_pixel, sinc, sinpi)
 from .optics import mtf_aberration, mtf_denoise, noise_gain_denoise
@@ -33,15 +34,7 @@ __all__ = [
     "t_mpe_closed_form",
     "snr_db_at",
     "blur_length_mm",
-    "sinpi",
-    "sinc",
-    "mtf_diffraction",
-    "mtf_pixel",
-    "mtf_binned_pixel",
-    "mtf_motion",
-    "mtf_jitter",
-    "gaussian_blur_mm",
-    "mtf_alignment",
+    *_mtf_names,  # the MTF factors (reference/mtf.py), importable from here as before
     "mtf_system",
     "f50_bracket",
     "f50_bisection",
