@@ -83,9 +83,13 @@ def test_bilinear_loses_most_and_menon_least_at_the_nyquist_frequency():
 
 
 def test_the_table_ships_inside_the_package():
-    package = ROOT / "python" / "epc_fast"
-    assert cfa.DEMOSAIC_MTF_PATH.parent.parent == package
+    # beside the module that reads it, in the source tree and in an installed package alike
+    # (CI's tests run against the installed one: the wheel carries the file), and in git
+    package = Path(cfa.__file__).resolve().parent
+    assert cfa.DEMOSAIC_MTF_PATH.parent == package / "data"
     assert cfa.DEMOSAIC_MTF_PATH.read_text().startswith("# Each demosaicker's luminance MTF")
+    source = ROOT / "python" / "epc_fast" / "data" / "demosaic_mtf.csv"
+    assert source.read_text() == cfa.DEMOSAIC_MTF_PATH.read_text()
 
 
 @pytest.mark.parametrize("call, bad, argument", [
