@@ -113,7 +113,7 @@ class Space:
     evaluate_options : mapping, optional
         Options of :func:`epc_fast.evaluate` shared by every point: ``spectrum``, ``f50_rtol``,
         ``t_mpe_solver``, ``t_mpe_rtol``, ``lens_mtf`` (a lens table or a list of them, which
-        ``lens`` picks per point; the reference backend only, for now).
+        ``lens`` picks per point), ``cfa`` and ``demosaic`` (a colour sensor).
     **parameters : float, Grid, Choice or a distribution
         Any per-point parameter of :func:`epc_fast.evaluate`, in its unit: a number (fixed), a
         :class:`Grid`, a :class:`Choice` or a distribution (:class:`Uniform`,
