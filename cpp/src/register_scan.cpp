@@ -33,6 +33,38 @@ std::vector<double> doubles_of(const py::handle& obj) {
     return std::vector<double>(arr.data(), arr.data() + arr.size());
 }
 
+std::vector<std::uint32_t> words_of(const py::handle& obj) {
+    const auto arr = py::cast<py::array_t<std::uint32_t, py::array::c_style | py::array::forcecast>>(obj);
+    return std::vector<std::uint32_t>(arr.data(), arr.data() + arr.size());
+}
+
+// The spec's "sobol" entry: None (Monte Carlo) or the direction numbers (dimensions x 32), the
+// scrambling keys (replicates x dimensions) and the replicate axis (-1: none).
+void sobol_of(const py::dict& spec, ScanSpace& space) {
+    if (!spec.contains("sobol") || spec["sobol"].is_none()) return;
+    const auto d = py::reinterpret_borrow<py::dict>(spec["sobol"]);
+    SobolSampling& s = space.sobol;
+    s.on = true;
+    s.dimensions = item<std::uint32_t>(d, "dimensions");
+    s.replicates = item<std::uint32_t>(d, "replicates");
+    s.directions = words_of(d["directions"]);
+    s.keys = words_of(d["keys"]);
+    space.replicate_axis = item<int>(d, "replicate_axis");
+    if (s.replicates < 1 || s.directions.size() != 32u * s.dimensions ||
+        s.keys.size() != static_cast<std::size_t>(s.replicates) * s.dimensions)
+        throw std::invalid_argument("scan spec: the Sobol' tables' sizes");
+    if (space.replicate_axis >= static_cast<int>(space.axes.size()) ||
+        (space.replicate_axis < 0 && s.replicates != 1) ||
+        (space.replicate_axis >= 0 &&
+         space.axes[static_cast<std::size_t>(space.replicate_axis)].size != static_cast<std::int64_t>(s.replicates)))
+        throw std::invalid_argument("scan spec: the replicate axis");
+    for (const DiscreteAxis& axis : space.axes)
+        if (!axis.grid && axis.dimension >= s.dimensions) throw std::invalid_argument("scan spec: an axis's dimension");
+    for (const ParamSource& p : space.params)
+        if (p.kind == ParamSource::drawn && p.dimension >= s.dimensions)
+            throw std::invalid_argument("scan spec: a parameter's dimension");
+}
+
 Draw draw_of(const py::dict& d) {
     static const char* kinds[] = {"affine", "exp_affine", "normal", "lognormal", "empirical"};
     const auto kind = item<std::string>(d, "kind");
@@ -63,6 +95,7 @@ ScanSpace scan_space_of(const py::dict& spec) {
         axis.grid = item<bool>(d, "grid");
         axis.size = item<std::int64_t>(d, "size");
         axis.stream = item<std::uint32_t>(d, "stream");
+        axis.dimension = item<std::uint32_t>(d, "dimension");
         axis.cumulative = doubles_of(d["cumulative"]);
         if (axis.size < 1 || axis.size > INT32_MAX) throw std::invalid_argument("scan spec: axis size");
         space.axes.push_back(std::move(axis));
@@ -81,6 +114,7 @@ ScanSpace scan_space_of(const py::dict& spec) {
         } else if (kind == "drawn") {
             p.kind = ParamSource::drawn;
             p.stream = item<std::uint32_t>(d, "stream");
+            p.dimension = item<std::uint32_t>(d, "dimension");
             p.draw = draw_of(item<py::dict>(d, "draw"));
         } else if (kind == "axis") {
             p.kind = ParamSource::axis_value;
@@ -93,6 +127,7 @@ ScanSpace scan_space_of(const py::dict& spec) {
             throw std::invalid_argument("scan spec: unknown param kind '" + kind + "'");
         }
     }
+    sobol_of(spec, space);
     set_cycles(space);
     py::list columns;
     for (int j = 0; j < n_params; ++j) columns.append(py::array_t<double>(1));

@@ -148,7 +148,8 @@ def test_tables_join_the_results_on_each_grouping_and_prefix_a_taken_column():
         "all": Summary(), "best": TopK(2)})
     grouped = tables.grouped_tables(result)
     assert list(grouped) == ["design", "all"]
-    assert list(grouped["design"]) == ["design", "SNR target", "q50", "streamed q50"]
+    assert list(grouped["design"]) == ["design", "SNR target", "q50", "q50 error",
+                                       "streamed q50", "streamed q50 error"]
     assert grouped["all"]["points"] == [1000]
     assert tables.grouping_units(result) == {"design": "epc in pixels", "all": "epc in pixels"}
 

@@ -1,6 +1,7 @@
 // A scan's design space as the core forms it, a block of points at a time: each parameter
-// fixed, drawn (philox.h, draws.h), or read from a discrete axis (a grid axis visited in mixed
-// radix, a random choice, or the design axis with its table of parameters).
+// fixed, drawn (philox.h or sobol_points.h, then draws.h), or read from a discrete axis (a grid
+// axis visited in mixed radix, a random choice, or the design axis with its table of
+// parameters).
 //
 // python/epc_fast/scan/core_plan.py builds a ScanSpace from a Space; docs/scan.md states the
 // draw contract. A point's parameters depend only on the seed and its index.
@@ -16,6 +17,7 @@
 #include "draws.h"
 #include "params.h"
 #include "philox.h"
+#include "sobol_points.h"
 
 namespace epc_fast {
 
@@ -25,6 +27,7 @@ struct DiscreteAxis {
     bool grid = true;
     std::int64_t size = 1;
     std::uint32_t stream = 0;
+    std::uint32_t dimension = 0;  // a random choice's Sobol' dimension
     std::vector<double> cumulative;
 };
 
@@ -34,6 +37,7 @@ struct ParamSource {
     Kind kind = fixed;
     double value = 0.0;          // fixed
     std::uint32_t stream = 0;    // drawn
+    std::uint32_t dimension = 0; // drawn: its Sobol' dimension
     Draw draw;                   // drawn
     int axis = -1;               // axis_value: index into ScanSpace::axes
     std::vector<double> values;  // axis_value: the parameter at each of the axis's indices
@@ -58,6 +62,10 @@ struct ScanSpace {
     std::vector<std::size_t> grid_axes;
     std::uint64_t grid_cells = 1;
     std::uint64_t cycle = 0;  // the grid's cycle, 0 above max_cycle (set_cycles)
+    // Sobol' sampling (off: Monte Carlo): the replicate is the digit of the grid axis
+    // `replicate_axis` (the slowest, python/epc_fast/scan/qmc.py), -1 for one replicate
+    SobolSampling sobol;
+    int replicate_axis = -1;
 
     void set_grid() {
         grid_axes.clear();
@@ -78,6 +86,7 @@ struct ScanLanes {
     std::size_t n = 0;
     alignas(64) std::uint64_t index[block_size];
     alignas(64) double u[block_size];
+    alignas(64) std::uint32_t sobol_k[block_size];  // each point's index in its cell and replicate
     alignas(64) double values[n_params][block_size];
     std::vector<std::array<std::int32_t, block_size>> axis_index;
 
@@ -157,6 +166,39 @@ inline void grid_digits(const ScanSpace& space, bool consecutive, ScanLanes& lan
     }
 }
 
+// Sets lanes.sobol_k: each point's index within its grid cell and replicate, i div (grid cells
+// with the replicate axis), and returns the bits that hold every k (at least 1).
+inline int sobol_positions(const ScanSpace& space, ScanLanes& lanes) {
+    const std::uint64_t cells = space.grid_cells;
+    std::uint32_t highest = 0;
+    std::uint64_t large = cells >> 51;  // beyond floor_div's range: integer division
+    EPC_FAST_SIMD_REDUCTION(| : large)
+    for (std::size_t i = 0; i < block_size; ++i) large |= lanes.index[i] >> 51;
+    if (large != 0) {
+        for (std::size_t i = 0; i < block_size; ++i) {
+            lanes.sobol_k[i] = static_cast<std::uint32_t>(lanes.index[i] / cells);
+            highest |= lanes.sobol_k[i];
+        }
+    } else {
+        const double inverse = 1.0 / static_cast<double>(cells);
+        EPC_FAST_SIMD_REDUCTION(| : highest)
+        for (std::size_t i = 0; i < block_size; ++i) {
+            lanes.sobol_k[i] = static_cast<std::uint32_t>(floor_div(static_cast<double>(lanes.index[i]), inverse));
+            highest |= lanes.sobol_k[i];
+        }
+    }
+    int bits = 1;
+    while (bits < 32 && (highest >> bits) != 0) ++bits;
+    return bits;
+}
+
+// Each lane's replicate: the replicate axis's digit, or 0 (one replicate).
+inline const std::int32_t* replicates_of(const ScanSpace& space, const ScanLanes& lanes) {
+    static const std::array<std::int32_t, block_size> zeros{};
+    return space.replicate_axis < 0 ? zeros.data()
+                                    : lanes.axis_index[static_cast<std::size_t>(space.replicate_axis)].data();
+}
+
 }  // namespace detail
 
 // The cycle of points that repeat with period `period` (the grid's cells, or a key's): the
@@ -204,10 +246,18 @@ inline void form_points(const ScanSpace& space, bool consecutive, ScanLanes& lan
     const std::size_t n = lanes.n;
     for (std::size_t i = n; i < block_size; ++i) lanes.index[i] = lanes.index[n > 0 ? n - 1 : 0];
     detail::grid_digits(space, consecutive, lanes);
+    const int bits = space.sobol.on ? detail::sobol_positions(space, lanes) : 0;
+    const auto uniforms = [&](std::uint32_t stream, std::uint32_t dimension) {
+        if (space.sobol.on) {
+            sobol_uniforms(space.sobol, dimension, lanes.sobol_k, detail::replicates_of(space, lanes), bits, lanes.u);
+        } else {
+            stream_uniforms(space.seed, stream, lanes.index, lanes.u);
+        }
+    };
     for (std::size_t a = 0; a < space.axes.size(); ++a) {
         const DiscreteAxis& axis = space.axes[a];
         if (axis.grid) continue;
-        stream_uniforms(space.seed, axis.stream, lanes.index, lanes.u);
+        uniforms(axis.stream, axis.dimension);
         for (std::size_t i = 0; i < n; ++i)
             lanes.axis_index[a][i] = detail::choice_index(axis, lanes.u[i]);
     }
@@ -220,7 +270,7 @@ inline void form_points(const ScanSpace& space, bool consecutive, ScanLanes& lan
         }
         in.columns[j] = Column{x, 1};
         if (p.kind == ParamSource::drawn) {
-            stream_uniforms(space.seed, p.stream, lanes.index, lanes.u);
+            uniforms(p.stream, p.dimension);
             draw_values(p.draw, lanes.u, x);
         } else if (consecutive && !p.by_cycle.empty()) {  // a slice of the grid's cycle
             const double* __restrict c = p.by_cycle.data() + lanes.index[0] % space.cycle;

@@ -60,7 +60,9 @@ class CorePlan:
     def __init__(self, space: Space, seed: int, plan: tuple = ()):
         self.space = space
         self.seed = seed
-        self.axis_names = tuple(n for n, a in space.axes.items() if isinstance(a, (Grid, Choice)))
+        # the replicate first: the slowest grid axis (qmc.py), none for one replicate
+        self.axis_names = (("replicate",) if space.sampling.replicates > 1 else ()) + tuple(
+            n for n, a in space.axes.items() if isinstance(a, (Grid, Choice)))
         self.names = tuple(_slot_name(space, slot) for slot in params.PARAMETER_NAMES)
         self.spec = self._space_spec()
         self.plan = tuple(plan)
@@ -82,13 +84,19 @@ class CorePlan:
     def _space_spec(self) -> dict:
         space = self.space
         axes = []
+        replicates = space.sampling.replicates
         for name in self.axis_names:
+            if name == "replicate":
+                axes.append({"grid": True, "size": replicates, "stream": 0, "dimension": 0,
+                             "cumulative": None})
+                continue
             axis = space.axes[name]
             cumulative = None
             if isinstance(axis, Choice):
                 cumulative = axis.stream_spec()["cumulative"]
             axes.append({"grid": isinstance(axis, Grid), "size": len(axis.values),
-                         "stream": stream_id(name), "cumulative": cumulative})
+                         "stream": stream_id(name), "cumulative": cumulative,
+                         "dimension": self._dimension(name)})
         spectrum, wavelength = self._spectrum()
         sources = []
         for slot, name in zip(params.PARAMETER_NAMES, self.names):
@@ -99,7 +107,13 @@ class CorePlan:
         wavelengths = weights = np.empty(0)
         if spectrum is not None:
             wavelengths, weights = spectrum.wavelengths_nm, spectrum.weights
-        return {"seed": self.seed, "axes": axes, "params": list(sources),
+        sobol = None
+        if space.sampling.sobol:
+            directions, keys = space.sobol_tables(self.seed)
+            sobol = {"dimensions": len(space.random_axes), "replicates": replicates,
+                     "directions": directions, "keys": keys,
+                     "replicate_axis": 0 if replicates > 1 else -1}
+        return {"seed": self.seed, "axes": axes, "params": list(sources), "sobol": sobol,
                 "size_is_pixel_count": self.names[params.PARAMETER_NAMES.index("size")]
                 == "pixel_count",
                 "domains": params.domain_table(),
@@ -115,7 +129,8 @@ class CorePlan:
             if isinstance(axis, (Grid, Choice)):
                 return {"kind": "axis", "axis": self.axis_names.index(name),
                         "values": np.asarray(axis.values, dtype=np.float64)}
-            return {"kind": "drawn", "stream": stream_id(name), "draw": axis.stream_spec()}
+            return {"kind": "drawn", "stream": stream_id(name), "draw": axis.stream_spec(),
+                    "dimension": self._dimension(name)}
         if name in space.design_table:
             column = space.design_table[name]
             if name in space.design_constant:
@@ -123,6 +138,11 @@ class CorePlan:
             return {"kind": "axis", "axis": self.axis_names.index("design"),
                     "values": np.asarray(column, dtype=np.float64)}
         return {"kind": "fixed", "value": _default(slot)}
+
+    def _dimension(self, name: str) -> int:
+        """A random parameter's Sobol' dimension (0 for the others and under Monte Carlo)."""
+        random = self.space.random_axes
+        return random.index(name) if name in random else 0
 
     def _spectrum(self):
         """The space's spectrum (None: monochromatic) and, for a spectrum whose weight is on
@@ -154,7 +174,7 @@ class CorePlan:
     def _key_spec(self, key: GroupKey) -> list:
         parts = []
         for part in key.parts:
-            if part.kind == "axis":
+            if part.kind in ("axis", "replicate"):
                 parts.append({"kind": "axis", "axis": self.axis_names.index(part.name),
                               "size": part.size})
             elif part.kind == "design value":

@@ -16,7 +16,7 @@ import numpy as np
 
 from .space import Points, Space
 
-__all__ = ["Binned", "GroupKey", "group_key"]
+__all__ = ["Binned", "GroupKey", "group_key", "replicated"]
 
 
 @dataclass(frozen=True)
@@ -79,7 +79,7 @@ class GroupKey:
 
 
 def _part_indices(part: _Part, points: Points) -> np.ndarray:
-    if part.kind == "axis":
+    if part.kind in ("axis", "replicate"):
         return points.indices[part.name]
     if part.kind == "design value":
         return part.lookup[points.indices["design"]]
@@ -151,3 +151,14 @@ def group_key(space: Space, by) -> GroupKey:
             columns[name] = list(np.tile(np.repeat(np.asarray(values, dtype=object), inner),
                                          outer))
     return GroupKey(_as_parts(by), size, columns, tuple(parts))
+
+
+def replicated(key: GroupKey, replicates: int) -> GroupKey:
+    """``key`` with the point's replicate (:mod:`epc_fast.scan.qmc`) as its first, slowest
+    part: group ``r * key.size + g``; ``key`` itself for one replicate."""
+    if replicates == 1:
+        return key
+    columns = {"replicate": list(np.repeat(np.arange(replicates), key.size))}
+    columns.update({name: list(values) * replicates for name, values in key.columns.items()})
+    part = _Part("replicate", "replicate", replicates)
+    return GroupKey(key.by, key.size * replicates, columns, (part,) + key.parts)

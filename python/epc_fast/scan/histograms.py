@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .chunk import Chunk
+from .targets import target_of
 from .groups import GroupKey
 from .summaries import _check_output
 
@@ -230,6 +231,9 @@ class QuantilesResult:
     exact : bool, whether the values were kept and the quantiles computed exactly.
     relative_resolution : 1, one bin of the histogram as a ratio minus 1 (0 when exact): on
         dense samples [lower, upper] spans one or two bins.
+    standard_error : float64 (groups, nq), the output's unit: the estimates' standard errors
+        from the scan's replicates (:mod:`epc_fast.scan.replicates`); NaN with one replicate;
+        None outside a scan.
     """
 
     of: str
@@ -240,11 +244,17 @@ class QuantilesResult:
     upper: np.ndarray
     exact: bool
     relative_resolution: float
+    standard_error: np.ndarray | None = None
 
     def columns(self) -> dict:
-        """Table columns, one row per group: ``q5``, ``q50``, ... for q = 0.05, 0.5, ..."""
-        return {**self.labels, **{f"q{100 * q:g}": self.estimate[:, i]
-                                  for i, q in enumerate(self.q)}}
+        """Table columns, one row per group: ``q5``, ``q50``, ... for q = 0.05, 0.5, ...,
+        each followed by its standard error (``q5 error``) when the scan gives them."""
+        columns = dict(self.labels)
+        for i, q in enumerate(self.q):
+            columns[f"q{100 * q:g}"] = self.estimate[:, i]
+            if self.standard_error is not None:
+                columns[f"q{100 * q:g} error"] = self.standard_error[:, i]
+        return columns
 
     def quantile(self, q: float, **group):
         """The estimate of probability ``q`` (one of :attr:`q`), by group label.
@@ -319,6 +329,8 @@ class Quantiles:
         read from its bits.
     exact_up_to : int, scans of at most this many points keep every finite value (16 bytes
         each with its group index) and compute exact quantiles.
+    target : :class:`~epc_fast.scan.targets.Target` or mapping, optional: how accurate every
+        quantile must be, in every group, for a scan with a stopping rule to stop.
     """
 
     q: tuple = (0.05, 0.5, 0.95)
@@ -328,9 +340,11 @@ class Quantiles:
     high: float = 1e10
     bins_per_decade: int = 1000
     exact_up_to: int = 1 << 22
+    target: object = None
 
     def __post_init__(self):
         _check_output(self.of)
+        object.__setattr__(self, "target", target_of(self.target))
         _check_range(self.low, self.high, log=True)
         q = tuple(float(p) for p in np.atleast_1d(self.q))
         if not q or not all(0.0 <= p <= 1.0 for p in q):
@@ -380,15 +394,38 @@ class Quantiles:
                                bins.relative_resolution)
 
 
+def order_statistic_errors(reduction: Quantiles, state: dict, key: GroupKey) -> np.ndarray:
+    """float64 (groups, nq): the quantiles' standard errors under independent draws, half the
+    distance between the quantiles at q -/+ sqrt(q (1 - q) / n) (n a group's finite values):
+    the order statistics that bound a 68% interval of the p-quantile, whatever the
+    distribution (binomial counts of the values below it)."""
+    q = np.asarray(reduction.q)
+    if state["exact"]:
+        group = (np.concatenate(state["groups"]) if state["groups"] else np.empty(0, np.intp))
+        n = np.bincount(group, minlength=key.size)
+    else:
+        n = state["counts"].sum(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        step = np.sqrt(q * (1.0 - q) / n[:, None])
+    low, high = np.clip(q - step, 0.0, 1.0), np.clip(q + step, 0.0, 1.0)
+    both = np.nan_to_num(np.concatenate([low, high], axis=1))
+    if state["exact"]:
+        ends = _exact_quantiles(state, key.size, both)
+    else:
+        ends = _histogram_quantiles(reduction._bins, state, both)[0]
+    nq = q.size
+    return np.where(n[:, None] > 1, 0.5 * (ends[:, nq:] - ends[:, :nq]), np.nan)
+
+
 def _exact_quantiles(state: dict, groups: int, q: np.ndarray) -> np.ndarray:
     values = np.concatenate(state["values"]) if state["values"] else np.empty(0)
     group = np.concatenate(state["groups"]) if state["groups"] else np.empty(0, np.intp)
     order = np.argsort(group, kind="stable")
     splits = np.cumsum(np.bincount(group, minlength=groups))[:-1]
-    estimate = np.full((groups, q.size), np.nan)
+    estimate = np.full((groups, q.shape[-1]), np.nan)
     for g, part in enumerate(np.split(values[order], splits)):
         if part.size:
-            estimate[g] = np.quantile(part, q)
+            estimate[g] = np.quantile(part, q[g] if q.ndim == 2 else q)
     return estimate
 
 
@@ -399,13 +436,13 @@ def _histogram_quantiles(bins: _OctaveBins, state: dict, q: np.ndarray):
     edges = np.concatenate(([-np.inf], bins.edges, [np.inf]))
     t_edges = np.concatenate(([-np.inf], np.log10(bins.edges), [np.inf]))
     groups = counts.shape[0]
-    estimate, lower, upper = (np.full((groups, q.size), np.nan) for _ in range(3))
+    estimate, lower, upper = (np.full((groups, q.shape[-1]), np.nan) for _ in range(3))
     for g in range(groups):
         cumulative = np.cumsum(counts[g])
         n = cumulative[-1]
         if n == 0:
             continue
-        rank = q * (n - 1)
+        rank = (q[g] if q.ndim == 2 else q) * (n - 1)
         below = np.floor(rank)
         slot_low = np.searchsorted(cumulative, below, side="right")
         slot_high = np.searchsorted(cumulative, np.minimum(below + 1, n - 1), side="right")

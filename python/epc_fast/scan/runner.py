@@ -16,9 +16,11 @@ import time
 from dataclasses import dataclass
 
 from .errors import ScanAborted
-from .groups import group_key
+from .groups import group_key, replicated
 from .histograms import Quantiles
 from .progress import progress_reporter
+from .qmc import DEFAULT_REPLICATES, Sampling, check_points
+from .replicates import REPLICATED, finish, unmet_targets
 from .signals import signals_deferred as _interrupts_deferred
 from .signals import terminate_as_interrupt
 from .space import BLOCK_POINTS, Space
@@ -70,6 +72,9 @@ class ScanResult:
     partial : bool, whether the scan was interrupted.
     results : {name: result}, one per reduction (also ``scan_result[name]``).
     timing : Timing.
+    unmet_targets : tuple of str, one line per reduction whose target did not hold when the
+        scan stopped (at its points, or interrupted); empty when every target held or none
+        was given.
     """
 
     space: Space
@@ -79,6 +84,12 @@ class ScanResult:
     partial: bool
     results: dict
     timing: Timing
+    unmet_targets: tuple = ()
+
+    @property
+    def sampling(self) -> Sampling:
+        """How the scan sampled its random parameters (method and replicates)."""
+        return self.space.sampling
 
     def __getitem__(self, name: str):
         return self.results[name]
@@ -115,6 +126,54 @@ def _checked_chunk_points(chunk_points) -> int:
     return count
 
 
+def _sampled(space: Space, sampling: str, replicates) -> Space:
+    """The space sampled as asked: one replicate for a space without random parameters."""
+    chosen = Sampling(sampling, replicates)
+    if not space.is_random:
+        chosen = Sampling(sampling, 1)
+    return space.sampled(chosen)
+
+
+def _plan(space: Space, reductions: dict) -> tuple:
+    """The plan items: summaries, fractions and quantiles folded per replicate."""
+    plan = []
+    for name, reduction in reductions.items():
+        base = group_key(space, reduction.by)
+        key = base
+        if isinstance(reduction, REPLICATED):
+            key = replicated(base, space.sampling.replicates)
+        plan.append(PlanItem(name, reduction, key, base))
+    return tuple(plan)
+
+
+def _stages(space: Space, points: int, targets: bool) -> list[int]:
+    """Where the scan may stop: at ``points``, or with targets at each power of two of points
+    per replicate and grid cell that is a whole number of blocks, then ``points``."""
+    if not targets:
+        return [points]
+    unit = space.grid_size * space.sampling.replicates
+    end = unit
+    while end % BLOCK_POINTS:
+        end *= 2
+    stages = []
+    while end < points:
+        stages.append(end)
+        end *= 2
+    return stages + [points]
+
+
+def _checked_targets(space: Space, reductions: dict) -> bool:
+    """Whether any reduction has a target; a ValueError for one the scan cannot check."""
+    targets = [(n, r) for n, r in reductions.items() if getattr(r, "target", None) is not None]
+    for name, reduction in targets:
+        if not isinstance(reduction, REPLICATED):
+            raise ValueError(f"reduction {name!r}: a {type(reduction).__name__} takes no target")
+        if space.sampling.replicates < 2:
+            raise ValueError(f"reduction {name!r}: a target needs replicates >= 2 and random "
+                             f"parameters (the standard errors come from the replicates)")
+    return bool(targets)
+
+
 def _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir, backend):
     for start, stop in ranges:
         yield reduce_chunk(space, plan, seed, start, stop, points, threads, parquet_dir, backend)
@@ -123,7 +182,8 @@ def _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir, bac
 def run(space: Space, points: int | None = None, *, seed: int | None = None,
         reductions: dict | None = None, chunk_points: int = DEFAULT_CHUNK_POINTS,
         threads: int | None = None, progress=None, parquet=None, client=None,
-        on_chunk=None, backend: str = "core") -> ScanResult:
+        on_chunk=None, backend: str = "core", sampling: str = "monte_carlo",
+        replicates: int | None = None) -> ScanResult:
     """Evaluate ``points`` points of ``space`` in chunks and reduce them on the fly.
 
     Parameters
@@ -162,6 +222,22 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
         ``"reference"``: the same with the NumPy reference of the model (slow: the readable
         specification of a scan, for checking the core on small scans). The same draws in
         all three; the statistics agree to rounding (docs/scan.md).
+    sampling : {"monte_carlo", "sobol"}
+        How the random parameters are drawn (:mod:`epc_fast.scan.qmc`): independent
+        Philox draws, or scrambled Sobol' points, whose errors fall faster with the points
+        for smooth outputs. Sobol' sampling takes ``points = 2^m x replicates x grid cells``.
+    replicates : int, optional
+        Independent randomisations, 1 to 1024 (default: 16 for Sobol' sampling, 1 for Monte
+        Carlo, whose mean, fraction and quantiles have errors of their own): point i is in replicate
+        (i div grid cells) mod replicates, and the spread of the replicates' statistics gives
+        each summary's, fraction's and quantile's standard error
+        (:mod:`epc_fast.scan.replicates`). One replicate for a space without random
+        parameters.
+
+    With a reduction's ``target`` (e.g. ``Summary(target={"relative": 1e-3})``), ``points``
+    is a cap: the scan stops at the first power of two of points per replicate and grid cell
+    (a whole number of blocks) where every target holds, else at ``points``, and
+    :attr:`ScanResult.unmet_targets` says which did not hold.
 
     Returns
     -------
@@ -182,13 +258,18 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {', '.join(map(repr, BACKENDS))}; "
                          f"got {backend!r}")
+    if replicates is None:
+        replicates = DEFAULT_REPLICATES if sampling == "sobol" else 1
+    space = _sampled(space, sampling, replicates)
     reductions = default_reductions(space) if reductions is None else dict(reductions)
-    plan = tuple(PlanItem(name, r, group_key(space, r.by)) for name, r in reductions.items())
+    targets = _checked_targets(space, reductions)
+    check_points(points, space.grid_size, space.sampling, cap=targets)
+    plan = _plan(space, reductions)
     states = {item.name: item.reduction.start(item.key, points) for item in plan}
     if parquet is not None:
         from .parquet import commit_parts, discard_uncommitted, prepare_directory
-    ranges = ((start, min(start + chunk_points, points))
-              for start in range(0, points, chunk_points))
+    stages = _stages(space, points, targets)
+    unmet: list = []
     reporter = progress_reporter(progress, points)
     timing = Timing()
     done = 0
@@ -202,31 +283,41 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
             if parquet is not None:
                 with _interrupts_deferred():  # its staging directory is made and known, or not
                     parquet_dir = prepare_directory(parquet)
-            if client is None:
-                outcomes = _local_outcomes(space, plan, seed, ranges, points, threads,
-                                           parquet_dir, backend)
-            else:
-                from .dask_backend import dask_outcomes
+            for stage in stages:
+                ranges = ((start, min(start + chunk_points, stage))
+                          for start in range(done, stage, chunk_points))
+                if client is None:
+                    outcomes = _local_outcomes(space, plan, seed, ranges, points, threads,
+                                               parquet_dir, backend)
+                else:
+                    from .dask_backend import dask_outcomes
 
-                outcomes = dask_outcomes(client, space, plan, seed, ranges, points, threads,
-                                         parquet_dir, backend)
-            for outcome in outcomes:
-                merge_started = time.perf_counter()
-                with _interrupts_deferred():
-                    merging = True
-                    for item in plan:
-                        states[item.name] = item.reduction.merge(states[item.name],
-                                                                 outcome.partials[item.name])
-                    done = outcome.stop
-                    merging = False
-                    if parquet_dir is not None:
-                        commit_parts(parquet_dir, done)
-                    if on_chunk is not None:
-                        on_chunk(done)
-                for field in ("sampling_s", "core_s", "output_s", "reduction_s"):
-                    setattr(timing, field, getattr(timing, field) + getattr(outcome, field))
-                timing.reduction_s += time.perf_counter() - merge_started
-                reporter.update(done)
+                    outcomes = dask_outcomes(client, space, plan, seed, ranges, points,
+                                             threads, parquet_dir, backend)
+                for outcome in outcomes:
+                    merge_started = time.perf_counter()
+                    with _interrupts_deferred():
+                        merging = True
+                        for item in plan:
+                            states[item.name] = item.reduction.merge(
+                                states[item.name], outcome.partials[item.name])
+                        done = outcome.stop
+                        merging = False
+                        if parquet_dir is not None:
+                            commit_parts(parquet_dir, done)
+                        if on_chunk is not None:
+                            on_chunk(done)
+                    for field in ("sampling_s", "core_s", "output_s", "reduction_s"):
+                        setattr(timing, field, getattr(timing, field) + getattr(outcome, field))
+                    timing.reduction_s += time.perf_counter() - merge_started
+                    reporter.update(done)
+                if targets:
+                    checked = time.perf_counter()
+                    unmet = unmet_targets(plan, {item.name: finish(item, states[item.name],
+                                                                   space) for item in plan})
+                    timing.reduction_s += time.perf_counter() - checked
+                    if not unmet:
+                        break
         except KeyboardInterrupt:
             partial = done < points
         except ScanAborted as error:
@@ -250,9 +341,10 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
             except KeyboardInterrupt:
                 partial = done < points
     timing.wall_s = time.perf_counter() - started
-    results = {item.name: item.reduction.finish(states[item.name], item.key, space)
-               for item in plan}
-    result = ScanResult(space, seed, done, points, partial, results, timing)
+    results = {item.name: finish(item, states[item.name], space) for item in plan}
+    if targets:
+        unmet = unmet_targets(plan, results)
+    result = ScanResult(space, seed, done, points, partial, results, timing, tuple(unmet))
     if aborted is not None:
         aborted.result = result
         raise aborted

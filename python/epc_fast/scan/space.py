@@ -24,7 +24,7 @@ from ..mtf_table import lens_tables_of
 from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
 from ..presets import Design
 from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
-from . import streams
+from . import qmc, streams
 from .distributions import Choice, Grid
 from .readout import READOUT_KEYS, design_readout
 from .domains import _domain_of, _inside_probability, domain_problem
@@ -164,6 +164,38 @@ class Space:
         self._check_domains()
         self.grid_axes = tuple(n for n, a in self.axes.items() if isinstance(a, Grid))
         self.grid_shape = tuple(len(self.axes[n].values) for n in self.grid_axes)
+        #: How the random parameters are sampled (:class:`epc_fast.scan.qmc.Sampling`): plain
+        #: Monte Carlo in one replicate here; :func:`epc_fast.scan.run` scans a copy
+        #: (:meth:`sampled`) with its own.
+        self.sampling = qmc.Sampling("monte_carlo", 1)
+        self._sobol_tables: dict = {}
+
+    def sampled(self, sampling: "qmc.Sampling") -> "Space":
+        """A copy of the space that samples as ``sampling`` says (the same axes and designs).
+        A ValueError when Sobol' sampling meets more random parameters than its direction
+        numbers cover."""
+        if sampling.sobol and len(self.random_axes) > qmc.MAX_DIMENSIONS:
+            raise ValueError(f"sampling='sobol' covers up to {qmc.MAX_DIMENSIONS} random "
+                             f"parameters; this space has {len(self.random_axes)}")
+        copy = object.__new__(Space)
+        copy.__dict__.update(self.__dict__)
+        copy.sampling = sampling
+        copy._sobol_tables = {}
+        return copy
+
+    @property
+    def random_axes(self) -> tuple[str, ...]:
+        """The random parameters (choices included), in order: their Sobol' dimensions."""
+        return tuple(n for n, a in self.axes.items() if not isinstance(a, (float, Grid)))
+
+    def sobol_tables(self, seed: int) -> tuple[np.ndarray, np.ndarray]:
+        """(direction numbers (dimensions, 32), scrambling keys (replicates, dimensions)),
+        uint32, of this space's Sobol' sampling under ``seed``."""
+        if seed not in self._sobol_tables:
+            dimensions = len(self.random_axes)
+            self._sobol_tables = {seed: (qmc.direction_numbers(dimensions), qmc.scramble_keys(
+                seed, self.sampling.replicates, dimensions))}
+        return self._sobol_tables[seed]
 
     def _set_designs(self, design, overridden: set):
         axis = design if isinstance(design, (Grid, Choice)) else Grid(tuple(design))
@@ -313,6 +345,7 @@ class Space:
                              f"is not empty, got {start} .. {stop}")
         index = np.arange(start, stop, dtype=np.int64)
         indices, parameters = self._grid_columns(start, stop - start)
+        self._replicate_column(index, indices)
         self._drawn_columns(seed, index, indices, parameters)
         return Points(start, stop, index, parameters, indices)
 
@@ -325,23 +358,39 @@ class Space:
         indices, parameters = {}, {}
         if self.grid_axes:
             indices, parameters = self._grid_cells(index % self.grid_size)
+        self._replicate_column(index, indices)
         self._drawn_columns(seed, index, indices, parameters)
         return Points(None, None, index, parameters, indices)
 
+    def _replicate_column(self, index: np.ndarray, indices: dict):
+        """Adds each point's replicate, (i div grid size) mod replicates, as ``"replicate"``."""
+        if self.sampling.replicates > 1:
+            indices["replicate"] = qmc.positions(index, self.grid_size,
+                                                 self.sampling.replicates)[1]
+
+    def _uniforms(self, seed: int, name: str, index: np.ndarray) -> np.ndarray:
+        """The uniforms of random parameter ``name`` at points ``index``: its name's Philox
+        stream, or its Sobol' dimension (:mod:`epc_fast.scan.qmc`)."""
+        if not self.sampling.sobol:
+            return streams.uniforms(seed, streams.stream_id(name), index)
+        directions, keys = self.sobol_tables(seed)
+        d = self.random_axes.index(name)
+        k, r = qmc.positions(index, self.grid_size, self.sampling.replicates)
+        return qmc.sobol_uniform(directions[d], keys[r, d], k)
+
     def _drawn_columns(self, seed: int, index: np.ndarray, indices: dict, parameters: dict):
         """Adds the random and fixed parameters at points ``index`` to ``indices`` and
-        ``parameters``: a random axis's values (a choice's value indices) at the uniforms of
-        its name's stream."""
+        ``parameters``: a random axis's values (a choice's value indices) at its uniforms."""
         for name, axis in self.axes.items():
             if isinstance(axis, Choice):
-                u = streams.uniforms(seed, streams.stream_id(name), index)
+                u = self._uniforms(seed, name, index)
                 indices[name] = axis.indices_from_uniform(u)
                 if name != "design":
                     parameters[name] = np.asarray(axis.values, dtype=np.float64)[indices[name]]
             elif isinstance(axis, float):
                 parameters[name] = axis
             elif not isinstance(axis, Grid):
-                u = streams.uniforms(seed, streams.stream_id(name), index)
+                u = self._uniforms(seed, name, index)
                 parameters[name] = axis.from_uniform(u)
         for name in self.design_constant:
             parameters[name] = float(self.design_table[name][0])

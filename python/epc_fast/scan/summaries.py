@@ -19,6 +19,7 @@ import numpy as np
 from ..status import Status
 from .chunk import OUTPUTS, Chunk
 from .groups import GroupKey
+from .targets import target_of
 
 __all__ = ["Summary", "SummaryResult", "FractionBelow", "FractionBelowResult"]
 
@@ -46,6 +47,9 @@ class SummaryResult:
     mode_counts : int64 (groups, modes + 1), when the space's designs have readout modes:
         points per group at which the camera picks each mode (column 0: no mode has an EPC;
         column i + 1: mode i, the design's i-th); None otherwise.
+    mean_error, std_error : float64 (groups,), the output's unit: the standard errors of
+        ``mean`` and ``std`` (:mod:`epc_fast.scan.replicates`); NaN where the scan cannot
+        tell (one replicate); None outside a scan.
     """
 
     of: str
@@ -58,6 +62,8 @@ class SummaryResult:
     min: np.ndarray
     max: np.ndarray
     mode_counts: np.ndarray | None = None
+    mean_error: np.ndarray | None = None
+    std_error: np.ndarray | None = None
 
     @property
     def mode_share(self) -> np.ndarray | None:
@@ -77,9 +83,14 @@ class SummaryResult:
                     if s != Status.BEYOND_TABLE or self.status_counts[:, s].any()}
         # a group with no finite value has no extremes: NaN, not the empty min's +inf
         empty = ~np.isfinite(self.mean)
-        columns = {**self.labels, "points": self.points, **statuses, "mean": self.mean,
-                   "std": self.std, "min": np.where(empty, np.nan, self.min),
-                   "max": np.where(empty, np.nan, self.max)}
+        columns = {**self.labels, "points": self.points, **statuses, "mean": self.mean}
+        if self.mean_error is not None:
+            columns["mean error"] = self.mean_error
+        columns["std"] = self.std
+        if self.std_error is not None:
+            columns["std error"] = self.std_error
+        columns.update({"min": np.where(empty, np.nan, self.min),
+                        "max": np.where(empty, np.nan, self.max)})
         if self.mode_counts is not None:
             share = self.mode_share
             columns.update({f"mode {i}": share[:, i] for i in range(share.shape[1])})
@@ -126,13 +137,17 @@ class Summary:
     ----------
     by : group key, optional (see :mod:`epc_fast.scan.groups`); None: one group.
     of : str, the output summarised (default ``"epc"``, pixels).
+    target : :class:`~epc_fast.scan.targets.Target` or mapping, optional: how accurate the
+        mean must be, in every group, for a scan with a stopping rule to stop.
     """
 
     by: object = None
     of: str = "epc"
+    target: object = None
 
     def __post_init__(self):
         _check_output(self.of)
+        object.__setattr__(self, "target", target_of(self.target))
 
     def start(self, key: GroupKey, points_total: int) -> dict:
         groups = key.size
@@ -215,8 +230,9 @@ class FractionBelowResult:
     count : int64 (groups,), points whose output is finite.
     below : int64 (groups,), of those, points below the threshold.
     fraction : float64 (groups,), below / count (NaN for an empty group).
-    standard_error : float64 (groups,), sqrt(fraction (1 - fraction) / count): the Monte Carlo
-        error of ``fraction``.
+    standard_error : float64 (groups,), the standard error of ``fraction``: under Monte Carlo
+        sqrt(fraction (1 - fraction) / count), under Sobol' sampling the replicates' spread
+        (:mod:`epc_fast.scan.replicates`).
     name : str, the column name in tables.
     """
 
@@ -244,14 +260,18 @@ class FractionBelow:
     threshold : the output's unit (pixels for EPC).
     by : group key, optional; None: one group.
     of : str, the output (default ``"epc"``).
+    target : :class:`~epc_fast.scan.targets.Target` or mapping, optional: how accurate the
+        fraction must be, in every group, for a scan with a stopping rule to stop.
     """
 
     threshold: float
     by: object = None
     of: str = "epc"
+    target: object = None
 
     def __post_init__(self):
         _check_output(self.of)
+        object.__setattr__(self, "target", target_of(self.target))
 
     @property
     def column_name(self) -> str:

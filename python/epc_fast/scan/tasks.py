@@ -33,11 +33,14 @@ BACKENDS = ("core", "numpy", "reference")
 
 @dataclass(frozen=True)
 class PlanItem:
-    """A named reduction and its group key resolved against the scan's space."""
+    """A named reduction and its group key resolved against the scan's space: ``key`` the one
+    it folds by (the replicate first, :func:`~epc_fast.scan.groups.replicated`), ``base_key``
+    the one its result is given by (None: ``key``)."""
 
     name: str
     reduction: object
     key: GroupKey
+    base_key: GroupKey | None = None
 
 
 @dataclass
