@@ -90,9 +90,27 @@ def headline(result, source: str) -> str:
     """One line: points, config, seed, time and throughput (and whether it was interrupted)."""
     done = f"{result.points:,} of {result.points_requested:,}" if result.partial else \
         f"{result.points:,}"
-    return (f"scan of {done} points ({source}), seed {result.seed}: "
+    sampling = result.sampling
+    how = "" if not sampling.sobol and sampling.replicates == 1 else (
+        f", {'Sobol' if sampling.sobol else 'Monte Carlo'} in {sampling.replicates} replicates")
+    return (f"scan of {done} points ({source}), seed {result.seed}{how}: "
             f"{duration(result.timing.wall_s)}, {result.points_per_s / 1e6:.2f} M points/s"
             + (" -- INTERRUPTED, partial results" if result.partial else ""))
+
+
+def target_lines(result, reductions) -> list[str]:
+    """Where a scan with targets stopped and why: every target held, or which did not."""
+    targets = {name: r.target for name, r in (reductions or {}).items()
+               if getattr(r, "target", None) is not None}
+    if not targets:
+        return []
+    if not result.unmet_targets:
+        return [f"every target held at {result.points:,} of at most "
+                f"{result.points_requested:,} points: "
+                + "; ".join(f"{name}: {target}" for name, target in targets.items())]
+    return [f"NOT every target held at {result.points:,} points:"] + [
+        f"  {line}" for line in result.unmet_targets]
+
 
 
 def _quantile_notes(result) -> list[str]:
@@ -287,6 +305,8 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
 
     try:
         print(headline(result, config.source))
+        for line in target_lines(result, config.reductions):
+            print(line)
         print(config.space.describe())
         units = tables.grouping_units(result)
         for grouping, columns in tables.grouped_tables(result).items():
@@ -312,7 +332,9 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
     state = ("failed" if failure is not None else "interrupted" if result.partial
              else "complete")
     manifest.update(points_done=result.points, partial=result.partial, state=state,
-                    stopped_by=stopped_by, files=out.written + _parquet_files(out, config))
+                    stopped_by=stopped_by, files=out.written + _parquet_files(out, config),
+                    sampling=result.sampling.method, replicates=result.sampling.replicates,
+                    unmet_targets=list(result.unmet_targets))
     write_manifest(out.path, manifest)
     for name in out.written + ["manifest.json"]:
         print(f"wrote {out.path / name}")

@@ -28,7 +28,8 @@ from .summaries import FractionBelow, Summary
 from .core_plan import checked_seed
 from .tasks import BACKENDS, PlanItem, reduce_chunk
 
-__all__ = ["run", "ScanResult", "Timing", "default_reductions", "DEFAULT_CHUNK_POINTS"]
+__all__ = ["run", "ScanResult", "Timing", "default_reductions", "sampled_scan",
+           "DEFAULT_CHUNK_POINTS"]
 
 #: Points per chunk by default: 16 blocks, tens of milliseconds of the core's fused pass (and
 #: ~200 MB of arrays on the NumPy path).
@@ -126,12 +127,21 @@ def _checked_chunk_points(chunk_points) -> int:
     return count
 
 
-def _sampled(space: Space, sampling: str, replicates) -> Space:
-    """The space sampled as asked: one replicate for a space without random parameters."""
+def sampled_scan(space: Space, points: int, reductions: dict | None, sampling: str,
+                 replicates: int | None) -> tuple[Space, dict, bool]:
+    """(the space sampled as asked, the reductions, whether any has a target), or a ValueError
+    or TypeError naming what a scan of ``points`` cannot take: a sampling, replicates, a
+    point count Sobol' sampling cannot balance, a target it cannot check."""
+    if replicates is None:
+        replicates = DEFAULT_REPLICATES if sampling == "sobol" else 1
     chosen = Sampling(sampling, replicates)
-    if not space.is_random:
+    if not space.is_random:  # nothing random: nothing to replicate
         chosen = Sampling(sampling, 1)
-    return space.sampled(chosen)
+    space = space.sampled(chosen)
+    reductions = default_reductions(space) if reductions is None else dict(reductions)
+    targets = _checked_targets(space, reductions)
+    check_points(points, space.grid_size, space.sampling, cap=targets)
+    return space, reductions, targets
 
 
 def _plan(space: Space, reductions: dict) -> tuple:
@@ -258,12 +268,7 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {', '.join(map(repr, BACKENDS))}; "
                          f"got {backend!r}")
-    if replicates is None:
-        replicates = DEFAULT_REPLICATES if sampling == "sobol" else 1
-    space = _sampled(space, sampling, replicates)
-    reductions = default_reductions(space) if reductions is None else dict(reductions)
-    targets = _checked_targets(space, reductions)
-    check_points(points, space.grid_size, space.sampling, cap=targets)
+    space, reductions, targets = sampled_scan(space, points, reductions, sampling, replicates)
     plan = _plan(space, reductions)
     states = {item.name: item.reduction.start(item.key, points) for item in plan}
     if parquet is not None:

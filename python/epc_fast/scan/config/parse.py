@@ -2,7 +2,8 @@
 
 The format, section by section (every value in the unit of the parameter it sets)::
 
-    [scan]                       # points (required), seed, chunk_points, threads
+    [scan]                       # points (required), seed, chunk_points, threads,
+                                 #   sampling = "monte_carlo" | "sobol", replicates
     [design]                     # presets = ["HIGH_TIER", ...] (names in epc_fast.presets),
                                  # sampling = "grid" | "choice", weights = [...]
     [[design.custom]]            # name, evaluate's parameters, the sensor as
@@ -27,7 +28,9 @@ The format, section by section (every value in the unit of the parameter it sets
                                  #   | "fraction_below" | "top_k", their arguments, and
                                  #   by = "design" | [part, ...] where a part is a name or
                                  #   {parameter = "illuminance_lux", log_bins = [low, high, n]}
-                                 #   or {parameter = ..., edges = [...]}
+                                 #   or {parameter = ..., edges = [...]};
+                                 #   target = {standard_error = ..., relative = ...}
+                                 #   (summary, fraction_below, quantiles): a stopping rule
     [output]                     # parquet = "directory" (a name inside the output directory),
                                  #   log_y = true: the bands plots' output on a log axis
     [sobol]                      # points, seed, of = "epc" | "log_epc" | [...], confidence,
@@ -54,7 +57,8 @@ from .sobol import SobolConfig, parse_sobol
 from ..distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
                             Uniform)
 from ..errors import ConfigError
-from ..runner import DEFAULT_CHUNK_POINTS
+from ..qmc import MAX_REPLICATES, SAMPLINGS
+from ..runner import DEFAULT_CHUNK_POINTS, sampled_scan
 from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
                      boolean, check_size, choice, file_name, integer, number, number_list, short,
                      string, table_of, take, wrapped)
@@ -142,6 +146,8 @@ class ScanConfig:
     text : str, the TOML it was read from (recorded in the output's manifest).
     sobol : SobolConfig or None, the ``[sobol]`` table: Sobol' indices of the space.
     log_y : bool, ``[output] log_y``: the bands plots draw the output on a log axis.
+    sampling : str, ``[scan] sampling``: "monte_carlo" or "sobol".
+    replicates : int or None, ``[scan] replicates`` (None: the scan's default).
     """
 
     space: Space
@@ -155,11 +161,14 @@ class ScanConfig:
     text: str = ""
     sobol: SobolConfig | None = None
     log_y: bool = False
+    sampling: str = "monte_carlo"
+    replicates: int | None = None
 
     def run_kwargs(self) -> dict:
         """Keyword arguments for :func:`epc_fast.scan.run` (all but ``parquet``)."""
         return {"points": self.points, "seed": self.seed, "reductions": self.reductions,
-                "chunk_points": self.chunk_points, "threads": self.threads}
+                "chunk_points": self.chunk_points, "threads": self.threads,
+                "sampling": self.sampling, "replicates": self.replicates}
 
 
 def _toml():
@@ -376,7 +385,7 @@ def _lens_tables(value) -> tuple:
 
 def _scan_table(scan) -> dict:
     scan = take(table_of("scan", scan), "scan", required=("points",),
-                optional=("seed", "chunk_points", "threads"))
+                optional=("seed", "chunk_points", "threads", "sampling", "replicates"))
     chunk_points = integer("scan", "chunk_points", scan.get("chunk_points", DEFAULT_CHUNK_POINTS),
                            BLOCK_POINTS, MAX_CHUNK_POINTS, size=True)
     if chunk_points % BLOCK_POINTS:
@@ -387,7 +396,11 @@ def _scan_table(scan) -> dict:
             "seed": integer("scan", "seed", scan.get("seed", 0), 0, 2**64 - 1),
             "chunk_points": chunk_points,
             "threads": None if threads is None else integer("scan", "threads", threads, 1,
-                                                            MAX_THREADS)}
+                                                            MAX_THREADS),
+            "sampling": choice("scan", "sampling", scan.get("sampling", "monte_carlo"),
+                               SAMPLINGS),
+            "replicates": None if scan.get("replicates") is None else integer(
+                "scan", "replicates", scan["replicates"], 1, MAX_REPLICATES)}
 
 
 def toml_document(text: str, source: str) -> dict:
@@ -452,11 +465,13 @@ def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfi
     reductions = parse_reductions(table_of("reductions", document.get("reductions", {})))
     space = build_space()
     check_reductions(reductions, space)
+    wrapped("scan", lambda: sampled_scan(space, counts["points"], reductions or None,
+                                         counts["sampling"], counts["replicates"]))
     sobol = (parse_sobol(document["sobol"], counts["seed"], space) if "sobol" in document
              else None)
     return ScanConfig(space, counts["points"], counts["seed"], reductions or None,
                       counts["chunk_points"], counts["threads"], parquet, source, text, sobol,
-                      log_y)
+                      log_y, counts["sampling"], counts["replicates"])
 
 
 def load_config(path) -> ScanConfig:

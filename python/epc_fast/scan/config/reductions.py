@@ -20,6 +20,7 @@ from ..schema import (MAX_CELLS, MAX_EXACT_QUANTILE_POINTS, MAX_GROUPS, MAX_TOP_
                      check_size, choice, file_name, integer, number, number_list, short,
                      table_of, take, where_prefix, wrapped)
 from ..summaries import FractionBelow, Summary
+from ..targets import target_of
 
 __all__ = ["parse_reductions", "check_reductions", "REDUCTIONS"]
 
@@ -37,10 +38,18 @@ def _q(where, value):
     return number_list(where, "q", value, 0.0, 1.0)
 
 
+def _target(where, value):
+    if not isinstance(value, dict):
+        raise ConfigError(f"{where_prefix(where)}: target = {short(value)}: expected "
+                          "{standard_error = ..., relative = ...}")
+    return wrapped(where, lambda: target_of(dict(value)))
+
+
 #: Each kind's keys and their checks (``by`` is checked apart: it needs the space).
 KEYS = {
-    "summary": {"of": _of},
-    "fraction_below": {"of": _of, "threshold": lambda w, v: number(w, "threshold", v)},
+    "summary": {"of": _of, "target": _target},
+    "fraction_below": {"of": _of, "threshold": lambda w, v: number(w, "threshold", v),
+                       "target": _target},
     "top_k": {"of": _of, "k": lambda w, v: integer(w, "k", v, 1, MAX_TOP_K, size=True),
               "largest": lambda w, v: boolean(w, "largest", v)},
     "histogram": {"of": _of, "low": lambda w, v: number(w, "low", v),
@@ -52,7 +61,8 @@ KEYS = {
                   "bins_per_decade": lambda w, v: integer(w, "bins_per_decade", v, 1, MAX_CELLS,
                                                               size=True),
                   "exact_up_to": lambda w, v: integer(w, "exact_up_to", v, 0,
-                                                      MAX_EXACT_QUANTILE_POINTS, size=True)},
+                                                      MAX_EXACT_QUANTILE_POINTS, size=True),
+                  "target": _target},
 }
 REQUIRED = {"fraction_below": ("threshold",), "histogram": ("low", "high")}
 
