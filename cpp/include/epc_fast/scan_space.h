@@ -183,7 +183,9 @@ inline int sobol_positions(const ScanSpace& space, ScanLanes& lanes) {
         const double inverse = 1.0 / static_cast<double>(cells);
         EPC_FAST_SIMD_REDUCTION(| : highest)
         for (std::size_t i = 0; i < block_size; ++i) {
-            lanes.sobol_k[i] = static_cast<std::uint32_t>(floor_div(static_cast<double>(lanes.index[i]), inverse));
+            // k mod 2^32 (a scan refuses more points than that per replicate and cell)
+            const auto k = static_cast<std::uint64_t>(floor_div(static_cast<double>(lanes.index[i]), inverse));
+            lanes.sobol_k[i] = static_cast<std::uint32_t>(k);
             highest |= lanes.sobol_k[i];
         }
     }

@@ -164,8 +164,9 @@ def _low_bits(x: np.ndarray) -> np.ndarray:
 
 def unscrambled_sobol(directions: np.ndarray, k) -> np.ndarray:
     """uint64 words of 32 bits: the k-th point of Sobol' sequence in Gray-code order, in the
-    dimension of ``directions`` (uint32 (32,))."""
-    k = np.asarray(k, dtype=np.uint64)
+    dimension of ``directions`` (uint32 (32,)); k is taken mod 2^32 (a scan refuses more
+    points than that per replicate and cell)."""
+    k = np.asarray(k, dtype=np.uint64) & _U32  # 32-bit points: k mod 2^32
     gray = k ^ (k >> np.uint64(1))
     x = np.zeros(k.shape, np.uint64)
     for b in range(32):
