@@ -39,7 +39,7 @@ std::vector<std::uint32_t> words_of(const py::handle& obj) {
 }
 
 // The spec's "sobol" entry: None (Monte Carlo) or the direction numbers (dimensions x 32), the
-// scrambling keys (replicates x dimensions) and the replicate axis (-1: none).
+// scrambling keys (dimensions x replicates) and the replicate axis (-1: none).
 void sobol_of(const py::dict& spec, ScanSpace& space) {
     if (!spec.contains("sobol") || spec["sobol"].is_none()) return;
     const auto d = py::reinterpret_borrow<py::dict>(spec["sobol"]);
@@ -49,8 +49,9 @@ void sobol_of(const py::dict& spec, ScanSpace& space) {
     s.replicates = item<std::uint32_t>(d, "replicates");
     s.directions = words_of(d["directions"]);
     s.keys = words_of(d["keys"]);
+    set_reversed(s);
     space.replicate_axis = item<int>(d, "replicate_axis");
-    if (s.replicates < 1 || s.directions.size() != 32u * s.dimensions ||
+    if (s.replicates < 1 || s.dimensions > sobol_max_dimensions || s.directions.size() != 32u * s.dimensions ||
         s.keys.size() != static_cast<std::size_t>(s.replicates) * s.dimensions)
         throw std::invalid_argument("scan spec: the Sobol' tables' sizes");
     if (space.replicate_axis >= static_cast<int>(space.axes.size()) ||

@@ -87,6 +87,7 @@ struct ScanLanes {
     alignas(64) std::uint64_t index[block_size];
     alignas(64) double u[block_size];
     alignas(64) std::uint32_t sobol_k[block_size];  // each point's index in its cell and replicate
+    SobolLanes sobol;
     alignas(64) double values[n_params][block_size];
     std::vector<std::array<std::int32_t, block_size>> axis_index;
 
@@ -248,10 +249,10 @@ inline void form_points(const ScanSpace& space, bool consecutive, ScanLanes& lan
     const std::size_t n = lanes.n;
     for (std::size_t i = n; i < block_size; ++i) lanes.index[i] = lanes.index[n > 0 ? n - 1 : 0];
     detail::grid_digits(space, consecutive, lanes);
-    const int bits = space.sobol.on ? detail::sobol_positions(space, lanes) : 0;
+    if (space.sobol.on) set_gray_masks(lanes.sobol_k, detail::sobol_positions(space, lanes), lanes.sobol);
     const auto uniforms = [&](std::uint32_t stream, std::uint32_t dimension) {
         if (space.sobol.on) {
-            sobol_uniforms(space.sobol, dimension, lanes.sobol_k, detail::replicates_of(space, lanes), bits, lanes.u);
+            sobol_uniforms(space.sobol, dimension, lanes.sobol, detail::replicates_of(space, lanes), lanes.u);
         } else {
             stream_uniforms(space.seed, stream, lanes.index, lanes.u);
         }

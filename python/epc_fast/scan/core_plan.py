@@ -111,7 +111,7 @@ class CorePlan:
         if space.sampling.sobol:
             directions, keys = space.sobol_tables(self.seed)
             sobol = {"dimensions": len(space.random_axes), "replicates": replicates,
-                     "directions": directions, "keys": keys,
+                     "directions": directions, "keys": np.ascontiguousarray(keys.T),
                      "replicate_axis": 0 if replicates > 1 else -1}
         return {"seed": self.seed, "axes": axes, "params": list(sources), "sobol": sobol,
                 "size_is_pixel_count": self.names[params.PARAMETER_NAMES.index("size")]

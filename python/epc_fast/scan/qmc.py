@@ -12,7 +12,8 @@ Gray-code order (``scipy.stats.qmc.Sobol``'s order) with the direction numbers o
 F. Y. Kuo (2008, new-joe-kuo-6.21201), under a nested uniform scrambling of its 32 bits by
 B. Burley's hash ("Practical hash-based Owen scrambling", J. Comput. Graph. Tech. 9(4), 2020)
 keyed per replicate and dimension by :func:`scramble_keys`; the uniform's 20 low bits are a hash
-of the scrambled point. So a point depends only on the seed and its index, as under Monte Carlo,
+of the scrambled point (:func:`_low_bits`): an Owen-scrambled point's digits past its 32 are
+independent and uniform. So a point depends only on the seed and its index, as under Monte Carlo,
 and the ``R`` replicates are independent randomisations of the same point set.
 """
 
@@ -154,12 +155,9 @@ def _owen_hash(x: np.ndarray, key: np.ndarray) -> np.ndarray:
 
 
 def _low_bits(x: np.ndarray) -> np.ndarray:
-    """A 32-bit hash of the scrambled point (C. Wellons' lowbias32), for the uniform's low bits."""
-    x = x ^ (x >> np.uint64(16))
-    x = _times(x, 0x7FEB352D)
-    x ^= x >> np.uint64(15)
-    x = _times(x, 0x846CA68B)
-    return x ^ (x >> np.uint64(16))
+    """32 bits whose high 20 are the uniform's low bits: the product of the keyed, scrambled
+    point by the golden ratio's 32 bits (their high bits mix all of the point's)."""
+    return _times(x, 0x9E3779B9)
 
 
 def unscrambled_sobol(directions: np.ndarray, k) -> np.ndarray:
