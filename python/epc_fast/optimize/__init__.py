@@ -41,7 +41,7 @@ __all__ = ["maximize", "Problem", "Mean", "Quantile", "ProbabilityAtLeast", "Opt
 def maximize(space, bounds: dict, objective=None, *, points: int | None = None,
              seed: int | None = None, threads: int | None = None,
              batches: int = DEFAULT_BATCHES, start_grid: int | None = None,
-             xtol: float = DEFAULT_XTOL) -> Optimum:
+             xtol: float = DEFAULT_XTOL, sampling: str = "monte_carlo") -> Optimum:
     """The design parameters that maximise ``objective`` over the scenes of ``space``.
 
     ``Problem(space, bounds, objective, points=, seed=, threads=).maximize(batches=,
@@ -60,10 +60,12 @@ def maximize(space, bounds: dict, objective=None, *, points: int | None = None,
     batches : int, batches for the optimum's standard error (0: none).
     start_grid : int, start grid values per parameter.
     xtol : 1, the tolerance on the optimum, a fraction of each bound's range.
+    sampling : "monte_carlo" or "sobol", how the scene is drawn (:class:`Problem`).
 
     Returns
     -------
     Optimum
     """
-    problem = Problem(space, bounds, objective, points=points, seed=seed, threads=threads)
+    problem = Problem(space, bounds, objective, points=points, seed=seed, threads=threads,
+                      sampling=sampling)
     return problem.maximize(batches=batches, start_grid=start_grid, xtol=xtol)

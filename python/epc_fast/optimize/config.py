@@ -5,7 +5,7 @@ The scene and the fixed design are a scan config's ``[design]``, ``[parameters]`
 ``[optimize]`` replaces ``[scan]`` and ``[reductions]``::
 
     [optimize]                   # points (required), seed, batches, threads, start_grid,
-                                 #   xtol, curve_points
+                                 #   xtol, curve_points, sampling = "monte_carlo" | "sobol"
     [optimize.bounds]            # name = [low, high]: the optimised parameters, in their
                                  #   units (not in [parameters]; a design's value is replaced)
     [optimize.objective]         # kind = "mean" | "quantile" (q) |
@@ -30,6 +30,7 @@ from ..scan.errors import ConfigError
 from ..scan.schema import (MAX_CONFIG_BYTES, choice, integer, number, number_list, short,
                           table_of, take, wrapped)
 from ..scan.distributions import Grid
+from ..scan.qmc import SAMPLINGS
 from ..scan.space import POINT_PARAMETERS, Space, domain_problem
 
 __all__ = ["OptimizeConfig", "parse_optimize_config", "load_optimize_config",
@@ -63,6 +64,7 @@ class OptimizeConfig:
     curve_points : int, candidates on each parameter's plotted curve.
     source : str, the file it came from.
     text : str, the TOML it was read from.
+    sampling : str, how the scene is drawn: "monte_carlo" or "sobol".
     """
 
     space: Space
@@ -77,11 +79,13 @@ class OptimizeConfig:
     curve_points: int
     source: str
     text: str = ""
+    sampling: str = "monte_carlo"
 
     def problem_kwargs(self) -> dict:
         """Keyword arguments of :class:`epc_fast.optimize.Problem`."""
         return {"space": self.space, "bounds": self.bounds, "objective": self.objective,
-                "points": self.points, "seed": self.seed, "threads": self.threads}
+                "points": self.points, "seed": self.seed, "threads": self.threads,
+                "sampling": self.sampling}
 
     def search_kwargs(self) -> dict:
         """Keyword arguments of :meth:`epc_fast.optimize.Problem.maximize`."""
@@ -128,7 +132,8 @@ def parse_optimize_config(text: str, base_dir=".", source: str = "<string>") -> 
          optional=("design", "parameters", "evaluate"))
     table = take(table_of("optimize", document["optimize"]), "optimize",
                  required=("points", "bounds", "objective"),
-                 optional=("seed", "batches", "threads", "start_grid", "xtol", "curve_points"))
+                 optional=("seed", "batches", "threads", "start_grid", "xtol", "curve_points",
+                           "sampling"))
     bounds = _bounds(table["bounds"])
     objective = _objective(table["objective"])
     parameters = table_of("parameters", document.get("parameters", {}))
@@ -148,6 +153,14 @@ def parse_optimize_config(text: str, base_dir=".", source: str = "<string>") -> 
     if space.is_random and (batches == 1 or (batches and points // batches < MIN_BATCH_POINTS)):
         raise ConfigError(f"scan config [optimize]: batches = {batches}: expected 0 or 2 and "
                           f"more, each of at least {MIN_BATCH_POINTS} of the {points:,} points")
+    sampling = choice("optimize", "sampling", table.get("sampling", "monte_carlo"), SAMPLINGS)
+    unit = space.grid_size * DEFAULT_BATCHES
+    if sampling == "sobol" and space.is_random and (batches not in (0, DEFAULT_BATCHES)
+                                                    or points % unit):
+        raise ConfigError(f"scan config [optimize]: sampling = \"sobol\" draws "
+                          f"{DEFAULT_BATCHES} replicates, which are the batches: expected "
+                          f"batches = {DEFAULT_BATCHES} or 0 and points a multiple of {unit}; "
+                          f"got batches = {batches}, points = {points}")
     return OptimizeConfig(
         space=space, bounds=bounds, objective=objective, points=points,
         seed=integer("optimize", "seed", table.get("seed", 0), 0, 2**64 - 1), batches=batches,
@@ -160,7 +173,7 @@ def parse_optimize_config(text: str, base_dir=".", source: str = "<string>") -> 
         curve_points=integer("optimize", "curve_points",
                              table.get("curve_points", DEFAULT_CURVE_POINTS), 2,
                              MAX_CURVE_POINTS),
-        source=source, text=text)
+        source=source, text=text, sampling=sampling)
 
 
 def load_optimize_config(path) -> OptimizeConfig:

@@ -24,6 +24,7 @@ from .checks import (checked_bounds, checked_objective, checked_points,
 from .result import Curve, Estimate, Optimum
 from .search import maximize_on_cube
 from ..scan.core_plan import checked_seed
+from ..scan.qmc import Sampling
 from ..scan.space import Space
 from ..status import Status
 
@@ -67,10 +68,16 @@ class Problem:
         The seed of the draws, in [0, 2**64); None draws one (kept in :attr:`seed`).
     threads : int, optional
         Core threads (see :func:`epc_fast.evaluate`); results do not depend on it.
+    sampling : {"monte_carlo", "sobol"}
+        How the scene is drawn (:mod:`epc_fast.scan.qmc`): independent draws, or scrambled
+        Sobol' points in :data:`DEFAULT_BATCHES` replicates, which are then the batches of
+        :meth:`maximize` (``points`` a multiple of the replicates times the grid's cells) and
+        give the estimates' standard errors; for a smooth objective their error falls faster
+        with the draws (docs/optimize.md measures it).
     """
 
     def __init__(self, space: Space, bounds: dict, objective=None, *, points=None, seed=None,
-                 threads=None):
+                 threads=None, sampling: str = "monte_carlo"):
         self.bounds = checked_bounds(space, bounds)
         self.space = space
         self.names = tuple(self.bounds)
@@ -78,9 +85,18 @@ class Problem:
         self.points = checked_points(space, points)
         self.seed = checked_seed(seed)
         self.threads = checked_threads(threads)
+        #: How the scene is drawn; Sobol' sampling's replicates are the batches.
+        self.sampling = Sampling(sampling, DEFAULT_BATCHES if sampling == "sobol" else 1)
+        if self.sampling.sobol and not space.is_random:
+            self.sampling = Sampling("sobol", 1)
+        unit = space.grid_size * self.sampling.replicates
+        if self.sampling.replicates > 1 and self.points % unit:
+            raise ValueError(f"sampling='sobol' draws {self.sampling.replicates} replicates of "
+                             f"every grid cell: points must be a multiple of {unit}, got "
+                             f"{self.points}")
         self._check_memory()
         started = time.perf_counter()
-        drawn = space.points(self.seed, 0, self.points).parameters
+        drawn = _drawn(space.sampled(self.sampling), self.seed, self.points)
         #: s, the time the scene's draws took.
         self.draw_s = time.perf_counter() - started
         self._readout, set_by_modes = _readout(space, self.names)
@@ -165,8 +181,18 @@ class Problem:
 
     def _estimate(self, x: tuple) -> Estimate:
         epc, not_ok = self._epc_at(x)
-        error = self.objective.standard_error(epc) if self.space.is_random else 0.0
-        return Estimate(self.objective.value(epc), error, not_ok / epc.size)
+        value = self.objective.value(epc)
+        replicates = self.sampling.replicates
+        if not self.space.is_random:
+            error = 0.0
+        elif replicates > 1:  # the replicates' spread: Sobol' points have no variance formula
+            size = self.points // replicates
+            each = [self.objective.value(epc[r * size:(r + 1) * size])
+                    for r in range(replicates)]
+            error = float(np.std(each, ddof=1) / math.sqrt(replicates))
+        else:
+            error = self.objective.standard_error(epc)
+        return Estimate(value, error, not_ok / epc.size)
 
     def curve(self, name: str, values, at: dict | None = None) -> Curve:
         """The objective along parameter ``name`` at ``values`` (its unit), the other
@@ -216,6 +242,11 @@ class Problem:
         -------
         epc_fast.optimize.Optimum
         """
+        replicates = self.sampling.replicates
+        if replicates > 1 and batches not in (0, replicates):
+            raise ValueError(f"batches={batches!r}: under sampling='sobol' the batches are its "
+                             f"{replicates} replicates: give batches={replicates} or 0 (or "
+                             "sampling='monte_carlo')")
         batches, grid, xtol = checked_search(batches, start_grid, xtol, len(self.names),
                                              self.points, self.space.is_random,
                                              MIN_BATCH_POINTS)
@@ -258,8 +289,10 @@ class Problem:
         lines += [f"optimised: {name} in [{low:g}, {high:g}] {unit_of(name)}"
                   for name, (low, high) in self.bounds.items()]
         lines.append(f"held: {self.sensor_held}")
-        lines.append(f"objective: {self.objective.label} over {self.points:,} draws, seed "
-                     f"{self.seed} (a draw not OK counts as 0 pixels)")
+        drawn = ("" if not self.sampling.sobol else
+                 f", Sobol' points in {self.sampling.replicates} replicates")
+        lines.append(f"objective: {self.objective.label} over {self.points:,} draws{drawn}, "
+                     f"seed {self.seed} (a draw not OK counts as 0 pixels)")
         return "\n".join(lines)
 
 
@@ -282,3 +315,16 @@ def _readout(space, names) -> tuple[dict, frozenset]:
         raise ValueError(f"{both[0]} is optimised and set by the designs' readout modes: "
                          "one or the other")
     return kwargs, set_by_modes
+
+
+def _drawn(space: Space, seed: int, points: int) -> dict:
+    """The scene's parameters at points 0 .. points - 1; in replicates (Sobol' sampling), each
+    replicate's points together and in order, so that batch b of :meth:`Problem.maximize` is
+    replicate b."""
+    drawn = space.points(seed, 0, points)
+    replicate = drawn.indices.get("replicate")
+    if replicate is None:
+        return drawn.parameters
+    order = np.argsort(replicate, kind="stable")
+    return {k: v[order] if isinstance(v, np.ndarray) and v.shape == (points,) else v
+            for k, v in drawn.parameters.items()}
