@@ -6,6 +6,9 @@
   points, 1 thread, Monte Carlo and Sobol' sampling taken in turn round by round (16
   replicates both), on the README's example space and a random 8-parameter one;
   ``extra_info`` holds each side's median ns a point and their ratio.
+- ``replicates cost``: the README's example reductions (per-design summary, streamed
+  quantiles, fraction below) at 2^23 points on 2 threads in 16 replicates and in 1, taken in
+  turn; ``extra_info`` holds each one's points/s.
 - ``mean to 1e-3``: the time to a mean EPC with 1e-3 relative standard error on the random
   8-parameter space: the scan's stopping rule under both samplings, SciPy's scrambled Sobol'
   points doubled until 16 scramblings agree, qmcpy's adaptive CubQMCNetG
@@ -101,3 +104,30 @@ def test_time_to_the_target(benchmark, random8, peer):
     # within 4 targets of the reference
     assert row["claimed"] <= RELATIVE
     assert abs(row["estimate"] - mean) <= 4 * RELATIVE * mean
+
+
+@pytest.mark.benchmark(group="replicates cost, 2 threads")
+def test_paired_16_replicates_against_one(benchmark):
+    """What folding per replicate costs: the README's example reductions (per-design summary,
+    streamed quantiles, fraction below) in 16 replicates and in 1, Monte Carlo, taken in turn."""
+    from epc_fast.scan import FractionBelow, Quantiles, run
+
+    space = SPACES["README example"]()
+    reductions = {"summary": Summary(by="design"),
+                  "q": Quantiles((0.05, 0.5, 0.95), by="design", exact_up_to=0),
+                  "below": FractionBelow(2e6, by="design")}
+    points = 1 << 18 if QUICK else 1 << 23
+    seconds = {1: [], 16: []}
+    results = {}
+    for round_ in range(ROUNDS + 1):
+        for r in ((1, 16) if round_ % 2 == 0 else (16, 1)):
+            start = time.perf_counter()
+            results[r] = run(space, points, seed=1, replicates=r, reductions=reductions,
+                             progress=False, threads=2)
+            if round_:
+                seconds[r].append(time.perf_counter() - start)
+    benchmark.extra_info.update(points=points, points_per_s={
+        r: points / float(np.median(s)) for r, s in seconds.items()})
+    benchmark.pedantic(lambda: None, rounds=1, iterations=1)
+    # the same points pooled: the same counts
+    assert np.array_equal(results[1]["below"].below, results[16]["below"].below)
