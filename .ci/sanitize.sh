@@ -2,8 +2,8 @@
 # The core once more, built with AddressSanitizer and UndefinedBehaviorSanitizer (every finding
 # fatal), and the extremes, bad-input, concurrency and fused-scan tests run against that build's
 # baseline module; then the stream and scan tests against each vector module this CPU runs
-# (x86-64-v3, x86-64-v4), whose intrinsics (Philox, the inverse normal CDF's tail gathers) the
-# baseline never reaches. The installed package supplies the Python side; tests/conftest.py
+# (x86-64-v3, x86-64-v4), whose intrinsics (Philox, the inverse normal CDF's tail gathers) and
+# vector loops (the Sobol' points) the baseline never reaches. The installed package supplies the Python side; tests/conftest.py
 # loads the sanitized modules from EPC_FAST_CORE_DIR. CPython leaks by design, so leak detection is off; an impossible
 # allocation returns NULL (NumPy then raises MemoryError, which the tests expect) instead of
 # aborting.
@@ -34,7 +34,7 @@ LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
     tests/test_extremes.py tests/test_bad_input.py tests/test_concurrency.py \
     tests/core/test_spectrum_start.py tests/test_memory.py tests/core/test_f50_start.py \
     tests/core/test_precision.py tests/core/test_stream.py tests/scan/test_core_plan.py \
-    tests/test_sensitivity.py tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
+    tests/scan/test_qmc.py tests/test_sensitivity.py tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
     "$@"
 
 levels="$(python -c 'import epc_fast._core as c
@@ -47,6 +47,7 @@ for level in x86-64-v3 x86-64-v4; do
     echo "sanitize.sh: $level"
     EPC_FAST_ISA="$level" LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q \
         tests/core/test_stream.py tests/scan/test_core_plan.py tests/scan/test_streams.py \
+        tests/scan/test_qmc.py \
         tests/scan/test_reductions.py tests/scan/test_runner.py tests/test_sensitivity.py \
         tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py "$@"
 done

@@ -90,3 +90,16 @@ def test_the_command_names_a_target_that_did_not_hold(tmp_path, capsys):
     assert "  summary: mean (design=1/3.2\" 2.8 um) has standard error" in out
     manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
     assert len(manifest["unmet_targets"]) == 1
+
+
+def test_replicates_count_in_the_bounds_of_a_reductions_groups():
+    from epc_fast.scan.errors import TooLargeError
+
+    # 4 designs' streamed quantiles: ~70,000 histogram bins, 70 million in 1024 replicates,
+    # beyond the 20 million cells a reduction may hold
+    config = _config(points=1024 * 4 * 2**10,
+                     scan='sampling = "sobol"\nreplicates = REPLICATES').replace(
+        'kind = "summary"', 'kind = "quantiles"\nexact_up_to = 0')
+    parse_config(config.replace("REPLICATES", "16"))
+    with pytest.raises(TooLargeError, match="reductions.summary"):
+        parse_config(config.replace("REPLICATES", "1024"))

@@ -464,9 +464,9 @@ def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfi
     build_space = _space_builder(document, base_dir)
     reductions = parse_reductions(table_of("reductions", document.get("reductions", {})))
     space = build_space()
-    check_reductions(reductions, space)
-    wrapped("scan", lambda: sampled_scan(space, counts["points"], reductions or None,
-                                         counts["sampling"], counts["replicates"]))
+    sampled, _, _ = wrapped("scan", lambda: sampled_scan(
+        space, counts["points"], reductions or None, counts["sampling"], counts["replicates"]))
+    check_reductions(reductions, space, sampled.sampling.replicates)
     sobol = (parse_sobol(document["sobol"], counts["seed"], space) if "sobol" in document
              else None)
     return ScanConfig(space, counts["points"], counts["seed"], reductions or None,

@@ -19,6 +19,7 @@ from ..histograms import Histogram, Quantiles
 from ..schema import (MAX_CELLS, MAX_EXACT_QUANTILE_POINTS, MAX_GROUPS, MAX_TOP_K, boolean,
                      check_size, choice, file_name, integer, number, number_list, short,
                      table_of, take, where_prefix, wrapped)
+from ..replicates import REPLICATED
 from ..summaries import FractionBelow, Summary
 from ..targets import target_of
 
@@ -120,10 +121,12 @@ def _part_size(space, part) -> int:
     return 1
 
 
-def _check_sizes(where: str, reduction, space) -> None:
+def _check_sizes(where: str, reduction, space, replicates: int) -> None:
     by = reduction.by
     parts = () if by is None else (by,) if isinstance(by, (str, Binned)) else tuple(by)
     groups = math.prod(_part_size(space, part) for part in parts)
+    if isinstance(reduction, REPLICATED):  # folded per replicate
+        groups *= replicates
     check_size(where, "groups (the cells of its by parts crossed)", groups, MAX_GROUPS, 64)
     if isinstance(reduction, Histogram):
         check_size(where, "groups x bins", groups * (reduction.bins + 2), MAX_CELLS, 16)
@@ -159,10 +162,11 @@ def parse_reductions(tables: dict) -> dict:
     return reductions
 
 
-def check_reductions(reductions: dict, space) -> None:
-    """Refuse a reduction whose sizes on ``space`` pass their bounds, or whose ``by`` the
-    space cannot group by, before any group key is built for the scan."""
+def check_reductions(reductions: dict, space, replicates: int = 1) -> None:
+    """Refuse a reduction whose sizes on ``space`` (in ``replicates``, which multiply the
+    groups of those folded per replicate) pass their bounds, or whose ``by`` the space cannot
+    group by, before any group key is built for the scan."""
     for name, reduction in reductions.items():
         where = f"reductions.{name}"
-        _check_sizes(where, reduction, space)
+        _check_sizes(where, reduction, space, replicates)
         wrapped(where, lambda: group_key(space, reduction.by))
