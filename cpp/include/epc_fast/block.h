@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "mtf_table.h"
@@ -26,6 +27,12 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 //
 // T is the type f50 is solved in (f50.h): float64, or float32 in the float32 precision mode.
 // The parameters, the exposure stage and the outputs are float64 in both.
+// A lane flag as wide as the lanes of a loop over T (64 bits in float64 loops, 32 in float32
+// ones): such a loop tests and sets it in its own vector width, with no widening of bytes to
+// masks and narrowing back.
+template <class T>
+using LaneFlag = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+
 template <class T>
 struct alignas(64) Block {
     std::size_t n;
@@ -82,7 +89,7 @@ struct alignas(64) Block {
     T memo_rtol = T(-1), memo_step_rtol = T(0);
     bool memo_halley = false;
     T f50[block_size];
-    unsigned char active[block_size];
+    LaneFlag<T> active[block_size];  // the solvers' lanes still stepping
     // Halley/Newton: a lane whose start is certified within f50_rtol (f50_start.h,
     // certified_start_error) takes it as f50 without a step; n_settled counts them
     unsigned char settled[block_size];

@@ -241,7 +241,7 @@ void bisect(const Spectrum& spectrum, T rtol, Block<T>& b) {
     T* __restrict lo = b.lo;
     T* __restrict hi = b.hi;
     T* __restrict mid = b.at;
-    unsigned char* __restrict active = b.active;
+    LaneFlag<T>* __restrict active = b.active;
     const T* __restrict mtf = b.mtf;
     const T* __restrict threshold = b.threshold;
     for (int step = 0; step < max_bisection_steps; ++step) {
@@ -292,7 +292,7 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     T* __restrict at = b.at;
     T* __restrict f50 = b.f50;
     T* __restrict previous = b.previous_step;
-    unsigned char* __restrict active = b.active;
+    LaneFlag<T>* __restrict active = b.active;
     const T* __restrict mtf = b.mtf;
     const T* __restrict slope = b.slope;
     const T* __restrict curvature = b.curvature;
