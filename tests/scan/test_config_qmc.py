@@ -103,3 +103,13 @@ def test_replicates_count_in_the_bounds_of_a_reductions_groups():
     parse_config(config.replace("REPLICATES", "16"))
     with pytest.raises(TooLargeError, match="reductions.summary"):
         parse_config(config.replace("REPLICATES", "1024"))
+
+
+def test_points_given_on_the_command_line_are_checked_against_the_sampling(tmp_path, capsys):
+    path = tmp_path / "scan.toml"
+    path.write_text(_config())
+    code = main(["scan", str(path), "--out", str(tmp_path / "out"), "--no-progress",
+                 "--points", "1000000"])
+    assert code == 2 and not (tmp_path / "out").exists()
+    assert ("--points 1000000: sampling='sobol' takes points = 2^m x replicates x grid cells"
+            in capsys.readouterr().err)

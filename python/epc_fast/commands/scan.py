@@ -67,6 +67,15 @@ def _config(args):
     for name in ("points", "seed", "threads", "chunk_points"):
         if getattr(args, name) is not None:
             setattr(config, name, getattr(args, name))
+    if args.points is not None:  # the sampling's rules on the points given here
+        from ..scan.errors import ConfigError
+        from ..scan.runner import sampled_scan
+
+        try:
+            sampled_scan(config.space, config.points, config.reductions, config.sampling,
+                         config.replicates)
+        except (TypeError, ValueError) as error:
+            raise ConfigError(f"--points {config.points}: {error}") from None
     return config
 
 
