@@ -497,21 +497,28 @@ void exposure_of_inputs(const Options& opt, Block<T>& b) {
         const bool unreachable = cap | dark_lane | over;
         const bool inf_blur = !unreachable & (blur[i] > std::numeric_limits<double>::max());
         const bool s = ok & !unreachable & !inf_blur;
-        status[i] = !ok          ? static_cast<unsigned char>(Status::invalid)
-                    : unreachable ? static_cast<unsigned char>(Status::unreachable)
-                    : inf_blur    ? static_cast<unsigned char>(Status::blur_unbounded)
-                                  : static_cast<unsigned char>(Status::ok);
-        cause[i] = !ok        ? static_cast<unsigned char>(Cause::none)
-                   : dark_lane ? static_cast<unsigned char>(Cause::no_light)
-                   : cap       ? static_cast<unsigned char>(Cause::prnu)
-                   : over      ? static_cast<unsigned char>(Cause::full_well)
-                               : static_cast<unsigned char>(Cause::none);
-        rate[i] = ok ? rate[i] : nan;
-        electrons[i] = ok & !dark_lane & !cap ? electrons[i] : nan;
-        t_mpe[i] = !ok ? nan : unreachable ? inf : t;
-        blur_out[i] = !ok | unreachable ? nan : inf_blur ? inf : blur[i];
+        // Branch-free, so that the loop vectorises: the codes as sums of flags times codes (at
+        // most one term of each is set: inf_blur excludes unreachable, and dark_lane, cap and
+        // over exclude each other; Status::ok and Cause::none are 0), and every value loaded
+        // once and chosen by single selects.
+        const unsigned flag_ok = ok;
+        status[i] = static_cast<unsigned char>(
+            (1u - flag_ok) * static_cast<unsigned>(Status::invalid) +
+            flag_ok * (static_cast<unsigned>(unreachable) * static_cast<unsigned>(Status::unreachable) +
+                       static_cast<unsigned>(inf_blur) * static_cast<unsigned>(Status::blur_unbounded)));
+        cause[i] = static_cast<unsigned char>(
+            flag_ok * (static_cast<unsigned>(dark_lane) * static_cast<unsigned>(Cause::no_light) +
+                       static_cast<unsigned>(cap) * static_cast<unsigned>(Cause::prnu) +
+                       static_cast<unsigned>(over) * static_cast<unsigned>(Cause::full_well)));
+        const double r = rate[i], e = electrons[i], bl = blur[i];
+        rate[i] = ok ? r : nan;
+        electrons[i] = (ok & !dark_lane & !cap) ? e : nan;
+        const double t_kept = unreachable ? inf : t;
+        t_mpe[i] = ok ? t_kept : nan;
+        const double blur_kept = inf_blur ? inf : bl;
+        blur_out[i] = (ok & !unreachable) ? blur_kept : nan;
         solve[i] = s;
-        blur[i] = s ? blur[i] : 0.0;
+        blur[i] = s ? bl : 0.0;
     }
 }
 
