@@ -394,27 +394,38 @@ class Quantiles:
                                bins.relative_resolution)
 
 
-def order_statistic_errors(reduction: Quantiles, state: dict, key: GroupKey) -> np.ndarray:
-    """float64 (groups, nq): the quantiles' standard errors under independent draws, half the
-    distance between the quantiles at q -/+ sqrt(q (1 - q) / n) (n a group's finite values):
-    the order statistics that bound a 68% interval of the p-quantile, whatever the
-    distribution (binomial counts of the values below it)."""
-    q = np.asarray(reduction.q)
-    if state["exact"]:
-        group = (np.concatenate(state["groups"]) if state["groups"] else np.empty(0, np.intp))
-        n = np.bincount(group, minlength=key.size)
-    else:
-        n = state["counts"].sum(axis=1)
+def _order_statistic_q(q: np.ndarray, n: np.ndarray) -> np.ndarray:
+    """(groups, 3 nq): each group's q, then q - s and q + s, s = sqrt(q (1 - q) / n), in [0, 1]."""
     with np.errstate(divide="ignore", invalid="ignore"):
         step = np.sqrt(q * (1.0 - q) / n[:, None])
     low, high = np.clip(q - step, 0.0, 1.0), np.clip(q + step, 0.0, 1.0)
-    both = np.nan_to_num(np.concatenate([low, high], axis=1))
-    if state["exact"]:
-        ends = _exact_quantiles(state, key.size, both)
-    else:
-        ends = _histogram_quantiles(reduction._bins, state, both)[0]
+    return np.nan_to_num(np.concatenate([np.broadcast_to(q, low.shape), low, high], axis=1))
+
+
+def finish_with_order_statistics(reduction: "Quantiles", state: dict, key: GroupKey):
+    """``reduction.finish`` with the quantiles' standard errors under independent draws, in the
+    same pass over the values: half the distance between the quantiles at q -/+ sqrt(q (1 - q)
+    / n) (n a group's finite values), the order statistics that bound a 68% interval of the
+    q-quantile whatever the distribution (binomial counts of the values below it). The
+    estimates are ``finish``'s, bit for bit (each quantile is computed on its own)."""
+    q = np.asarray(reduction.q)
     nq = q.size
-    return np.where(n[:, None] > 1, 0.5 * (ends[:, nq:] - ends[:, :nq]), np.nan)
+    if state["exact"]:
+        group = np.concatenate(state["groups"]) if state["groups"] else np.empty(0, np.intp)
+        n = np.bincount(group, minlength=key.size)
+        every = _exact_quantiles(state, key.size, _order_statistic_q(q, n))
+        estimate = every[:, :nq]
+        lower = upper = estimate
+    else:
+        n = state["counts"].sum(axis=1)
+        every, lower, upper = _histogram_quantiles(reduction._bins, state,
+                                                   _order_statistic_q(q, n))
+        estimate, lower, upper = every[:, :nq], lower[:, :nq], upper[:, :nq]
+    error = np.where(n[:, None] > 1, 0.5 * (every[:, 2 * nq:] - every[:, nq:2 * nq]), np.nan)
+    bins = reduction._bins
+    return QuantilesResult(reduction.of, key.columns, q, estimate, lower, upper,
+                           bool(state["exact"]),
+                           0.0 if state["exact"] else bins.relative_resolution, error)
 
 
 def _exact_quantiles(state: dict, groups: int, q: np.ndarray) -> np.ndarray:

@@ -9,7 +9,7 @@ gives each statistic the standard error of the replicates' spread,
 the same kind of sample, so their spread measures the error under Sobol' sampling, whose error
 no variance formula gives. Under Monte Carlo the mean's and the fraction's standard errors are
 their variances' (``std / sqrt(count)``, ``sqrt(p (1 - p) / count)``), the quantiles' in one
-replicate the order statistics' (:func:`~epc_fast.scan.histograms.order_statistic_errors`),
+replicate the order statistics' (:func:`~epc_fast.scan.histograms.finish_with_order_statistics`),
 the std's and, with replicates, the quantiles' the replicates'.
 
 A reduction's ``target`` (:class:`Target`) holds when, in every group, each of its statistics
@@ -23,7 +23,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .histograms import Quantiles, QuantilesResult, order_statistic_errors
+from .histograms import Quantiles, QuantilesResult, finish_with_order_statistics
 from .summaries import FractionBelow, FractionBelowResult, Summary, SummaryResult, _Moments
 from .targets import Target, target_of
 
@@ -103,16 +103,16 @@ def _one_replicate(reduction, state: dict, key, space):
     """A result in one replicate: under Monte Carlo the mean's, the fraction's and the
     quantiles' errors from their own formulas; under Sobol' sampling NaN (no formula gives
     them)."""
+    sobol = space.sampling.sobol
+    if isinstance(reduction, Quantiles) and not sobol:
+        return finish_with_order_statistics(reduction, state, key)
     result = reduction.finish(state, key, space)
     if isinstance(result, SummaryResult):
         return _with_variance_errors(result, space)
-    sobol = space.sampling.sobol
     if isinstance(result, FractionBelowResult) and sobol:
         return replace(result, standard_error=np.full(result.fraction.shape, np.nan))
     if isinstance(result, QuantilesResult):
-        error = (np.full(result.estimate.shape, np.nan) if sobol
-                 else order_statistic_errors(reduction, state, key))
-        return replace(result, standard_error=error)
+        return replace(result, standard_error=np.full(result.estimate.shape, np.nan))
     return result
 
 
