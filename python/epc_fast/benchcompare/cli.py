@@ -56,6 +56,10 @@ def add_compare(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--threshold", type=_percent, default=THRESHOLD, metavar="PERCENT",
                         help=f"fail (exit 1) when a slowdown beyond this is significant "
                         f"(default {THRESHOLD * 100:.0f}%%)")
+    parser.add_argument("--clock", choices=("cpu", "wall"), default="cpu",
+                        help="time a sample by the process's CPU time, all its threads, "
+                        "which waiting for a core on a busy machine does not add to (default), "
+                        "or by wall time")
     parser.add_argument("--only", action="append", choices=list(WORKLOADS), default=None,
                         help="compare only this workload (repeatable)")
     parser.add_argument("--out", type=Path, default=Path("bench-compare"),
@@ -95,7 +99,8 @@ def run_compare(args) -> int:
         except ValueError as exc:
             raise UsageError(str(exc)) from None
     comparison = run_comparison(baseline, candidate, quick=args.quick, rounds=args.rounds,
-                                blocks=args.blocks, threshold=args.threshold, only=args.only,
+                                blocks=args.blocks, threshold=args.threshold, clock=args.clock,
+                                only=args.only,
                                 progress=_progress)
     text = markdown(comparison)
     print(text)

@@ -7,6 +7,7 @@ from dataclasses import asdict
 
 from .worker import WORKLOADS
 
+CLOCK_TEXT = {"cpu": "the process's CPU time, all its threads", "wall": "wall time"}
 VERDICT_TEXT = {"slower": "**SLOWER**", "faster": "faster", "same": "same",
                 "unclear": "unclear"}
 
@@ -40,11 +41,13 @@ def markdown(comparison) -> str:
     lines = [f"# epc-fast bench compare: {head}", "",
              _side_line("baseline", c.baseline), _side_line("candidate", c.candidate), "",
              *rows, "",
-             f"Ratio: candidate time / baseline time (above 1: the candidate is slower), the "
-             f"10%-trimmed geometric mean of {cond['rounds']} paired rounds with a 95% bootstrap "
-             f"interval; ms: the median time of one call. A workload fails when its whole "
-             f"interval lies above 1 + {pct}; 'unclear' when it reaches past that but not "
-             f"wholly (more rounds, or a quieter machine, can tell).", ""]
+             f"Times: {CLOCK_TEXT[cond['clock']]}; ms: the median time of one call. Ratio: "
+             f"candidate time / baseline time (above 1: the candidate is slower), the "
+             f"10%-trimmed geometric mean of {cond['rounds']} paired rounds in "
+             f"{cond['blocks']} blocks of fresh processes, with a 95% bootstrap interval. A "
+             f"workload fails when its whole interval lies above 1 + {pct}; 'unclear' when it "
+             f"reaches past that but not wholly (more rounds, or a quieter machine, can "
+             f"tell).", ""]
     for name, why in c.unavailable.items():
         sides = "; ".join(f"{side}: {text}" for side, text in why.items() if text)
         lines.append(f"- not compared, {name}: {sides}")

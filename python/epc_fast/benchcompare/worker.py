@@ -13,7 +13,8 @@ Two ways to run it:
   twice (answered with the build, and each workload's seconds in its second call or why it
   cannot run);
   ``{"op": "time", "workload": name, "reps": k}`` answers the mean seconds of ``k`` calls in a
-  row; ``{"op": "quit"}`` ends it.
+  row, wall time (``seconds``) and the process's CPU time, all its threads (``cpu_seconds``);
+  ``{"op": "quit"}`` ends it.
 * ``python worker.py count SPEC``: SPEC is JSON ``{"workloads": {name: points}, "calls":
   {name: k}, "seed": s}``; the designs are drawn, every workload runs once, then each named one
   ``k`` more times, on one thread. An instruction counter around the whole process subtracts
@@ -85,6 +86,8 @@ def _scan_call(n, threads, seed):
 
 def make_call(name: str, n: int, seed: int, threads: int | None = None):
     """A function of no arguments that runs workload ``name`` on ``n`` points."""
+    if name not in WORKLOADS:
+        raise ValueError(f"workload {name!r}: expected one of {', '.join(WORKLOADS)}")
     threads = WORKLOADS[name][2] if threads is None else threads
     if name == "scan":
         return _scan_call(n, threads, seed)
@@ -95,10 +98,8 @@ def make_call(name: str, n: int, seed: int, threads: int | None = None):
         return _evaluate_call(points, threads, precision="float32")
     if name == "spectrum":
         return _evaluate_call(points, threads, spectrum=SPECTRUM)
-    if name == "elasticities":
-        return _evaluate_call(points, threads, outputs=("epc", "f50_cyc_per_mm", "status",
-                                                        "elasticities"))
-    raise ValueError(f"workload {name!r}: expected one of {', '.join(WORKLOADS)}")
+    return _evaluate_call(points, threads, outputs=("epc", "f50_cyc_per_mm", "status",
+                                                    "elasticities"))
 
 
 def build() -> dict:
@@ -137,10 +138,11 @@ def serve(stdin, stdout) -> None:
             calls, answer = _setup(request)
         elif request["op"] == "time":
             call, reps = calls[request["workload"]], int(request["reps"])
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), time.process_time()
             for _ in range(reps):
                 call()
-            answer = {"seconds": (time.perf_counter() - start) / reps}
+            answer = {"seconds": (time.perf_counter() - start) / reps,
+                      "cpu_seconds": (time.process_time() - start_cpu) / reps}
         else:
             answer = {"error": f"unknown op {request['op']!r}"}
         stdout.write(json.dumps(answer) + "\n")
