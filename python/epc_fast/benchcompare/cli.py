@@ -11,15 +11,18 @@ from .compare import FULL, QUICK, THRESHOLD
 from .worker import WORKLOADS
 
 
-def _percent(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = float("nan")
-    if not 0 < value < 100:
-        raise argparse.ArgumentTypeError(f"--threshold {text!r}: expected a percentage "
-                                         f"between 0 and 100 (exclusive), e.g. 5")
-    return value / 100
+def _percent(name: str):
+    """An argparse type: a percentage in (0, 100), returned as a fraction."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not 0 < value < 100:
+            raise argparse.ArgumentTypeError(f"{name} {text!r}: expected a percentage "
+                                             f"between 0 and 100 (exclusive), e.g. 5")
+        return value / 100
+    return parse
 
 
 def _count(name: str, low: int):
@@ -53,7 +56,7 @@ def add_compare(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--blocks", type=_count("--blocks", 1), default=None,
                         help=f"blocks of rounds, each in new worker processes (default "
                         f"{FULL[1]}, --quick {QUICK[1]})")
-    parser.add_argument("--threshold", type=_percent, default=THRESHOLD, metavar="PERCENT",
+    parser.add_argument("--threshold", type=_percent("--threshold"), default=THRESHOLD, metavar="PERCENT",
                         help=f"fail (exit 1) when a slowdown beyond this is significant "
                         f"(default {THRESHOLD * 100:.0f}%%)")
     parser.add_argument("--clock", choices=("cpu", "wall"), default="cpu",
@@ -128,7 +131,7 @@ def add_counts(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--isa", action="append", default=None,
                         choices=("x86-64", "x86-64-v3", "x86-64-v4"),
                         help=f"a build counted (repeatable; default: {', '.join(DEFAULT_ISAS)})")
-    parser.add_argument("--tolerance", type=_percent, default=TOLERANCE, metavar="PERCENT",
+    parser.add_argument("--tolerance", type=_percent("--tolerance"), default=TOLERANCE, metavar="PERCENT",
                         help=f"fail (exit 1) when a count a point rises by more than this "
                         f"(default {TOLERANCE * 100:.0f}%%)")
     parser.add_argument("--only", action="append", choices=list(COUNTED), default=None,

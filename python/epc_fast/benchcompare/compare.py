@@ -8,9 +8,9 @@ workload is timed once per round on each side, the two back to back, the side th
 alternating from one workload and round to the next, so that neither side always meets a
 warmer cache or a quieter moment. A sample is read from the process's CPU time by default:
 on a machine that other work keeps busy, a process waiting for a core is not running, and its
-wall time counts the wait while its CPU time does not. A timed sample is ``reps`` calls in a row, ``reps`` chosen
-from the slower side's second call so that a sample lasts at least ``min_sample_s``; the same
-``reps`` on both sides.
+wall time counts the wait while its CPU time does not. A sample is ``reps`` calls in a row,
+``reps`` chosen from the slower side's second call so that a sample lasts at least
+``min_sample_s``; the same ``reps`` on both sides.
 """
 
 from __future__ import annotations

@@ -15,14 +15,15 @@ Two ways to run it:
   ``{"op": "time", "workload": name, "reps": k}`` answers the mean seconds of ``k`` calls in a
   row, wall time (``seconds``) and the process's CPU time, all its threads (``cpu_seconds``);
   ``{"op": "quit"}`` ends it.
-* ``python worker.py count SPEC``: SPEC is JSON ``{"workloads": {name: points}, "calls":
-  {name: k}, "seed": s}``; the designs are drawn, every workload runs once, then each named one
-  ``k`` more times, on one thread. An instruction counter around the whole process subtracts
-  two such runs (:mod:`epc_fast.benchcompare.counts`), so that start-up cancels.
+* ``python worker.py count SPEC``: SPEC is JSON ``{"workloads": {key: [name, points]},
+  "calls": {key: k}, "seed": s}``; the designs are drawn, every entry runs once, then each key
+  of ``calls`` ``k`` more times, on one thread. An instruction counter around the whole process
+  subtracts two such runs (:mod:`epc_fast.benchcompare.counts`), so that start-up cancels.
 """
 
 from __future__ import annotations
 
+import gc
 import json
 import os
 import sys
@@ -150,14 +151,18 @@ def serve(stdin, stdout) -> None:
 
 
 def count(spec: dict) -> None:
-    """Every workload once, then each of ``spec['calls']`` as many more times, on one thread."""
-    calls = {name: make_call(name, int(n), int(spec["seed"]), threads=1)
-             for name, n in spec["workloads"].items()}
+    """Every entry of ``spec['workloads']`` ({key: [workload, points]}) called once, then each
+    key of ``spec['calls']`` ({key: k}) ``k`` more times, on one thread. Python's garbage
+    collector is off: a collection, run or not depending on what else the process holds,
+    costs as many instructions as thousands of points."""
+    gc.disable()
+    calls = {key: make_call(name, int(n), int(spec["seed"]), threads=1)
+             for key, (name, n) in spec["workloads"].items()}
     for call in calls.values():
         call()
-    for name, k in spec.get("calls", {}).items():
+    for key, k in spec.get("calls", {}).items():
         for _ in range(int(k)):
-            calls[name]()
+            calls[key]()
     print(json.dumps(build()))
 
 

@@ -22,8 +22,8 @@ HELP = ("speed against accuracy: f50 error (vs the NumPy reference) and points/s
         "solver, tolerance, precision and spectral setting; trade.md, trade.csv, trade.png")
 
 COMPARE_HELP = ("a paired comparison of two installs: the same workloads in both, in "
-                "alternating rounds; each one's time ratio with a 95 percent interval; exit 1 when a "
-                "slowdown beyond the threshold is significant")
+                "alternating rounds; each one's time ratio with a 95 percent interval; exit 1 "
+                "when a slowdown beyond the threshold is significant")
 
 COUNTS_HELP = ("instructions a point of each workload (perf or valgrind), against the "
                "committed table of each build; exit 1 when one rose by more than the tolerance")
