@@ -61,7 +61,8 @@ def test_every_workload_runs_and_its_sizes_are_whole():
 
 
 def test_the_worker_file_runs_as_a_script_in_another_python():
-    spec = {"workloads": {"default-1e4": 100}, "calls": {"default-1e4": 2}, "seed": 0}
+    spec = {"workloads": {"few": ["default-1e4", 100], "many": ["default-1e4", 400]},
+            "calls": {"many": 2}, "seed": 0}
     done = subprocess.run([sys.executable, str(WORKER), "count", json.dumps(spec)],
                           capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
