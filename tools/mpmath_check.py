@@ -1,6 +1,7 @@
-"""The NumPy reference against the tests' 50-digit mpmath model of docs/model.md
-(tests/helpers/mp_model.py), on random designs: one line, the statuses that differ and the
-largest relative error of T_MPE, f50 and EPC where mpmath finds a point OK.
+"""The NumPy reference (or, with ``--backend core``, the compiled core) against the tests'
+50-digit mpmath model of docs/model.md (tests/helpers/mp_model.py), on random designs: one
+line, the statuses that differ and the largest relative error of T_MPE, f50 and EPC where
+mpmath finds a point OK.
 
     python tools/mpmath_check.py --points 200 --seed 0
 
@@ -38,10 +39,11 @@ class MpmathCheck:
     points: int
     status_mismatches: int
     max_rel_error: dict
+    backend: str = "reference"
 
     def summary(self) -> str:
         errors = ", ".join(f"{name} {value:.1e}" for name, value in self.max_rel_error.items())
-        return (f"reference vs mpmath (50 digits) on {self.points} points: "
+        return (f"{self.backend} vs mpmath (50 digits) on {self.points} points: "
                 f"{self.status_mismatches} status mismatches, max relative error {errors}")
 
 
@@ -54,7 +56,8 @@ def _mp_model():
     return mp_model
 
 
-def mpmath_check(points: Mapping, reference, count: int) -> MpmathCheck:
+def mpmath_check(points: Mapping, reference, count: int,
+                 backend: str = "reference") -> MpmathCheck:
     """The first ``count`` of ``points`` (monochromatic designs, as
     :func:`epc_fast.selfcheck.random_designs` gives) and the reference's results on them
     (``evaluate(..., backend="reference")``), against mpmath at 50 digits."""
@@ -78,7 +81,7 @@ def mpmath_check(points: Mapping, reference, count: int) -> MpmathCheck:
         for name in OUTPUTS:
             worst[name] = max(worst[name], model.relative_error(
                 float(getattr(reference, name)[i]), exact[name]))
-    return MpmathCheck(count, mismatches, worst)
+    return MpmathCheck(count, mismatches, worst, backend)
 
 
 def main(argv=None) -> int:
@@ -90,12 +93,21 @@ def main(argv=None) -> int:
     parser.add_argument("--error-points", type=int, default=100_000,
                         help="the designs drawn, as epc-fast bench --error-points (default 1e5)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random designs")
+    parser.add_argument("--backend", choices=("reference", "core"), default="reference",
+                        help="the backend checked (default reference; core: the compiled core "
+                        "at the level EPC_FAST_ISA or the CPU picks)")
     args = parser.parse_args(argv)
     if not 1 <= args.points <= args.error_points:
         parser.error("expected 1 <= --points <= --error-points")
     designs = {name: values[:args.points]
                for name, values in random_designs(args.error_points, args.seed).items()}
-    check = mpmath_check(designs, epc_fast.evaluate(**designs, backend="reference"), args.points)
+    name = "reference"
+    if args.backend == "core":
+        from epc_fast import _core
+
+        name = f"core {_core.isa}"
+    check = mpmath_check(designs, epc_fast.evaluate(**designs, backend=args.backend),
+                         args.points, name)
     print(check.summary())
     return 0 if check.status_mismatches == 0 else 1
 

@@ -23,6 +23,7 @@
 #include "sensitivity.h"
 #include "status.h"
 #include "stream.h"
+#include "test_slowdown.h"
 
 namespace epc_fast {
 
@@ -245,6 +246,7 @@ struct Workspace {
 inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& out,
                            std::size_t begin, std::size_t n, const double* illuminance_lux,
                            Workspace& ws) noexcept {
+    [[maybe_unused]] TestSlowdown slowdown;  // nothing unless EPC_FAST_TEST_SLOWDOWN
     if (opt.precision == Precision::float64) {
         detail::evaluate_block_as(in, opt, out, begin, n, illuminance_lux, ws.block64);
         return;

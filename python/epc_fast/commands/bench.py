@@ -1,4 +1,7 @@
-"""``epc-fast bench --out DIR``: speed against accuracy of the engine's knobs.
+"""``epc-fast bench --out DIR``: speed against accuracy of the engine's knobs; ``epc-fast bench
+compare BASELINE CANDIDATE``: a paired timing of two installs; ``bench counts`` and ``bench
+accuracy``: instruction counts and accuracy tables against committed ones
+(:mod:`epc_fast.benchcompare`).
 
 Each setting of :func:`epc_fast.tradeoff.default_settings` (solvers, tolerances, precision,
 spectral samples) is measured for the relative error of f50 against the NumPy reference and
@@ -17,6 +20,15 @@ from pathlib import Path
 NAME = "bench"
 HELP = ("speed against accuracy: f50 error (vs the NumPy reference) and points/s of each "
         "solver, tolerance, precision and spectral setting; trade.md, trade.csv, trade.png")
+
+COMPARE_HELP = ("a paired comparison of two installs: the same workloads in both, in "
+                "alternating rounds; each one's time ratio with a 95 percent interval; exit 1 "
+                "when a slowdown beyond the threshold is significant")
+
+COUNTS_HELP = ("instructions a point of each workload (perf or valgrind), against the "
+               "committed table of each build; exit 1 when one rose by more than the tolerance")
+ACCURACY_HELP = ("errors against mpmath and a digest of evaluate's outputs per build, against "
+                 "the committed tables; exit 1 with the difference when either changed")
 
 #: (throughput points, rounds, error points): the full run and --quick.
 FULL = (1_000_000, 3, 100_000)
@@ -42,6 +54,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="measure only settings whose name matches this shell pattern "
                         "(repeatable; 'default' is always measured, the speed-ups' base)")
     parser.add_argument("--no-plot", action="store_true", help="skip trade.png")
+    from ..benchcompare import cli
+
+    sub = parser.add_subparsers(dest="bench_command", metavar="SUBCOMMAND")
+    cli.add_compare(sub.add_parser("compare", help=COMPARE_HELP, description=COMPARE_HELP))
+    cli.add_counts(sub.add_parser("counts", help=COUNTS_HELP, description=COUNTS_HELP))
+    cli.add_accuracy(sub.add_parser("accuracy", help=ACCURACY_HELP, description=ACCURACY_HELP))
 
 
 def _sizes(args) -> tuple[int, int, int]:
@@ -151,6 +169,13 @@ def _write_plot(measurements, front, path: Path, title: str, conditions=None) ->
 
 
 def run(args) -> int:
+    from ..benchcompare import cli
+
+    runs = {"compare": cli.run_compare, "counts": cli.run_counts, "accuracy": cli.run_accuracy}
+    return runs.get(getattr(args, "bench_command", None), run_tradeoff)(args)
+
+
+def run_tradeoff(args) -> int:
     from .. import __version__
     from ..scan.tables import markdown, write_csv
     from ..tradeoff import csv_columns, front_of, markdown_columns, measure

@@ -1,0 +1,174 @@
+"""Instructions a point of each workload costs, counted rather than timed, against a committed
+table per build: a second gate whose verdict another process's load does not move.
+
+The counter is Linux ``perf stat -e instructions:u`` where the machine's hardware counters are
+readable, else valgrind's cachegrind (``--cache-sim=no``: instructions only, about 50 times
+slower than running natively, and no AVX-512: it cannot run the x86-64-v4 build). Each count
+subtracts two runs of the worker (:func:`epc_fast.benchcompare.worker.count`) that hold the
+same designs and run every workload once, then ``EXTRA_CALLS`` more calls of one workload, on
+fewer points in one run and on more in the other: the difference is the calls' extra points
+and nothing else (Python's start-up, the imports, drawing the designs, the first call's
+allocations and every call's fixed cost all cancel), divided by those points.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
+
+from .sides import WORKER, split_command
+
+#: name -> (the worker's workload, fewer points, more points): small sizes, for the counter's
+#: sake. A count a point does not depend on the size beyond these (every point is computed on
+#: its own).
+COUNTED = {
+    "default": ("default-1e4", 10_000, 40_000),
+    "float32": ("float32", 10_000, 40_000),
+    "spectrum": ("spectrum", 3_000, 12_000),
+    "elasticities": ("elasticities", 3_000, 12_000),
+    "scan": ("scan", 10_000, 40_000),
+}
+EXTRA_CALLS = 2
+SEED = 7
+#: Relative rise of a count a point beyond which the gate fails.
+TOLERANCE = 0.01
+#: The builds counted by default: cachegrind runs no AVX-512, so not x86-64-v4.
+DEFAULT_ISAS = ("x86-64", "x86-64-v3")
+
+
+def _perf_works() -> bool:
+    if shutil.which("perf") is None:
+        return False
+    try:
+        out = subprocess.run(["perf", "stat", "-x,", "-e", "instructions:u", "--", "true"],
+                             capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return out.returncode == 0 and re.search(r"^\d+,", out.stderr, re.M) is not None
+
+
+def _valgrind_works() -> bool:
+    if shutil.which("valgrind") is None:
+        return False
+    try:
+        out = subprocess.run(["valgrind", "--tool=cachegrind", "--cache-sim=no",
+                              "--cachegrind-out-file=/dev/null", "true"],
+                             capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.TimeoutExpired):
+        return False
+    return out.returncode == 0
+
+
+def counter() -> str | None:
+    """``"perf"``, ``"cachegrind"``, or None when neither counts instructions here."""
+    if _perf_works():
+        return "perf"
+    if _valgrind_works():
+        return "cachegrind"
+    return None
+
+
+NO_COUNTER = ("no instruction counter works on this machine: `perf stat -e instructions:u` "
+              "reports no hardware counter (or perf is missing) and valgrind is not installed; "
+              "install valgrind (e.g. apt-get install valgrind) or run where perf can read the "
+              "counters")
+
+
+def _run_counted(tool: str, words: list, spec: dict, folder: Path) -> int:
+    """User-space instructions of one worker run (every process it starts)."""
+    args = [*words, str(WORKER), "count", json.dumps(spec)]
+    env = dict(os.environ, PYTHONHASHSEED="0", OMP_NUM_THREADS="1")
+    if tool == "perf":
+        out_file = folder / "perf.txt"
+        cmd = ["perf", "stat", "-x,", "-e", "instructions:u", "-o", str(out_file), "--", *args]
+    else:
+        for old in folder.glob("cg.*"):
+            old.unlink()
+        cmd = ["valgrind", "--tool=cachegrind", "--cache-sim=no", "--trace-children=yes",
+               f"--cachegrind-out-file={folder}/cg.%p", *args]
+    done = subprocess.run(cmd, capture_output=True, text=True, env=env)
+    if done.returncode != 0:
+        tail = " | ".join(done.stderr.strip().splitlines()[-4:])
+        raise RuntimeError(f"the counted run failed ({' '.join(words)}): {tail}")
+    if tool == "perf":
+        text = out_file.read_text()
+        return sum(int(m.group(1)) for m in re.finditer(r"^(\d+),", text, re.M))
+    return sum(cachegrind_instructions(path.read_text()) for path in folder.glob("cg.*"))
+
+
+#: The C library's memory copies and allocator, which cachegrind's counts leave out: their
+#: count depends on where the arrays land (``rep movsb`` copies a block as one instruction, a
+#: vector loop as many, chosen by alignment and size), not on the code measured.
+LEFT_OUT = re.compile(r"^(__)?(mem(cpy|move|set)|(_int_)?(malloc|free|realloc|calloc)|"
+                      r"malloc_consolidate|unlink_chunk|tcache)")
+
+
+def cachegrind_instructions(text: str) -> int:
+    """The instructions of a cachegrind output file, less those of :data:`LEFT_OUT`'s
+    functions."""
+    total, left_out = 0, False
+    for line in text.splitlines():
+        if line.startswith("fn="):
+            left_out = LEFT_OUT.match(line[3:]) is not None
+        elif line[:1].isdigit() and not left_out:
+            fields = line.split()
+            if len(fields) >= 2:
+                total += int(fields[1])
+    return total
+
+
+def count_per_point(python: str, isa: str | None, tool: str, names=None, progress=None) -> dict:
+    """{"isa", "tool", "version", "instructions_per_point": {name: count}} of one build: the
+    side's Python, with EPC_FAST_ISA set to ``isa`` when given."""
+    if tool == "cachegrind" and isa == "x86-64-v4":
+        raise RuntimeError("valgrind's cachegrind runs no AVX-512: it cannot count the "
+                           "x86-64-v4 build (perf can, where the hardware counters are "
+                           "readable)")
+    words = split_command(python, "--python")
+    if isa is not None:
+        words = ["env", f"EPC_FAST_ISA={isa}", *words]
+    names = list(COUNTED) if names is None else list(names)
+    workloads = {}
+    for name in names:
+        workload, fewer, more = COUNTED[name]
+        workloads[f"{name}@fewer"] = [workload, fewer]
+        workloads[f"{name}@more"] = [workload, more]
+    say = progress or (lambda line: None)
+    with tempfile.TemporaryDirectory(prefix="epc-fast-counts-") as tmp:
+        per_point = {}
+        for name in names:
+            say(f"{isa or 'default build'}: counting {name} ({tool})")
+            runs = [_run_counted(tool, words, {"workloads": workloads, "seed": SEED,
+                                               "calls": {f"{name}@{size}": EXTRA_CALLS}},
+                                 Path(tmp))
+                    for size in ("fewer", "more")]
+            _, fewer, more = COUNTED[name]
+            per_point[name] = round((runs[1] - runs[0]) / (EXTRA_CALLS * (more - fewer)), 1)
+    build = json.loads(subprocess.run([*words, str(WORKER), "count", json.dumps(
+        {"workloads": {}, "seed": SEED})], capture_output=True, text=True,
+        check=True).stdout.strip().splitlines()[-1])
+    return {"isa": build["isa"], "tool": tool, "version": build["version"],
+            "points": {n: list(COUNTED[n][1:]) for n in names},
+            "instructions_per_point": per_point}
+
+
+def compare_counts(measured: dict, table: dict, tolerance: float = TOLERANCE) -> list:
+    """Rows (name, committed, measured, ratio, verdict): ``"MORE"`` when a count rose by more
+    than ``tolerance`` (the gate fails), ``"fewer"`` when it fell by more (update the table),
+    ``"new"`` when the table lacks it, else ``"same"``."""
+    rows = []
+    old = table.get("instructions_per_point", {})
+    for name, count in measured["instructions_per_point"].items():
+        if name not in old:
+            rows.append((name, None, count, None, "new"))
+            continue
+        ratio = count / old[name]
+        verdict = ("MORE" if ratio > 1 + tolerance else
+                   "fewer" if ratio < 1 - tolerance else "same")
+        rows.append((name, old[name], count, ratio, verdict))
+    return rows
