@@ -1,6 +1,6 @@
-"""A side for ``epc-fast bench compare`` whose evaluate is half again as slow: run as
+"""A side for ``epc-fast bench compare`` whose evaluate is twice as slow: run as
 ``python slow_python.py WORKER serve``, it makes every ``epc_fast.evaluate`` call spin for
-half the time the call took (CPU time and wall time alike), then runs the worker script."""
+as long as the call took (CPU time and wall time alike), then runs the worker script."""
 
 import runpy
 import sys
@@ -14,7 +14,7 @@ _evaluate = epc_fast.evaluate
 def _slow_evaluate(*args, **kwargs):
     start = time.perf_counter()
     result = _evaluate(*args, **kwargs)
-    until = time.perf_counter() + 0.5 * (time.perf_counter() - start)
+    until = time.perf_counter() + (time.perf_counter() - start)
     while time.perf_counter() < until:
         pass
     return result
