@@ -19,7 +19,6 @@ and the ``R`` replicates are independent randomisations of the same point set.
 
 from __future__ import annotations
 
-import math
 import operator
 from dataclasses import dataclass
 from pathlib import Path
@@ -212,7 +211,3 @@ def check_points(points: int, grid_size: int, sampling: Sampling, *, cap: bool =
         raise ValueError(f"sampling='sobol' takes points = 2^m x replicates x grid cells "
                          f"({sampling.replicates} x {grid_size}): got {points}; "
                          f"{low} or {2 * low} would do")
-
-
-def log2_ceil(n: int) -> int:
-    return max(0, math.ceil(math.log2(n))) if n > 0 else 0
