@@ -47,7 +47,9 @@ SPECTRUM = ([450.0, 550.0, 650.0], [0.25, 0.5, 0.25])
 
 
 def designs(n: int, seed: int) -> dict:
-    """``n`` phone-camera designs and scenes (the ranges of epc_fast.selfcheck.random_designs)."""
+    """``n`` phone-camera designs and scenes (the ranges of epc_fast.selfcheck.random_designs),
+    drawn here rather than by that function: the worker runs inside either side's install, and
+    both sides must draw the same designs whatever their version of epc_fast."""
     import numpy as np
 
     rng = np.random.default_rng(seed)
