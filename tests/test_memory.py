@@ -41,6 +41,13 @@ def designs():
     return random_design_points(N, seed=52)
 
 
+def _owner(array):
+    """The end of an array's base chain: None for memory NumPy owns, else what owns it."""
+    while isinstance(array.base, np.ndarray):
+        array = array.base
+    return array.base
+
+
 def _address(array):
     return array.__array_interface__["data"][0]
 
@@ -106,8 +113,7 @@ def test_the_kept_memory_stays_within_the_limit(cache, designs):
     assert epc_fast.output_cache(_capacity(N * 8)) == (_capacity(N * 8), _capacity(N * 8))
     assert epc_fast.output_cache(0) == (0, 0)
     result = epc_fast.evaluate(**designs)
-    assert isinstance(result.f50_cyc_per_mm.base, np.ndarray)
-    assert result.f50_cyc_per_mm.base.base is None  # NumPy's own memory when nothing is kept
+    assert _owner(result.f50_cyc_per_mm) is None  # NumPy's own memory when nothing is kept
     del result
     gc.collect()
     assert epc_fast.output_cache().retained_bytes == 0
@@ -164,7 +170,7 @@ def test_a_selection_of_outputs_and_out_arrays_mix_with_kept_memory(cache, desig
 
 def test_arrays_on_kept_memory_pickle_and_copy_as_any_array(cache, designs):
     result = epc_fast.evaluate(**designs)
-    assert type(result.epc.base.base).__name__ == "PyCapsule"  # the block's owner
+    assert type(_owner(result.epc)).__name__ == "PyCapsule"  # the block's owner
     restored = pickle.loads(pickle.dumps(result.epc))
     assert _same_bits(restored, result.epc)
     copied = result.epc.copy()

@@ -193,7 +193,7 @@ def test_fresh_outputs_faulted_in_first_hold_the_bits_of_out_and_of_one_thread(m
     n = 3 * (1 << 16) + 5
     designs = random_design_points(n, seed=43)
     fresh = epc_fast.evaluate(**designs, outputs=selection, threads=2)
-    assert fresh.epc.base.base is None  # NumPy's own new memory, not kept memory
+    assert fresh.epc.base is None  # NumPy's own new memory, not kept memory
     names = ALL_FIELDS if selection is None else selection
     out = {name: np.full(n, 0x5A, dtype=api.OUTPUT_DTYPES[name]) for name in names}
     given = epc_fast.evaluate(**designs, outputs=selection, threads=2, out=out)
@@ -202,3 +202,17 @@ def test_fresh_outputs_faulted_in_first_hold_the_bits_of_out_and_of_one_thread(m
     for name in names:
         assert _same_bits(getattr(fresh, name), getattr(given, name)), name
         assert _same_bits(getattr(fresh, name), getattr(serial, name)), name
+
+
+def test_a_call_below_the_unchecked_size_reads_no_limit(monkeypatch):
+    # Reading the limits (cgroup files, /proc) costs more than a small call's points: a call
+    # that needs at most UNCHECKED_BYTES is not checked, one byte a point more is.
+    def limit():
+        raise AssertionError("the limit was read")
+
+    monkeypatch.setattr(_limits, "memory_limit_bytes", limit)
+    scalars = [np.asarray(1.0)] * len(epc_fast.params.PARAMETER_NAMES)
+    points = footprint.UNCHECKED_BYTES // 8  # EPC alone: 8 bytes a point
+    footprint.check_memory((points,), scalars, "core", False, ("epc",))
+    with pytest.raises(AssertionError, match="the limit was read"):
+        footprint.check_memory((points + 1,), scalars, "core", False, ("epc",))

@@ -20,8 +20,10 @@ Column column_of(const py::handle& obj, int index, py::ssize_t n) {
     if (!py::isinstance<py::array>(obj)) throw std::invalid_argument(what + " is not an ndarray");
     auto arr = py::reinterpret_borrow<py::array>(obj);
     // Equivalence, not identity: an unpickled array carries an equal but distinct dtype object.
-    if (!py::isinstance<py::array_t<double, py::array::c_style>>(arr) || arr.ndim() != 1)
-        throw std::invalid_argument(what + " must be a contiguous 1-D float64 array");
+    // Any number of dimensions, read flat in C order: a 0-d array is a broadcast scalar.
+    if (!py::isinstance<py::array_t<double, py::array::c_style>>(arr) ||
+        !(arr.flags() & py::array::c_style))
+        throw std::invalid_argument(what + " must be a C-contiguous float64 array");
     if (arr.size() != 1 && arr.size() != n)
         throw std::invalid_argument(what + " has " + std::to_string(arr.size()) +
                                     " values, expected 1 or " + std::to_string(n));

@@ -8,6 +8,7 @@ a default thread count is asked for).
 
 from __future__ import annotations
 
+import math
 import operator
 
 import numpy as np
@@ -19,6 +20,28 @@ __all__ = ["short", "as_float_array", "integer", "threads_of", "tolerance", "cho
 #: The largest integer a float64 holds (its largest finite value).
 _LARGEST_INT = int(np.finfo(np.float64).max)
 
+_FLOAT64 = np.dtype(np.float64)
+
+#: Read-only 0-d arrays of the Python floats calls pass, by value (the defaults most of all):
+#: a scalar argument costs a dict lookup, not a new array. NaN and -0.0 are not kept (a NaN
+#: key never matches; -0.0 would match 0.0's entry).
+_SCALARS: dict = {}
+_SCALARS_KEPT = 4096
+
+
+def _scalar_array(value: float) -> np.ndarray:
+    """``value`` (a Python float) as a read-only 0-d float64 array, kept for the next call."""
+    keyed = value != 0.0 or math.copysign(1.0, value) > 0.0  # not -0.0, which finds 0.0
+    arr = _SCALARS.get(value) if keyed else None
+    if arr is None:
+        arr = np.array(value, dtype=np.float64)
+        if keyed and value == value:
+            arr.flags.writeable = False
+            if len(_SCALARS) >= _SCALARS_KEPT:
+                _SCALARS.clear()
+            _SCALARS[value] = arr
+    return arr
+
 
 def short(value) -> str:
     """``repr(value)``, cut to 60 characters so that an error stays one readable line."""
@@ -28,7 +51,13 @@ def short(value) -> str:
 
 def as_float_array(name: str, value) -> np.ndarray:
     """``value`` as a native-endian float64 array; a TypeError naming ``name`` for anything but
-    real numbers, a ValueError for an integer no float64 holds."""
+    real numbers, a ValueError for an integer no float64 holds. A float gives a read-only 0-d
+    array; a float64 array is returned as it is."""
+    kind = type(value)
+    if kind is float:
+        return _scalar_array(value)
+    if kind is np.ndarray and value.dtype == _FLOAT64:
+        return value
     if value is None:
         raise TypeError(f"{name} must be a number or an array of numbers, got None")
     if isinstance(value, np.ma.MaskedArray):
@@ -99,8 +128,12 @@ def choice(name: str, value, allowed) -> str:
 
 
 def column(arr: np.ndarray, shape) -> np.ndarray:
-    """A contiguous 1-D view or copy, as the core reads a column: size 1 for a broadcast scalar,
-    else every point of ``shape``."""
+    """A C-contiguous float64 array as the core reads a column (flat, whatever its dimensions):
+    size 1 for a broadcast scalar, else every point of ``shape`` in C order. ``arr`` itself
+    when it is one already: an array that broadcasts to ``shape`` with as many values has
+    its points in that order."""
+    if arr.flags.c_contiguous and (arr.size == 1 or arr.size == math.prod(shape)):
+        return arr
     if arr.size == 1:
         return np.ascontiguousarray(arr.reshape(1))
     return np.ascontiguousarray(np.broadcast_to(arr, shape)).reshape(-1)

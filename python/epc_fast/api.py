@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -148,14 +149,21 @@ def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
     return sensor, corner_field_angle_deg(shape[0], shape[1], focal)
 
 
+@functools.lru_cache(maxsize=None)
+def _argument_names(size_name: str) -> tuple:
+    """The model parameters' names as the caller gave them (the size under ``size_name``), in
+    the core's order."""
+    return tuple(size_name if n == "size" else n for n in params.PARAMETER_NAMES)
+
+
 def _broadcast_inputs(values: dict, size_name: str) -> tuple:
     """(names, float64 arrays, broadcast shape) of the model parameters in the core's order;
     ``values`` holds them by parameter name, ``size_name`` is how the caller named the size."""
-    names = [size_name if n == "size" else n for n in params.PARAMETER_NAMES]
+    names = _argument_names(size_name)
     arrays = [as_float_array(name, values[key])
               for name, key in zip(names, params.PARAMETER_NAMES)]
-    try:
-        shape = np.broadcast_shapes(*(a.shape for a in arrays))
+    try:  # each shape once: most calls have a few arrays of one shape and the rest scalars
+        shape = np.broadcast_shapes(*{a.shape for a in arrays})
     except ValueError:
         shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
         raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None

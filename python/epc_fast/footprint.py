@@ -9,7 +9,7 @@ import math
 from . import _limits, elasticity_outputs
 from .outputs import OUTPUT_DTYPES, SHARE_OUTPUTS, output_bytes
 
-__all__ = ["BYTES_PER_POINT", "SENSITIVITY_BYTES_FACTOR", "check_memory"]
+__all__ = ["BYTES_PER_POINT", "SENSITIVITY_BYTES_FACTOR", "UNCHECKED_BYTES", "check_memory"]
 
 
 #: Bytes a backend allocates per point besides the inputs: the core its eight output columns
@@ -19,6 +19,10 @@ BYTES_PER_POINT = {"core": 6 * 8 + 2, "reference": 640}
 #: The reference's peak per byte of a sensitivity output it returns: its temporaries hold a few
 #: copies of each (tracemalloc on 2e5 random designs stays below 4).
 SENSITIVITY_BYTES_FACTOR = 4
+#: A call that needs at most this much is not checked: reading the limits (the cgroup's files,
+#: /proc) costs more than such a call's points, and an allocation this small that fails is
+#: NumPy's MemoryError, not the kernel's out-of-memory killer.
+UNCHECKED_BYTES = 4 * 2**20
 
 
 def check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES), threads=1):
@@ -26,17 +30,10 @@ def check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES
     memory (or the container's), or under an address-space limit (``RLIMIT_AS``) the address
     space left, less the stacks of the ``threads`` not started yet.
 
-    The estimate counts the contiguous copy of every input that is not a scalar and the
-    backend's own arrays; a call that fits the estimate may still fail with NumPy's own
+    A call that needs at most :data:`UNCHECKED_BYTES` is not checked. The estimate counts the
+    contiguous copy of every input that is not a scalar and the backend's own arrays; a call that fits the estimate may still fail with NumPy's own
     MemoryError, but none is left to the kernel's out-of-memory killer by a silly shape.
     """
-    limit = _limits.memory_limit_bytes()
-    where = "of memory here"
-    free = _limits.address_space_free_bytes()
-    if free is not None:
-        free = max(0, free - _limits.new_thread_bytes(threads))
-        if limit is None or free <= limit:
-            limit, where = free, "of address space left under RLIMIT_AS (ulimit -v)"
     n = math.prod(shape)
     columns = sum(1 for a in arrays if a.size > 1)
     if backend == "core":  # the outputs it computes, unless the caller gave them
@@ -48,6 +45,15 @@ def check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES
                                              for k in formed)
     per_point = 8 * columns + own
     needed = n * per_point
+    if needed <= UNCHECKED_BYTES:
+        return
+    limit = _limits.memory_limit_bytes()
+    where = "of memory here"
+    free = _limits.address_space_free_bytes()
+    if free is not None:
+        free = max(0, free - _limits.new_thread_bytes(threads))
+        if limit is None or free <= limit:
+            limit, where = free, "of address space left under RLIMIT_AS (ulimit -v)"
     if limit is not None and needed > limit:
         raise MemoryError(f"evaluate over the broadcast shape {shape} ({n:,} points) needs "
                           f"about {needed / 2**30:,.1f} GiB, more than the "

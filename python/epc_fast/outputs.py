@@ -204,7 +204,7 @@ def result_of(out, shape, is_pixel_count: bool) -> Result:
         if v is None:
             return None
         if shape != ():
-            return v.reshape(shape)
+            return v if v.shape == shape else v.reshape(shape)
         return (Status(int(v[0])) if name == "status" else
                 Cause(int(v[0])) if name == "cause" else float(v[0]))
     if elasticity_outputs.ALL in out:
@@ -213,5 +213,10 @@ def result_of(out, shape, is_pixel_count: bool) -> Result:
     else:
         rows = {row: value(row, out[row]) for row in elasticity_outputs.rows_in(out)}
         elasticities = elasticity_outputs.by_key(rows, is_pixel_count) if rows else None
-    return Result(**{name: value(name, out.get(name)) for name in ALL_OUTPUT_DTYPES
-                     if name != "elasticities"}, elasticities=elasticities)
+    fields = dict.fromkeys(OUTPUT_DTYPES)  # the default outputs, None unless out has them
+    fields.update((name, value(name, v)) for name, v in out.items() if name in _RESULT_ARRAYS)
+    return Result(**fields, elasticities=elasticities)
+
+
+#: The Result fields that hold one output's array (all but the elasticities and the mode).
+_RESULT_ARRAYS = frozenset(ALL_OUTPUT_DTYPES) - {"elasticities"}
