@@ -54,8 +54,9 @@ struct alignas(64) Block {
     // a broadcast field angle's cos(theta) and SNR target's 10^(snr/20), from the last block
     // that computed them (NaN keys: none yet)
     double memo_angle_deg = nan, memo_cos_theta = 1.0, memo_snr_db = nan, memo_root_s = 1.0;
-    // flags are bytes, not bool: the lane loops vectorise on them
-    unsigned char valid[block_size];
+    // flags are bytes, not bool: the lane loops vectorise on them; `valid` is read and set
+    // only in float64 loops (gather, the exposure stage), so it is as wide as their lanes
+    LaneFlag<double> valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
     unsigned char capped[block_size];
     // binning and bursts (exposure_stage.h sensor_terms): the read noise, dark current, PRNU,

@@ -486,7 +486,7 @@ void exposure_of_inputs(const Options& opt, Block<T>& b) {
     unsigned char* __restrict cause = b.cause;
     double* __restrict blur_out = b.blur_out;
     unsigned char* __restrict solve = b.solve;
-    const unsigned char* __restrict valid = b.valid;
+    const LaneFlag<double>* __restrict valid = b.valid;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         const double t = t_mpe[i];  // electrons / rate, from either path

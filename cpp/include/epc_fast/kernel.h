@@ -35,7 +35,8 @@ inline double stand_in(int param) {
 }
 
 // valid[i] &= x[i] in d, for every lane; the domain's open or closed ends are decided once.
-inline void check_domain(const Domain& d, const double* __restrict x, unsigned char* __restrict valid) {
+inline void check_domain(const Domain& d, const double* __restrict x,
+                         LaneFlag<double>* __restrict valid) {
     const double lo = d.lo, hi = d.hi;
     if (d.lo_closed && d.hi_closed) {
         EPC_FAST_SIMD
@@ -69,7 +70,7 @@ inline bool same_bits(double a, double b) {
 template <class T>
 void gather(const Inputs& in, std::size_t begin, const double* illuminance, Block<T>& b) {
     const std::size_t n = b.n;
-    unsigned char* __restrict valid = b.valid;
+    LaneFlag<double>* __restrict valid = b.valid;
     for (std::size_t i = 0; i < block_size; ++i) valid[i] = i < n;
     b.uniform = 0;
     for (int j = 0; j < n_params; ++j) {
@@ -112,10 +113,10 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
         check_domain(in.domains[j], x, valid);
         b.x[j] = x;
     }
-    int n_valid = 0;
+    LaneFlag<double> n_valid = 0;
     EPC_FAST_SIMD_REDUCTION(+ : n_valid)
     for (std::size_t i = 0; i < block_size; ++i) n_valid += valid[i];
-    if (n_valid == static_cast<int>(block_size)) return;
+    if (n_valid == block_size) return;
     for (int j = 0; j < n_params; ++j) {
         if (b.is_broadcast(j)) continue;  // already harmless
         double* __restrict x = b.x_store[j];
