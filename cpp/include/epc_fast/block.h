@@ -27,11 +27,20 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 //
 // T is the type f50 is solved in (f50.h): float64, or float32 in the float32 precision mode.
 // The parameters, the exposure stage and the outputs are float64 in both.
-// A lane flag as wide as the lanes of a loop over T (64 bits in float64 loops, 32 in float32
-// ones): such a loop tests and sets it in its own vector width, with no widening of bytes to
-// masks and narrowing back.
+// A lane flag of a loop over T. On AVX2 (without AVX-512) it is as wide as the loop's lanes
+// (64 bits in float64 loops, 32 in float32 ones): AVX2 keeps a mask in a vector register of
+// the lanes' width, so such a loop tests and sets the flag in its own width, with no widening
+// of bytes to masks and narrowing back. AVX-512 keeps masks in its mask registers, which move
+// to and from bytes in one instruction, and SSE2's narrow lanes pack bytes cheaply: there
+// bytes are the faster flags, and a Block's flags take an eighth of the cache. Defining
+// EPC_FAST_BYTE_FLAGS gives bytes on AVX2 too, to time both (tools/kernel_speed.cpp).
+#if defined(__AVX2__) && !defined(__AVX512F__) && !defined(EPC_FAST_BYTE_FLAGS)
 template <class T>
 using LaneFlag = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+#else
+template <class T>
+using LaneFlag = unsigned char;
+#endif
 
 template <class T>
 struct alignas(64) Block {
@@ -58,7 +67,10 @@ struct alignas(64) Block {
     // only in float64 loops (gather, the exposure stage), so it is as wide as their lanes
     LaneFlag<double> valid[block_size];
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
-    unsigned char capped[block_size];
+    // the exposure stage's flags (float64 loops, so as wide as their lanes): PRNU caps the
+    // lane; the lane's products leave the range the vector path vouches for (exposure_lane
+    // redoes it); the rate's partial products stay moderate
+    LaneFlag<double> capped[block_size], slow[block_size], rate_normal[block_size];
     // binning and bursts (exposure_stage.h sensor_terms): the read noise, dark current, PRNU,
     // full well and stabilisation as the exposure sees them, and k^2, in a block that has them
     double sensor_store[6][block_size];
@@ -68,9 +80,9 @@ struct alignas(64) Block {
     // lanes to solve
     unsigned char status[block_size], cause[block_size];
     double blur_out[block_size];
-    unsigned char solve[block_size];
+    LaneFlag<T> solve[block_size];
     double scratch[5][block_size];  // the exposure stage's, then f50's start's
-    unsigned char flag_scratch[2][block_size];
+    unsigned char row_code[block_size];  // f50's start: the accurate start's row (f50_start.h)
     // float32 mode: a lane f50 cannot be solved for in float32 (a length outside
     // [2^-40, 2^40] mm); the block is redone in float64 for it (kernel.h)
     unsigned char wide[block_size];
@@ -93,7 +105,7 @@ struct alignas(64) Block {
     LaneFlag<T> active[block_size];  // the solvers' lanes still stepping
     // Halley/Newton: a lane whose start is certified within f50_rtol (f50_start.h,
     // certified_start_error) takes it as f50 without a step; n_settled counts them
-    unsigned char settled[block_size];
+    LaneFlag<T> settled[block_size];
     int n_settled = 0;
     double certified_start[block_size] = {};  // float32: the settled lanes' starts, in float64
     // The terms beyond the paper's camera, last: a block without them never touches these, and

@@ -228,7 +228,7 @@ ExposureTerms exposure_terms(const Block<T>& b) {
 }
 
 // signal_electrons and blur_length_mm for every lane, from the rate, sqrt(s) and the PRNU margin
-// w; flag_scratch[0] marks the lanes whose products leave the normal range (exposure_lane redoes
+// w; `slow` marks the lanes whose products leave the normal range (exposure_lane redoes
 // them). The template drops the terms the block does not use: Dark (q = 1), Read (hypot(x, 0) =
 // x), Prnu (w = 1), Motion 0 (no blur), 1 (stabilisation 1) or 2.
 template <bool Dark, bool Read, bool Prnu, int Motion, class T>
@@ -243,12 +243,12 @@ void electrons_and_blur(Block<T>& b, const double* __restrict root_s,
     const double* __restrict stab = x[stabilization];
     const double* __restrict rate = b.rate;
     // moderate rates only (the rate's stage): the divisions by the rate share one reciprocal
-    const unsigned char* __restrict rate_normal = b.flag_scratch[1];
-    const unsigned char* __restrict capped = b.capped;
+    const LaneFlag<double>* __restrict rate_normal = b.rate_normal;
+    const LaneFlag<double>* __restrict capped = b.capped;
     double* __restrict electrons = b.electrons;
     double* __restrict t_mpe = b.t_mpe;
     double* __restrict blur = b.blur;
-    unsigned char* __restrict slow = b.flag_scratch[0];
+    LaneFlag<double>* __restrict slow = b.slow;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
         const double rs = root_s[i], rv = rate[i], inverse_rv = 1.0 / rv;
@@ -356,11 +356,11 @@ void exposure_of_inputs(const Options& opt, Block<T>& b) {
     double* __restrict electrons = b.electrons;
     double* __restrict t_mpe = b.t_mpe;
     double* __restrict blur = b.blur;
-    unsigned char* __restrict capped = b.capped;
+    LaneFlag<double>* __restrict capped = b.capped;
     // Three stages, each small enough for GCC to vectorise (one loop with all of it does not):
     // the rate, the PRNU margin, then electrons and blur.
     double* __restrict w_margin = b.scratch[2];
-    unsigned char* __restrict rate_normal = b.flag_scratch[1];
+    LaneFlag<double>* __restrict rate_normal = b.rate_normal;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         // electron_rate's product, in its order. The lane is redone (exposure_lane) unless
@@ -471,9 +471,9 @@ void exposure_of_inputs(const Options& opt, Block<T>& b) {
         case 6: run(no{}, yes{}, yes{}); break;
         default: run(yes{}, yes{}, yes{}); break;
     }
-    const unsigned char* __restrict slow = b.flag_scratch[0];
+    const LaneFlag<double>* __restrict slow = b.slow;
     const bool brent = opt.t_mpe_solver != TMpeSolver::closed_form;
-    int n_slow = 0;
+    LaneFlag<double> n_slow = 0;
     EPC_FAST_SIMD_REDUCTION(+ : n_slow)
     for (std::size_t i = 0; i < n; ++i) n_slow += slow[i];
     if (brent || n_slow > 0)
@@ -485,7 +485,7 @@ void exposure_of_inputs(const Options& opt, Block<T>& b) {
     unsigned char* __restrict status = b.status;
     unsigned char* __restrict cause = b.cause;
     double* __restrict blur_out = b.blur_out;
-    unsigned char* __restrict solve = b.solve;
+    LaneFlag<T>* __restrict solve = b.solve;
     const LaneFlag<double>* __restrict valid = b.valid;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {

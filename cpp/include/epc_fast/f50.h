@@ -237,7 +237,7 @@ void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
 template <bool Motion, bool Jitter, bool Binning, bool Poly, class T>
 void bisect(const Spectrum& spectrum, T rtol, Block<T>& b) {
     constexpr std::size_t n = block_size;
-    const unsigned char* __restrict solve = b.solve;
+    const LaneFlag<T>* __restrict solve = b.solve;
     T* __restrict lo = b.lo;
     T* __restrict hi = b.hi;
     T* __restrict mid = b.at;
@@ -299,7 +299,7 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     const T* __restrict threshold = b.threshold;
     int n_to_solve = 0;
     if (b.n_settled > 0) {  // settled lanes (f50_start.h): their start is f50, no step
-        const unsigned char* __restrict settled = b.settled;
+        const LaneFlag<T>* __restrict settled = b.settled;
         EPC_FAST_SIMD_REDUCTION(+ : n_to_solve)
         for (std::size_t i = 0; i < n; ++i) {
             const bool s_i = settled[i] != 0;

@@ -333,9 +333,10 @@ EPC_FAST_INLINE bool float32_factor(double x) {
 // Each lane's accurate_start_code into row_code, from its jitter (mm) and threshold; returns
 // which rows the lanes to solve take (bit k: row k) and counts into n_cubic those that take the
 // cubic start.
+template <class Flag>
 EPC_FAST_INLINE unsigned start_rows(const double* __restrict jitter_mm,
                                     const double* __restrict threshold,
-                                    const unsigned char* __restrict solve,
+                                    const Flag* __restrict solve,
                                     unsigned char* __restrict row_code, int& n_cubic) {
     static_assert(n_start_rows == 5, "a count per row");
     int n_row0 = 0, n_row1 = 0, n_row2 = 0, n_row3 = 0, n_row4 = 0, cubic = 0;
@@ -422,7 +423,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     const double* __restrict jitter_um_ = x[jitter_um];
     const double* __restrict threshold_in = x[mtf_threshold];
     const double* __restrict blur_in = b.blur;
-    unsigned char* __restrict solve = b.solve;
+    LaneFlag<T>* __restrict solve = b.solve;
     unsigned char* __restrict wide = b.wide;
     T* __restrict lambda_f = b.lambda_f_mm;
     T* __restrict aperture = b.aperture_mm;
@@ -490,7 +491,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     // start: a lane's start depends on its own inputs only. A block
     // computes the starts its lanes to solve need: the cubic one if any lane takes it, and each
     // row present (usually one, the call's threshold); a lane that is not solved may take any.
-    unsigned char* __restrict row_code = b.flag_scratch[0];  // free after the exposure stage
+    unsigned char* __restrict row_code = b.row_code;
     int n_cubic = 0;
     unsigned rows = 0;  // bit k: a lane to solve takes row k
     // With a spectrum fitted (spectrum_start.h), float64: a lane without jitter whose threshold
@@ -534,7 +535,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         n_cubic = n_cubic > 0 || (rows & ~certified) != 0 ? 1 : 0;
         rows = 0;
     }
-    unsigned char* __restrict settled = b.settled;
+    LaneFlag<T>* __restrict settled = b.settled;
     int n_settled = 0;
     // a lane with the wavefront error, denoising, a lens table or a demosaicker is never
     // settled either (the starts know none of them); a pass of its own, so that a block without

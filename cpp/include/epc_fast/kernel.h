@@ -135,11 +135,21 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
 // stage left the rate, electrons, T_MPE, blur, status and cause as they are written out.
 // A full block of a streaming call writes its whole cache lines with streaming stores
 // (stream.h stream_copy); the thread's fence is in ~Workspace.
+//
+// A full block that is not streamed is written by fixed-length lane loops straight into the
+// outputs (scatter_full): no staging of f50 and EPC, no library call per output.
+template <class T>
+void scatter_full(const Inputs& in, const Block<T>& b, const Outputs& out);
+
 template <class T>
 void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     const std::size_t n = b.n;
     const auto& x = b.x;
     const bool stream = out.stream && n == block_size;
+    if (n == block_size && !stream) {
+        scatter_full(in, b, out);
+        return;
+    }
     auto copy = [n, stream](auto* to, const auto* from) {
         if (to == nullptr) return;
         if (stream) stream_copy(to, from, n * sizeof *from);
@@ -177,6 +187,49 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
             epc[i] = 4.0 * area_mm2 * (f * f);
         }
         copy(out.epc, epc);
+    }
+}
+
+// to[i] = from[i] for the block's lanes, unless `to` is null (an output not asked for).
+template <class V>
+EPC_FAST_INLINE void copy_lanes(V* __restrict to, const V* __restrict from) {
+    if (to == nullptr) return;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) to[i] = from[i];
+}
+
+template <class T>
+void scatter_full(const Inputs& in, const Block<T>& b, const Outputs& out) {
+    copy_lanes(out.electron_rate_e_per_s, b.rate);
+    copy_lanes(out.electrons, b.electrons);
+    copy_lanes(out.t_mpe_s, b.t_mpe);
+    copy_lanes(out.blur_mm, b.blur_out);
+    copy_lanes(out.status, b.status);
+    copy_lanes(out.cause, b.cause);
+    if (out.f50_cyc_per_mm == nullptr && out.epc == nullptr) return;
+    // f50 where solved, 0 where the blur is unbounded, NaN elsewhere (scatter's); EPC from it
+    alignas(64) double f_own[block_size];
+    double* __restrict f_out = out.f50_cyc_per_mm != nullptr ? out.f50_cyc_per_mm : f_own;
+    const unsigned char* __restrict status = b.status;
+    const T* __restrict f50 = b.f50;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const unsigned char st = status[i];
+        f_out[i] = st == static_cast<unsigned char>(Status::ok)               ? double{f50[i]}
+                   : st == static_cast<unsigned char>(Status::blur_unbounded) ? 0.0
+                                                                              : nan;
+    }
+    double* __restrict epc = out.epc;
+    if (epc == nullptr) return;
+    const double* __restrict sz = b.x[size];
+    const double* __restrict pitch = b.x[pixel_pitch_um];
+    const bool count = in.size_is_pixel_count;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const double pitch_mm = pitch[i] * um_to_mm;
+        const double area_mm2 = count ? sz[i] * (pitch_mm * pitch_mm) : sz[i];
+        const double f = f_out[i];
+        epc[i] = 4.0 * area_mm2 * (f * f);
     }
 }
 

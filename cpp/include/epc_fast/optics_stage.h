@@ -29,7 +29,7 @@ namespace detail {
 template <class T>
 void optics_lanes(Block<T>& b, bool any_aberration, bool any_denoise, const T* ln_inverse_c) {
     const auto& x = b.x;
-    const unsigned char* __restrict solve = b.solve;
+    const LaneFlag<T>* __restrict solve = b.solve;
     if (any_aberration) {
         const double* __restrict wavefront = x[wavefront_rms_waves];
         int count = 0;
