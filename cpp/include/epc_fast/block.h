@@ -42,6 +42,18 @@ template <class T>
 using LaneFlag = unsigned char;
 #endif
 
+// The columns a Block's broadcast rows were set up for (kernel.h gather): each column's data
+// and stride (and a broadcast column's value, as read), whether the illuminance column was
+// replaced, whether a broadcast value is outside its domain, and the varying columns.
+struct ColumnLayout {
+    bool set = false, replaced = false, invalid = false;
+    int n_varying = 0;
+    int varying[n_params];
+    const double* data[n_params];
+    std::ptrdiff_t stride[n_params];
+    double value[n_params];
+};
+
 template <class T>
 struct alignas(64) Block {
     std::size_t n;
@@ -60,6 +72,7 @@ struct alignas(64) Block {
     // Block (each thread of a call keeps one: kernel.h), so a broadcast row is filled once
     std::uint32_t row_filled = 0;
     double row_value[n_params];
+    ColumnLayout layout;
     // a broadcast field angle's cos(theta) and SNR target's 10^(snr/20), from the last block
     // that computed them (NaN keys: none yet)
     double memo_angle_deg = nan, memo_cos_theta = 1.0, memo_snr_db = nan, memo_root_s = 1.0;

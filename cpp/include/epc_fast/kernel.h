@@ -64,24 +64,88 @@ inline bool same_bits(double a, double b) {
     return x == y;
 }
 
+// Reads the varying column j (stride != 0) of points [begin, begin + n) into lane x[j] (in place
+// for a full contiguous block), checking its domain; padding lanes past n get stand-ins.
+template <class T>
+EPC_FAST_INLINE void gather_varying(const Inputs& in, std::size_t begin, const double* illuminance,
+                                    int j, Block<T>& b) {
+    const std::size_t n = b.n;
+    const bool replaced = j == illuminance_lux && illuminance != nullptr;
+    const std::ptrdiff_t stride = replaced ? 1 : in.columns[j].stride;
+    const double* src = replaced ? illuminance
+                                 : in.columns[j].data + static_cast<std::ptrdiff_t>(begin) * stride;
+    double* __restrict x = b.x_store[j];
+    b.row_filled &= ~(std::uint32_t{1} << j);
+    if (stride == 1 && n == block_size) {
+        b.x[j] = src;  // read in place (copied below if a lane turns out invalid)
+        check_domain(in.domains[j], src, b.valid);
+        return;
+    }
+    if (stride == 1) {
+        for (std::size_t i = 0; i < n; ++i) x[i] = src[i];
+    } else {
+        for (std::size_t i = 0; i < n; ++i) x[i] = src[static_cast<std::ptrdiff_t>(i) * stride];
+    }
+    for (std::size_t i = n; i < block_size; ++i) x[i] = stand_in(j);
+    check_domain(in.domains[j], x, b.valid);
+    b.x[j] = x;
+}
+
+// Whether `in`'s columns (and the replacement of the illuminance) are laid out as when the
+// Block's broadcast rows were last set up: every column's data and stride, and each broadcast
+// value's bits, the same.
+inline bool same_layout(const Inputs& in, bool replaced, const ColumnLayout& layout) {
+    if (!layout.set || layout.replaced != replaced) return false;
+    bool same = true;
+    for (int j = 0; j < n_params; ++j) {
+        const Column& c = in.columns[j];
+        same &= (c.data == layout.data[j]) & (c.stride == layout.stride[j]);
+    }
+    if (!same) return false;
+    for (int j = 0; j < n_params; ++j)
+        if (layout.stride[j] == 0) same &= same_bits(layout.data[j][0], layout.value[j]);
+    return same;
+}
+
 // Reads points [begin, begin + n); `illuminance_lux`, when given, replaces that column with
 // n values of its own (the inverse solvers' trial illuminances). A broadcast column (stride 0)
-// is checked once and copied to every lane; padding lanes past n get stand-ins.
+// is checked once and copied to every lane; padding lanes past n get stand-ins. The broadcast
+// columns are set up by the first block of a layout (the Block's ColumnLayout): the blocks
+// after it with the same columns read only the varying ones.
 template <class T>
 void gather(const Inputs& in, std::size_t begin, const double* illuminance, Block<T>& b) {
     const std::size_t n = b.n;
     LaneFlag<double>* __restrict valid = b.valid;
     for (std::size_t i = 0; i < block_size; ++i) valid[i] = i < n;
-    b.uniform = 0;
-    for (int j = 0; j < n_params; ++j) {
-        const bool replaced = j == illuminance_lux && illuminance != nullptr;
-        const double* src = replaced ? illuminance : in.columns[j].data;
-        const std::ptrdiff_t stride = replaced ? 1 : in.columns[j].stride;
-        double* __restrict x = b.x_store[j];
-        const std::uint32_t bit = std::uint32_t{1} << j;
-        if (stride == 0) {
+    ColumnLayout& layout = b.layout;
+    const bool replaced_lux = illuminance != nullptr;
+    if (same_layout(in, replaced_lux, layout)) {
+        if (layout.invalid)
+            for (std::size_t i = 0; i < block_size; ++i) valid[i] = 0;
+        for (int k = 0; k < layout.n_varying; ++k)
+            gather_varying(in, begin, illuminance, layout.varying[k], b);
+    } else {
+        b.uniform = 0;
+        layout.set = true;
+        layout.replaced = replaced_lux;
+        layout.invalid = false;
+        layout.n_varying = 0;
+        for (int j = 0; j < n_params; ++j) {
+            const bool replaced = j == illuminance_lux && replaced_lux;
+            const double* src = in.columns[j].data;
+            const std::ptrdiff_t stride = replaced ? 1 : in.columns[j].stride;
+            layout.data[j] = src;
+            layout.stride[j] = in.columns[j].stride;
+            layout.value[j] = in.columns[j].stride == 0 ? src[0] : 0.0;
+            if (stride != 0) {
+                layout.varying[layout.n_varying++] = j;
+                gather_varying(in, begin, illuminance, j, b);
+                continue;
+            }
             // every lane holds the value, or the stand-in if it is invalid, even a lane that is
             // invalid for another parameter (harmless: a value inside the domain)
+            double* __restrict x = b.x_store[j];
+            const std::uint32_t bit = std::uint32_t{1} << j;
             const double v = src[0];
             const bool ok = in.domains[j].contains(v);
             const double fill = ok ? v : stand_in(j);
@@ -90,28 +154,14 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
                 b.row_value[j] = fill;
                 b.row_filled |= bit;
             }
-            if (!ok)
+            if (!ok) {
+                layout.invalid = true;
                 for (std::size_t i = 0; i < block_size; ++i) valid[i] = 0;
+            }
             b.uniform |= bit;
             b.broadcast[j] = fill;
             b.x[j] = x;
-            continue;
         }
-        b.row_filled &= ~bit;
-        if (!replaced) src += static_cast<std::ptrdiff_t>(begin) * stride;
-        if (stride == 1 && n == block_size) {
-            b.x[j] = src;  // read in place (copied below if a lane turns out invalid)
-            check_domain(in.domains[j], src, valid);
-            continue;
-        }
-        if (stride == 1) {
-            for (std::size_t i = 0; i < n; ++i) x[i] = src[i];
-        } else {
-            for (std::size_t i = 0; i < n; ++i) x[i] = src[static_cast<std::ptrdiff_t>(i) * stride];
-        }
-        for (std::size_t i = n; i < block_size; ++i) x[i] = stand_in(j);
-        check_domain(in.domains[j], x, valid);
-        b.x[j] = x;
     }
     LaneFlag<double> n_valid = 0;
     EPC_FAST_SIMD_REDUCTION(+ : n_valid)

@@ -7,8 +7,6 @@
 
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
-#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -470,7 +468,7 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     const auto& x = b.x;
     alignas(64) double f[n], loss[n], slope_numerator[n], value[n];
     alignas(64) double logs[n_shares][n], slope_pixel[n], slope_motion[n];
-    unsigned char ok[n], slow[n];
+    LaneFlag<double> ok[n], slow[n];
     const unsigned char* __restrict status = b.status;
     for (std::size_t i = 0; i < n; ++i) {
         ok[i] = status[i] == static_cast<unsigned char>(Status::ok);
@@ -627,17 +625,16 @@ void sensitivity_as(const Inputs& in, const Block<T>& b, double (&share_out)[n_s
     if (b.sensor || !b.broadcast_is(wavefront_rms_waves, 0.0) || !b.broadcast_is(denoise_sigma_px, 0.0) ||
         b.lens_tables != nullptr || b.demosaic_table != nullptr)
         for (std::size_t i = 0; i < n; ++i) slow[i] |= ok[i];
-    // the slow lanes, eight flags at a time (most blocks have none)
-    for (std::size_t first = 0; first < n; first += 8) {
-        std::uint64_t eight;
-        std::memcpy(&eight, slow + first, sizeof eight);
-        if (eight == 0) continue;
-        for (std::size_t i = first; i < first + 8; ++i) {
-            if (!slow[i]) continue;
-            double lane_shares[n_shares][block_size];
-            sensitivity_lane(in, b, i, elasticities ? field_slope[i] : 0.0,
-                             shares ? share_out : lane_shares, elasticity_out);
-        }
+    // the slow lanes (most blocks have none)
+    int n_slow = 0;
+    EPC_FAST_SIMD_REDUCTION(+ : n_slow)
+    for (std::size_t i = 0; i < n; ++i) n_slow += slow[i] != 0;
+    if (n_slow == 0) return;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!slow[i]) continue;
+        double lane_shares[n_shares][block_size];
+        sensitivity_lane(in, b, i, elasticities ? field_slope[i] : 0.0,
+                         shares ? share_out : lane_shares, elasticity_out);
     }
 }
 
