@@ -95,12 +95,10 @@ py::array new_column(py::ssize_t n, bool& fresh) {
                           owner);
 }
 
-// A caller's output array: 1-D, C-contiguous, writeable, of dtype T and length n; null when
-// `out` has no such field (that output is not computed).
+// A caller's output array `obj` for output `name`: 1-D, C-contiguous, writeable, of dtype T and
+// length n, else an error naming it.
 template <class T>
-T* output_column(const py::dict& out, const char* name, py::ssize_t n) {
-    if (!out.contains(name)) return nullptr;
-    py::object obj = out[name];
+T* output_array(const py::handle& obj, const char* name, py::ssize_t n) {
     if (!py::isinstance<py::array>(obj))
         throw std::invalid_argument(std::string("out['") + name + "'] is not an ndarray");
     auto arr = py::reinterpret_borrow<py::array>(obj);

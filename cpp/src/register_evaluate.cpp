@@ -91,36 +91,43 @@ py::dict outputs_of(const py::object& out, const py::object& allocate, py::ssize
     return result;
 }
 
-// The kernel's view of `arrays` (output name -> array): null for the outputs it lacks.
+// The kernel's view of `arrays` (output name -> array): null for the outputs it lacks. One pass
+// over the dict, its names read in place (keys that are not output names are left alone).
 Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
-    Outputs out{output_column<double>(arrays, "electron_rate_e_per_s", n),
-                output_column<double>(arrays, "electrons", n),
-                output_column<double>(arrays, "t_mpe_s", n),
-                output_column<double>(arrays, "blur_mm", n),
-                output_column<double>(arrays, "f50_cyc_per_mm", n),
-                output_column<double>(arrays, "epc", n),
-                output_column<std::uint8_t>(arrays, "status", n),
-                output_column<std::uint8_t>(arrays, "cause", n)};
-    for (int k = 0; k < n_shares; ++k)
-        out.sensitivity.share[k] = output_column<double>(arrays, share_names[k], n);
-    // the elasticities asked for, by one pass over the names: when the dict holds more
-    // outputs than those found so far (most calls ask for none)
-    const double* values[] = {out.electron_rate_e_per_s, out.electrons, out.t_mpe_s, out.blur_mm,
-                              out.f50_cyc_per_mm, out.epc};
-    std::size_t found = (out.status != nullptr) + (out.cause != nullptr);
-    for (const double* v : values) found += v != nullptr;
-    for (const double* v : out.sensitivity.share) found += v != nullptr;
-    if (arrays.size() == found) return out;
-    double* every = output_column<double>(arrays, elasticities_name, output_size(elasticities_name, n));
+    Outputs out{nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
+    double** values[] = {&out.electron_rate_e_per_s, &out.electrons, &out.t_mpe_s, &out.blur_mm,
+                         &out.f50_cyc_per_mm, &out.epc};
+    double* every = nullptr;
+    const char* single = nullptr;  // an elasticity asked for one by one
     for (auto item : arrays) {
-        if (!py::isinstance<py::str>(item.first)) continue;
-        const std::string name = py::cast<std::string>(item.first);
-        const int j = elasticity_of(name);
-        if (j < 0) continue;
-        if (every != nullptr)
-            throw std::invalid_argument("out has both 'elasticities' (every elasticity) and '" + name + "'");
-        out.sensitivity.elasticity[j] = output_column<double>(arrays, name.c_str(), n);
+        if (!PyUnicode_Check(item.first.ptr())) continue;
+        const char* name = PyUnicode_AsUTF8(item.first.ptr());
+        if (name == nullptr) throw py::error_already_set();
+        const auto is = [name](const char* other) { return std::strcmp(name, other) == 0; };
+        bool found = false;
+        for (int k = 0; k < 6 && !found; ++k)
+            if ((found = is(output_names[k]))) *values[k] = output_array<double>(item.second, name, n);
+        if (found) continue;
+        if (is(output_names[6])) {
+            out.status = output_array<std::uint8_t>(item.second, name, n);
+        } else if (is(output_names[7])) {
+            out.cause = output_array<std::uint8_t>(item.second, name, n);
+        } else if (is(elasticities_name)) {
+            every = output_array<double>(item.second, name, output_size(elasticities_name, n));
+        } else {
+            for (int k = 0; k < n_shares && !found; ++k)
+                if ((found = is(share_names[k])))
+                    out.sensitivity.share[k] = output_array<double>(item.second, name, n);
+            const int j = found ? -1 : elasticity_of(name);
+            if (j >= 0) {
+                out.sensitivity.elasticity[j] = output_array<double>(item.second, name, n);
+                single = name;
+            }
+        }
     }
+    if (every != nullptr && single != nullptr)
+        throw std::invalid_argument(std::string("out has both 'elasticities' (every elasticity) and '") +
+                                    single + "'");
     if (every != nullptr)
         for (int j = 0; j < n_params; ++j) out.sensitivity.elasticity[j] = every + j * n;
     return out;
