@@ -23,6 +23,13 @@ def core_tables(lens_tables) -> list | None:
              np.ascontiguousarray(t.coefficients).reshape(-1)) for t in lens_tables]
 
 
+def _kept_scalar(column: np.ndarray) -> bool:
+    """Whether ``column`` is a read-only 0-d array that owns its data (a kept float,
+    _validation), which no output array can share memory with: an output is a writeable 1-D
+    array, and no writeable view of such an array exists."""
+    return column.ndim == 0 and column.base is None and not column.flags.writeable
+
+
 def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
              t_mpe_rtol, threads, out=None, precision="float64", allocate=None,
              binning_readout="digital", lens_tables=None, demosaic_table=None,
@@ -41,8 +48,9 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
     columns = [a if a.ndim == 0 or (a.size == n and a.flags.c_contiguous) else column(a, shape)
                for a in arrays]
     if out:  # an input that is also an output would be overwritten while read
-        columns = [c.copy() if any(np.may_share_memory(c, o) for o in out.values()) else c
-                   for c in columns]
+        outs = tuple(out.values())
+        columns = [c.copy() if not _kept_scalar(c) and any(np.may_share_memory(c, o) for o in outs)
+                   else c for c in columns]
     if allocate is None:  # the core's own default: every default output, unless out has them
         allocate = [] if out else list(OUTPUT_DTYPES)
     if spec is None:
