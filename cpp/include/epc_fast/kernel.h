@@ -181,41 +181,11 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
     }
 }
 
-// Writes the block's n points; an output pointer that is null is not computed. The exposure
-// stage left the rate, electrons, T_MPE, blur, status and cause as they are written out.
-// A full block of a streaming call writes its whole cache lines with streaming stores
-// (stream.h stream_copy); the thread's fence is in ~Workspace.
-//
-// A full block that is not streamed is written by fixed-length lane loops straight into the
-// outputs (scatter_full): no staging of f50 and EPC, no library call per output.
+// f_out[i]: f50 where solved, 0 where the blur is unbounded, NaN elsewhere, for every lane.
 template <class T>
-void scatter_full(const Inputs& in, const Block<T>& b, const Outputs& out);
-
-template <class T>
-void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
-    const std::size_t n = b.n;
-    const auto& x = b.x;
-    const bool stream = out.stream && n == block_size;
-    if (n == block_size && !stream) {
-        scatter_full(in, b, out);
-        return;
-    }
-    auto copy = [n, stream](auto* to, const auto* from) {
-        if (to == nullptr) return;
-        if (stream) stream_copy(to, from, n * sizeof *from);
-        else std::memcpy(to, from, n * sizeof *from);
-    };
-    copy(out.electron_rate_e_per_s, b.rate);
-    copy(out.electrons, b.electrons);
-    copy(out.t_mpe_s, b.t_mpe);
-    copy(out.blur_mm, b.blur_out);
-    copy(out.status, b.status);
-    copy(out.cause, b.cause);
-    if (out.f50_cyc_per_mm == nullptr && out.epc == nullptr) return;
-    // f50 where solved, 0 where the blur is unbounded, NaN elsewhere; EPC from it
+EPC_FAST_INLINE void f50_lanes(const Block<T>& b, double* __restrict f_out) {
     const unsigned char* __restrict status = b.status;
     const T* __restrict f50 = b.f50;
-    alignas(64) double f_out[block_size];
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
         const unsigned char st = status[i];
@@ -223,20 +193,20 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
                    : st == static_cast<unsigned char>(Status::blur_unbounded) ? 0.0
                                                                               : nan;
     }
-    copy(out.f50_cyc_per_mm, f_out);
-    if (out.epc != nullptr) {
-        alignas(64) double epc[block_size];
-        const double* __restrict sz = x[size];
-        const double* __restrict pitch = x[pixel_pitch_um];
-        const bool count = in.size_is_pixel_count;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            const double pitch_mm = pitch[i] * um_to_mm;
-            const double area_mm2 = count ? sz[i] * (pitch_mm * pitch_mm) : sz[i];
-            const double f = f_out[i];
-            epc[i] = 4.0 * area_mm2 * (f * f);
-        }
-        copy(out.epc, epc);
+}
+
+// epc[i] = 4 S f^2 for the first n lanes, from their f50 f (f50_lanes) and sensor size.
+template <class T>
+EPC_FAST_INLINE void epc_lanes(const Inputs& in, const Block<T>& b, const double* __restrict f,
+                               double* __restrict epc, std::size_t n) {
+    const double* __restrict sz = b.x[size];
+    const double* __restrict pitch = b.x[pixel_pitch_um];
+    const bool count = in.size_is_pixel_count;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double pitch_mm = pitch[i] * um_to_mm;
+        const double area_mm2 = count ? sz[i] * (pitch_mm * pitch_mm) : sz[i];
+        epc[i] = 4.0 * area_mm2 * (f[i] * f[i]);
     }
 }
 
@@ -248,38 +218,49 @@ EPC_FAST_INLINE void copy_lanes(V* __restrict to, const V* __restrict from) {
     for (std::size_t i = 0; i < block_size; ++i) to[i] = from[i];
 }
 
+// Writes the block's n points; an output pointer that is null is not computed. The exposure
+// stage left the rate, electrons, T_MPE, blur, status and cause as they are written out.
+// A full block that is not streamed is written by fixed-length lane loops straight into the
+// outputs. Other blocks are staged: a partial one is copied n points, a full block of a
+// streaming call writes its whole cache lines with streaming stores (stream.h stream_copy;
+// the thread's fence is in ~Workspace).
 template <class T>
-void scatter_full(const Inputs& in, const Block<T>& b, const Outputs& out) {
-    copy_lanes(out.electron_rate_e_per_s, b.rate);
-    copy_lanes(out.electrons, b.electrons);
-    copy_lanes(out.t_mpe_s, b.t_mpe);
-    copy_lanes(out.blur_mm, b.blur_out);
-    copy_lanes(out.status, b.status);
-    copy_lanes(out.cause, b.cause);
-    if (out.f50_cyc_per_mm == nullptr && out.epc == nullptr) return;
-    // f50 where solved, 0 where the blur is unbounded, NaN elsewhere (scatter's); EPC from it
-    alignas(64) double f_own[block_size];
-    double* __restrict f_out = out.f50_cyc_per_mm != nullptr ? out.f50_cyc_per_mm : f_own;
-    const unsigned char* __restrict status = b.status;
-    const T* __restrict f50 = b.f50;
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < block_size; ++i) {
-        const unsigned char st = status[i];
-        f_out[i] = st == static_cast<unsigned char>(Status::ok)               ? double{f50[i]}
-                   : st == static_cast<unsigned char>(Status::blur_unbounded) ? 0.0
-                                                                              : nan;
+void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
+    const std::size_t n = b.n;
+    const bool stream = out.stream && n == block_size;
+    const bool asked = out.f50_cyc_per_mm != nullptr || out.epc != nullptr;
+    // the exposure's outputs, each by `copy`
+    auto exposure_outputs = [&](auto&& copy) {
+        copy(out.electron_rate_e_per_s, b.rate);
+        copy(out.electrons, b.electrons);
+        copy(out.t_mpe_s, b.t_mpe);
+        copy(out.blur_mm, b.blur_out);
+        copy(out.status, b.status);
+        copy(out.cause, b.cause);
+    };
+    if (n == block_size && !stream) {
+        exposure_outputs([](auto* to, const auto* from) { copy_lanes(to, from); });
+        if (!asked) return;
+        alignas(64) double f_own[block_size];
+        double* f_out = out.f50_cyc_per_mm != nullptr ? out.f50_cyc_per_mm : f_own;
+        f50_lanes(b, f_out);
+        if (out.epc != nullptr) epc_lanes(in, b, f_out, out.epc, block_size);
+        return;
     }
-    double* __restrict epc = out.epc;
-    if (epc == nullptr) return;
-    const double* __restrict sz = b.x[size];
-    const double* __restrict pitch = b.x[pixel_pitch_um];
-    const bool count = in.size_is_pixel_count;
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < block_size; ++i) {
-        const double pitch_mm = pitch[i] * um_to_mm;
-        const double area_mm2 = count ? sz[i] * (pitch_mm * pitch_mm) : sz[i];
-        const double f = f_out[i];
-        epc[i] = 4.0 * area_mm2 * (f * f);
+    auto copy = [n, stream](auto* to, const auto* from) {
+        if (to == nullptr) return;
+        if (stream) stream_copy(to, from, n * sizeof *from);
+        else std::memcpy(to, from, n * sizeof *from);
+    };
+    exposure_outputs(copy);
+    if (!asked) return;
+    alignas(64) double f_out[block_size];
+    f50_lanes(b, f_out);
+    copy(out.f50_cyc_per_mm, f_out);
+    if (out.epc != nullptr) {
+        alignas(64) double epc[block_size];
+        epc_lanes(in, b, f_out, epc, n);
+        copy(out.epc, epc);
     }
 }
 
