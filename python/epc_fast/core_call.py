@@ -44,9 +44,7 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
 
     n = math.prod(shape)
     out = {} if out is None else out
-    # a scalar (0-d) or a C-contiguous array of every point is a column as it is
-    columns = [a if a.ndim == 0 or (a.size == n and a.flags.c_contiguous) else column(a, shape)
-               for a in arrays]
+    columns = [column(a, shape) for a in arrays]
     if out:  # an input that is also an output would be overwritten while read
         outs = tuple(out.values())
         columns = [c.copy() if not _kept_scalar(c) and any(np.may_share_memory(c, o) for o in outs)
