@@ -170,6 +170,33 @@ def test_out_may_reuse_input_arrays_each_point_is_read_before_it_is_written(desi
     assert result.electron_rate_e_per_s is few["pixel_pitch_um"]
 
 
+def test_a_broadcast_input_that_is_an_output_element_is_read_as_it_was(designs):
+    # A 0-d input column is read by every block, so the core copies it too when it shares
+    # memory with an output (register_evaluate.cpp, copy_overlapping): here the f-number is
+    # a view of the first point's EPC, which the first block writes before the others read.
+    few = {k: np.array(v[:3000]) for k, v in designs.items() if k != "f_number"}
+    expected = epc_fast.evaluate(**few, f_number=2.8, outputs=("epc",), threads=1)
+    epc = np.full(3000, 2.8)
+    result = epc_fast.evaluate(**few, f_number=epc[0, ...], outputs=("epc",), out={"epc": epc},
+                               threads=1)
+    assert result.epc is epc
+    assert _same_bits(epc, expected.epc)
+
+
+def test_an_input_shifted_against_an_output_in_one_buffer_is_read_as_it_was(designs):
+    # a partial overlap: the illuminance column is buffer[1:] and the
+    # f50 output buffer[:-1], so that every point's f50 overwrites the next point's light
+    few = {k: np.array(v[:3000]) for k, v in designs.items()}
+    expected = epc_fast.evaluate(**few, outputs=("f50_cyc_per_mm",))
+    buffer = np.empty(3001)
+    buffer[1:] = few["illuminance_lux"]
+    few["illuminance_lux"] = buffer[1:]
+    result = epc_fast.evaluate(**few, outputs=("f50_cyc_per_mm",),
+                               out={"f50_cyc_per_mm": buffer[:-1]})
+    assert _same_bits(buffer[:-1], expected.f50_cyc_per_mm)
+    assert np.shares_memory(result.f50_cyc_per_mm, buffer)
+
+
 @pytest.fixture
 def no_kept_memory():
     """Every new output array on new pages: the output cache (epc_fast.memory) keeps nothing."""

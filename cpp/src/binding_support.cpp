@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "epc_fast/output_cache.h"
 #include "epc_fast/params.h"
@@ -16,6 +18,19 @@ namespace epc_fast {
 namespace bindings {
 
 Column column_of(const py::handle& obj, int index, py::ssize_t n) {
+    // The common case read off NumPy's array struct: a native float64 C-contiguous array of 1 or
+    // n values. Anything else, errors included, takes the checks below.
+    if (py::detail::npy_api::get().PyArray_Check_(obj.ptr())) {
+        const auto* arr = py::detail::array_proxy(obj.ptr());
+        const auto* descr = py::detail::array_descriptor_proxy(arr->descr);
+        if (descr->type_num == py::detail::npy_api::NPY_DOUBLE_ && descr->byteorder == '=' &&
+            (arr->flags & py::detail::npy_api::NPY_ARRAY_C_CONTIGUOUS_) != 0) {
+            py::ssize_t size = 1;
+            for (int k = 0; k < arr->nd; ++k) size *= arr->dimensions[k];
+            if (size == 1 || size == n)
+                return Column{reinterpret_cast<const double*>(arr->data), size == 1 ? 0 : 1};
+        }
+    }
     const std::string what = index < 0 ? "target_epc" : "column " + std::to_string(index);
     if (!py::isinstance<py::array>(obj)) throw std::invalid_argument(what + " is not an ndarray");
     auto arr = py::reinterpret_borrow<py::array>(obj);
@@ -28,6 +43,27 @@ Column column_of(const py::handle& obj, int index, py::ssize_t n) {
         throw std::invalid_argument(what + " has " + std::to_string(arr.size()) +
                                     " values, expected 1 or " + std::to_string(n));
     return Column{static_cast<const double*>(arr.data()), arr.size() == 1 ? 0 : 1};
+}
+
+void copy_overlapping(Inputs& in, py::ssize_t n, const py::dict& outputs,
+                      std::vector<std::vector<double>>& copies) {
+    std::vector<std::pair<const char*, const char*>> written;
+    for (auto item : outputs) {
+        const auto arr = py::reinterpret_borrow<py::array>(item.second);
+        const char* data = static_cast<const char*>(arr.data());
+        written.emplace_back(data, data + arr.nbytes());
+    }
+    for (Column& column : in.columns) {
+        const auto size = column.stride == 0 ? py::ssize_t{1} : n;
+        const char* begin = reinterpret_cast<const char*>(column.data);
+        const char* end = begin + size * static_cast<py::ssize_t>(sizeof(double));
+        const bool shared = std::any_of(written.begin(), written.end(), [&](const auto& range) {
+            return begin < range.second && range.first < end;
+        });
+        if (!shared) continue;
+        copies.emplace_back(column.data, column.data + size);
+        column.data = copies.back().data();
+    }
 }
 
 namespace {

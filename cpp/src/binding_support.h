@@ -15,6 +15,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "epc_fast/output_cache.h"
 #include "epc_fast/params.h"
@@ -32,6 +33,12 @@ using double_array = py::array_t<double, py::array::c_style>;
 // Column `index` of the parameter table, or (index -1) the target EPC: a contiguous 1-D
 // float64 array of 1 (broadcast) or n values.
 Column column_of(const py::handle& obj, int index, py::ssize_t n);
+
+// Each column of `in` that shares memory with an array of `outputs` (output name -> array)
+// replaced by a copy kept in `copies`: the kernel reads its inputs block by block while it
+// writes its outputs, and an input overwritten before it is read would give wrong values.
+void copy_overlapping(Inputs& in, py::ssize_t n, const py::dict& outputs,
+                      std::vector<std::vector<double>>& copies);
 
 // A polychromatic spectrum from its wavelengths (nm, > 0) and weights (>= 0, summing to 1).
 Spectrum spectrum_of(const double_array& wavelengths_nm, const double_array& weights);

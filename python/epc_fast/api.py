@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -93,8 +94,7 @@ def _raise_first_invalid(arrays, names, status, shape, size_parts=None, lens_cou
     raise AssertionError("a point is INVALID but every input is in its domain")  # pragma: no cover
 
 
-@dataclass(frozen=True)
-class _Sensor:
+class _Sensor(NamedTuple):
     """The size slot of one call: its name in messages, its value, whether it is a pixel
     count, and the lengths it was made of (for messages)."""
 
@@ -112,6 +112,13 @@ def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
     NaN where a length is outside (0, BIG) so that the point is INVALID. ``snr_at="corner"``
     is atan(half-diagonal / focal length), which needs the sensor's shape.
     """
+    if (sensor_width_mm is None and sensor_height_mm is None and sensor_diagonal_mm is None
+            and aspect is None and snr_at is None
+            and (pixel_count is None) != (sensor_area_mm2 is None)):
+        # the size as an area or a pixel count, as most calls give it
+        if pixel_count is not None:
+            return _Sensor("pixel_count", pixel_count, True, {}), field_angle_deg
+        return _Sensor("sensor_area_mm2", sensor_area_mm2, False, {}), field_angle_deg
     lengths = [None if v is None else as_float_array(k, v) for k, v in (
         ("sensor_width_mm", sensor_width_mm), ("sensor_height_mm", sensor_height_mm),
         ("sensor_diagonal_mm", sensor_diagonal_mm))]
@@ -162,8 +169,11 @@ def _broadcast_inputs(values: dict, size_name: str) -> tuple:
     names = _argument_names(size_name)
     arrays = [as_float_array(name, values[key])
               for name, key in zip(names, params.PARAMETER_NAMES)]
-    try:  # each shape once: most calls have a few arrays of one shape and the rest scalars
-        shape = np.broadcast_shapes(*{a.shape for a in arrays})
+    shapes = {a.shape for a in arrays}  # most calls: a few arrays of one shape, and scalars
+    shapes.discard(())
+    try:
+        shape = (shapes.pop() if len(shapes) == 1 else
+                 np.broadcast_shapes(*shapes) if shapes else ())
     except ValueError:
         shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
         raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None
@@ -203,6 +213,26 @@ class _Options:
 def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
                 outputs, is_pixel_count=False, binning_readout="digital",
                 lens_tables=None, demosaic_table=None) -> _Options:
+    """The checked options of a call (errors name the argument); those without tables, and
+    with a hashable ``outputs``, are kept for the next call that gives the same."""
+    args = (backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
+            outputs, is_pixel_count, binning_readout)
+    if lens_tables is None and demosaic_table is None:
+        try:
+            return _kept_options(*args)
+        except TypeError:  # an unhashable argument (outputs as a list), or a bad one
+            pass
+    return _checked_options(*args, lens_tables, demosaic_table)
+
+
+@functools.lru_cache(maxsize=256, typed=True)
+def _kept_options(*args) -> _Options:
+    return _checked_options(*args)
+
+
+def _checked_options(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
+                     precision, outputs, is_pixel_count=False, binning_readout="digital",
+                     lens_tables=None, demosaic_table=None) -> _Options:
     choice("backend", backend, BACKENDS)
     choice("binning_readout", binning_readout, BINNING_READOUTS)
     choice("invalid", invalid, INVALID_POLICIES)
@@ -217,8 +247,7 @@ def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol
 
 def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, given) -> dict:
     """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
-    if options.backend == "core":
-        threads = threads_of(threads)
+    if options.backend == "core":  # threads checked by the caller
         # the core writes the caller's arrays and allocates the others it computes
         flat = {} if given is None else {k: v.reshape(-1).view(DTYPES[k])
                                          for k, v in given.items()}

@@ -13,6 +13,10 @@ from .outputs import OUTPUT_DTYPES
 
 __all__ = ["core_tables", "run_core"]
 
+#: The wavelengths and weights of a monochromatic call (no spectrum), as the core takes them.
+_NO_SPECTRUM = np.empty(0)
+_NO_SPECTRUM.flags.writeable = False
+
 
 def core_tables(lens_tables) -> list | None:
     """The checked lens tables (a sequence of :class:`epc_fast.mtf_table.MtfTable`, or None)
@@ -21,13 +25,6 @@ def core_tables(lens_tables) -> list | None:
         return None
     return [(np.ascontiguousarray(t.frequencies), np.ascontiguousarray(t.values),
              np.ascontiguousarray(t.coefficients).reshape(-1)) for t in lens_tables]
-
-
-def _kept_scalar(column: np.ndarray) -> bool:
-    """Whether ``column`` is a read-only 0-d array that owns its data (a kept float,
-    _validation), which no output array can share memory with: an output is a writeable 1-D
-    array, and no writeable view of such an array exists."""
-    return column.ndim == 0 and column.base is None and not column.flags.writeable
 
 
 def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
@@ -44,23 +41,19 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
 
     n = math.prod(shape)
     out = {} if out is None else out
+    # the core copies an input that shares memory with an output before it runs
     columns = [column(a, shape) for a in arrays]
-    if out:  # an input that is also an output would be overwritten while read
-        outs = tuple(out.values())
-        columns = [c.copy() if not _kept_scalar(c) and any(np.may_share_memory(c, o) for o in outs)
-                   else c for c in columns]
     if allocate is None:  # the core's own default: every default output, unless out has them
         allocate = [] if out else list(OUTPUT_DTYPES)
     if spec is None:
-        wavelengths = weights = np.empty(0)
+        wavelengths = weights = _NO_SPECTRUM
     else:
-        wavelengths, weights = spec.wavelengths_nm, spec.weights
+        wavelengths = np.ascontiguousarray(spec.wavelengths_nm, dtype=np.float64)
+        weights = np.ascontiguousarray(spec.weights, dtype=np.float64)
     return _core.evaluate(columns, size_is_pixel_count,
                           params.domain_table(len(lens_tables) if lens_tables else 1),
-                          np.ascontiguousarray(wavelengths, dtype=np.float64),
-                          np.ascontiguousarray(weights, dtype=np.float64), n, f50_solver,
+                          wavelengths, weights, n, f50_solver,
                           f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, chunk_points,
-                          out, allocate, binning_readout=binning_readout,
-                          lens_tables=core_tables(lens_tables),
-                          demosaic_table=None if demosaic_table is None
+                          out, allocate, binning_readout, core_tables(lens_tables),
+                          None if demosaic_table is None
                           else core_tables((demosaic_table,))[0])
