@@ -111,6 +111,11 @@ def test_out_arrays_of_single_elasticities_are_checked_by_their_names():
     with pytest.raises(ValueError, match="share memory"):
         epc_fast.evaluate(LUX, **BASE, outputs=("epc", "elasticity_prnu"),
                           out={"epc": shared, "elasticity_prnu": shared})
+    # the size's elasticity by the keyword that gave the size, not the core's name for it
+    with pytest.raises(ValueError, match=r"out\['epc'\] and out\['elasticity_sensor_area_mm2'\] "
+                                         "share memory"):
+        epc_fast.evaluate(LUX, **BASE, outputs=("epc", "elasticity_sensor_area_mm2"),
+                          out={"epc": shared, "elasticity_sensor_area_mm2": shared})
 
 
 @pytest.mark.parametrize("backend", ["core", "reference"])

@@ -243,3 +243,18 @@ def test_a_call_below_the_unchecked_size_reads_no_limit(monkeypatch):
     footprint.check_memory((points,), scalars, "core", False, ("epc",))
     with pytest.raises(AssertionError, match="the limit was read"):
         footprint.check_memory((points + 1,), scalars, "core", False, ("epc",))
+
+
+def test_new_result_is_the_dataclass_s_own_result():
+    from dataclasses import FrozenInstanceError
+
+    from epc_fast.outputs import new_result
+
+    fields = dict.fromkeys(api.OUTPUT_DTYPES)
+    made = new_result({"epc": 2.5, "status": Status.OK})
+    assert made == Result(**(fields | {"epc": 2.5, "status": Status.OK}))
+    assert made.share_lens is None and made.elasticities is None and made.mode is None
+    with pytest.raises(FrozenInstanceError):
+        made.epc = 1.0
+    with pytest.raises(TypeError, match=r"Result has no field\(s\) \['f50'\]"):
+        new_result({"f50": 1.0})

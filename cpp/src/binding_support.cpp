@@ -45,22 +45,43 @@ Column column_of(const py::handle& obj, int index, py::ssize_t n) {
     return Column{static_cast<const double*>(arr.data()), arr.size() == 1 ? 0 : 1};
 }
 
-void copy_overlapping(Inputs& in, py::ssize_t n, const py::dict& outputs,
-                      std::vector<std::vector<double>>& copies) {
-    std::vector<std::pair<const char*, const char*>> written;
+std::vector<OutputBytes> output_bytes_of(const py::dict& outputs) {
+    std::vector<OutputBytes> ranges;
     for (auto item : outputs) {
+        if (!py::isinstance<py::array>(item.second)) continue;  // outputs_in names these
         const auto arr = py::reinterpret_borrow<py::array>(item.second);
         const char* data = static_cast<const char*>(arr.data());
-        written.emplace_back(data, data + arr.nbytes());
+        ranges.push_back(OutputBytes{item.first, data, data + arr.nbytes()});
     }
+    return ranges;
+}
+
+namespace {
+
+bool overlap(const char* begin, const char* end, const OutputBytes& range) {
+    return begin < range.end && range.begin < end;
+}
+
+}  // namespace
+
+void check_apart(const std::vector<OutputBytes>& outputs) {
+    for (std::size_t a = 0; a < outputs.size(); ++a)
+        for (std::size_t b = a + 1; b < outputs.size(); ++b)
+            if (overlap(outputs[a].begin, outputs[a].end, outputs[b]))
+                throw std::invalid_argument("out['" + py::str(outputs[a].name).cast<std::string>() +
+                                            "'] and out['" + py::str(outputs[b].name).cast<std::string>() +
+                                            "'] share memory");
+}
+
+void copy_overlapping(Inputs& in, py::ssize_t n, const std::vector<OutputBytes>& outputs,
+                      std::vector<std::vector<double>>& copies) {
     for (Column& column : in.columns) {
         const auto size = column.stride == 0 ? py::ssize_t{1} : n;
         const char* begin = reinterpret_cast<const char*>(column.data);
         const char* end = begin + size * static_cast<py::ssize_t>(sizeof(double));
-        const bool shared = std::any_of(written.begin(), written.end(), [&](const auto& range) {
-            return begin < range.second && range.first < end;
-        });
-        if (!shared) continue;
+        if (std::none_of(outputs.begin(), outputs.end(),
+                         [&](const OutputBytes& range) { return overlap(begin, end, range); }))
+            continue;
         copies.emplace_back(column.data, column.data + size);
         column.data = copies.back().data();
     }

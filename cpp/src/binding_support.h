@@ -34,10 +34,24 @@ using double_array = py::array_t<double, py::array::c_style>;
 // float64 array of 1 (broadcast) or n values.
 Column column_of(const py::handle& obj, int index, py::ssize_t n);
 
-// Each column of `in` that shares memory with an array of `outputs` (output name -> array)
-// replaced by a copy kept in `copies`: the kernel reads its inputs block by block while it
-// writes its outputs, and an input overwritten before it is read would give wrong values.
-void copy_overlapping(Inputs& in, py::ssize_t n, const py::dict& outputs,
+// The bytes of one output array (begin, end) and its name in the output dict.
+struct OutputBytes {
+    py::handle name;
+    const char* begin;
+    const char* end;
+};
+
+// The bytes of each array of `outputs` (output name -> array), in the dict's order.
+std::vector<OutputBytes> output_bytes_of(const py::dict& outputs);
+
+// A ValueError naming the first two outputs (in the dict's order) that share memory: the
+// kernel would write both at once.
+void check_apart(const std::vector<OutputBytes>& outputs);
+
+// Each column of `in` that shares memory with an output replaced by a copy kept in `copies`:
+// the kernel reads its inputs block by block while it writes its outputs, and an input
+// overwritten before it is read would give wrong values.
+void copy_overlapping(Inputs& in, py::ssize_t n, const std::vector<OutputBytes>& outputs,
                       std::vector<std::vector<double>>& copies);
 
 // A polychromatic spectrum from its wavelengths (nm, > 0) and weights (>= 0, summing to 1).

@@ -148,10 +148,12 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
         options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision, binning_readout);
     py::dict fresh;
     py::dict result = outputs_of(out, allocate, n, fresh);
-    std::vector<std::vector<double>> copies;  // the inputs that are outputs too, as they were
-    copy_overlapping(in, n, result, copies);
     // A large call's outputs are written with streaming stores (stream.h)
     const Outputs outputs = streaming_for(outputs_in(result, n), static_cast<std::size_t>(n));
+    const std::vector<OutputBytes> written = output_bytes_of(result);
+    check_apart(written);
+    std::vector<std::vector<double>> copies;  // the inputs that are outputs too, as they were
+    copy_overlapping(in, n, written, copies);
     // New pages are faulted in on all threads first (first_touch), except at sizes where they
     // are too few to matter; the cache's kept blocks and the caller's arrays are mapped already.
     const Outputs untouched = outputs_in(fresh, n);

@@ -15,7 +15,8 @@ import numpy as np
 
 from ._limits import MAX_THREADS, startable_threads, threads_limit_reason
 
-__all__ = ["short", "as_float_array", "integer", "threads_of", "tolerance", "choice", "column"]
+__all__ = ["short", "as_float_array", "float_arrays", "integer", "threads_of", "tolerance",
+           "choice", "column"]
 
 #: The largest integer a float64 holds (its largest finite value).
 _LARGEST_INT = int(np.finfo(np.float64).max)
@@ -77,6 +78,26 @@ def as_float_array(name: str, value) -> np.ndarray:
         raise TypeError(
             f"{name} must hold real numbers, got dtype {arr.dtype} ({short(value)})")
     return arr.astype(np.float64, copy=False)
+
+
+def float_arrays(names, values) -> list:
+    """``[as_float_array(name, value) for name, value in zip(names, values)]``, with the
+    common cases (a float kept from an earlier call, a float64 array) taken without a call
+    each: evaluate converts all of its model parameters on every call."""
+    kept = _SCALARS.get
+    arrays = []
+    for name, value in zip(names, values):
+        kind = type(value)
+        if kind is float:
+            arr = kept(value)
+            if arr is None or (value == 0.0 and math.copysign(1.0, value) < 0.0):
+                arr = _scalar_array(value)  # not kept yet, NaN, or -0.0 (which finds 0.0)
+        elif kind is np.ndarray and value.dtype == _FLOAT64:
+            arr = value
+        else:
+            arr = as_float_array(name, value)
+        arrays.append(arr)
+    return arrays
 
 
 def integer(name: str, value) -> int:

@@ -4,22 +4,24 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 
 from . import elasticity_outputs, params
 from ._limits import MAX_THREADS
-from ._validation import as_float_array, choice, short, threads_of, tolerance
+from ._validation import as_float_array, float_arrays, short, threads_of
 from .core_call import run_core
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .footprint import check_memory
 from .modes import evaluate_modes
 from .cfa import sensor_colour
 from .mtf_table import lens_tables_of
-from .outputs import (ALL_OUTPUT_DTYPES, DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
-                      SHARE_OUTPUTS, Result, out_arrays, result_of, selected_outputs)
+from .call_options import (BACKENDS, BINNING_READOUTS, F50_SOLVERS,  # noqa: F401 (api's names)
+                           INVALID_POLICIES, PRECISIONS, T_MPE_SOLVERS, CallOptions, options_of)
+from .outputs import (ALL_OUTPUT_DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
+                      SHARE_OUTPUTS, Result, new_result, out_arrays, result_of,
+                      selected_outputs)
 from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Status
@@ -29,14 +31,6 @@ __all__ = ["evaluate", "Result", "MAX_THREADS", "ELASTICITY_PARAMETERS", "OUTPUT
 
 #: Points per call into the core between two checks for Ctrl-C (the GIL is released inside).
 CHUNK_POINTS = 1 << 18
-BACKENDS = ("core", "reference")
-T_MPE_SOLVERS = ("closed_form", "brent")
-F50_SOLVERS = ("halley", "newton", "brent", "bisection")
-#: The floating-point types f50 can be solved in (``precision=``).
-PRECISIONS = ("float64", "float32")
-INVALID_POLICIES = ("status", "raise")
-#: How a binned pixel's k x k pixels are read (``binning_readout=``): k^2 reads, or one.
-BINNING_READOUTS = ("digital", "charge")
 
 
 def _one_wavelength(spec: Spectrum | None, arrays: list) -> tuple:
@@ -167,8 +161,7 @@ def _broadcast_inputs(values: dict, size_name: str) -> tuple:
     """(names, float64 arrays, broadcast shape) of the model parameters in the core's order;
     ``values`` holds them by parameter name, ``size_name`` is how the caller named the size."""
     names = _argument_names(size_name)
-    arrays = [as_float_array(name, values[key])
-              for name, key in zip(names, params.PARAMETER_NAMES)]
+    arrays = float_arrays(names, [values[key] for key in params.PARAMETER_NAMES])
     shapes = {a.shape for a in arrays}  # most calls: a few arrays of one shape, and scalars
     shapes.discard(())
     try:
@@ -180,76 +173,12 @@ def _broadcast_inputs(values: dict, size_name: str) -> tuple:
     return names, arrays, shape
 
 
-@dataclass(frozen=True)
-class _Options:
-    """The checked options of one call."""
 
-    backend: str
-    invalid: str
-    f50_solver: str
-    f50_rtol: float
-    t_mpe_solver: str
-    t_mpe_rtol: float
-    precision: str
-    selected: tuple
-    binning_readout: str = "digital"
-    #: the checked lens_mtf tables (a tuple of MtfTable), None without lens_mtf
-    lens_tables: tuple | None = None
-    #: a colour sensor's demosaicker's table (epc_fast.cfa), None for the monochrome sensor
-    demosaic_table: object = None
-
-    @property
-    def lens_count(self) -> int:
-        """The number of lens tables, 1 without them (lens = 0 alone is valid then)."""
-        return 1 if self.lens_tables is None else len(self.lens_tables)
-
-    @property
-    def computed(self) -> tuple:
-        """The outputs to compute: those selected, and the status ``invalid="raise"`` reads."""
-        extra = ("status",) if self.invalid == "raise" and "status" not in self.selected else ()
-        return self.selected + extra
-
-
-def _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
-                outputs, is_pixel_count=False, binning_readout="digital",
-                lens_tables=None, demosaic_table=None) -> _Options:
-    """The checked options of a call (errors name the argument); those without tables, and
-    with a hashable ``outputs``, are kept for the next call that gives the same."""
-    args = (backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
-            outputs, is_pixel_count, binning_readout)
-    if lens_tables is None and demosaic_table is None:
-        try:
-            return _kept_options(*args)
-        except TypeError:  # an unhashable argument (outputs as a list), or a bad one
-            pass
-    return _checked_options(*args, lens_tables, demosaic_table)
-
-
-@functools.lru_cache(maxsize=256, typed=True)
-def _kept_options(*args) -> _Options:
-    return _checked_options(*args)
-
-
-def _checked_options(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                     precision, outputs, is_pixel_count=False, binning_readout="digital",
-                     lens_tables=None, demosaic_table=None) -> _Options:
-    choice("backend", backend, BACKENDS)
-    choice("binning_readout", binning_readout, BINNING_READOUTS)
-    choice("invalid", invalid, INVALID_POLICIES)
-    choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
-    choice("f50_solver", f50_solver, F50_SOLVERS)
-    choice("precision", precision, PRECISIONS)
-    return _Options(backend, invalid, f50_solver, tolerance("f50_rtol", f50_rtol),
-                    t_mpe_solver, tolerance("t_mpe_rtol", t_mpe_rtol), precision,
-                    selected_outputs(outputs, is_pixel_count), binning_readout, lens_tables,
-                    demosaic_table)
-
-
-def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, given) -> dict:
+def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads, given) -> dict:
     """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
     if options.backend == "core":  # threads checked by the caller
         # the core writes the caller's arrays and allocates the others it computes
-        flat = {} if given is None else {k: v.reshape(-1).view(DTYPES[k])
+        flat = {} if given is None else {k: v if v.ndim == 1 else v.reshape(-1)
                                          for k, v in given.items()}
         return run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
                         options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
@@ -270,20 +199,20 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: _Options, threads, g
     return result
 
 
-def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: _Options,
+def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: CallOptions,
                given) -> Result:
     """The Result of a call, after the ValueError ``invalid="raise"`` asks for."""
     status = result["status"].reshape(shape) if "status" in result else None
     if options.invalid == "raise" and np.any(status == Status.INVALID):
         _raise_first_invalid(arrays, names, status, shape, sensor.parts, options.lens_count)
     if given is not None:
-        kept = {name: given.get(name) for name in ALL_OUTPUT_DTYPES}
+        kept = {name: array for name, array in given.items() if name in ALL_OUTPUT_DTYPES}
         if elasticity_outputs.ALL in given:
             kept["elasticities"] = elasticity_outputs.every_by_key(
                 given[elasticity_outputs.ALL], shape, sensor.is_pixel_count, arrays=True)
         elif elasticity_outputs.rows_in(given):
             kept["elasticities"] = elasticity_outputs.by_key(given, sensor.is_pixel_count)
-        return Result(**kept)
+        return new_result(kept)
     rows = elasticity_outputs.rows_in(options.selected)
     return result_of({k: v for k, v in result.items() if k in options.selected or k in rows},
                      shape, sensor.is_pixel_count)
@@ -475,11 +404,12 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     names, arrays, shape = _broadcast_inputs(values, sensor.name)
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
-    options = _options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
+    options = options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
                           precision, outputs, sensor.is_pixel_count, binning_readout, tables,
                           colour.demosaic_table)
     given = (None if out is None
-             else out_arrays(out, shape, options.selected, sensor.is_pixel_count))
+             else out_arrays(out, shape, options.selected, sensor.is_pixel_count,
+                            core=options.backend == "core"))
     if options.backend == "core":  # the threads first: their stacks take memory too
         threads = threads_of(threads)
     check_memory(shape, arrays, options.backend, given is not None, options.computed,

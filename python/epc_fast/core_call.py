@@ -42,7 +42,7 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
     n = math.prod(shape)
     out = {} if out is None else out
     # the core copies an input that shares memory with an output before it runs
-    columns = [column(a, shape) for a in arrays]
+    columns = [a if a.ndim == 0 else column(a, shape) for a in arrays]  # 0-d: one value
     if allocate is None:  # the core's own default: every default output, unless out has them
         allocate = [] if out else list(OUTPUT_DTYPES)
     if spec is None:

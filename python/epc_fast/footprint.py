@@ -35,7 +35,6 @@ def check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES
     MemoryError, but none is left to the kernel's out-of-memory killer by a silly shape.
     """
     n = math.prod(shape)
-    columns = sum(1 for a in arrays if a.size > 1)
     if backend == "core":  # the outputs it computes, unless the caller gave them
         own = 0 if out_given else sum(output_bytes(k) for k in computed)
     else:  # the reference forms every elasticity for any of them
@@ -43,8 +42,9 @@ def check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES
         formed += ["elasticities"] if elasticity_outputs.rows_in(computed) else []
         own = BYTES_PER_POINT[backend] + sum(output_bytes(k) * SENSITIVITY_BYTES_FACTOR
                                              for k in formed)
-    per_point = 8 * columns + own
-    needed = n * per_point
+    if n * (8 * len(arrays) + own) <= UNCHECKED_BYTES:  # even were every input an array
+        return
+    needed = n * (8 * sum(1 for a in arrays if a.size > 1) + own)
     if needed <= UNCHECKED_BYTES:
         return
     limit = _limits.memory_limit_bytes()

@@ -16,7 +16,7 @@ from .status import Cause, Status
 
 __all__ = ["Result", "SHARE_NAMES", "SHARE_OUTPUTS", "SENSITIVITY_OUTPUTS", "OUTPUT_DTYPES",
            "ALL_OUTPUT_DTYPES", "DTYPES", "selected_outputs", "out_arrays", "result_arrays",
-           "output_shape", "output_bytes", "result_of"]
+           "output_shape", "output_bytes", "result_of", "new_result"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -133,12 +133,14 @@ def selected_outputs(outputs, is_pixel_count=False) -> tuple:
     return selected + elasticity_outputs.rows_in(rows) if rows else selected
 
 
-def out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
+def out_arrays(out, shape, selected, is_pixel_count=False, core=False) -> dict:
     """The caller's ``out=`` arrays by output name (a single elasticity's as in
-    elasticity_outputs.ROWS), each checked, or an error naming it."""
+    elasticity_outputs.ROWS), each checked, or an error naming it. Two arrays that share memory
+    are an error too: for ``core`` the core's (register_evaluate.cpp, which names them as the
+    caller did), except for elasticities, whose names only this module knows."""
     if isinstance(out, Result):
         out = result_arrays(out, is_pixel_count)
-    if not isinstance(out, Mapping):
+    if type(out) is not dict and not isinstance(out, Mapping):
         raise TypeError(f"out must be a Result or a mapping of its field names to arrays, "
                         f"got {short(out)}")
     shown = elasticity_outputs.output_names(is_pixel_count)
@@ -147,35 +149,41 @@ def out_arrays(out, shape, selected, is_pixel_count=False) -> dict:
         # every elasticity, one array per row (a Result's, as out=)
         known.update({shown[row]: row for row in elasticity_outputs.ROWS})
         del known[elasticity_outputs.ALL]
-    unknown = sorted(set(out) - set(known), key=str)
-    missing = [name for name in known if name not in out]
-    if unknown or missing:
+    if out.keys() != known.keys():
+        unknown = sorted(set(out) - set(known), key=str)
+        missing = [name for name in known if name not in out]
         raise ValueError(f"out must have exactly the fields {', '.join(known)}; "
                          f"missing: {missing}, unknown: {unknown}")
-    for name in known:
-        dtype = DTYPES[known[name]]
+    for name, inside in known.items():
+        dtype = DTYPES[inside]
         array = out[name]
-        where = f"out[{name!r}]"
-        if not isinstance(array, np.ndarray):
-            raise TypeError(f"{where} must be a NumPy array, got {short(array)}")
+        if type(array) is not np.ndarray and not isinstance(array, np.ndarray):
+            raise TypeError(f"out[{name!r}] must be a NumPy array, got {short(array)}")
         if array.dtype != dtype:
-            raise TypeError(f"{where} has dtype {array.dtype.str}, expected {dtype.str} "
+            raise TypeError(f"out[{name!r}] has dtype {array.dtype.str}, expected {dtype.str} "
                             f"({dtype.name}, native byte order)")
-        expected = output_shape(known[name], shape)
+        expected = shape if inside != elasticity_outputs.ALL else output_shape(inside, shape)
         if array.shape != expected:
             what = ("(one row per parameter of ELASTICITY_PARAMETERS, then the broadcast shape)"
-                    if known[name] == elasticity_outputs.ALL else "the broadcast shape")
-            raise ValueError(f"{where} has shape {array.shape}, expected {what} {expected}")
-        if not array.flags.c_contiguous:
-            raise ValueError(f"{where} must be C-contiguous")
-        if not array.flags.writeable:
-            raise ValueError(f"{where} is read-only")
-    names = list(known)
-    for i, a in enumerate(names):
-        for b in names[i + 1:]:
-            if np.may_share_memory(out[a], out[b]):
-                raise ValueError(f"out[{a!r}] and out[{b!r}] share memory")
-    return {known[name]: out[name] for name in names}
+                    if inside == elasticity_outputs.ALL else "the broadcast shape")
+            raise ValueError(f"out[{name!r}] has shape {array.shape}, expected {what} "
+                             f"{expected}")
+        flags = array.flags
+        if not flags.c_contiguous:
+            raise ValueError(f"out[{name!r}] must be C-contiguous")
+        if not flags.writeable:
+            raise ValueError(f"out[{name!r}] is read-only")
+    if not core or not _ELASTICITY_NAMES.isdisjoint(known.values()):
+        names = list(known)
+        for i, a in enumerate(names):
+            for b in names[i + 1:]:
+                if np.may_share_memory(out[a], out[b]):
+                    raise ValueError(f"out[{a!r}] and out[{b!r}] share memory")
+    return {inside: out[name] for name, inside in known.items()}
+
+
+#: The outputs that hold elasticities (every one, or one each).
+_ELASTICITY_NAMES = frozenset((elasticity_outputs.ALL,) + elasticity_outputs.ROWS)
 
 
 def result_arrays(result: Result, is_pixel_count: bool) -> dict:
@@ -213,10 +221,26 @@ def result_of(out, shape, is_pixel_count: bool) -> Result:
     else:
         rows = {row: value(row, out[row]) for row in elasticity_outputs.rows_in(out)}
         elasticities = elasticity_outputs.by_key(rows, is_pixel_count) if rows else None
-    fields = dict.fromkeys(OUTPUT_DTYPES)  # the default outputs, None unless out has them
-    fields.update((name, value(name, v)) for name, v in out.items() if name in _RESULT_ARRAYS)
-    return Result(**fields, elasticities=elasticities)
+    fields = {name: value(name, v) for name, v in out.items() if name in _RESULT_ARRAYS}
+    fields["elasticities"] = elasticities
+    return new_result(fields)
 
 
 #: The Result fields that hold one output's array (all but the elasticities and the mode).
 _RESULT_ARRAYS = frozenset(ALL_OUTPUT_DTYPES) - {"elasticities"}
+#: Every Result field None.
+_NO_FIELDS = dict.fromkeys(f.name for f in fields(Result))
+
+
+def new_result(values: dict) -> Result:
+    """The Result of ``values`` (field name -> value; the fields it lacks None), made as the
+    dataclass's __init__ would make it, without its per-field frozen __setattr__ (a call's
+    fixed cost)."""
+    unknown = values.keys() - _NO_FIELDS.keys()
+    if unknown:
+        raise TypeError(f"Result has no field(s) {sorted(unknown)}")
+    result = object.__new__(Result)
+    state = result.__dict__
+    state.update(_NO_FIELDS)
+    state.update(values)
+    return result
