@@ -80,7 +80,8 @@ def test_float_arrays_is_as_float_array_value_by_value(value):
     # the batch's inlined cases (kept floats, float64 arrays) and the general one agree, bits
     # and sign of zero included, whether the float is kept already (second call) or not
     for _ in range(2):
-        [got] = _validation.float_arrays(["reflectance"], [value])
+        [got], shapes = _validation.float_arrays(["reflectance"], [value])
+        assert shapes == ({got.shape} if got.ndim else set())
         expected = as_float_array("reflectance", value)
         assert got.dtype == np.float64 and got.shape == expected.shape
         assert got.tobytes() == expected.tobytes()

@@ -80,24 +80,26 @@ def as_float_array(name: str, value) -> np.ndarray:
     return arr.astype(np.float64, copy=False)
 
 
-def float_arrays(names, values) -> list:
-    """``[as_float_array(name, value) for name, value in zip(names, values)]``, with the
-    common cases (a float kept from an earlier call, a float64 array) taken without a call
-    each: evaluate converts all of its model parameters on every call."""
+def float_arrays(names, values) -> tuple:
+    """``[as_float_array(name, value) for name, value in zip(names, values)]`` and the set of
+    those arrays' shapes but () (what broadcasting them needs), with the common cases (a float
+    kept from an earlier call, a float64 array) taken without a call each: evaluate converts
+    all of its model parameters on every call."""
     kept = _SCALARS.get
     arrays = []
+    shapes = set()
     for name, value in zip(names, values):
-        kind = type(value)
-        if kind is float:
+        if type(value) is float:
             arr = kept(value)
             if arr is None or (value == 0.0 and math.copysign(1.0, value) < 0.0):
                 arr = _scalar_array(value)  # not kept yet, NaN, or -0.0 (which finds 0.0)
-        elif kind is np.ndarray and value.dtype == _FLOAT64:
-            arr = value
         else:
-            arr = as_float_array(name, value)
+            arr = (value if type(value) is np.ndarray and value.dtype == _FLOAT64
+                   else as_float_array(name, value))
+            if arr.ndim:
+                shapes.add(arr.shape)
         arrays.append(arr)
-    return arrays
+    return arrays, shapes
 
 
 def integer(name: str, value) -> int:

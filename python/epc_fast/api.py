@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import math
+import operator
 from typing import NamedTuple
 
 import numpy as np
@@ -157,14 +158,16 @@ def _argument_names(size_name: str) -> tuple:
     return tuple(size_name if n == "size" else n for n in params.PARAMETER_NAMES)
 
 
+#: The model parameters of a dict by name, as a tuple in the core's order.
+_in_core_order = operator.itemgetter(*params.PARAMETER_NAMES)
+
+
 def _broadcast_inputs(values: dict, size_name: str) -> tuple:
     """(names, float64 arrays, broadcast shape) of the model parameters in the core's order;
     ``values`` holds them by parameter name, ``size_name`` is how the caller named the size."""
     names = _argument_names(size_name)
-    arrays = float_arrays(names, [values[key] for key in params.PARAMETER_NAMES])
-    shapes = {a.shape for a in arrays}  # most calls: a few arrays of one shape, and scalars
-    shapes.discard(())
-    try:
+    arrays, shapes = float_arrays(names, _in_core_order(values))
+    try:  # most calls: a few arrays of one shape, and scalars
         shape = (shapes.pop() if len(shapes) == 1 else
                  np.broadcast_shapes(*shapes) if shapes else ())
     except ValueError:

@@ -3,6 +3,7 @@ call's table count), the lens tables as the core reads them, and the outputs it 
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -27,6 +28,14 @@ def core_tables(lens_tables) -> list | None:
              np.ascontiguousarray(t.coefficients).reshape(-1)) for t in lens_tables]
 
 
+@functools.lru_cache(maxsize=None)
+def _the_core():
+    """The compiled core, loaded on the first call that runs it."""
+    from . import _core
+
+    return _core
+
+
 def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
              t_mpe_rtol, threads, out=None, precision="float64", allocate=None,
              binning_readout="digital", lens_tables=None, demosaic_table=None,
@@ -37,8 +46,6 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
     ``demosaic_table``: a colour sensor's demosaicker's MtfTable, or None.
     The core checks for Ctrl-C between chunks of ``chunk_points`` points (it releases the GIL
     inside)."""
-    from . import _core
-
     n = math.prod(shape)
     out = {} if out is None else out
     # the core copies an input that shares memory with an output before it runs
@@ -50,7 +57,7 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
     else:
         wavelengths = np.ascontiguousarray(spec.wavelengths_nm, dtype=np.float64)
         weights = np.ascontiguousarray(spec.weights, dtype=np.float64)
-    return _core.evaluate(columns, size_is_pixel_count,
+    return _the_core().evaluate(columns, size_is_pixel_count,
                           params.domain_table(len(lens_tables) if lens_tables else 1),
                           wavelengths, weights, n, f50_solver,
                           f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, chunk_points,
