@@ -75,24 +75,27 @@ def test_2d_and_fortran_ordered_inputs_give_the_flat_call_s_bits():
 
 @pytest.mark.parametrize("value", [0.4375, 0.0, -0.0, math.nan, math.inf, 7.123456789e-300,
                                    np.arange(3.0), np.float32(2.5), 3, [1, 2], np.int16(4),
-                                   np.arange(4.0).reshape(2, 2)[:, 0]])
+                                   np.arange(4.0).reshape(2, 2)[:, 0],
+                                   np.arange(3.0).view(type("Sub", (np.ndarray,), {}))])
 def test_float_arrays_is_as_float_array_value_by_value(value):
     # the batch's inlined cases (kept floats, float64 arrays) and the general one agree, bits
     # and sign of zero included, whether the float is kept already (second call) or not
     for _ in range(2):
-        [got], shapes = _validation.float_arrays(["reflectance"], [value])
+        [got], shapes = _validation.float_arrays(("reflectance",), (value,))
         assert shapes == ({got.shape} if got.ndim else set())
         expected = as_float_array("reflectance", value)
         assert got.dtype == np.float64 and got.shape == expected.shape
         assert got.tobytes() == expected.tobytes()
-        if isinstance(value, np.ndarray) and value.dtype == np.float64:
+        assert type(got) is np.ndarray  # a subclass's values, in a plain array
+        if type(value) is np.ndarray and value.dtype == np.float64:
             assert got is value
 
 
 @pytest.mark.parametrize("value, error, match", [
     (None, TypeError, "prnu must be a number"), ("0.1", TypeError, "prnu must be a number"),
     (np.array(["a"]), TypeError, "prnu must hold real numbers"),
-    (10**400, ValueError, r"prnu=.* does not fit a float64")])
+    (10**400, ValueError, r"prnu=.* does not fit a float64"),
+    (np.ma.masked_array([1.0, 2.0], mask=[0, 1]), TypeError, "prnu is a masked array")])
 def test_float_arrays_names_the_argument_it_cannot_read(value, error, match):
     with pytest.raises(error, match=match):
-        _validation.float_arrays(["reflectance", "prnu"], [0.5, value])
+        _validation.float_arrays(("reflectance", "prnu"), (0.5, value))

@@ -4,6 +4,7 @@
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -165,6 +166,41 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
     return result;
 }
 
+// evaluate's model parameters as float64 arrays and the set of their shapes but (), as
+// epc_fast._validation.float_arrays documents: a Python float found in `kept` (float -> its
+// read-only 0-d array) and a native float64 ndarray taken as they are, every other value (and
+// -0.0, which finds 0.0's entry) handed to `convert(name, value)`, which checks it.
+py::tuple float_arrays_py(const py::tuple& names, const py::tuple& values, const py::dict& kept,
+                          const py::function& convert) {
+    if (names.size() != values.size()) throw std::invalid_argument("names and values differ in length");
+    const auto& api = py::detail::npy_api::get();
+    py::list arrays(values.size());
+    py::set shapes;
+    for (std::size_t j = 0; j < values.size(); ++j) {
+        PyObject* value = PyTuple_GET_ITEM(values.ptr(), static_cast<py::ssize_t>(j));
+        if (PyFloat_CheckExact(value)) {
+            const double x = PyFloat_AS_DOUBLE(value);
+            PyObject* hit = x == 0.0 && std::signbit(x) ? nullptr : PyDict_GetItemWithError(kept.ptr(), value);
+            if (hit == nullptr && PyErr_Occurred() != nullptr) throw py::error_already_set();
+            arrays[j] = hit != nullptr ? py::reinterpret_borrow<py::object>(hit)
+                                       : convert(names[j], py::handle(value));
+            continue;
+        }
+        py::object array = py::reinterpret_borrow<py::object>(value);
+        bool is_float64 = false;
+        if (Py_TYPE(value) == api.PyArray_Type_) {  // an ndarray, not a subclass (a masked array)
+            const auto* descr = py::detail::array_descriptor_proxy(py::detail::array_proxy(value)->descr);
+            is_float64 = descr->type_num == py::detail::npy_api::NPY_DOUBLE_ && descr->byteorder == '=';
+        }
+        if (!is_float64) array = convert(names[j], array);
+        if (!api.PyArray_Check_(array.ptr()))
+            throw py::type_error("convert must return NumPy arrays");
+        if (py::detail::array_proxy(array.ptr())->nd > 0) shapes.add(array.attr("shape"));
+        arrays[j] = array;
+    }
+    return py::make_tuple(arrays, shapes);
+}
+
 }  // namespace
 
 void register_evaluate(py::module_& m) {
@@ -172,6 +208,10 @@ void register_evaluate(py::module_& m) {
     py::tuple parameter_names(static_cast<std::size_t>(n_params));
     for (int j = 0; j < n_params; ++j) parameter_names[j] = param_names[j];
     m.attr("parameter_names") = parameter_names;
+    m.def("float_arrays", &float_arrays_py, py::arg("names"), py::arg("values"), py::arg("kept"),
+          py::arg("convert"),
+          "(arrays, shapes): the model parameters `values` as float64 arrays, as "
+          "epc_fast._validation.float_arrays documents.");
     m.def("evaluate", &evaluate_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),

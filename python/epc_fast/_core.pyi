@@ -1,7 +1,7 @@
 """Type stubs for epc_fast's compiled core (cpp/src/module.cpp and the register_*.cpp files it
 calls). Use epc_fast.evaluate."""
 
-from typing import Protocol, Sequence
+from typing import Callable, Protocol, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -37,6 +37,8 @@ def evaluate(
     out: dict[str, np.ndarray] | None = None,
     allocate: Sequence[str] | None = None,
     binning_readout: str = "digital",
+    lens_tables: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
+    demosaic_table: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> dict[str, np.ndarray]:
     """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: the eight
     default ones when ``out`` is None, else none), written; the outputs in neither are not
@@ -44,6 +46,14 @@ def evaluate(
     (``"elasticity_"`` and a name of ``parameter_names``) are 1-D of ``n``, as the others are;
     ``elasticities`` (every elasticity, not with single ones) holds ``n_params`` rows of ``n``
     values, flat."""
+def float_arrays(
+    names: tuple[str, ...],
+    values: tuple[object, ...],
+    kept: dict[float, np.ndarray],
+    convert: Callable[[str, object], np.ndarray],
+) -> tuple[list[np.ndarray], set[tuple[int, ...]]]:
+    """epc_fast._validation.float_arrays: the values as float64 arrays (kept floats' arrays and
+    float64 ndarrays as they are, the rest through ``convert``) and their shapes but ()."""
 def output_cache(limit_bytes: int | None = None) -> dict[str, int]:
     """Sets the output cache's limit (bytes) when given; {"limit_bytes", "retained_bytes"}."""
 def lux_for_epc(

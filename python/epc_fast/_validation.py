@@ -3,11 +3,12 @@ value in the error it raises: ``evaluate``, the inverse solvers, the optimiser a
 tasks take them from here.
 
 A leaf of the package but for :mod:`epc_fast._limits` (and the compiled core, loaded only when
-a default thread count is asked for).
+a default thread count or :func:`float_arrays` is asked for).
 """
 
 from __future__ import annotations
 
+import functools
 import math
 import operator
 
@@ -82,24 +83,19 @@ def as_float_array(name: str, value) -> np.ndarray:
 
 def float_arrays(names, values) -> tuple:
     """``[as_float_array(name, value) for name, value in zip(names, values)]`` and the set of
-    those arrays' shapes but () (what broadcasting them needs), with the common cases (a float
-    kept from an earlier call, a float64 array) taken without a call each: evaluate converts
-    all of its model parameters on every call."""
-    kept = _SCALARS.get
-    arrays = []
-    shapes = set()
-    for name, value in zip(names, values):
-        if type(value) is float:
-            arr = kept(value)
-            if arr is None or (value == 0.0 and math.copysign(1.0, value) < 0.0):
-                arr = _scalar_array(value)  # not kept yet, NaN, or -0.0 (which finds 0.0)
-        else:
-            arr = (value if type(value) is np.ndarray and value.dtype == _FLOAT64
-                   else as_float_array(name, value))
-            if arr.ndim:
-                shapes.add(arr.shape)
-        arrays.append(arr)
-    return arrays, shapes
+    those arrays' shapes but () (what broadcasting them needs). The compiled core does the
+    loop: a float kept from an earlier call and a float64 array are taken as they are, every
+    other value is handed to :func:`as_float_array`. evaluate converts all of its model
+    parameters on every call (tuples ``names`` and ``values``)."""
+    return _the_core().float_arrays(names, values, _SCALARS, as_float_array)
+
+
+@functools.lru_cache(maxsize=None)
+def _the_core():
+    """The compiled core, loaded on first use."""
+    from . import _core
+
+    return _core
 
 
 def integer(name: str, value) -> int:
