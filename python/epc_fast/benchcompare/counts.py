@@ -8,7 +8,9 @@ subtracts two runs of the worker (:func:`epc_fast.benchcompare.worker.count`) th
 same designs and run every workload once, then ``EXTRA_CALLS`` more calls of one workload, on
 fewer points in one run and on more in the other: the difference is the calls' extra points
 and nothing else (Python's start-up, the imports, drawing the designs, the first call's
-allocations and every call's fixed cost all cancel), divided by those points.
+allocations and every call's fixed cost all cancel), divided by those points. A call's fixed
+cost (:data:`PER_CALL`) is counted alike, as the difference of a run with ``CALLS`` more calls
+of one point and one without them, divided by the calls.
 """
 
 from __future__ import annotations
@@ -34,6 +36,11 @@ COUNTED = {
     "scan": ("scan", 10_000, 40_000),
 }
 EXTRA_CALLS = 2
+#: name -> (the worker's workload, its points): a call's fixed cost, the instructions of
+#: ``CALLS`` more calls of one point, a call: evaluate's Python layer, the binding and one
+#: block of the kernel.
+PER_CALL = {"call": ("default-1e4", 1)}
+CALLS = 20
 SEED = 7
 #: Relative rise of a count a point beyond which the gate fails.
 TOLERANCE = 0.01
@@ -132,43 +139,58 @@ def count_per_point(python: str, isa: str | None, tool: str, names=None, progres
     words = split_command(python, "--python")
     if isa is not None:
         words = ["env", f"EPC_FAST_ISA={isa}", *words]
-    names = list(COUNTED) if names is None else list(names)
+    names = [*COUNTED, *PER_CALL] if names is None else list(names)
     workloads = {}
     for name in names:
+        if name in PER_CALL:
+            workloads[f"{name}@one"] = list(PER_CALL[name])
+            continue
         workload, fewer, more = COUNTED[name]
         workloads[f"{name}@fewer"] = [workload, fewer]
         workloads[f"{name}@more"] = [workload, more]
     say = progress or (lambda line: None)
+    per_point, per_call = {}, {}
     with tempfile.TemporaryDirectory(prefix="epc-fast-counts-") as tmp:
-        per_point = {}
+        def run(calls: dict, held: dict) -> int:
+            return _run_counted(tool, words, {"workloads": held, "seed": SEED,
+                                              "calls": calls}, Path(tmp))
+
         for name in names:
             say(f"{isa or 'default build'}: counting {name} ({tool})")
-            runs = [_run_counted(tool, words, {"workloads": workloads, "seed": SEED,
-                                               "calls": {f"{name}@{size}": EXTRA_CALLS}},
-                                 Path(tmp))
+            if name in PER_CALL:  # in a worker of its own: a call's cost is the same alone
+                one = {f"{name}@one": workloads[f"{name}@one"]}
+                runs = [run({f"{name}@one": k}, one) for k in (0, CALLS)]
+                per_call[name] = round((runs[1] - runs[0]) / CALLS)
+                continue
+            runs = [run({f"{name}@{size}": EXTRA_CALLS}, workloads)
                     for size in ("fewer", "more")]
             _, fewer, more = COUNTED[name]
             per_point[name] = round((runs[1] - runs[0]) / (EXTRA_CALLS * (more - fewer)), 1)
     build = json.loads(subprocess.run([*words, str(WORKER), "count", json.dumps(
         {"workloads": {}, "seed": SEED})], capture_output=True, text=True,
         check=True).stdout.strip().splitlines()[-1])
-    return {"isa": build["isa"], "tool": tool, "version": build["version"],
-            "points": {n: list(COUNTED[n][1:]) for n in names},
-            "instructions_per_point": per_point}
+    measured = {"isa": build["isa"], "tool": tool, "version": build["version"],
+                "points": {n: list(COUNTED[n][1:]) for n in names if n in COUNTED},
+                "instructions_per_point": per_point}
+    if per_call:
+        measured["instructions_per_call"] = per_call
+    return measured
 
 
 def compare_counts(measured: dict, table: dict, tolerance: float = TOLERANCE) -> list:
     """Rows (name, committed, measured, ratio, verdict): ``"MORE"`` when a count rose by more
     than ``tolerance`` (the gate fails), ``"fewer"`` when it fell by more (update the table),
-    ``"new"`` when the table lacks it, else ``"same"``."""
+    ``"new"`` when the table lacks it, else ``"same"``. The counts a point come first, then
+    those a call (:data:`PER_CALL`)."""
     rows = []
-    old = table.get("instructions_per_point", {})
-    for name, count in measured["instructions_per_point"].items():
-        if name not in old:
-            rows.append((name, None, count, None, "new"))
-            continue
-        ratio = count / old[name]
-        verdict = ("MORE" if ratio > 1 + tolerance else
-                   "fewer" if ratio < 1 - tolerance else "same")
-        rows.append((name, old[name], count, ratio, verdict))
+    for section in ("instructions_per_point", "instructions_per_call"):
+        old = table.get(section, {})
+        for name, count in measured.get(section, {}).items():
+            if name not in old:
+                rows.append((name, None, count, None, "new"))
+                continue
+            ratio = count / old[name]
+            verdict = ("MORE" if ratio > 1 + tolerance else
+                       "fewer" if ratio < 1 - tolerance else "same")
+            rows.append((name, old[name], count, ratio, verdict))
     return rows
