@@ -172,8 +172,9 @@ def count_per_point(python: str, isa: str | None, tool: str, names=None, progres
     measured = {"isa": build["isa"], "tool": tool, "version": build["version"],
                 "points": {n: list(COUNTED[n][1:]) for n in names if n in COUNTED},
                 "instructions_per_point": per_point}
-    if per_call:
+    if per_call:  # Python's and NumPy's own code is part of a call's count
         measured["instructions_per_call"] = per_call
+        measured["call_runtime"] = {"python": build["python"], "numpy": build["numpy"]}
     return measured
 
 
@@ -181,13 +182,18 @@ def compare_counts(measured: dict, table: dict, tolerance: float = TOLERANCE) ->
     """Rows (name, committed, measured, ratio, verdict): ``"MORE"`` when a count rose by more
     than ``tolerance`` (the gate fails), ``"fewer"`` when it fell by more (update the table),
     ``"new"`` when the table lacks it, else ``"same"``. The counts a point come first, then
-    those a call (:data:`PER_CALL`)."""
+    those a call (:data:`PER_CALL`), which count Python's and NumPy's own code too: ``"other
+    Python or NumPy"`` (no verdict) when the table's were others."""
     rows = []
+    other_runtime = measured.get("call_runtime") != table.get("call_runtime")
     for section in ("instructions_per_point", "instructions_per_call"):
         old = table.get(section, {})
         for name, count in measured.get(section, {}).items():
             if name not in old:
                 rows.append((name, None, count, None, "new"))
+                continue
+            if section == "instructions_per_call" and other_runtime:
+                rows.append((name, old[name], count, count / old[name], "other Python or NumPy"))
                 continue
             ratio = count / old[name]
             verdict = ("MORE" if ratio > 1 + tolerance else

@@ -106,13 +106,17 @@ def make_call(name: str, n: int, seed: int, threads: int | None = None):
 
 
 def build() -> dict:
-    """What this side runs: version, the core's level, OpenMP, the Python and the module file."""
+    """What this side runs: version, the core's level, OpenMP, the Python, NumPy and the
+    module file."""
+    import numpy
+
     import epc_fast
     from epc_fast import _core
 
     return {"version": epc_fast.__version__, "isa": _core.isa,
             "openmp": bool(_core.openmp_enabled()), "python": sys.version.split()[0],
-            "executable": sys.executable, "module": os.path.dirname(epc_fast.__file__)}
+            "numpy": numpy.__version__, "executable": sys.executable,
+            "module": os.path.dirname(epc_fast.__file__)}
 
 
 def _setup(request) -> dict:
