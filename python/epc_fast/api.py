@@ -187,8 +187,9 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads
                         options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
                         out=flat, precision=options.precision,
                         binning_readout=options.binning_readout,
-                        allocate=[k for k in options.computed if k not in flat and
-                                  not (k == elasticity_outputs.ALL and given is not None)],
+                        allocate=options.computed if given is None else
+                        [k for k in options.computed
+                         if k not in flat and k != elasticity_outputs.ALL],
                         lens_tables=options.lens_tables, demosaic_table=options.demosaic_table,
                         chunk_points=CHUNK_POINTS)
     if threads is not None:

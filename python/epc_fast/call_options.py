@@ -46,7 +46,7 @@ class CallOptions:
         """The number of lens tables, 1 without them (lens = 0 alone is valid then)."""
         return 1 if self.lens_tables is None else len(self.lens_tables)
 
-    @property
+    @functools.cached_property
     def computed(self) -> tuple:
         """The outputs to compute: those selected, and the status ``invalid="raise"`` reads."""
         extra = ("status",) if self.invalid == "raise" and "status" not in self.selected else ()

@@ -4,6 +4,7 @@ out-of-memory killer."""
 
 from __future__ import annotations
 
+import functools
 import math
 
 from . import _limits, elasticity_outputs
@@ -25,6 +26,12 @@ SENSITIVITY_BYTES_FACTOR = 4
 UNCHECKED_BYTES = 4 * 2**20
 
 
+@functools.lru_cache(maxsize=64)
+def _bytes_per_point(outputs: tuple) -> int:
+    """Bytes a point of ``outputs`` takes."""
+    return sum(output_bytes(k) for k in outputs)
+
+
 def check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES), threads=1):
     """A MemoryError, before any allocation, for a call that cannot fit in memory: physical
     memory (or the container's), or under an address-space limit (``RLIMIT_AS``) the address
@@ -36,7 +43,7 @@ def check_memory(shape, arrays, backend, out_given, computed=tuple(OUTPUT_DTYPES
     """
     n = math.prod(shape)
     if backend == "core":  # the outputs it computes, unless the caller gave them
-        own = 0 if out_given else sum(output_bytes(k) for k in computed)
+        own = 0 if out_given else _bytes_per_point(tuple(computed))
     else:  # the reference forms every elasticity for any of them
         formed = [k for k in SHARE_OUTPUTS if k in computed]
         formed += ["elasticities"] if elasticity_outputs.rows_in(computed) else []

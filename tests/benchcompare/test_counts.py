@@ -66,15 +66,22 @@ def _runs_v3() -> bool:
     return cpu_runs(HERE, "x86-64-v3")
 
 
-def test_the_default_call_costs_what_the_committed_table_says():
+def _counted_on_v3(name: str) -> tuple:
+    """(the committed x86-64-v3 table, workload ``name`` counted now), or a skip where
+    nothing counts instructions or the CPU runs no x86-64-v3."""
     tool = counter()
     if tool is None:
         pytest.skip("no instruction counter on this machine (perf or valgrind)")
     if not _runs_v3():
         pytest.skip("this CPU does not run the x86-64-v3 build")
     table = json.loads((TABLES / "x86-64-v3.json").read_text())
-    measured = count_per_point(HERE, "x86-64-v3", tool, names=["default"])
+    measured = count_per_point(HERE, "x86-64-v3", tool, names=[name])
     assert measured["isa"] == "x86-64-v3"
+    return table, measured
+
+
+def test_the_default_call_costs_what_the_committed_table_says():
+    table, measured = _counted_on_v3("default")
     ((name, old, new, ratio, verdict),) = compare_counts(measured, table)
     # two counts of the same build agree to 0.1% (the memory copies, whose count depends on
     # where arrays land, left out), well inside the gate's 1%; a change of the kernel that
@@ -85,13 +92,7 @@ def test_the_default_call_costs_what_the_committed_table_says():
 
 def test_a_call_costs_what_the_committed_table_says():
     # evaluate's fixed cost: its Python layer, the binding and one block of the kernel
-    tool = counter()
-    if tool is None:
-        pytest.skip("no instruction counter on this machine (perf or valgrind)")
-    if not _runs_v3():
-        pytest.skip("this CPU does not run the x86-64-v3 build")
-    table = json.loads((TABLES / "x86-64-v3.json").read_text())
-    measured = count_per_point(HERE, "x86-64-v3", tool, names=["call"])
+    table, measured = _counted_on_v3("call")
     assert measured["instructions_per_point"] == {}
     if measured["call_runtime"] != table["call_runtime"]:
         pytest.skip(f"the table counts {table['call_runtime']}, this is "
