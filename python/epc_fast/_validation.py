@@ -17,7 +17,7 @@ import numpy as np
 from ._limits import MAX_THREADS, startable_threads, threads_limit_reason
 
 __all__ = ["short", "as_float_array", "float_arrays", "integer", "threads_of", "tolerance",
-           "choice", "column"]
+           "choice", "column", "compiled_core"]
 
 #: The largest integer a float64 holds (its largest finite value).
 _LARGEST_INT = int(np.finfo(np.float64).max)
@@ -87,12 +87,13 @@ def float_arrays(names, values) -> tuple:
     loop: a float kept from an earlier call and a float64 array are taken as they are, every
     other value is handed to :func:`as_float_array`. evaluate converts all of its model
     parameters on every call (tuples ``names`` and ``values``)."""
-    return _the_core().float_arrays(names, values, _SCALARS, as_float_array)
+    return compiled_core().float_arrays(names, values, _SCALARS, as_float_array)
 
 
 @functools.lru_cache(maxsize=None)
-def _the_core():
-    """The compiled core, loaded on first use."""
+def compiled_core():
+    """The compiled core (:mod:`epc_fast._core`), loaded on first use: importing the package
+    loads none of it."""
     from . import _core
 
     return _core
@@ -114,9 +115,7 @@ def threads_of(threads) -> int:
     default (``OMP_NUM_THREADS`` or the cores, capped below what the process can start,
     :func:`epc_fast._core.checked_default_threads`)."""
     if threads is None:
-        from . import _core
-
-        return _core.checked_default_threads()
+        return compiled_core().checked_default_threads()
     count = integer("threads", threads)
     if not 1 <= count <= MAX_THREADS:
         raise ValueError(f"threads must be between 1 and {MAX_THREADS}, got {count}")

@@ -21,8 +21,7 @@ from .mtf_table import lens_tables_of
 from .call_options import (BACKENDS, BINNING_READOUTS, F50_SOLVERS,  # noqa: F401 (api's names)
                            INVALID_POLICIES, PRECISIONS, T_MPE_SOLVERS, CallOptions, options_of)
 from .outputs import (ALL_OUTPUT_DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
-                      SHARE_OUTPUTS, Result, new_result, out_arrays, result_of,
-                      selected_outputs)
+                      SHARE_OUTPUTS, Result, new_result, out_arrays, result_of)
 from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
 from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 from .status import Status
@@ -174,7 +173,6 @@ def _broadcast_inputs(values: dict, size_name: str) -> tuple:
         shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
         raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None
     return names, arrays, shape
-
 
 
 def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads, given) -> dict:
@@ -409,8 +407,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
     options = options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                          precision, outputs, sensor.is_pixel_count, binning_readout, tables,
-                          colour.demosaic_table)
+                         precision, outputs, sensor.is_pixel_count, binning_readout, tables,
+                         colour.demosaic_table)
     given = (None if out is None
              else out_arrays(out, shape, options.selected, sensor.is_pixel_count,
                             core=options.backend == "core"))

@@ -3,13 +3,12 @@ call's table count), the lens tables as the core reads them, and the outputs it 
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
 
 from . import params
-from ._validation import column
+from ._validation import column, compiled_core
 from .outputs import OUTPUT_DTYPES
 
 __all__ = ["core_tables", "run_core"]
@@ -26,14 +25,6 @@ def core_tables(lens_tables) -> list | None:
         return None
     return [(np.ascontiguousarray(t.frequencies), np.ascontiguousarray(t.values),
              np.ascontiguousarray(t.coefficients).reshape(-1)) for t in lens_tables]
-
-
-@functools.lru_cache(maxsize=None)
-def _the_core():
-    """The compiled core, loaded on the first call that runs it."""
-    from . import _core
-
-    return _core
 
 
 def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
@@ -57,10 +48,9 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
     else:
         wavelengths = np.ascontiguousarray(spec.wavelengths_nm, dtype=np.float64)
         weights = np.ascontiguousarray(spec.weights, dtype=np.float64)
-    return _the_core().evaluate(columns, size_is_pixel_count,
-                          params.domain_table(len(lens_tables) if lens_tables else 1),
-                          wavelengths, weights, n, f50_solver,
-                          f50_rtol, t_mpe_solver, t_mpe_rtol, precision, threads, chunk_points,
-                          out, allocate, binning_readout, core_tables(lens_tables),
-                          None if demosaic_table is None
-                          else core_tables((demosaic_table,))[0])
+    domains = params.domain_table(len(lens_tables) if lens_tables else 1)
+    demosaic = None if demosaic_table is None else core_tables((demosaic_table,))[0]
+    return compiled_core().evaluate(columns, size_is_pixel_count, domains, wavelengths, weights,
+                                    n, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
+                                    threads, chunk_points, out, allocate, binning_readout,
+                                    core_tables(lens_tables), demosaic)
