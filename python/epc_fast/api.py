@@ -98,6 +98,13 @@ class _Sensor(NamedTuple):
     parts: dict
 
 
+def _size_slot(pixel_count, sensor_area_mm2) -> _Sensor:
+    """The size slot of a sensor given as a pixel count or as an area (the other None)."""
+    if pixel_count is not None:
+        return _Sensor("pixel_count", pixel_count, True, {})
+    return _Sensor("sensor_area_mm2", sensor_area_mm2, False, {})
+
+
 def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
                sensor_diagonal_mm, aspect, snr_at, field_angle_deg, focal_length_mm):
     """The size slot and the field angle of one call, from however the caller gave them.
@@ -110,19 +117,14 @@ def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
             and aspect is None and snr_at is None
             and (pixel_count is None) != (sensor_area_mm2 is None)):
         # the size as an area or a pixel count, as most calls give it
-        if pixel_count is not None:
-            return _Sensor("pixel_count", pixel_count, True, {}), field_angle_deg
-        return _Sensor("sensor_area_mm2", sensor_area_mm2, False, {}), field_angle_deg
+        return _size_slot(pixel_count, sensor_area_mm2), field_angle_deg
     lengths = [None if v is None else as_float_array(k, v) for k, v in (
         ("sensor_width_mm", sensor_width_mm), ("sensor_height_mm", sensor_height_mm),
         ("sensor_diagonal_mm", sensor_diagonal_mm))]
     shape = sensor_shape(sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect,
                          sensor_area_mm2=sensor_area_mm2, pixel_count=pixel_count)
     if shape is None:
-        if pixel_count is not None:
-            sensor = _Sensor("pixel_count", pixel_count, True, {})
-        else:
-            sensor = _Sensor("sensor_area_mm2", sensor_area_mm2, False, {})
+        sensor = _size_slot(pixel_count, sensor_area_mm2)
     else:
         width, height = shape
         length = params.Param("length", None, 0.0, params.BIG, False, False, "mm")

@@ -157,12 +157,12 @@ def out_arrays(out, shape, selected, is_pixel_count=False, core=False) -> dict:
     for name, inside in known.items():
         dtype = DTYPES[inside]
         array = out[name]
-        if type(array) is not np.ndarray and not isinstance(array, np.ndarray):
+        if not isinstance(array, np.ndarray):
             raise TypeError(f"out[{name!r}] must be a NumPy array, got {short(array)}")
         if array.dtype != dtype:
             raise TypeError(f"out[{name!r}] has dtype {array.dtype.str}, expected {dtype.str} "
                             f"({dtype.name}, native byte order)")
-        expected = shape if inside != elasticity_outputs.ALL else output_shape(inside, shape)
+        expected = output_shape(inside, shape)
         if array.shape != expected:
             what = ("(one row per parameter of ELASTICITY_PARAMETERS, then the broadcast shape)"
                     if inside == elasticity_outputs.ALL else "the broadcast shape")

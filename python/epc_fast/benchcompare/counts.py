@@ -141,10 +141,7 @@ def count_per_point(python: str, isa: str | None, tool: str, names=None, progres
         words = ["env", f"EPC_FAST_ISA={isa}", *words]
     names = [*COUNTED, *PER_CALL] if names is None else list(names)
     workloads = {}
-    for name in names:
-        if name in PER_CALL:
-            workloads[f"{name}@one"] = list(PER_CALL[name])
-            continue
+    for name in (n for n in names if n in COUNTED):
         workload, fewer, more = COUNTED[name]
         workloads[f"{name}@fewer"] = [workload, fewer]
         workloads[f"{name}@more"] = [workload, more]
@@ -158,7 +155,7 @@ def count_per_point(python: str, isa: str | None, tool: str, names=None, progres
         for name in names:
             say(f"{isa or 'default build'}: counting {name} ({tool})")
             if name in PER_CALL:  # in a worker of its own: a call's cost is the same alone
-                one = {f"{name}@one": workloads[f"{name}@one"]}
+                one = {f"{name}@one": list(PER_CALL[name])}
                 runs = [run({f"{name}@one": k}, one) for k in (0, CALLS)]
                 per_call[name] = round((runs[1] - runs[0]) / CALLS)
                 continue
