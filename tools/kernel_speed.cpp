@@ -7,11 +7,14 @@
 //       -fno-math-errno -fno-trapping-math -fopenmp -I cpp/include tools/kernel_speed.cpp
 //       -o /tmp/kernel_speed      (one command, from the repository's root)
 //   /tmp/kernel_speed [points=1000000] [rounds=5] [halley|newton|brent|bisection] [float32|float64]
-//                     [threads=1] [jitter_um=0] [wavelengths=0]
+//                     [threads=1] [jitter_um=0] [wavelengths=0] [all|f50_epc]
 //
 // wavelengths > 0: a spectrum of that many equally weighted wavelengths over 480..580 nm (the
 // default QE's band), with its fitted f50 start (spectrum_start.h); < 0: the same spectrum
 // without it (the cubic start), for comparison.
+//
+// f50_epc: only f50 and EPC written (the others null: not computed), as `outputs=("f50_cyc_per_mm",
+// "epc")` asks; all (the default): every output.
 //
 // 8192 points stay in the caches (the kernel alone); 10^6 and more stream from memory.
 #include <algorithm>
@@ -35,8 +38,9 @@ int main(int argc, char** argv) {
     const int threads = argc > 5 ? std::atoi(argv[5]) : 1;
     double jitter = argc > 6 ? std::atof(argv[6]) : 0.0;  // um, every point
     const int wavelengths = argc > 7 ? std::atoi(argv[7]) : 0;
+    const bool f50_epc_only = argc > 8 && std::string(argv[8]) == "f50_epc";
     if (n == 0 || rounds <= 0 || threads <= 0 || !(jitter >= 0.0)) {
-        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32|float64] [threads] [jitter_um] [wavelengths]\n");
+        std::fprintf(stderr, "usage: kernel_speed [points] [rounds] [solver] [float32|float64] [threads] [jitter_um] [wavelengths] [all|f50_epc]\n");
         return 2;
     }
     const tools::PhoneDesigns designs(n, jitter);
@@ -53,7 +57,11 @@ int main(int argc, char** argv) {
                      : solver == "brent"   ? F50Solver::brent
                                            : F50Solver::halley;
     tools::OutputArrays arrays(n);
-    const Outputs out = arrays.outputs();
+    Outputs out = arrays.outputs();
+    if (f50_epc_only) {
+        out.electron_rate_e_per_s = out.electrons = out.t_mpe_s = out.blur_mm = nullptr;
+        out.status = out.cause = nullptr;
+    }
     double best = 0.0, total_s = 0.0;
     for (int r = 0; r < rounds; ++r) {
         const auto start = std::chrono::steady_clock::now();

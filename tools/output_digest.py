@@ -21,9 +21,12 @@ POINTS = 20_000
 SEED = 20261127
 
 
+F50_EPC = ("f50_cyc_per_mm", "epc")
+
+
 def _settings():
     spectrum = ([450.0, 550.0, 650.0], [0.25, 0.5, 0.25])
-    return {
+    settings = {
         "default": {},
         "shares+elasticities": {"outputs": ("epc", "f50_cyc_per_mm", "status", "cause",
                                             "share_diffraction", "share_pixel", "share_motion",
@@ -35,11 +38,15 @@ def _settings():
         "corner": {"snr_at": "corner", "jitter_um": 0.3, "dark_current_e_per_s": 5.0,
                    "prnu": 0.01, "full_well_e": 6000.0},
     }
+    # f50 and EPC alone (the exposure's other values not formed): the same bits as above
+    settings.update({f"{name}:f50+epc": dict(settings[name], outputs=F50_EPC)
+                     for name in ("default", "corner", "float32")})
+    return settings
 
 
 def _designs(setting):
     designs = random_designs(POINTS, SEED)
-    if setting == "corner":  # snr_at="corner" needs the sensor's width and height
+    if setting.startswith("corner"):  # snr_at="corner" needs the sensor's width and height
         area = designs.pop("sensor_area_mm2")
         designs["sensor_width_mm"] = np.sqrt(area * 4 / 3)
         designs["sensor_height_mm"] = np.sqrt(area * 3 / 4)

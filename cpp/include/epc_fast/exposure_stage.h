@@ -300,13 +300,69 @@ void electrons_and_blur(Block<T>& b, const double* __restrict root_s,
     }
 }
 
+// Each lane's status, the lanes to solve and their blur; with Values, also its cause, and its
+// rate, electrons, T_MPE and blur as they are written out (NaN where undefined): decided once
+// here, where the flags are at hand, so that scatter only copies them. A call that writes none
+// of those (f50 and EPC alone, say) skips them: they are read only by scatter and sensitivity.
+template <bool Values, class T>
+void decide_lanes(Block<T>& b) {
+    const double* __restrict well = b.x[full_well_e];
+    double* __restrict rate = b.rate;
+    double* __restrict electrons = b.electrons;
+    double* __restrict t_mpe = b.t_mpe;
+    double* __restrict blur = b.blur;
+    const LaneFlag<double>* __restrict capped = b.capped;
+    unsigned char* __restrict status = b.status;
+    unsigned char* __restrict cause = b.cause;
+    double* __restrict blur_out = b.blur_out;
+    LaneFlag<T>* __restrict solve = b.solve;
+    const LaneFlag<double>* __restrict valid = b.valid;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const double t = t_mpe[i];  // electrons / rate, from either path
+        const bool ok = valid[i] != 0, cap = capped[i] != 0;
+        // A rate so small that T_MPE overflows counts as no light.
+        const bool dark_lane = !cap & !(t <= std::numeric_limits<double>::max());
+        const bool over = !dark_lane & !cap & (electrons[i] > well[i]);
+        const bool unreachable = cap | dark_lane | over;
+        const bool inf_blur = !unreachable & (blur[i] > std::numeric_limits<double>::max());
+        const bool s = ok & !unreachable & !inf_blur;
+        // Branch-free, so that the loop vectorises: the codes as sums of flags times codes (at
+        // most one term of each is set: inf_blur excludes unreachable, and dark_lane, cap and
+        // over exclude each other; Status::ok and Cause::none are 0), and every value loaded
+        // once and chosen by single selects.
+        const unsigned flag_ok = ok;
+        status[i] = static_cast<unsigned char>(
+            (1u - flag_ok) * static_cast<unsigned>(Status::invalid) +
+            flag_ok * (static_cast<unsigned>(unreachable) * static_cast<unsigned>(Status::unreachable) +
+                       static_cast<unsigned>(inf_blur) * static_cast<unsigned>(Status::blur_unbounded)));
+        const double bl = blur[i];
+        if (Values) {
+            cause[i] = static_cast<unsigned char>(
+                flag_ok * (static_cast<unsigned>(dark_lane) * static_cast<unsigned>(Cause::no_light) +
+                           static_cast<unsigned>(cap) * static_cast<unsigned>(Cause::prnu) +
+                           static_cast<unsigned>(over) * static_cast<unsigned>(Cause::full_well)));
+            const double r = rate[i], e = electrons[i];
+            rate[i] = ok ? r : nan;
+            electrons[i] = (ok & !dark_lane & !cap) ? e : nan;
+            const double t_kept = unreachable ? inf : t;
+            t_mpe[i] = ok ? t_kept : nan;
+            const double blur_kept = inf_blur ? inf : bl;
+            blur_out[i] = (ok & !unreachable) ? blur_kept : nan;
+        }
+        solve[i] = s;
+        blur[i] = s ? bl : 0.0;
+    }
+}
+
 // T_MPE and blur for every lane. The vector path computes the closed form with plain products
 // and vectorised hypot and tan; a lane whose products leave the normal range, or any lane
 // when Brent is asked for, is redone by exposure_lane. cos(theta) and 10^(snr/20) are computed once for a
 // block when their columns are broadcast.
-// T_MPE and blur for every lane, on the inputs as x[] holds them (sensor_terms').
+// T_MPE and blur for every lane, on the inputs as x[] holds them (sensor_terms'); `values`:
+// whether the rate, electrons, T_MPE, blur and cause are read (decide_lanes).
 template <class T>
-void exposure_of_inputs(const Options& opt, Block<T>& b) {
+void exposure_of_inputs(const Options& opt, Block<T>& b, bool values) {
     constexpr std::size_t n = block_size;
     const auto& x = b.x;
     double* __restrict cos2 = b.scratch[0];
@@ -479,56 +535,19 @@ void exposure_of_inputs(const Options& opt, Block<T>& b) {
     if (brent || n_slow > 0)
         for (std::size_t i = 0; i < n; ++i)
             if (brent || slow[i]) exposure_lane(opt, b, i);
-    // Each lane's status and cause, and its rate, electrons, T_MPE and blur as they are written
-    // out (NaN where undefined): decided once here, where the flags are at hand, so that
-    // scatter only copies them.
-    unsigned char* __restrict status = b.status;
-    unsigned char* __restrict cause = b.cause;
-    double* __restrict blur_out = b.blur_out;
-    LaneFlag<T>* __restrict solve = b.solve;
-    const LaneFlag<double>* __restrict valid = b.valid;
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        const double t = t_mpe[i];  // electrons / rate, from either path
-        const bool ok = valid[i] != 0, cap = capped[i] != 0;
-        // A rate so small that T_MPE overflows counts as no light.
-        const bool dark_lane = !cap & !(t <= std::numeric_limits<double>::max());
-        const bool over = !dark_lane & !cap & (electrons[i] > well[i]);
-        const bool unreachable = cap | dark_lane | over;
-        const bool inf_blur = !unreachable & (blur[i] > std::numeric_limits<double>::max());
-        const bool s = ok & !unreachable & !inf_blur;
-        // Branch-free, so that the loop vectorises: the codes as sums of flags times codes (at
-        // most one term of each is set: inf_blur excludes unreachable, and dark_lane, cap and
-        // over exclude each other; Status::ok and Cause::none are 0), and every value loaded
-        // once and chosen by single selects.
-        const unsigned flag_ok = ok;
-        status[i] = static_cast<unsigned char>(
-            (1u - flag_ok) * static_cast<unsigned>(Status::invalid) +
-            flag_ok * (static_cast<unsigned>(unreachable) * static_cast<unsigned>(Status::unreachable) +
-                       static_cast<unsigned>(inf_blur) * static_cast<unsigned>(Status::blur_unbounded)));
-        cause[i] = static_cast<unsigned char>(
-            flag_ok * (static_cast<unsigned>(dark_lane) * static_cast<unsigned>(Cause::no_light) +
-                       static_cast<unsigned>(cap) * static_cast<unsigned>(Cause::prnu) +
-                       static_cast<unsigned>(over) * static_cast<unsigned>(Cause::full_well)));
-        const double r = rate[i], e = electrons[i], bl = blur[i];
-        rate[i] = ok ? r : nan;
-        electrons[i] = (ok & !dark_lane & !cap) ? e : nan;
-        const double t_kept = unreachable ? inf : t;
-        t_mpe[i] = ok ? t_kept : nan;
-        const double blur_kept = inf_blur ? inf : bl;
-        blur_out[i] = (ok & !unreachable) ? blur_kept : nan;
-        solve[i] = s;
-        blur[i] = s ? bl : 0.0;
-    }
+    if (values) decide_lanes<true>(b);
+    else decide_lanes<false>(b);
 }
 
 // T_MPE and blur for every lane: exposure_of_inputs on the inputs, or on the output pixel of the
-// burst where the block bins or bursts (sensor_terms).
+// burst where the block bins or bursts (sensor_terms). `values`: whether the lanes' rate,
+// electrons, T_MPE, blur and cause are read after it (an output or the sensitivities); else
+// only each lane's status, whether to solve it and its blur are left (decide_lanes).
 template <class T>
-void exposure(const Options& opt, Block<T>& b) {
+void exposure(const Options& opt, Block<T>& b, bool values) {
     const double* saved[5];
     const bool sensor = sensor_terms(opt, b, saved);
-    exposure_of_inputs(opt, b);
+    exposure_of_inputs(opt, b, values);
     if (sensor) restore_inputs(b, saved);
 }
 

@@ -290,7 +290,7 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
                        std::size_t n, const double* illuminance_lux, Block<T>& b) {
     b.n = n;
     gather(in, begin, illuminance_lux, b);
-    exposure(opt, b);
+    exposure(opt, b, out.exposure_values_read());
     if (out.f50_cyc_per_mm != nullptr || out.epc != nullptr || out.sensitivity.any()) {
         // a lens table replaces diffraction and with it the spectrum: f50 is solved as for one
         // wavelength (the shares' aberration-free D keeps the call's spectrum: sensitivity.h)

@@ -202,6 +202,13 @@ struct Outputs {
                        shift(cause), stream, moved};
     }
 
+    // Whether the exposure's per-lane values are read after its stage: the rate, electrons,
+    // T_MPE, blur or cause as outputs, or by the sensitivities (exposure_stage.h decide_lanes).
+    bool exposure_values_read() const {
+        return electron_rate_e_per_s != nullptr || electrons != nullptr || t_mpe_s != nullptr ||
+               blur_mm != nullptr || cause != nullptr || sensitivity.any();
+    }
+
     // The bytes a point's computed outputs take.
     std::size_t bytes_per_point() const {
         const double* values[] = {electron_rate_e_per_s, electrons, t_mpe_s, blur_mm,
