@@ -2,6 +2,7 @@
 // stage of the kernel (kernel.h, exposure_stage.h, f50.h) is a loop over lanes that vectorises.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -42,16 +43,17 @@ template <class T>
 using LaneFlag = unsigned char;
 #endif
 
-// The columns a Block's broadcast rows were set up for (kernel.h gather): each column's data
-// and stride (and a broadcast column's value, as read), whether the illuminance column was
-// replaced, whether a broadcast value is outside its domain, and the varying columns.
+// The columns a Block's broadcast rows were set up for (kernel.h gather): the Inputs' columns
+// as they were (data and stride), whether the illuminance column was replaced, whether a
+// broadcast value is outside its domain, the varying columns and the broadcast ones with
+// their values' bits as read.
 struct ColumnLayout {
     bool set = false, replaced = false, invalid = false;
-    int n_varying = 0;
+    int n_varying = 0, n_broadcast = 0;
     int varying[n_params];
-    const double* data[n_params];
-    std::ptrdiff_t stride[n_params];
-    double value[n_params];
+    int broadcast[n_params];
+    std::array<Column, n_params> columns;
+    std::uint64_t bits[n_params];  // broadcast column broadcast[k]'s value, bits[k]
 };
 
 template <class T>

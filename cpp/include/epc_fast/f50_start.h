@@ -770,8 +770,10 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     int motion = 0, jitter = 0;
     EPC_FAST_SIMD_REDUCTION(+ : motion)
     for (std::size_t i = 0; i < n; ++i) motion += (solve[i] != 0) & (blur[i] > T(0));
-    EPC_FAST_SIMD_REDUCTION(+ : jitter)
-    for (std::size_t i = 0; i < n; ++i) jitter += (solve[i] != 0) & (jitter_mm[i] > T(0));
+    if (any_jitter) {  // else every jitter_mm is a broadcast 0's (+-0): none
+        EPC_FAST_SIMD_REDUCTION(+ : jitter)
+        for (std::size_t i = 0; i < n; ++i) jitter += (solve[i] != 0) & (jitter_mm[i] > T(0));
+    }
     int binned = 0;
     if (any_binning)
         for (std::size_t i = 0; i < n; ++i) binned += (solve[i] != 0) & (bin_pitch[i] > 0.0);

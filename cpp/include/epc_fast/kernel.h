@@ -35,21 +35,23 @@ inline double stand_in(int param) {
 }
 
 // valid[i] &= x[i] in d, for every lane; the domain's open or closed ends are decided once.
+// Written as a select (valid where inside, else 0), which the vector code forms by masking the
+// flag with the comparisons' all-ones lanes, with no conversion of them to 0/1 first.
 inline void check_domain(const Domain& d, const double* __restrict x,
                          LaneFlag<double>* __restrict valid) {
     const double lo = d.lo, hi = d.hi;
     if (d.lo_closed && d.hi_closed) {
         EPC_FAST_SIMD
-        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] >= lo) & (x[i] <= hi);
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] = (x[i] >= lo) & (x[i] <= hi) ? valid[i] : 0;
     } else if (d.lo_closed) {
         EPC_FAST_SIMD
-        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] >= lo) & (x[i] < hi);
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] = (x[i] >= lo) & (x[i] < hi) ? valid[i] : 0;
     } else if (d.hi_closed) {
         EPC_FAST_SIMD
-        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] > lo) & (x[i] <= hi);
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] = (x[i] > lo) & (x[i] <= hi) ? valid[i] : 0;
     } else {
         EPC_FAST_SIMD
-        for (std::size_t i = 0; i < block_size; ++i) valid[i] &= (x[i] > lo) & (x[i] < hi);
+        for (std::size_t i = 0; i < block_size; ++i) valid[i] = (x[i] > lo) & (x[i] < hi) ? valid[i] : 0;
     }
     if (d.integer) {  // binning and frames: whole numbers only
         EPC_FAST_SIMD
@@ -57,12 +59,13 @@ inline void check_domain(const Domain& d, const double* __restrict x,
     }
 }
 
-inline bool same_bits(double a, double b) {
-    std::uint64_t x = 0, y = 0;
-    std::memcpy(&x, &a, sizeof x);
-    std::memcpy(&y, &b, sizeof y);
-    return x == y;
+inline std::uint64_t bits_of(double v) {
+    std::uint64_t x = 0;
+    std::memcpy(&x, &v, sizeof x);
+    return x;
 }
+
+inline bool same_bits(double a, double b) { return bits_of(a) == bits_of(b); }
 
 // Reads the varying column j (stride != 0) of points [begin, begin + n) into lane x[j] (in place
 // for a full contiguous block), checking its domain; padding lanes past n get stand-ins.
@@ -92,18 +95,15 @@ EPC_FAST_INLINE void gather_varying(const Inputs& in, std::size_t begin, const d
 }
 
 // Whether `in`'s columns (and the replacement of the illuminance) are laid out as when the
-// Block's broadcast rows were last set up: every column's data and stride, and each broadcast
-// value's bits, the same.
+// Block's broadcast rows were last set up: every column's data and stride (compared as bytes:
+// Column has no padding), and each broadcast value's bits, the same.
 inline bool same_layout(const Inputs& in, bool replaced, const ColumnLayout& layout) {
+    static_assert(sizeof(Column) == sizeof(const double*) + sizeof(std::ptrdiff_t), "no padding");
     if (!layout.set || layout.replaced != replaced) return false;
+    if (std::memcmp(in.columns.data(), layout.columns.data(), sizeof layout.columns) != 0) return false;
     bool same = true;
-    for (int j = 0; j < n_params; ++j) {
-        const Column& c = in.columns[j];
-        same &= (c.data == layout.data[j]) & (c.stride == layout.stride[j]);
-    }
-    if (!same) return false;
-    for (int j = 0; j < n_params; ++j)
-        if (layout.stride[j] == 0) same &= same_bits(layout.data[j][0], layout.value[j]);
+    for (int k = 0; k < layout.n_broadcast; ++k)
+        same &= bits_of(in.columns[layout.broadcast[k]].data[0]) == layout.bits[k];
     return same;
 }
 
@@ -129,19 +129,19 @@ void gather(const Inputs& in, std::size_t begin, const double* illuminance, Bloc
         layout.set = true;
         layout.replaced = replaced_lux;
         layout.invalid = false;
-        layout.n_varying = 0;
+        layout.n_varying = layout.n_broadcast = 0;
+        layout.columns = in.columns;
         for (int j = 0; j < n_params; ++j) {
             const bool replaced = j == illuminance_lux && replaced_lux;
             const double* src = in.columns[j].data;
             const std::ptrdiff_t stride = replaced ? 1 : in.columns[j].stride;
-            layout.data[j] = src;
-            layout.stride[j] = in.columns[j].stride;
-            layout.value[j] = in.columns[j].stride == 0 ? src[0] : 0.0;
             if (stride != 0) {
                 layout.varying[layout.n_varying++] = j;
                 gather_varying(in, begin, illuminance, j, b);
                 continue;
             }
+            layout.bits[layout.n_broadcast] = bits_of(src[0]);
+            layout.broadcast[layout.n_broadcast++] = j;
             // every lane holds the value, or the stand-in if it is invalid, even a lane that is
             // invalid for another parameter (harmless: a value inside the domain)
             double* __restrict x = b.x_store[j];
