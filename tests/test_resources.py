@@ -118,3 +118,56 @@ def test_a_command_refuses_threads_it_cannot_start_before_it_writes_anything(tmp
     assert "EXIT 1" in proc.stdout
     assert "threads=1024: this process can start at most" in proc.stderr
     assert not out.exists()  # refused before the --out directory is made
+
+
+def test_a_thread_count_the_caller_s_thread_has_run_on_skips_the_stack_count(monkeypatch):
+    # The OpenMP runtime keeps a thread's team: threads_of counts the stacks a call would map
+    # (startable_threads) only for more threads than this Python thread's calls have run on.
+    import threading
+
+    import numpy as np
+
+    import epc_fast
+    from epc_fast import _core, _validation
+
+    if not _core.openmp_enabled():
+        pytest.skip("a build without OpenMP runs every call on one thread")
+
+    def refuse_all(share=1.0):
+        return 1
+
+    def fresh_thread(work):
+        box = {}
+
+        def run():
+            try:
+                box["value"] = work()
+            except ValueError as exc:
+                box["error"] = str(exc)
+        thread = threading.Thread(target=run)
+        thread.start()
+        thread.join()
+        return box
+
+    def first_calls():
+        before = _core.started_threads()
+        # one block: a team of one thread, whatever threads= says
+        epc_fast.evaluate(100.0, 1.4, 2.0, 5.0, sensor_area_mm2=10.0, threads=2)
+        one_block = _core.started_threads()
+        epc_fast.evaluate(np.full(8192, 100.0), 1.4, 2.0, 5.0, sensor_area_mm2=10.0, threads=2)
+        return before, one_block, _core.started_threads()
+
+    assert fresh_thread(first_calls)["value"] == (1, 1, 2)
+    monkeypatch.setattr(_validation, "startable_threads", refuse_all)
+    # a new thread has run on none: its check runs, and here refuses
+    assert "can start at most 1" in fresh_thread(lambda: _validation.threads_of(2))["error"]
+
+    def after_a_two_thread_call():
+        monkeypatch.undo()
+        epc_fast.evaluate(np.full(8192, 100.0), 1.4, 2.0, 5.0, sensor_area_mm2=10.0, threads=2)
+        monkeypatch.setattr(_validation, "startable_threads", refuse_all)
+        kept = _validation.threads_of(2)  # the team of two is kept: no check, no refusal
+        with pytest.raises(ValueError, match="can start at most 1"):
+            _validation.threads_of(3)
+        return kept
+    assert fresh_thread(after_a_two_thread_call)["value"] == 2

@@ -1,5 +1,5 @@
 // The build and the machine: which module this is, which x86-64 levels the CPU runs, the
-// threads a call uses, and the sizes the kernel was built with (its block, the call size from
+// threads a call uses and those already started, and the sizes the kernel was built with (its block, the call size from
 // which outputs are streamed).
 #include <pybind11/pybind11.h>
 
@@ -39,6 +39,8 @@ void register_cpu(py::module_& m) {
     m.def("openmp_enabled", &openmp_enabled, "Whether the core was built with OpenMP.");
     m.def("default_threads", &default_threads,
           "Threads used when none are asked for (OMP_NUM_THREADS, else the cores).");
+    m.def("started_threads", [] { return largest_team(); },
+          "The most threads the calling thread's calls have run on (their runtime keeps them).");
     m.attr("block_size") = block_size;
     m.attr("stream_min_bytes") = stream_min_bytes;
     m.attr("streaming_stores") = streaming_stores;

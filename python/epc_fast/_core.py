@@ -69,7 +69,9 @@ def checked_default_threads() -> int:
     if not 1 <= count <= MAX_THREADS:
         raise ValueError(f"the OpenMP runtime's default of {count} threads is not between 1 and "
                          f"{MAX_THREADS}: set OMP_NUM_THREADS or pass threads=")
-    return min(count, _startable_threads(_DEFAULT_THREADS_SHARE)) if count > 1 else count
+    if count <= started_threads():  # threads this Python thread's calls run on already
+        return count
+    return min(count, _startable_threads(_DEFAULT_THREADS_SHARE))
 
 
 def _load():

@@ -43,6 +43,15 @@ inline int default_threads() {
 // value (kernel.h Workspace). block must not throw. The team is never larger than the number
 // of blocks: a small call does not wake idle threads. Block boundaries depend only on begin,
 // never on the thread count.
+// The most threads a region of for_each_block has run with on the calling thread (1: none
+// yet). The OpenMP runtime keeps a thread's team for its next regions, so a call from that
+// thread on no more threads than this starts none (the Python API then skips counting the
+// stacks it would map: epc_fast._validation.threads_of).
+inline int& largest_team() {
+    static thread_local int threads = 1;
+    return threads;
+}
+
 template <class State, class Block>
 void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, int threads,
                     Block&& block) {
@@ -54,12 +63,16 @@ void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, 
     };
 #ifdef _OPENMP
     const int team = n_blocks < threads ? static_cast<int>(n_blocks > 0 ? n_blocks : 1) : threads;
+    int ran = 1;
 #pragma omp parallel num_threads(team)
     {
         State state;
+#pragma omp master
+        ran = omp_get_num_threads();
 #pragma omp for schedule(dynamic, 16)
         for (std::ptrdiff_t k = 0; k < n_blocks; ++k) run(k, state);
     }
+    if (ran > largest_team()) largest_team() = ran;
 #else
     (void)threads;
     State state;
