@@ -81,8 +81,10 @@ def test_float_arrays_is_as_float_array_value_by_value(value):
     # the batch's inlined cases (kept floats, float64 arrays) and the general one agree, bits
     # and sign of zero included, whether the float is kept already (second call) or not
     for _ in range(2):
-        [got], shapes = _validation.float_arrays(("reflectance",), (value,))
+        [got], shapes, contiguous = _validation.float_arrays(("reflectance",), (value,))
         assert shapes == ({got.shape} if got.ndim else set())
+        # whether the core may read it as it is (a strided view may not)
+        assert contiguous == (got.ndim == 0 or got.flags.c_contiguous)
         expected = as_float_array("reflectance", value)
         assert got.dtype == np.float64 and got.shape == expected.shape
         assert got.tobytes() == expected.tobytes()

@@ -176,6 +176,7 @@ py::tuple float_arrays_py(const py::tuple& names, const py::tuple& values, const
     const auto& api = py::detail::npy_api::get();
     py::list arrays(values.size());
     py::set shapes;
+    bool contiguous = true;  // every array of one or more dimensions C-contiguous
     for (std::size_t j = 0; j < values.size(); ++j) {
         PyObject* value = PyTuple_GET_ITEM(values.ptr(), static_cast<py::ssize_t>(j));
         if (PyFloat_CheckExact(value)) {
@@ -195,10 +196,14 @@ py::tuple float_arrays_py(const py::tuple& names, const py::tuple& values, const
         if (!is_float64) array = convert(names[j], array);
         if (!api.PyArray_Check_(array.ptr()))
             throw py::type_error("convert must return NumPy arrays");
-        if (py::detail::array_proxy(array.ptr())->nd > 0) shapes.add(array.attr("shape"));
+        const auto* proxy = py::detail::array_proxy(array.ptr());
+        if (proxy->nd > 0) {
+            shapes.add(array.attr("shape"));
+            contiguous &= (proxy->flags & py::detail::npy_api::NPY_ARRAY_C_CONTIGUOUS_) != 0;
+        }
         arrays[j] = array;
     }
-    return py::make_tuple(arrays, shapes);
+    return py::make_tuple(arrays, shapes, contiguous);
 }
 
 }  // namespace
@@ -210,7 +215,7 @@ void register_evaluate(py::module_& m) {
     m.attr("parameter_names") = parameter_names;
     m.def("float_arrays", &float_arrays_py, py::arg("names"), py::arg("values"), py::arg("kept"),
           py::arg("convert"),
-          "(arrays, shapes): the model parameters `values` as float64 arrays, as "
+          "(arrays, shapes, contiguous): the model parameters `values` as float64 arrays, as "
           "epc_fast._validation.float_arrays documents.");
     m.def("evaluate", &evaluate_py, py::arg("columns"), py::arg("size_is_pixel_count"),
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),

@@ -82,8 +82,10 @@ def as_float_array(name: str, value) -> np.ndarray:
 
 
 def float_arrays(names, values) -> tuple:
-    """``[as_float_array(name, value) for name, value in zip(names, values)]`` and the set of
-    those arrays' shapes but () (what broadcasting them needs). The compiled core does the
+    """``[as_float_array(name, value) for name, value in zip(names, values)]``, the set of
+    those arrays' shapes but () (what broadcasting them needs) and whether each of those
+    arrays is C-contiguous (with one shape, the core reads them all as they are: no
+    :func:`column` pass). The compiled core does the
     loop: a float kept from an earlier call and a float64 array are taken as they are, every
     other value is handed to :func:`as_float_array`. evaluate converts all of its model
     parameters on every call (tuples ``names`` and ``values``)."""

@@ -164,21 +164,26 @@ _in_core_order = operator.itemgetter(*params.PARAMETER_NAMES)
 
 
 def _broadcast_inputs(values: dict, size_name: str) -> tuple:
-    """(names, float64 arrays, broadcast shape) of the model parameters in the core's order;
-    ``values`` holds them by parameter name, ``size_name`` is how the caller named the size."""
+    """(names, float64 arrays, broadcast shape, whether the arrays are the core's columns as
+    they are: 0-d, or C-contiguous of the broadcast shape) of the model parameters in the
+    core's order; ``values`` holds them by parameter name, ``size_name`` is how the caller
+    named the size."""
     names = _argument_names(size_name)
-    arrays, shapes = float_arrays(names, _in_core_order(values))
+    arrays, shapes, contiguous = float_arrays(names, _in_core_order(values))
+    ready = contiguous and len(shapes) <= 1
     try:  # most calls: a few arrays of one shape, and scalars
         shape = (shapes.pop() if len(shapes) == 1 else
                  np.broadcast_shapes(*shapes) if shapes else ())
     except ValueError:
         shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
         raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None
-    return names, arrays, shape
+    return names, arrays, shape, ready
 
 
-def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads, given) -> dict:
-    """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
+def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads, given,
+             columns_ready=False) -> dict:
+    """The flat outputs of the chosen backend; the caller's ``out=`` arrays written.
+    ``columns_ready``: the arrays are the core's columns as they are (_broadcast_inputs)."""
     if options.backend == "core":  # threads checked by the caller
         # the core writes the caller's arrays and allocates the others it computes
         flat = {} if given is None else {k: v if v.ndim == 1 else v.reshape(-1)
@@ -191,7 +196,7 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads
                         [k for k in options.computed
                          if k not in flat and k != elasticity_outputs.ALL],
                         lens_tables=options.lens_tables, demosaic_table=options.demosaic_table,
-                        chunk_points=CHUNK_POINTS)
+                        chunk_points=CHUNK_POINTS, columns_ready=columns_ready)
     if threads is not None:
         threads_of(threads)
     result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed,
@@ -405,7 +410,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         "lens": lens, "cfa_transmittance": colour.transmittance,
         "color_noise_gain": colour.noise_gain,
     }
-    names, arrays, shape = _broadcast_inputs(values, sensor.name)
+    names, arrays, shape, ready = _broadcast_inputs(values, sensor.name)
     spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
     tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
     options = options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
@@ -418,7 +423,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         threads = threads_of(threads)
     check_memory(shape, arrays, options.backend, given is not None, options.computed,
                  threads=threads if options.backend == "core" else 1)
-    result = _compute(arrays, shape, sensor, spec, options, threads, given)
+    result = _compute(arrays, shape, sensor, spec, options, threads, given, ready)
     return _assembled(result, shape, names, arrays, sensor, options, given)
 
 

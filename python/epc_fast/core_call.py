@@ -30,17 +30,19 @@ def core_tables(lens_tables) -> list | None:
 def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
              t_mpe_rtol, threads, out=None, precision="float64", allocate=None,
              binning_readout="digital", lens_tables=None, demosaic_table=None,
-             chunk_points=1 << 18):
+             chunk_points=1 << 18, columns_ready=False):
     """The core's flat outputs for the model parameters ``arrays`` (PARAMETERS' order) over
     the broadcast ``shape``: ``out``'s arrays (name -> flat array) written and those named in
     ``allocate`` new. ``lens_tables``: the checked ``lens_mtf`` (a list of MtfTable), or None;
     ``demosaic_table``: a colour sensor's demosaicker's MtfTable, or None.
     The core checks for Ctrl-C between chunks of ``chunk_points`` points (it releases the GIL
-    inside)."""
+    inside). ``columns_ready``: every array is 0-d or C-contiguous of ``shape`` (no
+    :func:`epc_fast._validation.column` pass)."""
     n = math.prod(shape)
     out = {} if out is None else out
     # the core copies an input that shares memory with an output before it runs
-    columns = [a if a.ndim == 0 else column(a, shape) for a in arrays]  # 0-d: one value
+    columns = (arrays if columns_ready else  # 0-d: one value
+               [a if a.ndim == 0 else column(a, shape) for a in arrays])
     if allocate is None:  # the core's own default: every default output, unless out has them
         allocate = [] if out else list(OUTPUT_DTYPES)
     if spec is None:
