@@ -211,9 +211,10 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads
 def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: CallOptions,
                given) -> Result:
     """The Result of a call, after the ValueError ``invalid="raise"`` asks for."""
-    status = result["status"].reshape(shape) if "status" in result else None
-    if options.invalid == "raise" and np.any(status == Status.INVALID):
-        _raise_first_invalid(arrays, names, status, shape, sensor.parts, options.lens_count)
+    if options.invalid == "raise" and "status" in result:
+        status = result["status"].reshape(shape)
+        if np.any(status == Status.INVALID):
+            _raise_first_invalid(arrays, names, status, shape, sensor.parts, options.lens_count)
     if given is not None:
         kept = {name: array for name, array in given.items() if name in ALL_OUTPUT_DTYPES}
         if elasticity_outputs.ALL in given:

@@ -134,6 +134,10 @@ class SensorColour:
     demosaic_table: MtfTable | None
 
 
+#: The monochrome sensor with no filter: t = 1, g_c = 1, no demosaicker.
+_MONOCHROME = SensorColour(1.0, 1.0, None)
+
+
 def sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorColour:
     """evaluate's ``cfa``, ``demosaic``, ``cfa_transmittance`` and ``color_noise_gain`` as
     :class:`SensorColour`. The transmittance t and the colour noise gain g_c are model
@@ -143,6 +147,8 @@ def sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorC
     g_d to g_c and its table."""
     check_cfa(cfa)
     check_demosaic(demosaic)
+    if cfa == "none" and cfa_transmittance is None and color_noise_gain is None:
+        return _MONOCHROME  # most calls: made once (a frozen dataclass costs a call 0.4 us)
     bayer = cfa == "bayer"
     t = (DEFAULT_CFA_TRANSMITTANCE if bayer else 1.0) if cfa_transmittance is None \
         else cfa_transmittance
