@@ -47,6 +47,9 @@ def test_the_workloads_compute_what_evaluate_computes():
     result = worker.make_call("float32", 300, seed=4)()
     expected = epc_fast.evaluate(**points, precision="float32", threads=1)
     np.testing.assert_array_equal(result.epc, expected.epc)
+    f50_epc = worker.make_call("f50-epc", 300, seed=4)()
+    assert f50_epc.status is None  # those two outputs alone
+    np.testing.assert_array_equal(f50_epc.epc, epc_fast.evaluate(**points, threads=1).epc)
     elasticities = worker.make_call("elasticities", 300, seed=4)()
     assert elasticities.elasticities  # the elasticities are computed
     scan = worker.make_call("scan", 4000, seed=4)()

@@ -30,6 +30,7 @@ from .sides import WORKER, split_command
 #: its own).
 COUNTED = {
     "default": ("default-1e4", 10_000, 40_000),
+    "f50_epc": ("f50-epc", 10_000, 40_000),
     "float32": ("float32", 10_000, 40_000),
     "spectrum": ("spectrum", 3_000, 12_000),
     "elasticities": ("elasticities", 3_000, 12_000),

@@ -37,6 +37,7 @@ WORKLOADS = {
     "default-1e4": (10_000, 10_000, 1, "evaluate(), default outputs, float64"),
     "default-1e6": (1_000_000, 1_000_000, 1, "evaluate(), default outputs, float64"),
     "default-1e7": (10_000_000, None, 2, "evaluate(), default outputs, float64, 2 threads"),
+    "f50-epc": (1_000_000, None, 1, "evaluate(outputs=('f50_cyc_per_mm', 'epc'))"),
     "float32": (1_000_000, 100_000, 1, "evaluate(precision='float32')"),
     "spectrum": (100_000, 10_000, 1, "evaluate(spectrum=3 wavelengths)"),
     "elasticities": (100_000, 10_000, 1, "evaluate(outputs=(..., 'elasticities'))"),
@@ -101,6 +102,8 @@ def make_call(name: str, n: int, seed: int, threads: int | None = None):
         return _evaluate_call(points, threads, precision="float32")
     if name == "spectrum":
         return _evaluate_call(points, threads, spectrum=SPECTRUM)
+    if name == "f50-epc":
+        return _evaluate_call(points, threads, outputs=("f50_cyc_per_mm", "epc"))
     return _evaluate_call(points, threads, outputs=("epc", "f50_cyc_per_mm", "status",
                                                     "elasticities"))
 
