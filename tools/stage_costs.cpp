@@ -32,7 +32,7 @@ double pass_s(const Inputs& in, const Options& opt, const Outputs& out, std::siz
     for (std::size_t first = 0; first < n; first += block_size) {
         block.n = std::min(block_size, n - first);
         detail::gather(in, first, nullptr, block);
-        if (stages >= 2) detail::exposure(opt, block);
+        if (stages >= 2) detail::exposure(opt, block, out.exposure_values_read());
         if (stages == 3) detail::start_f50(in.spectrum, detail::settle_rtol<T>(opt), block);
         if (stages >= 4) detail::f50(in.spectrum, opt, block);
         if (stages >= 5) detail::scatter(in, block, out.at(first));
