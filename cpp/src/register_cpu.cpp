@@ -1,6 +1,6 @@
 // The build and the machine: which module this is, which x86-64 levels the CPU runs, the
-// threads a call uses and those already started, and the sizes the kernel was built with (its block, the call size from
-// which outputs are streamed).
+// threads a call uses and those already started, and the sizes the kernel was built with (its
+// block, the call size from which outputs are streamed).
 #include <pybind11/pybind11.h>
 
 #include "epc_fast/block.h"

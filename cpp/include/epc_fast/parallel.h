@@ -34,15 +34,6 @@ inline int default_threads() {
 #endif
 }
 
-// Calls block(first, count, state) for consecutive blocks of at most block_size points covering
-// [begin, end), on `threads` threads. Each thread default-constructs one State and hands it to
-// every block it runs. Dynamic schedule, 16 blocks (1024 points) a grab: blocks differ in cost
-// (lanes that stop early, slow lanes, Brent's T_MPE, the inverse solvers' trials), and a static
-// split leaves one thread idle at the end of every chunk while the other finishes its half.
-// Which thread runs a block never changes its result: the State holds only caches keyed by
-// value (kernel.h Workspace). block must not throw. The team is never larger than the number
-// of blocks: a small call does not wake idle threads. Block boundaries depend only on begin,
-// never on the thread count.
 // The most threads a region of for_each_block has run with on the calling thread (1: none
 // yet). The OpenMP runtime keeps a thread's team for its next regions, so a call from that
 // thread on no more threads than this starts none (the Python API then skips counting the
@@ -52,6 +43,15 @@ inline int& largest_team() {
     return threads;
 }
 
+// Calls block(first, count, state) for consecutive blocks of at most block_size points covering
+// [begin, end), on `threads` threads. Each thread default-constructs one State and hands it to
+// every block it runs. Dynamic schedule, 16 blocks (1024 points) a grab: blocks differ in cost
+// (lanes that stop early, slow lanes, Brent's T_MPE, the inverse solvers' trials), and a static
+// split leaves one thread idle at the end of every chunk while the other finishes its half.
+// Which thread runs a block never changes its result: the State holds only caches keyed by
+// value (kernel.h Workspace). block must not throw. The team is never larger than the number
+// of blocks: a small call does not wake idle threads. Block boundaries depend only on begin,
+// never on the thread count.
 template <class State, class Block>
 void for_each_block(std::size_t begin, std::size_t end, std::size_t block_size, int threads,
                     Block&& block) {
