@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
     if (f50_epc_only) {
         out.electron_rate_e_per_s = out.electrons = out.t_mpe_s = out.blur_mm = nullptr;
         out.status = out.cause = nullptr;
+        out = streaming_for(out, n);  // streamed or not by these two outputs' bytes, as a call decides
     }
     double best = 0.0, total_s = 0.0;
     for (int r = 0; r < rounds; ++r) {
