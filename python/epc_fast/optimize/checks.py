@@ -10,7 +10,7 @@ from ..params import PARAMETERS, SIZE_PARAMETERS, in_domain
 from ..scan.space import POINT_PARAMETERS, Space
 from .objectives import Mean, ProbabilityAtLeast, Quantile
 
-__all__ = ["checked_bounds", "checked_objective", "checked_points", "checked_search",
+__all__ = ["checked_bounds", "whole_numbers_only", "checked_objective", "checked_points", "checked_search",
            "checked_threads", "unit_of", "size_name"]
 
 
@@ -32,6 +32,17 @@ def size_name(space: Space) -> str:
     return next(name for name in SIZE_PARAMETERS if name in given)
 
 
+def whole_numbers_only(name: str) -> str | None:
+    """Why ``name`` cannot be optimised when it takes whole numbers only (``binning``,
+    ``frames``); None for a parameter with a continuous range."""
+    inside = _param(name)
+    if not inside.integer:
+        return None
+    return (f"{name} takes whole numbers only ({inside.domain_text()}): the optimiser searches "
+            f"a continuous range; compare a few values of {name} by fixing each, or give a "
+            "design readout modes")
+
+
 def checked_bounds(space: Space, bounds) -> dict:
     """``bounds`` ({name: (low, high)} in each parameter's unit) checked against ``space``:
     each name a per-point parameter of :func:`epc_fast.evaluate` that the space does not vary,
@@ -51,11 +62,9 @@ def checked_bounds(space: Space, bounds) -> dict:
         except (TypeError, ValueError):
             raise TypeError(f"bounds[{name!r}] = {pair!r}: expected (low, high), two numbers in "
                             f"{unit_of(name)}") from None
+        if whole_numbers_only(name):
+            raise ValueError(f"bounds: {whole_numbers_only(name)}")
         inside = _param(name)
-        if inside.integer:
-            raise ValueError(f"bounds: {name} takes whole numbers only ({inside.domain_text()}): "
-                             "the optimiser searches a continuous range; compare a few values "
-                             f"of {name} by fixing each, or give a design readout modes")
         if not (math.isfinite(low) and math.isfinite(high) and low < high
                 and in_domain(inside, [low, high]).all()):
             raise ValueError(f"bounds[{name!r}] = {pair!r}: expected finite low < high, both in "

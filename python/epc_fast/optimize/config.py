@@ -22,8 +22,8 @@ from pathlib import Path
 
 from ..api import MAX_THREADS
 from .objectives import OBJECTIVES
-from .checks import checked_bounds
-from .problem import DEFAULT_BATCHES, DEFAULT_XTOL, MIN_BATCH_POINTS
+from .checks import checked_bounds, whole_numbers_only
+from .problem import DEFAULT_BATCHES, DEFAULT_XTOL, MIN_BATCH_POINTS, design_readout
 from ..scan.config import parse_space, toml_document
 from ..scan.config.files import read_text
 from ..scan.errors import ConfigError
@@ -103,6 +103,9 @@ def _bounds(table) -> dict:
             raise ConfigError(f"scan config [optimize.bounds]: unknown parameter {short(name)}; "
                               f"the parameters are {', '.join(POINT_PARAMETERS)}")
         pair = number_list("optimize.bounds", name, value, min_length=2)
+        if whole_numbers_only(name):  # before [parameters] holds its midpoint, not whole
+            raise ConfigError(f"scan config [optimize.bounds]: {name} = {short(value)}: "
+                              + whole_numbers_only(name))
         if len(pair) != 2 or not pair[0] < pair[1]:
             raise ConfigError(f"scan config [optimize.bounds]: {name} = {short(value)}: "
                               "expected [low, high] with low < high")
@@ -146,6 +149,7 @@ def parse_optimize_config(text: str, base_dir=".", source: str = "<string>") -> 
     middles = {name: 0.5 * (low + high) for name, (low, high) in bounds.items()}
     space = parse_space({**document, "parameters": {**parameters, **middles}}, base_dir)
     bounds = wrapped("optimize.bounds", lambda: checked_bounds(space, bounds))
+    wrapped("design", lambda: design_readout(space, tuple(bounds)))
     threads = table.get("threads")
     start_grid = table.get("start_grid")
     points = integer("optimize", "points", table["points"], 1, MAX_OPTIMIZE_POINTS, size=True)

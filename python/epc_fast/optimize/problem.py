@@ -99,7 +99,7 @@ class Problem:
         drawn = _drawn(space.sampled(self.sampling), self.seed, self.points)
         #: s, the time the scene's draws took.
         self.draw_s = time.perf_counter() - started
-        self._readout, set_by_modes = _readout(space, self.names)
+        self._readout, set_by_modes = design_readout(space, self.names)
         self._parameters = {k: v for k, v in {**drawn, **space.evaluate_options}.items()
                             if k not in self.names and k not in set_by_modes}
         self._epc = np.empty(self.points)
@@ -296,7 +296,7 @@ class Problem:
         return "\n".join(lines)
 
 
-def _readout(space, names) -> tuple[dict, frozenset]:
+def design_readout(space, names) -> tuple[dict, frozenset]:
     """(evaluate's keywords for how the space's designs are read, the parameters their modes
     set): one readout for every design (their binning_readout and modes), which the optimised
     parameters do not set."""
