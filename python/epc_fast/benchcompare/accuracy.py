@@ -22,6 +22,12 @@ from pathlib import Path
 from .sides import split_command
 
 ISAS = ("x86-64", "x86-64-v3", "x86-64-v4")
+#: glibc's libm picks FMA variants of sin, cos, exp and pow on CPUs with FMA, which differ from
+#: its other variants in the last bits. The tables are measured with the variants without FMA on
+#: every CPU (glibc's hwcaps tunable; other C libraries have one variant), so that one build
+#: gives the same table on any x86-64 CPU. The inputs are the same bits on every CPU
+#: (epc_fast.portable_math); docs/performance.md states what the tables assume.
+LIBM_PINNED = "GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA,-FMA4"
 MPMATH_POINTS = 200
 TRAILER = "Accuracy-change:"
 
@@ -40,7 +46,7 @@ def lines_for(python: str, repo: Path, isa: str | None) -> list[str]:
     tools = repo / "tools"
     if isa is None:
         return _run(words, tools / "mpmath_check.py", "--points", str(MPMATH_POINTS))
-    words = ["env", f"EPC_FAST_ISA={isa}", *words]
+    words = ["env", LIBM_PINNED, f"EPC_FAST_ISA={isa}", *words]
     mp = _run(words, tools / "mpmath_check.py", "--points", str(MPMATH_POINTS), "--backend",
               "core")
     return [*mp, *_run(words, tools / "output_digest.py")]
