@@ -211,11 +211,97 @@ def test_points_written_as_a_float_that_is_whole_are_accepted(tmp_path, capsys):
     assert code == 0 and "scan of 131,072 points" in out
 
 
-def test_a_scan_that_would_write_nothing_is_refused(tmp_path, capsys):
-    histogram_only = SCAN_CONFIG + '[reductions.h]\nkind = "histogram"\nlow = 1e3\nhigh = 1e7\n'
-    code, _, err = _scan(tmp_path, capsys, histogram_only, "--no-plots")
-    assert code == 2 and "this scan writes no result" in err and "drop --no-plots" in err
-    assert not (tmp_path / "out").exists()
+def test_a_histogram_writes_its_counts_as_a_table_with_or_without_plots(tmp_path, capsys):
+    # Its plot was all it wrote: with --no-plots beside a summary it was silently dropped, and
+    # alone it was refused as a scan that writes nothing.
+    histogram = HISTOGRAM + "bins = 4\n"
+    code, out, err = _scan(tmp_path, capsys, SCAN_CONFIG + SUMMARY + histogram, "--no-plots")
+    assert (code, err) == (0, "")
+    with open(tmp_path / "out" / "h.csv", newline="") as file:
+        rows = list(csv.DictReader(file))
+    assert [row["bin"] for row in rows] == ["below", "1", "2", "3", "4", "above", "not finite"]
+    assert sum(int(row["points"]) for row in rows) == 100_000
+    assert float(rows[1]["epc low"]) == pytest.approx(1e3) and float(rows[4]["epc high"]) == \
+        pytest.approx(1e7)
+    assert "| bin | epc low | epc high | points |" in (tmp_path / "out" / "h.md").read_text()
+    assert "\nby h (epc in pixels):\n| bin | epc low | epc high | points |" in out
+    manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    assert {"h.csv", "h.md"} <= set(manifest["files"]) and "h.png" not in manifest["files"]
+    code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + histogram, "--no-plots", "--overwrite")
+    assert (code, err) == (0, "")
+    assert (tmp_path / "out" / "h.csv").exists()
+
+
+BAYER_SOBOL = """\
+[scan]
+points = 65_536
+seed = 1
+sampling = "sobol"
+
+[design]
+presets = ["HIGH_TIER"]
+
+[evaluate]
+cfa = "bayer"
+
+[parameters]
+illuminance_lux = { distribution = "log_uniform", low = 10, high = 100_000 }
+
+[reductions.s]
+kind = "summary"
+by = "design"
+
+[reductions.h]
+kind = "histogram"
+low = 1e3
+high = 1e7
+bins = 5
+by = "design"
+"""
+LOG_BANDS = """
+[reductions.bands]
+kind = "quantiles"
+q = [0.05, 0.5, 0.95]
+by = ["design", { parameter = "illuminance_lux", log_bins = [10, 100_000, 4] }]
+
+[output]
+log_y = true
+"""
+
+
+def test_a_sobol_scan_of_a_bayer_sensor_histograms_every_point_per_design(tmp_path, capsys):
+    # The histogram read the summary's group indices, replicate and design in one (16 x 4
+    # groups), and failed at 0 points with "cannot reshape array".
+    code, out, err = _scan(tmp_path, capsys, BAYER_SOBOL, "--no-plots")
+    assert (code, err) == (0, "")
+    assert out.startswith("scan of 65,536 points")
+    with open(tmp_path / "out" / "h.csv", newline="") as file:
+        rows = list(csv.DictReader(file))
+    for design in ('1/3.2" 2.8 um', '1/3.2" 1.4 um'):
+        assert sum(int(row["points"]) for row in rows if row["design"] == design) == 16_384
+
+
+def test_an_error_in_a_chunk_is_the_headline_and_the_error_line_even_with_plots(
+        tmp_path, capsys, monkeypatch):
+    # The headline said "INTERRUPTED", and the plots of 0 points on a log axis failed with
+    # matplotlib's "Data cannot be log-scaled", which took the error line's place.
+    import epc_fast.scan.runner
+
+    def broken(*args, **kwargs):
+        raise ValueError("cannot reshape array of size 190 into shape (4,12)")
+
+    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", broken)
+    code, out, err = _scan(tmp_path, capsys, BAYER_SOBOL + LOG_BANDS)
+    assert code == 1
+    headline = out.splitlines()[0]
+    assert "INTERRUPTED" not in headline
+    assert headline.endswith("-- FAILED: ValueError: cannot reshape array of size 190 into "
+                             "shape (4,12); partial results"), headline
+    assert err == ("epc-fast scan: error: ValueError: cannot reshape array of size 190 into "
+                   "shape (4,12); the 0 points merged before it are written, marked partial\n")
+    manifest = json.loads((tmp_path / "out" / "manifest.json").read_text())
+    assert manifest["state"] == "failed" and "cannot reshape" in manifest["stopped_by"]
+    assert "bands.png" in manifest["files"]
 
 
 def test_design_names_are_safe_in_plots_csv_and_markdown(tmp_path, capsys):

@@ -364,7 +364,10 @@ def test_a_failed_cluster_writes_the_prefix_marked_partial_and_says_so(tmp_path,
     monkeypatch.setattr(epc_fast.scan, "run", run_losing_the_cluster)
     out = tmp_path / "out"
     code, stdout, err = _cli(capsys, _config(tmp_path), "--out", out, "--chunk-points", CHUNK)
-    assert code == 1 and "INTERRUPTED, partial results" in stdout
+    assert code == 1 and "INTERRUPTED" not in stdout
+    assert stdout.splitlines()[0].endswith(
+        "-- FAILED: the Dask cluster failed the scan's tasks (CancelledError: no message), after "
+        "131,072 points were merged; partial results")
     assert err == ("epc-fast scan: error: the Dask cluster failed the scan's tasks "
                    "(CancelledError: no message), after 131,072 points were merged; the 131,072 "
                    "points merged before it are written, marked partial\n")
@@ -550,7 +553,8 @@ def test_a_full_disk_mid_run_leaves_the_tables_of_the_merged_prefix(tmp_path, ca
     out = tmp_path / "out"
     code, stdout, err = _cli(capsys, _config(tmp_path, TOP_K), "--out", out, "--no-plots",
                              "--chunk-points", CHUNK)
-    assert code == 1 and "INTERRUPTED, partial results" in stdout
+    assert code == 1 and stdout.splitlines()[0].endswith(
+        "-- FAILED: OSError: [Errno 28] No space left on device; partial results")
     assert err == ("epc-fast scan: error: OSError: [Errno 28] No space left on device; the "
                    "131,072 points merged before it are written, marked partial\n")
     assert sorted(p.name for p in out.iterdir()) == TABLES
@@ -573,12 +577,14 @@ def test_a_failed_plot_leaves_the_tables_and_a_manifest_that_says_so(tmp_path, c
     code, _, err = _cli(capsys, _config(tmp_path, '[reductions.h]\nkind = "histogram"\n'
                                         'low = 1e3\nhigh = 1e7\n'), "--out", out)
     assert code == 1 and err == "epc-fast scan: error: RuntimeError: no renderer\n"
-    assert sorted(p.name for p in out.iterdir()) == ["manifest.json", "summary_by_design.csv",
+    assert sorted(p.name for p in out.iterdir()) == ["h.csv", "h.md", "manifest.json",
+                                                     "summary_by_design.csv",
                                                      "summary_by_design.md"]
     manifest = _manifest(out)
     assert manifest["state"] == "failed" and manifest["stopped_by"] == "RuntimeError: no renderer"
     assert manifest["points_done"] == 200_000
-    assert manifest["files"] == ["summary_by_design.csv", "summary_by_design.md"]
+    assert manifest["files"] == ["summary_by_design.csv", "summary_by_design.md", "h.csv",
+                                 "h.md"]
 
 
 def test_a_directory_holding_only_a_dead_runs_leftovers_is_not_refused_as_not_empty(

@@ -95,16 +95,23 @@ def _client(address):
     return Client(address)
 
 
-def headline(result, source: str) -> str:
-    """One line: points, config, seed, time and throughput (and whether it was interrupted)."""
+def headline(result, source: str, failure=None) -> str:
+    """One line: points, config, seed, time and throughput, and how a partial scan stopped:
+    ``-- FAILED: <the error>; partial results`` when ``failure`` (the error that ended it) is
+    given, else ``-- INTERRUPTED, partial results``."""
     done = f"{result.points:,} of {result.points_requested:,}" if result.partial else \
         f"{result.points:,}"
     sampling = result.sampling
     how = "" if not sampling.sobol and sampling.replicates == 1 else (
         f", {'Sobol' if sampling.sobol else 'Monte Carlo'} in {sampling.replicates} replicates")
+    ending = ""
+    if failure is not None:
+        ending = f" -- FAILED: {_one_line(failure)}; partial results"
+    elif result.partial:
+        ending = " -- INTERRUPTED, partial results"
     return (f"scan of {done} points ({source}), seed {result.seed}{how}: "
             f"{duration(result.timing.wall_s)}, {result.points_per_s / 1e6:.2f} M points/s"
-            + (" -- INTERRUPTED, partial results" if result.partial else ""))
+            + ending)
 
 
 def target_lines(result, reductions) -> list[str]:
@@ -139,6 +146,11 @@ def _write_outputs(result, out, plots: bool, log_y: bool = False) -> None:
         out.write(stem + ".csv",
                   lambda path: tables.write_csv(path, tables.marked_partial(columns, result)))
         out.write(stem + ".md",
+                  lambda path: path.write_text(above + tables.markdown(columns) + "\n"))
+    for name, columns in tables.histogram_tables(result).items():
+        out.write(f"{name}.csv",
+                  lambda path: tables.write_csv(path, tables.marked_partial(columns, result)))
+        out.write(f"{name}.md",
                   lambda path: path.write_text(above + tables.markdown(columns) + "\n"))
     for name, columns in tables.top_k_columns(result).items():
         out.write(f"{name}.csv",
@@ -313,7 +325,7 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
     from .sobol import report, write_indices
 
     try:
-        print(headline(result, config.source))
+        print(headline(result, config.source, failure))
         for line in target_lines(result, config.reductions):
             print(line)
         print(config.space.describe())
@@ -322,6 +334,11 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
             if len(next(iter(columns.values()))) <= MAX_PRINTED_ROWS:
                 unit = f" ({units[grouping]})" if grouping in units else ""
                 print(f"\nby {grouping}{unit}:\n{tables.markdown(columns)}")
+        for name, columns in tables.histogram_tables(result).items():
+            if len(columns["points"]) <= MAX_PRINTED_ROWS:
+                unit = tables.OUTPUT_UNITS.get(result[name].of)
+                print(f"\nby {name}" + (f" ({result[name].of} in {unit})" if unit else "")
+                      + f":\n{tables.markdown(columns)}")
         if sobol is not None:
             print(f"\n{report(*sobol)}")
         print()
@@ -331,9 +348,13 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
         if sobol is not None:
             write_indices(out, sobol[0])
     except BaseException as error:
+        stopped_by = _stopped_by(error)
+        if failure is not None:  # the scan's own error first: what went wrong after follows
+            stopped_by = f"{_stopped_by(failure)}; then, writing the results: {stopped_by}"
+            print(f"epc-fast scan: error: {_one_line(failure)}; the {result.points:,} points "
+                  "merged before it are written in part, marked partial", file=sys.stderr)
         manifest.update(points_done=result.points, partial=result.partial, state="failed",
-                        stopped_by=_stopped_by(error),
-                        files=out.written + _parquet_files(out, config))
+                        stopped_by=stopped_by, files=out.written + _parquet_files(out, config))
         write_manifest(out.path, manifest)
         raise
     stopped_by = (_stopped_by(failure) if failure is not None

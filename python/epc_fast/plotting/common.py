@@ -129,11 +129,17 @@ def conditions_lines(*, designs=(), snr_target=(), scene="", points=None, seed=N
 def space_conditions(space, *, points=None, seed=None, skip=(), extra=()) -> list[str]:
     """:func:`conditions_lines` of a scan's or an optimisation's space
     (:class:`epc_fast.scan.Space`): its designs, where each meets its SNR target, its other
-    parameters (``skip`` left out: the axes the figure draws) as the scene."""
+    parameters (``skip`` left out: the axes the figure draws) as the scene, and every term
+    it turns on beside them (:func:`epc_fast.scan.terms.terms_on`: a colour filter, lens
+    tables, the designs' stabilisation, read noise, ...)."""
+    from ..scan.terms import terms_on
+
     scene = "; ".join(f"{name} {axis!r}" for name, axis in space.axes.items()
                       if name != "design" and name not in skip)
+    on = terms_on(space)
     return conditions_lines(designs=space.design_names, snr_target=space.snr_target_text(),
-                            scene=scene, points=points, seed=seed, extra=extra)
+                            scene=scene, points=points, seed=seed,
+                            extra=([f"Terms on: {'; '.join(on)}"] if on else []) + list(extra))
 
 
 def designs_conditions(designs, lux) -> list[str]:

@@ -21,7 +21,7 @@ class Chunk:
     at each.
 
     Reductions look only at points whose output is finite (``finite_*``); status counts look at
-    every point.
+    every point. Arrays of a group key are cached by the key's :attr:`GroupKey.identity`.
     """
 
     def __init__(self, points: Points, result: Result, points_total: int):
@@ -45,7 +45,7 @@ class Chunk:
 
     def group_indices(self, key: GroupKey) -> np.ndarray:
         """The group of every point."""
-        return self._cached(("groups", key.by), lambda: key.indices(self.points))
+        return self._cached(("groups", key.identity), lambda: key.indices(self.points))
 
     def finite_positions(self, of: str) -> np.ndarray | None:
         """Positions in the chunk of the points whose ``of`` is finite; None when all are."""
@@ -66,7 +66,7 @@ class Chunk:
 
     def finite_groups(self, of: str, key: GroupKey) -> np.ndarray:
         """The groups of the points whose ``of`` is finite."""
-        return self._finite(("groups", key.by), of, self.group_indices(key))
+        return self._finite(("groups", key.identity), of, self.group_indices(key))
 
     def finite_blocks(self, of: str) -> np.ndarray:
         """Block (within the chunk) of each point whose ``of`` is finite."""
@@ -75,12 +75,12 @@ class Chunk:
 
     def group_counts(self, key: GroupKey) -> np.ndarray:
         """int64 (groups,): points in each group, whatever their status."""
-        return self._cached(("counts", key.by), lambda: np.bincount(
+        return self._cached(("counts", key.identity), lambda: np.bincount(
             self.group_indices(key), minlength=key.size))
 
     def finite_group_counts(self, of: str, key: GroupKey) -> np.ndarray:
         """int64 (groups,): points in each group whose ``of`` is finite."""
-        return self._cached(("finite counts", of, key.by), lambda: np.bincount(
+        return self._cached(("finite counts", of, key.identity), lambda: np.bincount(
             self.finite_groups(of, key), minlength=key.size))
 
     def finite_min_max(self, of: str, key: GroupKey) -> tuple[np.ndarray, np.ndarray]:
@@ -92,7 +92,7 @@ class Chunk:
             np.minimum.at(low, group, values)
             np.maximum.at(high, group, values)
             return low, high
-        return self._cached(("min max", of, key.by), compute)
+        return self._cached(("min max", of, key.identity), compute)
 
     def finite_log10(self, of: str) -> np.ndarray:
         """log10 of the finite values of ``of``; -inf for values <= 0."""

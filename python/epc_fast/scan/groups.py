@@ -67,6 +67,12 @@ class GroupKey:
     columns: dict
     parts: tuple
 
+    @property
+    def identity(self) -> tuple:
+        """What tells two keys apart: their parts' kinds and names, and their size (a key and
+        its :func:`replicated` copy share ``by`` and differ here)."""
+        return (self.by, tuple((part.kind, part.name) for part in self.parts), self.size)
+
     def indices(self, points: Points) -> np.ndarray:
         """The group index of every point."""
         if len(self.parts) == 1:

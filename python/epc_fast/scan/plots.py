@@ -226,7 +226,8 @@ def bands_figure(quantiles: QuantilesResult, fractions_below=(), partial="", *, 
         with the version and build.
     pixel_counts : {design name: pixels}, optional (:func:`scan_pixel_counts`): where the
         output is EPC, each panel's design has a dotted line at its physical pixel count.
-    log_y : bool, a log output axis (EPC spans decades over illuminance).
+    log_y : bool, a log output axis (EPC spans decades over illuminance) when a quantile is
+        positive; a linear one when none is (a scan stopped before its first point).
 
     Returns
     -------
@@ -251,6 +252,7 @@ def bands_figure(quantiles: QuantilesResult, fractions_below=(), partial="", *, 
     thresholds = _thresholds(fractions_below, of)
     designs = list(quantiles.labels.get("design", ()))
     counts = pixel_counts if of == "epc" and pixel_counts else {}
+    drawn = bool(np.any(values > 0))  # none at 0 points: nothing sets the axes' limits
     count_levels = {}
     for index, (axes, group) in enumerate(zip(panels, groups)):
         color = f"C{index % 10}"
@@ -281,7 +283,9 @@ def bands_figure(quantiles: QuantilesResult, fractions_below=(), partial="", *, 
             axes.axhline(threshold / output_scale(of), color=THRESHOLD_COLOR, ls="--", lw=1.0)
         axes.set_title(group, fontsize=9)
         axes.set_xscale("log")
-        if log_y:
+        if not drawn:  # no value to set the limits: the bins' range
+            axes.set_xlim(float(np.min(low)), float(np.max(high)))
+        elif log_y:
             axes.set_yscale("log")
         axes.grid(True, alpha=0.3)
         if index + columns >= len(groups):  # no panel below: this one carries the x axis

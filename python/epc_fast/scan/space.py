@@ -24,7 +24,7 @@ from ..mtf_table import lens_tables_of
 from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
 from ..presets import Design
 from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
-from . import qmc, streams
+from . import qmc, streams, terms
 from .distributions import Choice, Grid
 from .readout import READOUT_KEYS, design_readout
 from .domains import _domain_of, _inside_probability, domain_problem
@@ -449,17 +449,19 @@ class Space:
         return f"{default:g} {unit}"
 
     def defaults(self) -> dict:
-        """{name: value}: the model parameters nobody set, which take evaluate's defaults."""
+        """{name: value}: the model parameters nobody set, at the values the points take
+        (evaluate's defaults; a Bayer sensor's colour filter's, :func:`terms.default_values`)."""
         given = set(self.axes) | set(self.design_table)
         if self.design_modes and all(self.design_modes):  # what every design's modes set
             given |= set.intersection(*({k for mode in modes for k in mode}
                                         for modes in self.design_modes))
-        return {p.name: p.default for p in PARAMETERS
-                if p.default is not None and p.name not in given}
+        values = terms.default_values(self.evaluate_options.get("cfa", "none"))
+        return {name: value for name, value in values.items() if name not in given}
 
     def describe(self) -> str:
         """One line per axis: how each parameter varies; where each design meets its SNR
-        target; and the defaults every point takes (evaluate's, nobody set them)."""
+        target; the terms on beside the axes (:func:`terms.terms_on`); and the defaults every
+        point takes (nobody set them)."""
         lines = []
         targets = self.snr_target_text()
         for name, axis in self.axes.items():
@@ -479,6 +481,10 @@ class Space:
                     if share >= MIN_REPORTED_SHARE else ""))
         if not self.design_names:
             lines.append(f"SNR target: {targets[0]}")
+        on = "; ".join(terms.terms_on(self))
+        if on:
+            lines.append(textwrap.fill(f"terms on: {on}", DESCRIBE_WIDTH,
+                                       subsequent_indent="  ", break_on_hyphens=False))
         defaults = [f"{name}={value:g}" for name, value in self.defaults().items()]
         if "electrons_per_lux_s_m2" not in self.axes and \
                 "electrons_per_lux_s_m2" not in self.design_table:

@@ -15,7 +15,7 @@ import numpy as np
 from .runner import ScanResult
 
 __all__ = ["grouped_tables", "grouping_units", "table_groupings", "file_stem", "top_k_columns",
-           "write_csv", "markdown", "partial_note", "marked_partial", "SNR_TARGET_COLUMN",
+           "histogram_tables", "HISTOGRAM_BINS", "write_csv", "markdown", "partial_note", "marked_partial", "SNR_TARGET_COLUMN",
            "OUTPUT_UNITS", "PARTIAL_COLUMN", "NO_VALUE"]
 
 #: The column, after ``design``, that says where each design meets its SNR target.
@@ -28,6 +28,9 @@ OUTPUT_UNITS = {"electron_rate_e_per_s": "e-/s", "electrons": "e-", "t_mpe_s": "
 PARTIAL_COLUMN = "partial: points done"
 #: What a Markdown cell shows for a statistic with no value (NaN: a group with no finite value).
 NO_VALUE = "–"
+
+#: The ``bin`` column of a histogram's table: the slots around the numbered bins.
+HISTOGRAM_BINS = ("below", "above", "not finite")
 
 #: First characters that make a spreadsheet read a CSV cell as a formula.
 FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
@@ -121,6 +124,32 @@ def top_k_columns(result: ScanResult) -> dict:
     """{reduction name: {column: list}} for every :class:`~epc_fast.scan.TopK` result."""
     return {name: {c: list(v) for c, v in r.columns().items()}
             for name, r in result.results.items() if hasattr(r, "index")}
+
+
+def histogram_tables(result: ScanResult) -> dict:
+    """{reduction name: {column: list}} for every :class:`~epc_fast.scan.Histogram` result: per
+    group (its label columns, and the SNR target after ``design``), one row a slot: ``below``
+    the first edge (-inf to it), the bins ``1`` .. ``n``, ``above`` (the last edge to +inf) and
+    ``not finite`` (no edges: NaN), with the output's edges ``<of> low`` and ``<of> high`` and
+    the ``points`` in each. A group's rows sum to its points, the table's to the scan's."""
+    found = {}
+    for name, r in result.results.items():
+        if not hasattr(r, "edges"):
+            continue
+        groups, bins = r.counts.shape
+        below, above, nonfinite = HISTOGRAM_BINS
+        slots = [below, *map(str, range(1, bins + 1)), above, nonfinite]
+        low = [-np.inf, *r.edges[:-1], r.edges[-1], np.nan]
+        high = [r.edges[0], *r.edges[1:], np.inf, np.nan]
+        table = {column: [value for value in values for _ in slots]
+                 for column, values in _label_columns(r.labels, result.space).items()}
+        table["bin"] = slots * groups
+        table[f"{r.of} low"] = [float(v) for v in low] * groups
+        table[f"{r.of} high"] = [float(v) for v in high] * groups
+        table["points"] = [int(c) for g in range(groups) for c in (
+            r.below[g], *r.counts[g], r.above[g], r.nonfinite[g])]
+        found[name] = table
+    return found
 
 
 def write_csv(path, columns: dict) -> None:

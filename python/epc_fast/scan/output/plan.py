@@ -1,4 +1,5 @@
-"""The files a scan will write, named before its first point: tables, top-k lists, plots, the
+"""The files a scan will write, named before its first point: tables, histograms' tables, top-k
+lists, plots, the
 Sobol' indices, the Parquet directory and the manifest.
 
 Names come from the reductions' names and groupings, the same functions the writers use, so a
@@ -46,6 +47,10 @@ def plan_outputs(space, reductions: dict | None, plots: bool, parquet: str | Non
     for grouping in dict.fromkeys(table_groupings(labels).values()):
         for suffix in (".csv", ".md"):
             add(file_stem(grouping) + suffix, f"the table by {grouping}")
+    for name, reduction in reductions.items():
+        if isinstance(reduction, Histogram):
+            for suffix in (".csv", ".md"):
+                add(f"{name}{suffix}", f"reduction {name!r} (histogram)")
     for name, reduction in reductions.items():
         if type(reduction).__name__ == "TopK":
             add(f"{name}.csv", f"reduction {name!r} (top_k)")

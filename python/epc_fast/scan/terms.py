@@ -1,0 +1,83 @@
+"""The model terms a space turns on, for people: the values its points take where nobody set a
+parameter, and one phrase per term that is on beside the axes (the printed space,
+:meth:`epc_fast.scan.Space.describe`, and every figure's conditions,
+:func:`epc_fast.plotting.common.space_conditions`).
+
+A term is on where a parameter with a default differs from the default the points take
+(``stabilization`` 4, ``read_noise_e`` 2), or where an evaluate option adds a factor: a colour
+filter (``cfa``), lens MTF tables (``lens_mtf``), a spectrum, a design's charge binning or
+readout modes. The SNR target and where it is met have a line of their own.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..cfa import DEFAULT_CFA_TRANSMITTANCE, DEFAULT_COLOR_NOISE_GAIN
+from ..params import PARAMETERS
+
+__all__ = ["default_values", "designs_terms", "terms_on"]
+
+#: Parameters that are no term: the SNR target's (said on its own line) and the lens table's
+#: index (said with the tables).
+NOT_TERMS = ("snr_db", "field_angle_deg", "lens")
+#: The demosaicker evaluate takes when a colour filter is given without one.
+DEFAULT_DEMOSAIC = "malvar2004"
+
+
+def default_values(cfa: str = "none") -> dict:
+    """{name: value} of every parameter with a default, as a point takes it when nobody sets
+    it: evaluate's default, and with ``cfa="bayer"`` the colour filter's transmittance and
+    colour noise gain (:mod:`epc_fast.cfa`)."""
+    values = {p.name: p.default for p in PARAMETERS if p.default is not None}
+    if cfa == "bayer":
+        values.update(cfa_transmittance=DEFAULT_CFA_TRANSMITTANCE,
+                      color_noise_gain=DEFAULT_COLOR_NOISE_GAIN)
+    return values
+
+
+def designs_terms(names, table: dict, cfa: str = "none", skip=()) -> list[str]:
+    """One phrase per parameter of ``table`` ({name: one value per design of ``names``}) that
+    is on in some design, in the model's order: ``"stabilization 4"`` when every design has
+    it, ``"read_noise_e 2 (A), 0 (B)"`` when they differ; ``skip`` left out."""
+    defaults = default_values(cfa)
+    terms = []
+    for name in defaults:
+        if name in NOT_TERMS or name in skip or name not in table:
+            continue
+        values = np.asarray(table[name], dtype=float)
+        if np.all(values == defaults[name]):
+            continue
+        if np.all(values == values[0]):
+            terms.append(f"{name} {values[0]:g}")
+        else:
+            terms.append(f"{name} " + ", ".join(f"{value:g} ({design})"
+                                                for value, design in zip(values, names)))
+    return terms
+
+
+def terms_on(space) -> list[str]:
+    """One phrase per term ``space`` (:class:`epc_fast.scan.Space`) turns on that is not one of
+    its axes: the colour filter and its demosaicker, the lens tables, a spectrum, the designs'
+    parameters that differ from their defaults, charge binning and readout modes."""
+    options = space.evaluate_options
+    cfa = options.get("cfa", "none")
+    terms = []
+    if cfa != "none":
+        terms.append(f"colour filter {cfa.capitalize()}, "
+                     f"{options.get('demosaic', DEFAULT_DEMOSAIC)} demosaicking")
+    if options.get("lens_mtf") is not None:
+        count = space.lens_count
+        terms.append("lens MTF table (1)" if count == 1
+                     else f"lens MTF tables ({count}), picked by lens")
+    if options.get("spectrum") is not None:
+        terms.append("diffraction over a spectrum")
+    terms += designs_terms(space.design_names, space.design_table, cfa, skip=space.axes)
+    charge = [name for name, readout in zip(space.design_names, space.design_readout)
+              if readout == "charge"]
+    if charge:
+        terms.append(f"charge binning ({', '.join(charge)})")
+    modes = [f"{name}: {len(m)}" for name, m in zip(space.design_names, space.design_modes) if m]
+    if modes:
+        terms.append(f"readout modes ({'; '.join(modes)})")
+    return terms
