@@ -72,7 +72,9 @@ def test_a_side_that_cannot_start_is_named(tmp_path, capsys):
 
 @pytest.mark.parametrize("option", [["--threshold", "0"], ["--threshold", "x"],
                                     ["--rounds", "2"], ["--blocks", "0"],
-                                    ["--clock", "tsc"], ["--only", "fast"]])
+                                    ["--clock", "tsc"], ["--only", "fast"],
+                                    ["--timeout", "0"], ["--timeout", "-1"],
+                                    ["--timeout", "nan"], ["--timeout", "soon"]])
 def test_bad_options_are_refused_by_argparse(option, capsys):
     with pytest.raises(SystemExit) as exit_:
         main(["bench", "compare", *option, "a", "b"])

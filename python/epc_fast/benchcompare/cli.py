@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 from .compare import FULL, QUICK, THRESHOLD
+from .sides import TIMEOUT
 from .worker import WORKLOADS
 
 
@@ -22,6 +23,20 @@ def _percent(name: str):
             raise argparse.ArgumentTypeError(f"{name} {text!r}: expected a percentage "
                                              f"between 0 and 100 (exclusive), e.g. 5")
         return value / 100
+    return parse
+
+
+def _positive_seconds(name: str):
+    """An argparse type: a finite number of seconds above 0."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = float("nan")
+        if not 0 < value < float("inf"):
+            raise argparse.ArgumentTypeError(f"{name} {text!r}: expected a number of seconds "
+                                             f"above 0, e.g. 600")
+        return value
     return parse
 
 
@@ -65,52 +80,64 @@ def add_compare(parser: argparse.ArgumentParser) -> None:
                         "or by wall time")
     parser.add_argument("--only", action="append", choices=list(WORKLOADS), default=None,
                         help="compare only this workload (repeatable)")
+    parser.add_argument("--timeout", type=_positive_seconds("--timeout"), default=TIMEOUT,
+                        metavar="SECONDS",
+                        help=f"seconds a side may take to answer one request (a block's "
+                        f"setup: its designs drawn and each workload run twice; or one "
+                        f"sample of a round) before it is killed, its whole process group "
+                        f"with it, and the comparison fails naming it (default {TIMEOUT:g})")
     parser.add_argument("--out", type=Path, default=Path("bench-compare"),
-                        help="folder for compare.md and compare.json (default: bench-compare)")
+                        help="folder for compare.md and compare.json, checked before the first "
+                        "round and created if missing; each report is written whole or not at "
+                        "all (default: bench-compare)")
 
 
 def _progress(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
 
-def _sides(args) -> tuple[str, str]:
+def _check_sides(args) -> None:
+    """A UsageError for the wrong number of SIDEs or one that is not a command line."""
     from ..scan.errors import UsageError
-
-    if args.ref is not None:
-        if len(args.sides) != 1:
-            raise UsageError(f"with --ref {args.ref}, expected one SIDE (the candidate), got "
-                             f"{len(args.sides)}: {args.sides}")
-        from .refbuild import ref_python
-
-        return ref_python(args.repo, args.ref, progress=_progress), args.sides[0]
-    if len(args.sides) != 2:
-        raise UsageError(f"expected two SIDEs, BASELINE and CANDIDATE, got {len(args.sides)}: "
-                         f"{args.sides}")
-    return args.sides[0], args.sides[1]
-
-
-def run_compare(args) -> int:
-    from ..scan.errors import UsageError
-    from .compare import run_comparison
-    from .report import as_json, markdown
     from .sides import split_command
 
-    baseline, candidate = _sides(args)
-    for name, text in (("BASELINE", baseline), ("CANDIDATE", candidate)):
+    if args.ref is not None and len(args.sides) != 1:
+        raise UsageError(f"with --ref {args.ref}, expected one SIDE (the candidate), got "
+                         f"{len(args.sides)}: {args.sides}")
+    if args.ref is None and len(args.sides) != 2:
+        raise UsageError(f"expected two SIDEs, BASELINE and CANDIDATE, got {len(args.sides)}: "
+                         f"{args.sides}")
+    names = ("CANDIDATE",) if args.ref is not None else ("BASELINE", "CANDIDATE")
+    for name, text in zip(names, args.sides):
         try:
             split_command(text, name)
         except ValueError as exc:
             raise UsageError(str(exc)) from None
+
+
+def _sides(args) -> tuple[str, str]:
+    """The command lines of BASELINE (with --ref, the Python of its build) and CANDIDATE."""
+    if args.ref is None:
+        return args.sides[0], args.sides[1]
+    from .refbuild import ref_python
+
+    return ref_python(args.repo, args.ref, progress=_progress), args.sides[0]
+
+
+def run_compare(args) -> int:
+    from .compare import run_comparison
+    from .report import check_out, markdown, write_reports
+
+    _check_sides(args)
+    check_out(args.out)  # before --ref's build and the first round
+    baseline, candidate = _sides(args)
     comparison = run_comparison(baseline, candidate, quick=args.quick, rounds=args.rounds,
                                 blocks=args.blocks, threshold=args.threshold, clock=args.clock,
-                                only=args.only,
-                                progress=_progress)
+                                only=args.only, progress=_progress, timeout=args.timeout)
     text = markdown(comparison)
     print(text)
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / "compare.md").write_text(text, encoding="utf-8")
-    (args.out / "compare.json").write_text(as_json(comparison), encoding="utf-8")
-    print(f"wrote {args.out / 'compare.md'} and {args.out / 'compare.json'}")
+    written = write_reports(args.out, comparison, text)
+    print(f"wrote {' and '.join(str(path) for path in written)}")
     return 1 if comparison.failed else 0
 
 

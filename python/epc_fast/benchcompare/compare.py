@@ -21,7 +21,7 @@ import time
 from dataclasses import dataclass, field
 
 from .ratios import Ratio, paired_ratio
-from .sides import Side
+from .sides import TIMEOUT, Side
 from .worker import WORKLOADS
 
 #: (rounds, blocks, shortest sample in seconds, seed) of the full comparison and of --quick.
@@ -87,16 +87,20 @@ def _reps(first_call_s: float, min_sample_s: float) -> int:
     return max(1, math.ceil(min_sample_s / max(first_call_s, 1e-9)))
 
 
-def _start_block(baseline, candidate, points, seed, say, block):
-    """Both sides' worker sessions for one block of rounds, set up, and their answers."""
-    sides = [Side("BASELINE", baseline), Side("CANDIDATE", candidate)]
+def _start_block(baseline, candidate, points, seed, say, block, timeout):
+    """Both sides' worker sessions for one block of rounds, set up, and their answers; on any
+    failure both sides are ended."""
+    sides = []
     try:
+        sides.append(Side("BASELINE", baseline, timeout))
+        sides.append(Side("CANDIDATE", candidate, timeout))
         setups = {}
         for side in sides if block % 2 == 0 else sides[::-1]:
             say(f"block {block + 1}: {side.name} draws its designs, runs each workload twice")
-            setups[side.name] = side.request(op="setup", workloads=points, seed=seed)
+            setups[side.name] = side.setup(points, seed)
     except BaseException:
         for side in sides:
+            side.kill()
             side.close()
         raise
     return sides, setups["BASELINE"], setups["CANDIDATE"]
@@ -105,10 +109,12 @@ def _start_block(baseline, candidate, points, seed, say, block):
 def run_comparison(baseline: str, candidate: str, *, quick: bool = False,
                    rounds: int | None = None, blocks: int | None = None,
                    threshold: float = THRESHOLD, clock: str = "cpu", only=None,
-                   progress=None) -> Comparison:
+                   progress=None, timeout: float = TIMEOUT) -> Comparison:
     """Times every workload (or those named in ``only``) ``rounds`` times on both sides, in
     ``blocks`` blocks of rounds, each block with new worker processes on both sides, by
-    ``clock`` (:data:`CLOCKS`)."""
+    ``clock`` (:data:`CLOCKS`). A side that takes more than ``timeout`` seconds to answer a
+    request (its setup, or one sample) is killed, the other side ended, and a RuntimeError
+    names it (:class:`~epc_fast.benchcompare.sides.Side`)."""
     if clock not in CLOCKS:
         raise ValueError(f"clock {clock!r}: expected one of {', '.join(CLOCKS)}")
     full_rounds, full_blocks, min_sample_s, seed = QUICK if quick else FULL
@@ -121,7 +127,8 @@ def run_comparison(baseline: str, candidate: str, *, quick: bool = False,
     started, load_before = time.perf_counter(), load_average()
     workloads, unavailable, done = None, {}, 0
     for block in range(blocks):
-        (base, cand), b, c = _start_block(baseline, candidate, points, seed, say, block)
+        (base, cand), b, c = _start_block(baseline, candidate, points, seed, say, block,
+                                          timeout)
         try:
             if workloads is None:  # the first block decides what runs and how many calls
                 unavailable = {name: {"BASELINE": b["unavailable"].get(name),
@@ -138,12 +145,15 @@ def run_comparison(baseline: str, candidate: str, *, quick: bool = False,
                 for k, w in enumerate(workloads):
                     order = (base, cand) if (r + k) % 2 == 0 else (cand, base)
                     for side in order:
-                        seconds = side.request(op="time", workload=w.name,
-                                               reps=w.reps)[CLOCKS[clock]]
+                        seconds = side.sample(w.name, w.reps)[CLOCKS[clock]]
                         (w.baseline_s if side is base else w.candidate_s).append(seconds)
                     w.blocks.append(block)
                 say(f"round {r + 1}/{rounds} done")
             done += count
+        except BaseException:
+            base.kill()
+            cand.kill()
+            raise
         finally:
             base.close()
             cand.close()

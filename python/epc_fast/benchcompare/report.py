@@ -1,11 +1,18 @@
-"""A comparison's reports: Markdown for people (and a CI job's summary), JSON for tools."""
+"""A comparison's reports: Markdown for people (and a CI job's summary), JSON for tools; the
+folder they go to is checked before the first round (:func:`check_out`), and each is written
+whole or not at all (:func:`write_reports`)."""
 
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import asdict
+from pathlib import Path
 
 from .worker import WORKLOADS
+
+#: The reports' file names in ``--out``.
+REPORTS = ("compare.md", "compare.json")
 
 CLOCK_TEXT = {"cpu": "the process's CPU time, all its threads", "wall": "wall time"}
 VERDICT_TEXT = {"slower": "**SLOWER**", "faster": "faster", "same": "same",
@@ -69,3 +76,56 @@ def as_json(comparison) -> str:
                            "ratio": asdict(w.ratio),
                            "verdict": w.ratio.verdict(c.threshold)} for w in c.workloads]}
     return json.dumps(data, indent=1) + "\n"
+
+
+def check_out(folder: Path) -> None:
+    """Makes ``folder`` ready for the reports, or refuses it with an OutputError naming it: a
+    path that is not a folder, one that cannot be created, a report's name taken by a folder,
+    or a folder that cannot be written (a probe file is written and removed)."""
+    from ..scan.atomic import TEMPORARY_SUFFIX
+    from ..scan.errors import OutputError
+
+    def refuse(why: str):
+        raise OutputError(f"--out {str(folder)!r}: {why}")
+
+    if folder.exists() and not folder.is_dir():
+        refuse("exists and is not a folder")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        refuse(f"cannot create it: {error.strerror}")
+    for name in REPORTS:
+        if (folder / name).is_dir() and not (folder / name).is_symlink():
+            refuse(f"{name} is a folder; the comparison writes a file of that name")
+    probe = folder / f".write-probe-{os.getpid()}{TEMPORARY_SUFFIX}"
+    try:
+        descriptor = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        try:
+            os.write(descriptor, b"epc_fast")
+            os.fsync(descriptor)
+        finally:
+            os.close(descriptor)
+        os.unlink(probe)
+    except OSError as error:
+        refuse(f"is not writable: {error.strerror}")
+
+
+def write_reports(folder: Path, comparison, text: str | None = None) -> list:
+    """compare.md (``text``, else :func:`markdown`) and compare.json in ``folder``, each
+    written to a temporary file beside it and renamed into place
+    (:func:`~epc_fast.scan.atomic.atomic_write`): a report is the previous one, or none, until
+    the new one is whole. An OSError naming the file when one cannot be written."""
+    from ..scan.atomic import atomic_write
+
+    texts = {"compare.md": markdown(comparison) if text is None else text,
+             "compare.json": as_json(comparison)}
+    written = []
+    for name, text in texts.items():
+        target = folder / name
+        try:
+            atomic_write(target, lambda path, text=text: path.write_text(text, encoding="utf-8"))
+        except OSError as error:
+            raise OSError(error.errno, f"cannot write {target}: "
+                          f"{error.strerror or error}") from error
+        written.append(target)
+    return written
