@@ -1,6 +1,6 @@
 """A Dask scan never mixes in another epc_fast build's numbers; workers that die one after the
-other (one alive at every moment) cost nothing; a cluster that loses every worker ends the scan
-with a clear error that keeps the prefix merged before, marked partial."""
+other (one alive at every moment) cost nothing; a cluster that loses every worker, or a scan
+that stalls, ends with a clear error that keeps the prefix merged before, marked partial."""
 
 import os
 import signal
@@ -275,3 +275,60 @@ def test_a_chunk_whose_task_the_cluster_lost_is_submitted_again_a_few_times(time
                     chunk_points=BLOCK_POINTS, progress=False, client=client)
             assert error.value.result.points in (0, BLOCK_POINTS)
     assert len(lost) == times
+
+
+def test_a_scan_whose_chunks_stop_arriving_ends_naming_the_stall_and_cancels_its_tasks():
+    # The third chunk's task blocks (a hung worker, a task the cluster never runs): no chunk
+    # merges for the stall timeout, and the scan ends with the prefix before it, its tasks
+    # cancelled, instead of waiting forever. (Without the watchdog the task is released after
+    # 20 s and the scan ends complete.)
+    import threading
+
+    import dask
+
+    release = threading.Event()
+    real = dask_backend.reduce_chunk
+
+    def block_on_the_third_chunk(space, plan, seed, start, *args):
+        if start == 2 * BLOCK_POINTS:
+            release.wait(20)
+        return real(space, plan, seed, start, *args)
+
+    started = time.monotonic()
+    try:
+        with dask.config.set({"epc-fast.stall-timeout": "3s"}), \
+                distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                         dashboard_address=None) as cluster, \
+                distributed.Client(cluster) as client:
+            dask_backend.reduce_chunk = block_on_the_third_chunk
+            with pytest.raises(ScanAborted, match=r"^the Dask cluster merged no chunk for 3 s "
+                                                  r"\(epc-fast\.stall-timeout\), waiting for "
+                                                  r"points 131,072 to 196,607 \(.*\), after "
+                                                  r"131,072 points were merged$") as error:
+                run(SPACE, 8 * BLOCK_POINTS, seed=1, reductions={"s": Summary()},
+                    chunk_points=BLOCK_POINTS, progress=False, client=client)
+            elapsed = time.monotonic() - started
+            deadline = time.monotonic() + 10
+            while cluster.scheduler.tasks and time.monotonic() < deadline:
+                time.sleep(0.05)
+            assert not cluster.scheduler.tasks  # every task of the scan cancelled
+            release.set()  # the blocked thread ends, and the cluster closes
+    finally:
+        dask_backend.reduce_chunk = real
+        release.set()
+    assert elapsed < 15
+    result = error.value.result
+    assert result.partial and result.points == 2 * BLOCK_POINTS
+    assert int(result["s"].points.sum()) == result.points
+
+
+def test_the_stall_timeout_is_a_positive_duration_from_the_dask_config():
+    import dask
+
+    assert dask_backend.stall_timeout_s() == dask_backend.STALL_TIMEOUT_S
+    with dask.config.set({"epc-fast.stall-timeout": "2 hours"}):
+        assert dask_backend.stall_timeout_s() == 7200.0
+    for value in ("soon", 0, -5):
+        with dask.config.set({"epc-fast.stall-timeout": value}), \
+                pytest.raises(ValueError, match=r"^Dask config epc-fast\.stall-timeout = "):
+            dask_backend.stall_timeout_s()

@@ -19,7 +19,9 @@ is submitted again by the scan, up to :data:`RESUBMITS` times. The scan ends wit
 :class:`~epc_fast.scan.errors.ScanAborted`, which keeps the prefix merged before, only when the
 cluster is lost: no worker for :data:`WORKERLESS_S` seconds, a chunk that killed its workers
 more often than the cluster allows (``KilledWorker``) or was lost more than :data:`RESUBMITS`
-times, or a task that fails.
+times, or a task that fails; or when it stalls: no chunk merged for the stall timeout (the Dask
+config key ``epc-fast.stall-timeout``, :data:`STALL_TIMEOUT_S` by default), whatever the cause
+(a hung worker, a task the scheduler never runs again). Its tasks are then cancelled.
 """
 
 from __future__ import annotations
@@ -29,7 +31,8 @@ import time
 from .errors import ScanAborted
 from .tasks import reduce_chunk
 
-__all__ = ["dask_outcomes", "WorkerMismatch", "build", "WORKERLESS_S", "RESUBMITS"]
+__all__ = ["dask_outcomes", "WorkerMismatch", "build", "WORKERLESS_S", "RESUBMITS",
+           "STALL_TIMEOUT_S", "STALL_CONFIG_KEY", "stall_timeout_s"]
 
 #: s, how long a scan waits with no worker in the cluster before it gives up.
 WORKERLESS_S = 60.0
@@ -37,6 +40,13 @@ WORKERLESS_S = 60.0
 POLL_S = 1.0
 #: Times a chunk whose task the cluster lost (cancelled) is submitted again.
 RESUBMITS = 3
+#: s, how long a scan waits for its next chunk to merge before it ends as stalled, by default:
+#: ten times the longest a healthy chunk takes (2**24 points, the largest chunk, on the
+#: reference backend at ~10**5 points/s: about 3 minutes).
+STALL_TIMEOUT_S = 1800.0
+#: The Dask config key that sets the stall timeout (a number of seconds or a duration such as
+#: "2 hours"; in the environment ``DASK_EPC_FAST__STALL_TIMEOUT``).
+STALL_CONFIG_KEY = "epc-fast.stall-timeout"
 
 
 class WorkerMismatch(RuntimeError):
@@ -87,6 +97,34 @@ def _aborted(error: Exception, merged_points: int) -> ScanAborted:
                        f"{text}), after {merged_points:,} points were merged")
 
 
+def stall_timeout_s() -> float:
+    """s, the stall timeout: the Dask config's ``epc-fast.stall-timeout``, else
+    :data:`STALL_TIMEOUT_S`; a ValueError for a value that is not a positive duration."""
+    import dask.config
+    from dask.utils import parse_timedelta
+
+    value = dask.config.get(STALL_CONFIG_KEY, default=None)
+    if value is None:
+        return STALL_TIMEOUT_S
+    try:
+        seconds = parse_timedelta(value, default="seconds")
+    except (TypeError, ValueError, KeyError):
+        seconds = None
+    if not isinstance(seconds, (int, float)) or not seconds > 0:
+        raise ValueError(f"Dask config {STALL_CONFIG_KEY} = {value!r}: expected a positive "
+                         "number of seconds or a duration such as '30 minutes'")
+    return float(seconds)
+
+
+def _stalled(stall_s: float, span: tuple, future, workers: int, merged_points: int
+             ) -> ScanAborted:
+    state = "not submitted" if future is None else f"its task {future.status}"
+    return ScanAborted(
+        f"the Dask cluster merged no chunk for {stall_s:g} s ({STALL_CONFIG_KEY}), waiting for "
+        f"points {span[0]:,} to {span[1] - 1:,} ({state}, {workers} worker(s)), after "
+        f"{merged_points:,} points were merged")
+
+
 def _value(value):
     """``value``, as a task's result: data the cluster can compute again when it is lost."""
     return value
@@ -106,6 +144,7 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
         raise ImportError("scans on Dask need dask.distributed: pip install 'epc-fast[dask]'"
                           ) from None
     expected = build()
+    stall_s = stall_timeout_s()
     _check_workers(client, expected)
     sources = []
 
@@ -124,6 +163,7 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
     submitted = expected_number = 0
     merged_points = 0
     workerless_since = None
+    merged_at = time.monotonic()
 
     def submit(number, span):
         future = client.submit(checked_reduce_chunk, expected, *sources_now(), seed, *span,
@@ -169,6 +209,10 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
     top_up()
     try:
         while number_of:
+            if time.monotonic() - merged_at > stall_s:
+                waited = next((f for f, n in number_of.items() if n == expected_number), None)
+                raise _stalled(stall_s, span_of[expected_number], waited,
+                               len(client.nthreads()), merged_points)
             failure = None
             try:
                 wait(list(number_of), timeout=POLL_S, return_when="FIRST_COMPLETED")
@@ -192,6 +236,7 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
                 outcome = arrived.pop(expected_number)
                 yield outcome
                 merged_points = outcome.stop
+                merged_at = time.monotonic()
                 expected_number += 1
             top_up()
     finally:
