@@ -154,3 +154,24 @@ def test_a_space_with_more_random_parameters_than_direction_numbers_is_refused()
     space.axes.update({f"x{i}": Uniform(0, 1) for i in range(qmc.MAX_DIMENSIONS)})
     with pytest.raises(ValueError, match="covers up to 64 random parameters"):
         space.sampled(qmc.Sampling("sobol", 2))
+
+
+@pytest.mark.parametrize("exact_up_to", [1 << 18, 1 << 15])
+def test_a_scan_stopped_by_its_target_gives_the_numbers_of_a_scan_of_its_points(exact_up_to):
+    # Stopped at 65,536 points of a cap of 2^20: exact quantiles when a scan of 65,536 points
+    # has them (exact_up_to 2^18), streamed when it has not (2^15), as the plain scan's.
+    from epc_fast.presets import HIGH_TIER
+
+    space = Space(design=HIGH_TIER[:2], illuminance_lux=LogUniform(10, 1e5))
+
+    def reductions(target):
+        return {"summary": Summary(by="design", target=target),
+                "q": Quantiles((0.05, 0.5, 0.95), by="design", exact_up_to=exact_up_to),
+                "below": FractionBelow(1e6, by="design")}
+
+    common = dict(seed=4, sampling="sobol", replicates=16, progress=False)
+    stopped = run(space, 1 << 20, reductions=reductions({"relative": 1e-2}), **common)
+    assert stopped.points == BLOCK_POINTS and not stopped.unmet_targets
+    plain = run(space, BLOCK_POINTS, reductions=reductions(None), **common)
+    assert stopped["q"].exact == plain["q"].exact == (exact_up_to >= BLOCK_POINTS)
+    assert_same_numbers(stopped, plain)

@@ -14,6 +14,11 @@ the std's and, with replicates, the quantiles' the replicates'.
 
 A reduction's ``target`` (:class:`Target`) holds when, in every group, each of its statistics
 (a summary's mean, a fraction, every quantile) has a standard error within the target.
+
+A scan that may stop early gives the numbers of a scan of the points where it stopped: quantiles
+streamed at the cap (more than ``exact_up_to`` points) but exact at an earlier stopping point
+are also kept exactly (:func:`exact_companions`) until the scan passes ``exact_up_to`` points,
+and :func:`finish_plan` gives them exact while it has not.
 """
 
 from __future__ import annotations
@@ -27,7 +32,8 @@ from .histograms import Quantiles, QuantilesResult, finish_with_order_statistics
 from .summaries import FractionBelow, FractionBelowResult, Summary, SummaryResult, _Moments
 from .targets import Target, target_of
 
-__all__ = ["Target", "target_of", "finish", "unmet_targets", "REPLICATED"]
+__all__ = ["Target", "target_of", "finish", "unmet_targets", "REPLICATED", "exact_companions",
+           "stage_plan", "finish_plan"]
 
 #: The reductions folded per replicate: those whose statistics take a standard error.
 REPLICATED = (Summary, FractionBelow, Quantiles)
@@ -124,6 +130,59 @@ def _with_variance_errors(result: SummaryResult, space) -> SummaryResult:
     with np.errstate(invalid="ignore", divide="ignore"):
         error = result.std / np.sqrt(result.count)
     return replace(result, mean_error=np.where(result.count > 0, error, np.nan))
+
+
+# -- exact quantiles of a scan that stops early -------------------------------------------------
+
+def _companion_name(name: str) -> str:
+    return f"{name}\0exact"
+
+
+def exact_companions(plan: tuple, stages: list, points: int) -> tuple:
+    """The plan items that keep exactly the values of each Quantiles streamed at the cap
+    (``points`` above its ``exact_up_to``) that a scan stopping at one of ``stages`` would
+    have exact: the same reduction, exact up to ``points``, under a name of its own."""
+    companions = []
+    for item in plan:
+        reduction = item.reduction
+        if (isinstance(reduction, Quantiles) and reduction.exact_up_to < points
+                and stages[0] <= reduction.exact_up_to):
+            companions.append(replace(item, name=_companion_name(item.name),
+                                      reduction=replace(reduction, exact_up_to=points)))
+    return tuple(companions)
+
+
+def stage_plan(plan: tuple, companions: tuple, stage: int, states: dict) -> tuple:
+    """The plan items of the scan's points up to ``stage``: ``plan`` and the companions of the
+    quantiles still exact at ``stage`` points; the states of the others are dropped."""
+    limits = {_companion_name(item.name): item.reduction.exact_up_to for item in plan
+              if isinstance(item.reduction, Quantiles)}
+    kept = []
+    for companion in companions:
+        if stage <= limits[companion.name]:
+            kept.append(companion)
+        else:
+            states.pop(companion.name, None)
+    return plan + tuple(kept) if kept else plan
+
+
+def finish_plan(plan: tuple, companions: tuple, states: dict, space,
+                targeted: bool = False) -> dict:
+    """{name: result} of each item of ``plan`` (``targeted``: of each with a target, all
+    :func:`unmet_targets` reads); a Quantiles from its exact companion while its state is
+    kept."""
+    exact = {companion.name: companion for companion in companions
+             if companion.name in states}
+    results = {}
+    for item in plan:
+        if targeted and getattr(item.reduction, "target", None) is None:
+            continue
+        companion = exact.get(_companion_name(item.name))
+        if companion is None:
+            results[item.name] = finish(item, states[item.name], space)
+        else:
+            results[item.name] = finish(companion, states[companion.name], space)
+    return results
 
 
 # -- stopping rules ----------------------------------------------------------------------------

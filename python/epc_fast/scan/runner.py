@@ -20,7 +20,8 @@ from .groups import group_key, replicated
 from .histograms import Quantiles
 from .progress import progress_reporter
 from .qmc import DEFAULT_REPLICATES, Sampling, check_points
-from .replicates import REPLICATED, finish, unmet_targets
+from .replicates import (REPLICATED, exact_companions, finish_plan, stage_plan,
+                         unmet_targets)
 from .signals import signals_deferred as _interrupts_deferred
 from .signals import terminate_as_interrupt
 from .space import BLOCK_POINTS, Space
@@ -270,10 +271,11 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
                          f"got {backend!r}")
     space, reductions, targets = sampled_scan(space, points, reductions, sampling, replicates)
     plan = _plan(space, reductions)
-    states = {item.name: item.reduction.start(item.key, points) for item in plan}
+    stages = _stages(space, points, targets)
+    companions = exact_companions(plan, stages, points)  # exact quantiles where it may stop
+    states = {item.name: item.reduction.start(item.key, points) for item in plan + companions}
     if parquet is not None:
         from .parquet import commit_parts, discard_uncommitted, prepare_directory
-    stages = _stages(space, points, targets)
     unmet: list = []
     reporter = progress_reporter(progress, points)
     timing = Timing()
@@ -289,21 +291,22 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
                 with _interrupts_deferred():  # its staging directory is made and known, or not
                     parquet_dir = prepare_directory(parquet)
             for stage in stages:
+                items = stage_plan(plan, companions, stage, states)
                 ranges = ((start, min(start + chunk_points, stage))
                           for start in range(done, stage, chunk_points))
                 if client is None:
-                    outcomes = _local_outcomes(space, plan, seed, ranges, points, threads,
+                    outcomes = _local_outcomes(space, items, seed, ranges, points, threads,
                                                parquet_dir, backend)
                 else:
                     from .dask_backend import dask_outcomes
 
-                    outcomes = dask_outcomes(client, space, plan, seed, ranges, points,
+                    outcomes = dask_outcomes(client, space, items, seed, ranges, points,
                                              threads, parquet_dir, backend)
                 for outcome in outcomes:
                     merge_started = time.perf_counter()
                     with _interrupts_deferred():
                         merging = True
-                        for item in plan:
+                        for item in items:
                             states[item.name] = item.reduction.merge(
                                 states[item.name], outcome.partials[item.name])
                         done = outcome.stop
@@ -318,8 +321,8 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
                     reporter.update(done)
                 if targets:
                     checked = time.perf_counter()
-                    unmet = unmet_targets(plan, {item.name: finish(item, states[item.name],
-                                                                   space) for item in plan})
+                    unmet = unmet_targets(plan, finish_plan(plan, companions, states, space,
+                                                            targeted=True))
                     timing.reduction_s += time.perf_counter() - checked
                     if not unmet:
                         break
@@ -346,7 +349,7 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
             except KeyboardInterrupt:
                 partial = done < points
     timing.wall_s = time.perf_counter() - started
-    results = {item.name: finish(item, states[item.name], space) for item in plan}
+    results = finish_plan(plan, companions, states, space)
     if targets:
         unmet = unmet_targets(plan, results)
     result = ScanResult(space, seed, done, points, partial, results, timing, tuple(unmet))
