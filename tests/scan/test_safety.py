@@ -565,6 +565,67 @@ def test_a_full_disk_mid_run_leaves_the_tables_of_the_merged_prefix(tmp_path, ca
     assert manifest["points_done"] == 2 * CHUNK
 
 
+class _FullDisk:
+    """The ``os`` module of :mod:`epc_fast.scan.atomic` on a disk that fills while the scan's
+    second chunk runs: from then on no new file can be made (ENOSPC), as on a real full disk,
+    while a file's blocks already written can be written again."""
+
+    def __init__(self, monkeypatch):
+        import epc_fast.scan.atomic
+
+        self.full = False
+        self.chunks = 0
+        self.reduce_chunk = epc_fast.scan.runner.reduce_chunk
+        monkeypatch.setattr(epc_fast.scan.atomic, "os", self)
+        monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", self.chunk)
+
+    def chunk(self, *args, **kwargs):
+        self.chunks += 1
+        self.full = self.full or self.chunks == 2
+        return self.reduce_chunk(*args, **kwargs)
+
+    def open(self, path, flags, *args):
+        if self.full and flags & os.O_CREAT:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return os.open(path, flags, *args)
+
+    def __getattr__(self, name):
+        return getattr(os, name)
+
+
+def test_a_disk_that_fills_mid_run_leaves_a_manifest_that_says_failed_and_why(
+        tmp_path, capsys, monkeypatch):
+    _FullDisk(monkeypatch)
+    out = tmp_path / "out"
+    code, stdout, err = _cli(capsys, _config(tmp_path), "--out", out, "--no-plots",
+                             "--chunk-points", CHUNK)
+    assert code == 1 and "No space left on device" in err
+    manifest = _manifest(out)
+    assert manifest["state"] == "failed" and manifest["partial"] is True
+    assert manifest["stopped_by"].startswith("OSError: [Errno 28] No space left on device")
+    assert manifest["points_done"] == 2 * CHUNK
+    assert not [p.name for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+def test_a_manifest_that_cannot_be_written_at_all_is_named_on_stderr(tmp_path, capsys,
+                                                                     monkeypatch):
+    import epc_fast.scan.manifest
+
+    def no_block_left(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    _FullDisk(monkeypatch)
+    monkeypatch.setattr(epc_fast.scan.manifest, "_rewrite_in_place", no_block_left)
+    out = tmp_path / "out"
+    code, stdout, err = _cli(capsys, _config(tmp_path), "--out", out, "--no-plots",
+                             "--chunk-points", CHUNK)
+    assert code == 1
+    assert (f"epc-fast scan: could not record how the scan ended in {out / 'manifest.json'} "
+            "(OSError: [Errno 28] No space left on device): it still says 'running', 65,536 "
+            "points done\n") in err
+    assert _manifest(out)["state"] == "running"
+
+
 def test_a_failed_plot_leaves_the_tables_and_a_manifest_that_says_so(tmp_path, capsys,
                                                                      monkeypatch):
     import epc_fast.scan.plots
