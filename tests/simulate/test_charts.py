@@ -76,3 +76,48 @@ def test_bad_charts_are_refused_by_name(call, match):
 def test_a_picture_must_be_real_numbers(values):
     with pytest.raises(TypeError, match="reflectance_array"):
         simulate.image(values)
+
+
+def exact_step(u_rows, u_cols):
+    return 0.5 + sici(np.add.outer(u_rows, u_cols))[0] / math.pi
+
+
+@pytest.mark.parametrize("per_column, angle_deg", [(3.2, 5.0), (6.3, 5.0), (4.1, 1.0),
+                                                   (5.0, 30.0), (3.7, -12.0)])
+def test_the_fast_step_is_sicis_within_its_stated_tolerance(per_column, angle_deg):
+    # A capture's grid: u advances 2 pi band spacing cos(angle), 3.2 to 6.3 radians, a column
+    # (the band is 0.51 to 1 times the grid's rate) and tan(angle) of that a row, here over
+    # 300 x 2000 samples, u up to 6,000; the tolerance is the series' bound (charts.py).
+    rows = (np.arange(300) - 137.25) * -per_column * math.tan(math.radians(angle_deg))
+    cols = (np.arange(2000) - 1100.5) * per_column
+    got = charts.band_limited_step(rows, cols)
+    error = np.abs(got - exact_step(rows, cols))
+    assert error.max() <= charts.STEP_TOLERANCE
+    # Beyond |u| = 64 the series takes over, within the bound, not to round-off.
+    assert error.max() > 1e-13
+
+
+def test_the_fast_step_is_exact_where_the_series_does_not_reach():
+    # At u = 0, either side of 64, and on rows whose every column is near the edge.
+    rows = np.array([-64.0, -63.999, -1e-300, 0.0, 1e-300, 63.999, 64.0, 64.001])
+    cols = np.array([-128.0, -64.0, -0.5, 0.0, 0.5, 64.0, 128.0, 1e5])
+    got = charts.band_limited_step(rows, cols)
+    assert np.abs(got - exact_step(rows, cols)).max() <= charts.STEP_TOLERANCE
+    assert got[3, 3] == 0.5 and np.isfinite(got).all()
+
+
+def test_a_grid_of_points_takes_the_fast_step_and_a_capture_does_not_see_it(monkeypatch):
+    chart = simulate.slanted_edge((48, 64), 5.0, low=0.1, high=0.4)
+    y, x = (np.arange(-40, 90) / 5)[:, None], (np.arange(-40, 360) / 5)[None, :]
+    band = 0.7 * 5 / 2e-3  # a grid of 5 samples a 2 um pixel
+    got = chart.reflectance_at(y, x, pitch_um=2.0, band_cyc_per_mm=band)
+    d_mm = ((x - 31.5) * math.cos(math.radians(5)) - (y - 23.5) * math.sin(math.radians(5))) * 2e-3
+    exact = 0.1 + 0.3 * (0.5 + sici(2 * math.pi * band * d_mm)[0] / math.pi)
+    assert np.abs(got - exact).max() <= 0.3 * charts.STEP_TOLERANCE
+    # A capture's image is linear in the chart: through sici, the same to 1e-10 of its value.
+    design = dict(pixel_pitch_um=2.0, f_number=2.8, focal_length_mm=5.6,
+                  sensor_width_mm=4.57, sensor_height_mm=3.43)
+    fast = simulate.capture(chart, illuminance_lux=1000.0, seed=1, **design)
+    monkeypatch.setattr(charts, "band_limited_step", exact_step)
+    slow = simulate.capture(chart, illuminance_lux=1000.0, seed=1, **design)
+    assert np.abs(fast.expected_e / slow.expected_e - 1).max() < 1e-10
