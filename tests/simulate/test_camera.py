@@ -133,6 +133,10 @@ def test_a_picture_keeps_its_shape_and_its_mean_light():
     ({"oversample": 4}, ValueError, "oversample"),
     ({"oversample": 1}, ValueError, "oversample"),
     ({"oversample": 5.0}, ValueError, "oversample"),
+    ({"seed": -1}, ValueError, r"^seed: .*got -1$"),
+    ({"seed": 2.5}, ValueError, r"^seed: .*got 2.5$"),
+    ({"illuminance_lux": "100"}, TypeError, r"^illuminance_lux .*got '100'$"),
+    ({"frames": 1_000_000}, ValueError, r"^frames: .*got 1,000,000"),
 ])
 def test_bad_input_is_refused_by_name(kwargs, error, match):
     call = {"chart": simulate.flat(8), "illuminance_lux": 100.0, **DESIGN, **kwargs}
@@ -175,3 +179,33 @@ def test_a_binned_edge_is_the_sum_of_its_sensor_pixels_exact_images(k):
     got = c.expected_e / per_reflectance(c, design) * k * k
     # As for one pixel, k^2 times (the sum of k^2 sensor pixels' images).
     assert np.max(np.abs(got - want)) < k * k * 3.3e-4 * 0.3
+
+
+#: The 200 MP sensor of docs/beyond.md, read 1x1, 2x2 or 4x4 (charge), and its modes.
+SENSOR_200MP = dict(pixel_pitch_um=0.56, sensor_width_mm=9.14, sensor_height_mm=6.85,
+                    f_number=1.7, focal_length_mm=6.3, snr_at="corner", read_noise_e=1.5,
+                    dark_current_e_per_s=5.0, full_well_e=6000.0)
+MODES = [{"binning": 1}, {"binning": 2}, {"binning": 4, "binning_readout": "charge"}]
+
+
+@pytest.mark.parametrize("lux, picked", [(1000.0, 2), (30_000.0, 1)])
+def test_a_capture_with_modes_is_the_picked_modes_capture_and_meets_the_target(lux, picked):
+    chart = simulate.flat(96)
+    c = simulate.capture(chart, illuminance_lux=lux, seed=4, modes=MODES, **SENSOR_200MP)
+    assert c.result.mode == picked
+    mode = MODES[picked]
+    alone = simulate.capture(chart, illuminance_lux=lux, seed=4, **mode, **SENSOR_200MP)
+    assert c.pitch_um == pytest.approx(0.56 * mode["binning"])
+    assert c.exposure_s == alone.exposure_s == float(alone.result.t_mpe_s)
+    np.testing.assert_array_equal(c.image_e, alone.image_e)
+    # the SNR of 96 x 96 pixels scatters by 20 log10(e) / sqrt(2 N) = 0.064 dB: 0.3 dB is
+    # near 5 of that
+    assert simulate.snr(c.image_e).snr_db >= 30.0 - 0.3
+
+
+def test_frames_whose_images_exceed_the_memory_are_refused_by_name(monkeypatch):
+    from epc_fast import _limits
+
+    monkeypatch.setattr(_limits, "memory_limit_bytes", lambda: 2**20)
+    with pytest.raises(MemoryError, match=r"^frames: 200 frames of a 32 x 32 chart hold"):
+        simulate.capture(simulate.flat(32), illuminance_lux=1000.0, frames=200, **DESIGN)

@@ -219,3 +219,28 @@ def test_without_colour_demosaicing_a_bayer_capture_says_which_extra_to_install(
         simulate.capture(simulate.flat(16), illuminance_lux=100.0, cfa="bayer", **DESIGN)
     mono = simulate.capture(simulate.flat(16), illuminance_lux=100.0, **DESIGN)
     assert mono.image_e.shape == (16, 16)
+
+
+def test_a_monochrome_sensor_behind_a_filter_collects_t_of_the_light_and_meets_the_target():
+    # cfa="none" with cfa_transmittance t: the model's sensor behind a neutral filter, whose
+    # pixels collect t of the light; the capture's flat patch expects the model's electrons
+    # at T_MPE and meets the target (96 x 96 pixels: the SNR scatters by 0.064 dB)
+    c = simulate.capture(simulate.flat(96), illuminance_lux=1000.0, seed=2,
+                         cfa_transmittance=0.5, **DESIGN)
+    np.testing.assert_allclose(c.expected_e, float(c.result.electrons), rtol=1e-12)
+    assert simulate.snr(c.image_e).snr_db == pytest.approx(30.0, abs=0.3)
+
+
+@pytest.mark.parametrize("sensor, gain, own", [("bayer", 1.5, "0.9198"), ("none", 0.8, "1")])
+def test_a_colour_noise_gain_the_capture_does_not_have_is_refused_naming_it(sensor, gain, own):
+    with pytest.raises(ValueError, match=rf"^color_noise_gain: {gain} .*the capture's own, {own}"):
+        simulate.capture(simulate.flat(16), illuminance_lux=100.0, cfa=sensor,
+                         color_noise_gain=gain, **DESIGN)
+
+
+@pytest.mark.parametrize("sensor, gain", [("bayer", cfa.DEFAULT_COLOR_NOISE_GAIN),
+                                          ("none", 1.0)])
+def test_a_colour_noise_gain_equal_to_the_captures_own_is_taken(sensor, gain):
+    c = simulate.capture(simulate.flat(16), illuminance_lux=100.0, seed=1, cfa=sensor,
+                         color_noise_gain=gain, **DESIGN)
+    assert c.image_e.shape == (16, 16)

@@ -59,6 +59,9 @@ def test_the_same_width_is_half_the_pixels_at_twice_the_pitch():
     ({"width_um": 100.0}, "give both or neither"),
     ({"width_um": -1.0, "pitch_um": 1.4}, "width_um: a length > 0"),
     ({"width_um": 10.0, "pitch_um": 2.8}, "size_px: a whole number of pixels >= 8"),
+    ({"width_um": 1e9, "pitch_um": 1.4},
+     r"^width_um: 1e\+09 µm is 714,285,714 pixels of 1.4 µm; a star has at most 8,192"),
+    ({"size_px": 10**9}, r"^size_px: a whole number of pixels from 8 to 8,192, got 1000000000$"),
 ])
 def test_a_bad_star_is_refused_by_name(kwargs, message):
     with pytest.raises(ValueError, match=message):

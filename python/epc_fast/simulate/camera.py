@@ -20,8 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import api, spectra
-from .._validation import short, threads_of
+from .. import _limits, api, spectra
+from .._validation import as_float_array, short, threads_of
 from ..cfa import check_cfa, check_demosaic
 from ..cfa import color_noise_gain as cfa_color_noise_gain
 from ..status import Status
@@ -33,12 +33,17 @@ from .processing import denoise, kernel_reach_px
 from . import bayer as _bayer
 from .readout import bin_sum, read_out
 
-__all__ = ["Capture", "capture", "grid_oversample", "BAND_FACTOR"]
+__all__ = ["Capture", "capture", "grid_oversample", "picked_mode", "mode_text", "BAND_FACTOR",
+           "MAX_FRAMES"]
 
 #: The grid's sampling rate over the lens's cut-off: 1/spacing >= BAND_FACTOR / (lambda F).
 #: Above 2 the chart's band (1/spacing - cut-off) exceeds the cut-off, as the slanted edge's
 #: exact rendering needs (charts.Chart.reflectance_at).
 BAND_FACTOR = 2.05
+#: The most frames a capture images: each is an FFT of the whole grid.
+MAX_FRAMES = 1024
+#: The relative difference within which a given ``color_noise_gain`` is the capture's own.
+GAIN_RTOL = 1e-3
 _EVALUATE = inspect.signature(api.evaluate).parameters
 _NOT_DESIGN = {"out", "outputs", "illuminance_lux"}
 
@@ -128,7 +133,7 @@ def _design(design: dict) -> dict:
 
 
 def _scalar(name, value) -> float:
-    a = np.asarray(value)
+    a = as_float_array(name, value)
     if a.size != 1:
         raise ValueError(f"{name}: capture simulates one design, got shape {a.shape}")
     return float(a.reshape(()))
@@ -140,6 +145,67 @@ def _spectrum(d: dict):
         return np.array([_scalar("wavelength_nm", d["wavelength_nm"])]), np.array([1.0])
     spec = api._spectrum_of(d["spectrum"], 550.0)
     return np.asarray(spec.wavelengths_nm), np.asarray(spec.weights)
+
+
+def picked_mode(design: dict, result) -> dict:
+    """The design's keywords read as the mode ``evaluate`` picked (``result.mode``): its
+    ``modes`` replaced by that mode's keys (the first mode where none has an EPC, whose
+    status says why). A design without ``modes`` is returned as it is."""
+    modes = design.get("modes")
+    if modes is None:
+        return design
+    picked = {k: v for k, v in design.items() if k != "modes"}
+    picked.update(modes[max(int(np.asarray(result.mode)), 0)])
+    return picked
+
+
+def mode_text(design: dict, result) -> str:
+    """The mode ``evaluate`` picked for a design with ``modes``, for people
+    (``"binning=4, binning_readout=charge"``); "" for a design without modes."""
+    modes = design.get("modes")
+    if modes is None:
+        return ""
+    mode = modes[max(int(np.asarray(result.mode)), 0)]
+    return ", ".join(f"{k}={v:g}" if not isinstance(v, str) else f"{k}={v}"
+                     for k, v in mode.items()) or "the design's own readout"
+
+
+def _check_seed(seed) -> None:
+    if seed is None or isinstance(seed, np.random.SeedSequence):
+        return
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed: None, an integer >= 0 or a numpy.random.SeedSequence, got "
+                         f"{short(seed)}")
+
+
+def _own_noise_gain(given, sensor_cfa) -> None:
+    """A ValueError for a ``color_noise_gain`` other than the capture's own: its filters' (1
+    without a CFA; a Bayer sensor's from its channels and luminance weights)."""
+    if given is None:
+        return
+    own = 1.0 if sensor_cfa is None else cfa_color_noise_gain(sensor_cfa.channels,
+                                                              sensor_cfa.weights)
+    value = _scalar("color_noise_gain", given)
+    if not abs(value - own) <= GAIN_RTOL * own:
+        raise ValueError(f"color_noise_gain: {short(given)} is not the capture's own, {own:.4g}: "
+                         "a capture's colour noise gain is that of its filters (1 without a "
+                         "CFA; a Bayer sensor's channel_transmittances and luminance_weights "
+                         "give its own); leave it out, or give those")
+
+
+def _check_frames(frames: int, shape, border: int, binning: int) -> None:
+    """A ValueError for more than MAX_FRAMES frames; a MemoryError for frames whose images
+    (float64, of every sensor pixel) exceed the memory."""
+    if frames > MAX_FRAMES:
+        raise ValueError(f"frames: a capture images each frame (an FFT of its whole grid), at "
+                         f"most {MAX_FRAMES:,} frames, got {frames:,}")
+    held = frames * (shape[0] + 2 * border) * (shape[1] + 2 * border) * binning ** 2 * 8
+    limit = _limits.memory_limit_bytes()
+    if limit is not None and held > limit:
+        raise MemoryError(f"frames: {frames:,} frames of a {shape[0]} x {shape[1]} chart hold "
+                          f"{held / 2**30:.1f} GiB of images, more than the "
+                          f"{limit / 2**30:.1f} GiB of memory here: capture fewer frames or a "
+                          "smaller chart")
 
 
 def _exposure(exposure_s, result, shake_rad_per_s) -> float:
@@ -172,7 +238,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     ----------
     chart : :class:`Chart`, from :func:`slanted_edge`, :func:`flat` or :func:`image`.
     illuminance_lux : lux, the scene's illuminance, a scalar.
-    seed : int or numpy.random.SeedSequence, optional
+    seed : int >= 0 or numpy.random.SeedSequence, optional
         The noise's seed: the same seed gives the same image.
     exposure_s : s, optional. Default: T_MPE from :func:`epc_fast.evaluate`, the exposure at
         which a flat patch of the design's ``reflectance`` at its field angle has the target
@@ -198,6 +264,8 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     cfa_transmittance : 1, optional, the cell's mean transmittance t relative to the
         monochrome sensor; the channels are scaled by one factor to it. Default: the
         channels' own mean (:data:`epc_fast.cfa.DEFAULT_CFA_TRANSMITTANCE` for the default).
+        With ``cfa="none"``, a neutral filter's: every pixel collects t of the light, as the
+        model's monochrome sensor behind a filter does.
     channel_transmittances : (t_R, t_G, t_B), optional; default
         :data:`epc_fast.cfa.DEFAULT_CHANNEL_TRANSMITTANCES`.
     luminance_weights : (y_R, y_G, y_B) summing to 1, optional; default
@@ -205,7 +273,11 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     **design
         Every keyword of :func:`epc_fast.evaluate` for one design (scalars), e.g. a preset's
         ``evaluate_kwargs()``. The chart sits at the design's field angle (where its SNR target
-        is met), and the image moves along the rows.
+        is met), and the image moves along the rows. A design with ``modes`` is captured in
+        the mode ``evaluate`` picks (``result.mode``), at its binning, frames, readout and
+        T_MPE. ``color_noise_gain`` is the capture's own, its filters' (1 without a CFA; a
+        Bayer sensor's from ``channel_transmittances`` and ``luminance_weights``), and may be
+        given only as that. ``frames`` is at most :data:`MAX_FRAMES`.
 
     Returns
     -------
@@ -222,12 +294,14 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
         raise TypeError(f"chart: an epc_fast.simulate chart (slanted_edge, flat or image), "
                         f"got {type(chart).__name__}")
     lux = _scalar("illuminance_lux", illuminance_lux)
+    _check_seed(seed)
     sensor_cfa = None
     if check_cfa(cfa) == "bayer":
         sensor_cfa = _bayer.bayer(demosaic, cfa_transmittance, channel_transmittances,
                                   luminance_weights)
     else:
         check_demosaic(demosaic)
+    _own_noise_gain(design.get("color_noise_gain"), sensor_cfa)
     cfa_terms = {k: v for k, v in (("cfa", cfa), ("demosaic", demosaic),
                                    ("cfa_transmittance", cfa_transmittance))
                  if k in _EVALUATE and v is not None}
@@ -245,6 +319,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     if np.ndim(result.epc) != 0:
         raise ValueError(f"capture simulates one design, got arrays broadcasting to "
                          f"{np.shape(result.epc)}")
+    d = picked_mode(d, result)  # with modes: the picked mode's binning, frames and readout
     p = float(d["pixel_pitch_um"])
     f_number = float(d["f_number"])
     focal = float(d["focal_length_mm"])
@@ -276,9 +351,14 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     border = kernel_reach_px(sigma)
     if sensor_cfa is not None:
         border += _bayer.BORDER_PX + border % 2
+    _check_frames(n, chart.shape, border, k)
     images, blur = frame_irradiance(chart, optics, t, n, offsets, threads, border_px=border)
+    # a monochrome sensor behind a filter (cfa="none" with cfa_transmittance) collects t of
+    # the light; a Bayer sensor's filters are its mosaic's
+    t_filter = (1.0 if sensor_cfa is not None or cfa_transmittance is None
+                else _scalar("cfa_transmittance", cfa_transmittance))
     yield_e = (float(d["electrons_per_lux_s_m2"] or spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2)
-               * (t / n) * float(d["fill_factor"]) * (p * 1e-6) ** 2)
+               * (t / n) * float(d["fill_factor"]) * (p * 1e-6) ** 2 * t_filter)
     frames_e = [image * yield_e for image in images]
     if sensor_cfa is not None:
         filters = sensor_cfa.mosaic((chart.shape[0] + 2 * border, chart.shape[1] + 2 * border), k)

@@ -9,28 +9,39 @@ covers the same patch of scene for every design, in as many of its pixels as fit
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._validation import short
 from .charts import Chart, _is_real, _reflectance, image
 
-__all__ = ["siemens_star", "star_size_px", "SUBSAMPLES", "MIN_STAR_PX", "PROFILES"]
+__all__ = ["siemens_star", "star_size_px", "SUBSAMPLES", "MIN_STAR_PX", "MAX_STAR_PX",
+           "PROFILES"]
 
 #: Sub-samples a pixel a side: the star's value in a pixel is the mean of 8 x 8 points.
 SUBSAMPLES = 8
 #: Pixels, the smallest star: fewer leave no spoke resolved anywhere.
 MIN_STAR_PX = 8
+#: Pixels, the largest star a side: 8,192 squared is 0.5 GiB a float64 image.
+MAX_STAR_PX = 8192
 #: The spokes' profiles round the star: a sine of the angle, or a square wave.
 PROFILES = ("sine", "binary")
 
 
 def star_size_px(width_um: float, pitch_um: float) -> int:
     """Pixels: the side of a star ``width_um`` wide in the pixels of pitch ``pitch_um``,
-    ``round(width_um / pitch_um)``: the same patch of scene for every design."""
+    ``round(width_um / pitch_um)``: the same patch of scene for every design. A ValueError
+    naming ``width_um`` when that is more than :data:`MAX_STAR_PX`."""
     for name, value in (("width_um", width_um), ("pitch_um", pitch_um)):
-        if isinstance(value, (bool, np.bool_)) or not _is_real(value) or not float(value) > 0:
+        if (isinstance(value, (bool, np.bool_)) or not _is_real(value)
+                or not 0 < float(value) < math.inf):
             raise ValueError(f"{name}: a length > 0 in µm, got {short(value)}")
-    return int(round(float(width_um) / float(pitch_um)))
+    pixels = round(float(width_um) / float(pitch_um))
+    if pixels > MAX_STAR_PX:
+        raise ValueError(f"width_um: {float(width_um):g} µm is {pixels:,} pixels of "
+                         f"{float(pitch_um):g} µm; a star has at most {MAX_STAR_PX:,} a side")
+    return int(pixels)
 
 
 def siemens_star(size_px: int = 256, spokes: int = 36, low: float = 0.1, high: float = 0.4, *,
@@ -68,6 +79,9 @@ def siemens_star(size_px: int = 256, spokes: int = 36, low: float = 0.1, high: f
             or not float(size_px).is_integer() or int(size_px) < MIN_STAR_PX):
         raise ValueError(f"size_px: a whole number of pixels >= {MIN_STAR_PX}, got "
                          f"{short(size_px)}")
+    if int(size_px) > MAX_STAR_PX:
+        raise ValueError(f"size_px: a whole number of pixels from {MIN_STAR_PX} to "
+                         f"{MAX_STAR_PX:,}, got {short(size_px)}")
     if (isinstance(spokes, (bool, np.bool_)) or not _is_real(spokes)
             or not float(spokes).is_integer() or int(spokes) < 4):
         raise ValueError(f"spokes: a whole number >= 4, got {short(spokes)}")
