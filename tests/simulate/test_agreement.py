@@ -152,3 +152,12 @@ def test_a_defocused_lens_agrees_with_its_captures_as_its_table_and_by_shannons_
     assert abs(a.f50_sim_cyc_per_mm - table) < SEMS * a.f50_sem + E_SFR * table
     atf_error = a.f50_normal_cyc_per_mm / a.f50_noiseless_cyc_per_mm - 1
     assert -0.02 < atf_error < 0.09
+
+
+@pytest.mark.parametrize("lux", [1000.0, 100_000.0])
+def test_a_design_with_modes_agrees_in_the_mode_the_model_picks(lux):
+    # the 1.4 um design read 1x1 or 2x2: 2x2 at 1000 lux, 1x1 in daylight; its edge is sized
+    # and measured in the picked mode's output pixels
+    design = {**presets.HIGH_TIER[3].evaluate_kwargs(), "modes": [{"binning": 1},
+                                                                 {"binning": 2}]}
+    check(agreement(lux, seeds=4, **design))

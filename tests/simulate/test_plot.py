@@ -122,3 +122,49 @@ def test_the_models_mtf_is_the_references_system_mtf():
     f = np.linspace(0.0, 400.0, 9)
     np.testing.assert_array_equal(model_mtf(f, kwargs, 0.01), mtf_system(
         f, 2.8, 2.8, 1.0, 0.01, 0.0, np.array([550.0]), np.array([1.0])))
+
+
+def _one_column(review, light: int):
+    """The review with one light level, ``light``: the narrowest contact sheet."""
+    from epc_fast.simulate.review import Review
+
+    return Review(review.designs, review.kwargs, review.snr_target,
+                  (review.illuminance_lux[light],), tuple((row[light],) for row in review.cells),
+                  review.settings)
+
+
+def test_a_one_column_sheets_title_and_conditions_lie_within_the_figure(tmp_path):
+    figure = contact_sheet_figure(_one_column(small_review(), 2))
+    boxes = text_boxes(figure)
+    assert "suptitle" in boxes and "figure text 0" in boxes
+    assert boxes_outside(boxes, figure) == []
+    figure.savefig(tmp_path / "sheet.png", dpi=60)
+
+
+def test_the_terms_a_review_turns_on_are_in_its_conditions():
+    from dataclasses import replace
+
+    r = replace(_one_column(small_review(), 2), terms=("colour filter Bayer", "lens MTF table"))
+    text = _conditions(contact_sheet_figure(r))
+    assert "Terms on: colour filter Bayer; lens MTF table" in text.replace("\n  ", " ")
+
+
+def test_a_binned_designs_mtf_panel_is_drawn_at_the_binned_pixels_nyquist():
+    from epc_fast.presets import HIGH_TIER
+    from epc_fast.simulate.review import review
+
+    design = {**HIGH_TIER[3].evaluate_kwargs(), "binning": 2}  # a 2.8 um output pixel
+    r = review([("1.4 um 2x2", design)], [1000.0],
+               **{"seed": 3, "star_width_um": 67.2, "spokes": 12, "edge_rows": 64,
+                  "flat_px": 32})
+    (ax,) = mtf_figure(r).axes
+    assert ax.get_xlim() == pytest.approx((0.0, 1e3 / 2.8))
+    (nyquist,) = [line for line in ax.lines
+                  if len(line.get_xdata()) == 2 and line.get_xdata()[0] == line.get_xdata()[1]]
+    assert nyquist.get_xdata()[0] == pytest.approx(1e3 / 5.6)
+    # the dashed model curve is the binned design's: it crosses 0.5 at evaluate's f50
+    (model,) = [line for line in ax.lines if line.get_linestyle() == "--"]
+    f, m = model.get_xdata(), model.get_ydata()
+    i = int(np.argmax(m < 0.5))  # the first point below 0.5
+    crossing = f[i - 1] + (f[i] - f[i - 1]) * (m[i - 1] - 0.5) / (m[i - 1] - m[i])
+    assert crossing == pytest.approx(r.cells[0][0].f50_model_cyc_per_mm, rel=2e-3)

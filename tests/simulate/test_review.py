@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 
+from epc_fast.presets import HIGH_TIER
 from epc_fast.simulate.review import DEFAULTS, review
 from helpers.reviews import DESIGNS, LUX, SETTINGS, small_review
 
@@ -81,3 +82,34 @@ def test_the_same_seed_gives_the_same_pictures_and_another_seed_others():
 def test_an_unknown_setting_is_refused_by_name():
     with pytest.raises(TypeError, match="unknown setting.*star_px"):
         review([], [1.0], star_px=3)
+
+
+def test_a_binned_designs_review_measures_at_the_binned_pixels_pitch():
+    # the 1.4 um design read 2 x 2 is a 2.8 um camera: the star covers the same 67.2 um of
+    # scene in 24 of its output pixels, and the edge's MTF50 is measured in cycles/mm of them
+    base = HIGH_TIER[3].evaluate_kwargs()
+    (cell,) = review([("1.4 um 2x2", {**base, "binning": 2})], [1000.0], **SETTINGS).cells[0]
+    assert cell.pitch_um == pytest.approx(2.8) and cell.star.pitch_um == pytest.approx(2.8)
+    assert cell.star.image_e.shape == (24, 24)
+    # the noise-free edge holds the model's f50 to the e-SFR's accuracy on a 64-row edge
+    # (2%); the noisy one to the scatter of test_the_measured_mtf50_and_snr_are_near_the_models
+    f50 = cell.f50_model_cyc_per_mm
+    assert cell.sfr_noiseless.mtf50_cyc_per_mm == pytest.approx(f50, rel=0.02)
+    assert cell.mtf50_fraction == pytest.approx(1.0, abs=0.20)
+    assert cell.snr_db == pytest.approx(30.0, abs=0.6)
+
+
+def test_a_design_with_modes_is_captured_in_the_mode_the_model_picks():
+    # 1.4 um read 1x1 or 2x2: at 1000 lux the model picks 2x2 (EPC 1.0 against 0.17 Mpx), in
+    # daylight 1x1 (2.5 against 1.5)
+    modes = [{"binning": 1}, {"binning": 2}]
+    design = {**HIGH_TIER[3].evaluate_kwargs(), "modes": modes}
+    cells = review([("1.4 um, 2 modes", design)], [1000.0, 1e5], **SETTINGS).cells[0]
+    assert [int(c.result.mode) for c in cells] == [1, 0]
+    assert [c.pitch_um for c in cells] == pytest.approx([2.8, 1.4])
+    assert [c.star.image_e.shape for c in cells] == [(24, 24), (48, 48)]
+    assert [c.mode_text for c in cells] == ["binning=2", "binning=1"]
+    for cell in cells:
+        assert cell.sfr_noiseless.mtf50_cyc_per_mm == pytest.approx(
+            cell.f50_model_cyc_per_mm, rel=0.02)
+        assert cell.snr_db == pytest.approx(30.0, abs=0.6)

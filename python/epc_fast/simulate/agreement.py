@@ -19,7 +19,7 @@ import numpy as np
 
 from .. import api
 from ..status import Status
-from .camera import capture
+from .camera import capture, picked_mode
 from .charts import flat, slanted_edge
 from .edge_sfr import esfr
 from .flat_patch import snr
@@ -177,7 +177,8 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     area_mm2 = epc_model / (4.0 * f50_model ** 2) if f50_model > 0 else math.nan
     shape, window = ((0, 0), None)
     if status == Status.OK:
-        output_pitch = float(design["pixel_pitch_um"]) * int(design.get("binning", 1))
+        read = picked_mode(design, model)  # with modes: the mode the model picks
+        output_pitch = float(read["pixel_pitch_um"]) * int(read.get("binning", 1))
         shape, window = edge_chart(float(model.blur_mm), output_pitch,
                                    longest_wavelength_um(design) * float(design["f_number"]))
     if status != Status.OK or shape[1] > MAX_EDGE_COLUMNS:

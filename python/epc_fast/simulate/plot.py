@@ -14,8 +14,8 @@ import textwrap
 import numpy as np
 
 from ..plotting import common
-from ..plotting.common import add_conditions, conditions_lines
-from ..plotting.layout import freeze_layout
+from ..plotting.common import CONDITIONS_FONTSIZE, add_conditions, conditions_lines
+from ..plotting.layout import _renderer_of, freeze_layout
 from ..plotting.text import unit_text
 
 __all__ = ["contact_sheet_figure", "mtf_figure", "conditions", "figure_class", "model_mtf"]
@@ -26,6 +26,10 @@ CELL_IN = 2.3
 WHY_WIDTH = 30
 #: Points of the model's MTF curve over 0 to twice Nyquist.
 CURVE_POINTS = 400
+#: Inches: the room a figure's title and conditions leave on either side.
+SIDE_IN = 0.1
+#: Points: the contact sheet's title.
+TITLE_FONTSIZE = 10
 
 
 def figure_class():
@@ -36,22 +40,48 @@ def figure_class():
 
 def conditions(review, extra=()) -> list[str]:
     """The conditions of a review's figures: its designs, their SNR targets and where they
-    are met, the scene in one line, the seed, ``extra``, the version and the build."""
+    are met, the scene in one line, the seed, the terms the designs turn on, ``extra``, the
+    version and the build."""
+    terms = [f"Terms on: {'; '.join(review.terms)}"] if review.terms else []
     return conditions_lines(designs=review.designs, snr_target=review.snr_target,
                             scene=review.scene_text(), seed=review.settings["seed"],
-                            extra=extra)
+                            extra=[*terms, *extra])
+
+
+def fitted_lines(figure, lines, fontsize: float) -> list[str]:
+    """``lines``, each broken at spaces (its continuations indented) into lines that render
+    within ``figure``'s width less :data:`SIDE_IN` a side at ``fontsize`` points."""
+    from matplotlib.font_manager import FontProperties
+
+    renderer = _renderer_of(figure)
+    prop = FontProperties(size=fontsize)
+    room = (figure.get_figwidth() - 2.0 * SIDE_IN) * figure.dpi
+
+    def fits(parts) -> bool:
+        return all(renderer.get_text_width_height_descent(part, prop, ismath=False)[0] <= room
+                   for part in parts)
+
+    out = []
+    for line in lines:
+        width, parts = len(line), [line]
+        while not fits(parts) and width > 8:
+            width -= max(1, width // 20)
+            parts = textwrap.wrap(line, width, subsequent_indent="  ", break_on_hyphens=False)
+        out.extend(parts)
+    return out
 
 
 def _caption(cell) -> str:
     if cell.why:
-        return "no image"
+        return "no image" + (f"\nmode {cell.mode_text}" if cell.mode_text else "")
     epc = (f"EPC {cell.epc / 1e6:.3g} Mpx (model)" if cell.epc >= 1e5
            else f"EPC {cell.epc:,.0f} pixels (model)")
     if math.isnan(cell.mtf50_cyc_per_mm):
         mtf = "MTF50 not measured"
     else:
         mtf = (f"MTF50 {cell.mtf50_cyc_per_mm:.3g} cyc/mm = {cell.mtf50_fraction:.2f} f50")
-    return f"{epc}\n{mtf}\nSNR {cell.snr_db:.1f} dB (target {cell.snr_target_db:g})"
+    mode = f"\nmode {cell.mode_text}" if cell.mode_text else ""
+    return f"{epc}\n{mtf}\nSNR {cell.snr_db:.1f} dB (target {cell.snr_target_db:g}){mode}"
 
 
 def contact_sheet_figure(review, *, conditions_text=None):
@@ -64,8 +94,16 @@ def contact_sheet_figure(review, *, conditions_text=None):
     rows, cols = len(review.designs), len(review.illuminance_lux)
     width_um = review.settings["star_width_um"]
     lines = conditions(review) if conditions_text is None else conditions_text
-    figure = figure_class()(figsize=(1.2 + CELL_IN * cols, 0.9 + (CELL_IN + 0.75) * rows
-                                     + 0.16 * len(lines)), layout="constrained")
+    caption_in = 0.75 + (0.13 if any(c.mode_text for row in review.cells for c in row) else 0.0)
+    width_in = 1.2 + CELL_IN * cols
+    figure = figure_class()(figsize=(width_in, 0.9 + (CELL_IN + caption_in) * rows),
+                            layout="constrained")
+    lines = fitted_lines(figure, lines, CONDITIONS_FONTSIZE)
+    title = fitted_lines(figure, unit_text(
+        f"The same {width_um:g} um of scene, a Siemens star, as each design captures it at "
+        "T_MPE\n(electrons: black 0, white the star's lightest reflectance without "
+        "noise)").split("\n"), TITLE_FONTSIZE)
+    figure.set_figheight(figure.get_figheight() + 0.16 * len(lines) + 0.17 * (len(title) - 2))
     axes = figure.subplots(rows, cols, squeeze=False)
     for i, name in enumerate(review.designs):
         for j, lux in enumerate(review.illuminance_lux):
@@ -92,9 +130,7 @@ def contact_sheet_figure(review, *, conditions_text=None):
                 ax.set_title(f"{lux:g} lux", fontsize=10)
             if j == 0:
                 ax.set_ylabel(unit_text(name), fontsize=9)
-    figure.suptitle(unit_text(f"The same {width_um:g} um of scene, a Siemens star, as each "
-                              "design captures it at T_MPE\n(electrons: black 0, white the "
-                              "star's lightest reflectance without noise)"), fontsize=10)
+    figure.suptitle("\n".join(title), fontsize=TITLE_FONTSIZE)
     add_conditions(figure, lines)
     freeze_layout(figure)
     return figure
@@ -102,20 +138,40 @@ def contact_sheet_figure(review, *, conditions_text=None):
 
 def model_mtf(frequency_cyc_per_mm, kwargs: dict, blur_mm: float) -> np.ndarray:
     """1: the model's system MTF (:func:`epc_fast.reference.model.mtf_system`) of the design
-    ``kwargs`` (keywords of :func:`epc_fast.evaluate`) with evaluate's ``blur_mm`` (mm)."""
+    ``kwargs`` (keywords of :func:`epc_fast.evaluate`, one readout: a design with ``modes``
+    read as one of them, :func:`epc_fast.simulate.camera.picked_mode`) with evaluate's
+    ``blur_mm`` (mm): its binned pixel, burst alignment, wavefront error or lens table,
+    denoising and demosaicker with the rest."""
+    from ..cfa import demosaic_mtf_table
     from ..reference.model import mtf_system
-    from .camera import _design, _spectrum
+    from .camera import _design, _lens_table, _spectrum
 
     d = _design(kwargs)
+    if d.get("modes") is not None:
+        raise ValueError("kwargs: one readout, not modes: give the mode's keywords "
+                         "(epc_fast.simulate.camera.picked_mode)")
     wavelengths, weights = _spectrum(d)
+    table = _lens_table(d)
     return mtf_system(np.asarray(frequency_cyc_per_mm, dtype=float), float(d["f_number"]),
                       float(d["pixel_pitch_um"]), float(d["fill_factor"]), float(blur_mm),
-                      float(d["jitter_um"]), wavelengths, weights)
+                      float(d["jitter_um"]), wavelengths, weights, float(d["binning"]),
+                      float(d["alignment_error_um"]), float(d["frames"]),
+                      float(d["wavefront_rms_waves"]), float(d["denoise_sigma_px"]), 0.0,
+                      None if table is None else [table],
+                      demosaic_mtf_table(d["demosaic"]) if d["cfa"] == "bayer" else None)
+
+
+def _output_pitch_um(cell, kwargs: dict) -> float:
+    """µm, the cell's output pixel pitch (the design's pitch times its binning for a cell
+    made without one)."""
+    if math.isfinite(cell.pitch_um):
+        return cell.pitch_um
+    return float(kwargs["pixel_pitch_um"]) * float(kwargs.get("binning", 1.0))
 
 
 def _mtf_panel(ax, review, i):
-    pitch = float(review.kwargs[i]["pixel_pitch_um"])
-    top = 1e3 / pitch  # cycles/mm, twice Nyquist
+    pitches = sorted({_output_pitch_um(c, review.kwargs[i]) for c in review.cells[i]})
+    top = 1e3 / pitches[0]  # cycles/mm, twice the finest output pixel's Nyquist
     f = np.linspace(0.0, top, CURVE_POINTS)
     for j, cell in enumerate(review.cells[i]):
         color = f"C{j}"
@@ -123,8 +179,9 @@ def _mtf_panel(ax, review, i):
         if cell.why:
             ax.plot([], [], color=color, label=f"{lux}: no image")
             continue
-        ax.plot(f, model_mtf(f, review.kwargs[i], float(cell.result.blur_mm)), color=color,
-                ls="--", lw=1.5, zorder=4)
+        ax.plot(f, model_mtf(f, review.kwargs[i] if cell.kwargs is None else cell.kwargs,
+                             float(cell.result.blur_mm)), color=color, ls="--", lw=1.5,
+                zorder=4)
         f50 = cell.f50_model_cyc_per_mm
         ax.plot([f50], [0.5], marker="x", color=color, ms=7, mew=1.5, ls="none", zorder=5)
         if cell.sfr is None:
@@ -138,8 +195,12 @@ def _mtf_panel(ax, review, i):
         ax.plot([cell.mtf50_cyc_per_mm], [0.5], marker="o", color=color, ms=6, mfc="white",
                 mew=1.5, ls="none", zorder=5)
     ax.axhline(0.5, color="0.6", lw=0.8, ls=":")
-    ax.axvline(top / 2.0, color="0.6", lw=0.8)
-    ax.text(top / 2.0, 1.02, "Nyquist ", fontsize=7, color="0.4", va="bottom", ha="right")
+    for pitch in pitches:  # each output pixel's Nyquist frequency (one, without modes)
+        nyquist = 1e3 / (2.0 * pitch)
+        ax.axvline(nyquist, color="0.6", lw=0.8)
+        label = "Nyquist " if len(pitches) == 1 else f"Nyquist {pitch:g} um "
+        ax.text(nyquist, 1.02, unit_text(label), fontsize=7, color="0.4", va="bottom",
+                ha="right")
     ax.set_xlim(0.0, top)
     ax.set_ylim(0.0, 1.08)
     ax.set_xlabel("Frequency (cycles/mm)", fontsize=8)
@@ -163,8 +224,9 @@ def mtf_figure(review, *, conditions_text=None):
              "of the noisy capture, o its MTF50; dashed: the model's system MTF with evaluate's "
              "blur, x its f50"]
     lines = conditions(review, extra) if conditions_text is None else conditions_text
-    figure = figure_class()(figsize=(4.6 * cols + 0.4, 3.4 * rows + 0.7 + 0.16 * len(lines)),
-                            layout="constrained")
+    figure = figure_class()(figsize=(4.6 * cols + 0.4, 3.4 * rows + 0.7), layout="constrained")
+    lines = fitted_lines(figure, lines, CONDITIONS_FONTSIZE)
+    figure.set_figheight(figure.get_figheight() + 0.16 * len(lines))
     axes = figure.subplots(rows, cols, squeeze=False)
     for k, ax in enumerate(axes.flat):
         if k < n:

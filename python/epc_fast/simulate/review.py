@@ -3,11 +3,14 @@ physical width, a slanted edge (its e-SFR MTF50) and a flat patch (its SNR), bes
 EPC, f50 and SNR target. :mod:`~epc_fast.simulate.plot` draws them; ``epc-fast simulate``
 writes them.
 
-The edge chart is sized to the blur as :mod:`~epc_fast.simulate.agreement` sizes it
+Every chart is laid out, and every MTF50 measured, in the design's output pixels: the sensor's
+pitch times its binning, and for a design with ``modes`` the binning of the mode the model
+picks at that light level (:func:`~epc_fast.simulate.camera.picked_mode`), in which it is
+captured. The edge chart is sized to the blur as :mod:`~epc_fast.simulate.agreement` sizes it
 (:func:`~epc_fast.simulate.agreement.edge_chart`: the line spread whole inside its columns,
-beside the edge's run over the rows), up to ``max_edge_columns``: a longer blur's MTF50 is not measured, and the cell says
-why. A blur longer than ``max_blur_px`` is not captured at all (no picture, no SNR), and the
-cell says so.
+beside the edge's run over the rows), up to ``max_edge_columns``: a longer blur's MTF50 is not
+measured, and the cell says why. A blur longer than ``max_blur_px`` is not captured at all (no
+picture, no SNR), and the cell says so.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .agreement import EDGE_ANGLE_DEG, edge_chart, longest_wavelength_um
-from .camera import capture
+from .camera import capture, mode_text, picked_mode
 from .charts import MIN_EDGE_PX, flat, slanted_edge
 from .edge_sfr import esfr
 from .flat_patch import snr
@@ -55,6 +58,11 @@ class Cell:
     snr_target_db : dB, the design's SNR target.
     why : str, why there is no image ("" when there is one).
     mtf_why : str, why the MTF50 is not measured ("" when it is).
+    pitch_um : µm, the output pixel's pitch the charts are laid out and measured in: the
+        sensor's pitch times the binning (of the picked mode, for a design with ``modes``).
+    kwargs : dict, the design's keywords of :func:`epc_fast.evaluate` as captured here: a
+        design with ``modes`` read as the mode evaluate picks (``result.mode``).
+    mode_text : str, that mode for people ("" for a design without modes).
     """
 
     design: str
@@ -68,6 +76,9 @@ class Cell:
     snr_target_db: float = math.nan
     why: str = ""
     mtf_why: str = ""
+    pitch_um: float = math.nan
+    kwargs: dict = None
+    mode_text: str = ""
 
     @property
     def epc(self) -> float:
@@ -103,6 +114,8 @@ class Review:
     illuminance_lux : tuple of float (columns).
     cells : tuple of tuples of :class:`Cell`, ``cells[design][light]``.
     settings : dict, the charts and seed (:data:`DEFAULTS`' keys).
+    terms : tuple of str, the model terms the designs turn on, for people (a config's
+        :func:`epc_fast.scan.terms.terms_on`; empty: none said).
     """
 
     designs: tuple
@@ -111,6 +124,7 @@ class Review:
     illuminance_lux: tuple
     cells: tuple
     settings: dict
+    terms: tuple = ()
 
     def scene_text(self) -> str:
         """The scene in one line, for a figure's conditions."""
@@ -132,19 +146,23 @@ def _cell(name, kwargs, lux, indices, s) -> Cell:
 
     target = float(kwargs.get("snr_db", 30.0))
     result = api.evaluate(lux, **kwargs)
-    pitch = float(kwargs["pixel_pitch_um"])
+    readout = {"mode_text": mode_text(kwargs, result)}
+    kwargs = readout["kwargs"] = picked_mode(kwargs, result)  # as the camera reads it here
+    # the output pixel's pitch: the charts' pixels, the e-SFR's and the blur's unit
+    pitch = readout["pitch_um"] = (float(kwargs["pixel_pitch_um"])
+                                   * float(kwargs.get("binning", 1.0)))
     blur_px = float(result.blur_mm) / (pitch * 1e-3)
     if math.isfinite(blur_px) and blur_px > s["max_blur_px"]:
         return Cell(name, lux, result, snr_target_db=target, mtf_why="no image",
                     why=f"the image moves {blur_px:,.0f} px during T_MPE, more than "
-                        f"max_blur_px {s['max_blur_px']:,}")
+                        f"max_blur_px {s['max_blur_px']:,}", **readout)
     star_chart = siemens_star(spokes=s["spokes"], width_um=s["star_width_um"], pitch_um=pitch)
     try:
         star = capture(star_chart, illuminance_lux=lux,
                        seed=_seed(s["seed"], *indices, "star"), **kwargs)
     except ValueError as error:
         return Cell(name, lux, result, snr_target_db=target, why=str(error),
-                    mtf_why="no image")
+                    mtf_why="no image", **readout)
     reflectance = float(kwargs.get("reflectance", 0.4))
     patch = capture(flat(s["flat_px"], reflectance), illuminance_lux=lux,
                     seed=_seed(s["seed"], *indices, "flat"), **kwargs)
@@ -166,10 +184,10 @@ def _cell(name, kwargs, lux, indices, s) -> Cell:
             mtf_why = str(error)
     return Cell(name, lux, result, star=star, white_e=white, sfr=sfr, sfr_noiseless=noiseless,
                 snr_db=float(snr(patch.image_e).snr_db), snr_target_db=target,
-                mtf_why=mtf_why)
+                mtf_why=mtf_why, **readout)
 
 
-def review(designs, illuminance_lux, *, snr_target=None, **settings) -> Review:
+def review(designs, illuminance_lux, *, snr_target=None, terms=(), **settings) -> Review:
     """Capture every design at every light level.
 
     Parameters
@@ -179,6 +197,8 @@ def review(designs, illuminance_lux, *, snr_target=None, **settings) -> Review:
     illuminance_lux : sequence of lux, the light levels.
     snr_target : sequence of str, optional: each design's SNR target and where it is met,
         for the figures (default: the target alone).
+    terms : sequence of str, optional: the model terms the designs turn on, for the figures'
+        conditions.
     **settings : the charts and seed, :data:`DEFAULTS`' keys (checked by the caller's config).
 
     Returns
@@ -197,4 +217,4 @@ def review(designs, illuminance_lux, *, snr_target=None, **settings) -> Review:
         snr_target = tuple(f"{float(k.get('snr_db', 30.0)):g} dB" for k in kwargs)
     cells = tuple(tuple(_cell(name, k, x, (i, j), s) for j, x in enumerate(lux))
                   for i, (name, k) in enumerate(zip(names, kwargs)))
-    return Review(names, kwargs, tuple(snr_target), lux, cells, s)
+    return Review(names, kwargs, tuple(snr_target), lux, cells, s, tuple(terms))
