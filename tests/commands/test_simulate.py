@@ -163,3 +163,32 @@ def test_more_light_levels_than_a_sheet_holds_are_refused(tmp_path, capsys):
     code, out, err = _simulate(tmp_path, capsys, CONFIG, "--lux", *["100"] * 13)
     assert code == 2 and out == ""
     assert err == "epc-fast simulate: error: --lux: at most 12 light levels, got 13\n"
+
+
+#: CONFIG's design as a colour camera with two readouts, written as a scan config writes it.
+PHONE = CONFIG.replace("[[design.custom]]", '[evaluate]\ncfa = "bayer"\ndemosaic = "bilinear"\n\n'
+                       "[[design.custom]]").replace(
+    "focal_length_mm = 5.6\n", "focal_length_mm = 5.6\nmodes = [{binning = 1}, {binning = 2}]\n"
+).replace("edge_rows = 32", "edge_rows = 64").replace("flat_px = 32", "flat_px = 64")
+
+
+def test_a_bayer_design_with_modes_is_captured_in_the_picked_mode_and_meets_the_target(
+        tmp_path, capsys):
+    from epc_fast import evaluate
+    from epc_fast.sensor import corner_field_angle_deg
+
+    code, out, err = _simulate(tmp_path, capsys, PHONE, "--no-plots")
+    assert code == 0 and err == ""
+    rows = _rows(tmp_path / "out" / "agreement.csv")
+    model = evaluate([100.0, 1000.0], **DESIGN, cfa="bayer", demosaic="bilinear",
+                     field_angle_deg=corner_field_angle_deg(4.57, 3.43, 5.6),
+                     modes=[{"binning": 1}, {"binning": 2}])
+    assert list(model.mode) == [1, 0]
+    assert [r["mode"] for r in rows] == ["binning=2", "binning=1"]
+    for row, epc, f50 in zip(rows, model.epc, model.f50_cyc_per_mm):
+        assert float(row["epc_model"]) == pytest.approx(epc, rel=1e-12)
+        assert float(row["f50_model_cyc_per_mm"]) == pytest.approx(f50, rel=1e-12)
+        # one capture of a 64-row edge and a 64 x 64 patch (test_review.py's tolerances)
+        assert float(row["mtf50_over_f50"]) == pytest.approx(1.0, abs=0.2)
+        assert float(row["snr_sim_db"]) == pytest.approx(30.0, abs=0.6)
+    assert "| big pixel (binning=2) | 100 |" in (tmp_path / "out" / "agreement.md").read_text()

@@ -31,7 +31,7 @@ PLOTS = ("contact_sheet.png", "mtf.png")
 #: The most light levels (the contact sheet's columns).
 MAX_LUX = 12
 #: The columns of agreement.csv.
-COLUMNS = ("design", "illuminance_lux", "status", "epc_model", "f50_model_cyc_per_mm",
+COLUMNS = ("design", "illuminance_lux", "mode", "status", "epc_model", "f50_model_cyc_per_mm",
            "mtf50_sim_cyc_per_mm", "mtf50_over_f50", "snr_target_db", "snr_sim_db", "note")
 
 
@@ -68,7 +68,7 @@ def _rows(review) -> list[dict]:
         for cell in row:
             rows.append({
                 "design": cell.design, "illuminance_lux": cell.illuminance_lux,
-                "status": _status(cell.result),
+                "mode": cell.mode_text, "status": _status(cell.result),
                 "epc_model": cell.epc, "f50_model_cyc_per_mm": cell.f50_model_cyc_per_mm,
                 "mtf50_sim_cyc_per_mm": cell.mtf50_cyc_per_mm,
                 "mtf50_over_f50": cell.mtf50_fraction, "snr_target_db": cell.snr_target_db,
@@ -106,8 +106,9 @@ def markdown(rows, seed) -> str:
              "sim / model | SNR target (dB) | SNR sim (dB) | note |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---|"]
     for r in rows:
+        design = f"{r['design']} ({r['mode']})" if r["mode"] else r["design"]
         lines.append(
-            f"| {r['design']} | {r['illuminance_lux']:g} | {r['epc_model']:,.0f} "
+            f"| {design} | {r['illuminance_lux']:g} | {r['epc_model']:,.0f} "
             f"| {_number(r['f50_model_cyc_per_mm'])} | {_number(r['mtf50_sim_cyc_per_mm'])} | "
             f"{_number(r['mtf50_over_f50'], '.3f')} | {r['snr_target_db']:g} | "
             f"{_number(r['snr_sim_db'])} | {r['note'].replace('|', '/')} |")
@@ -137,7 +138,7 @@ def run(args) -> int:
                      if plots or name not in PLOTS})
         start = time.perf_counter()
         result = review(config.designs, args.lux, snr_target=config.snr_target,
-                        **config.settings)
+                        terms=config.terms, **config.settings)
         rows = _rows(result)
         print(f"{len(config.designs)} design(s) x {len(args.lux)} light level(s) from "
               f"{config.source}, seed {config.settings['seed']}: captured in "

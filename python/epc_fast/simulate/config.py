@@ -1,8 +1,10 @@
 """Simulator configurations in TOML, for ``epc-fast simulate``.
 
-The designs are a scan config's ``[design]`` table (``presets = [...]`` and
-``[[design.custom]]`` tables), read by the scan's own parser
-(:func:`epc_fast.scan.config.parse_space`); ``[simulate]`` sets the charts and the seed::
+The designs are a scan config's ``[design]`` and ``[evaluate]`` tables (``presets = [...]``
+and ``[[design.custom]]`` tables with their ``binning_readout`` and ``modes``; a colour sensor,
+``cfa`` and ``demosaic``, and a lens's ``lens_mtf`` in ``[evaluate]``), read by the scan's own
+parser (:func:`epc_fast.scan.config.parse_space`), so that one config serves both;
+``[simulate]`` sets the charts and the seed::
 
     [simulate]                   # seed, star_width_um (µm of scene the star covers), spokes,
                                  #   edge_rows, max_edge_columns, flat_px, max_blur_px
@@ -22,6 +24,7 @@ from ..scan.config import parse_space, toml_document
 from ..scan.config.files import read_text
 from ..scan.errors import ConfigError
 from ..scan.schema import MAX_CONFIG_BYTES, integer, number, short, table_of, take
+from ..scan.terms import terms_on
 from .agreement import MAX_EDGE_COLUMNS
 from .charts import MIN_EDGE_PX
 from .review import DEFAULTS
@@ -54,6 +57,8 @@ class SimulateConfig:
     settings : dict, ``[simulate]`` over :data:`epc_fast.simulate.review.DEFAULTS`.
     source : str, the file it came from.
     text : str, the TOML it was read from.
+    terms : list of str, the model terms the designs turn on, for people
+        (:func:`epc_fast.scan.terms.terms_on`).
     """
 
     designs: list
@@ -61,6 +66,7 @@ class SimulateConfig:
     settings: dict = field(default_factory=dict)
     source: str = "<string>"
     text: str = ""
+    terms: list = field(default_factory=list)
 
 
 def _settings(table) -> dict:
@@ -74,32 +80,56 @@ def _settings(table) -> dict:
     return settings
 
 
+def _output_pitches_um(kwargs: dict) -> list:
+    """µm, the output pixel pitches a design captures at: its pitch times its binning, or
+    each of its modes' binning."""
+    readouts = kwargs.get("modes") or [kwargs]
+    return [float(kwargs["pixel_pitch_um"]) * float(r.get("binning", 1.0)) for r in readouts]
+
+
 def _check_star(settings: dict, designs) -> None:
-    """A ConfigError when the star is under MIN_STAR_PX or over MAX_CHART_PX pixels for a
-    design: the same width is fewer pixels at a larger pitch."""
+    """A ConfigError when the star is under MIN_STAR_PX or over MAX_CHART_PX output pixels
+    for a design (or one of its modes): the same width is fewer pixels at a larger pitch."""
     width = settings["star_width_um"]
     for name, kwargs in designs:
-        pitch = float(kwargs["pixel_pitch_um"])
-        pixels = round(width / pitch)
-        if not MIN_STAR_PX <= pixels <= MAX_CHART_PX:
-            raise ConfigError(f"scan config [simulate]: star_width_um = {short(width)}: "
-                              f"expected a width of {MIN_STAR_PX} to {MAX_CHART_PX:,} pixels "
-                              f"of every design, got {pixels:,} pixels of {name!r} "
-                              f"({pitch:g} um)")
+        for pitch in _output_pitches_um(kwargs):
+            pixels = round(width / pitch)
+            if not MIN_STAR_PX <= pixels <= MAX_CHART_PX:
+                raise ConfigError(f"scan config [simulate]: star_width_um = {short(width)}: "
+                                  f"expected a width of {MIN_STAR_PX} to {MAX_CHART_PX:,} "
+                                  f"pixels of every design, got {pixels:,} pixels of {name!r} "
+                                  f"({pitch:g} um)")
+
+
+def _designs(space) -> list:
+    """(name, keywords of :func:`epc_fast.evaluate`) of each of the space's designs: its
+    parameters, its ``binning_readout`` (when not digital) and ``modes``, and ``[evaluate]``'s
+    options."""
+    designs = []
+    for i, name in enumerate(space.design_names):
+        kwargs = {key: float(values[i]) for key, values in space.design_table.items()}
+        if space.design_readout[i] != "digital":
+            kwargs["binning_readout"] = space.design_readout[i]
+        if space.design_modes[i]:
+            kwargs["modes"] = [dict(mode) for mode in space.design_modes[i]]
+        kwargs.update(space.evaluate_options)
+        designs.append((name, kwargs))
+    return designs
 
 
 def parse_simulate_config(text: str, source: str = "<string>") -> SimulateConfig:
     """A :class:`SimulateConfig` from TOML text, every key checked."""
     document = toml_document(text, source)
-    take(document, "top level", required=("design",), optional=("simulate",))
+    take(document, "top level", required=("design",), optional=("evaluate", "simulate"))
     settings = _settings(document.get("simulate", {}))
-    # The scan's parser reads the designs; a space needs an illuminance, which the
-    # simulator's --lux replaces.
-    space = parse_space({"design": document["design"], "parameters": {"illuminance_lux": 1.0}})
-    designs = [(name, {key: float(values[i]) for key, values in space.design_table.items()})
-               for i, name in enumerate(space.design_names)]
+    # The scan's parser reads the designs and [evaluate]; a space needs an illuminance, which
+    # the simulator's --lux replaces.
+    space = parse_space({"design": document["design"], "evaluate": document.get("evaluate", {}),
+                         "parameters": {"illuminance_lux": 1.0}})
+    designs = _designs(space)
     _check_star(settings, designs)
-    return SimulateConfig(designs, list(space.snr_target_text()), settings, source, text)
+    return SimulateConfig(designs, list(space.snr_target_text()), settings, source, text,
+                          terms_on(space))
 
 
 def load_simulate_config(path) -> SimulateConfig:
