@@ -346,3 +346,40 @@ def test_the_core_refuses_spectrum_weights_that_do_not_sum_to_one(weights, shown
         _core.evaluate(columns, False, domains, np.array([500.0, 600.0]),
                        np.array(weights), 1, "halley", 1e-14, "closed_form", 1e-15, "float64",
                        1, 1 << 18)
+
+
+@pytest.mark.parametrize("value", [np.array(["charge", "digital"]), np.array(["charge"]),
+                                   ["charge"], b"charge", 1])
+def test_binning_readout_that_is_not_one_name_raises_value_error_naming_it(value):
+    # An array of names gave NumPy's "The truth value of an array ... is ambiguous".
+    with pytest.raises(ValueError, match=r"^binning_readout must be one of 'digital', 'charge'; "
+                                         r"got " + re.escape(repr(value)[:20])):
+        epc_fast.evaluate(**DESIGN, binning_readout=value)
+    unread = {k: v for k, v in DESIGN.items()
+              if k not in ("binning", "frames", "alignment_error_um")}
+    with pytest.raises(ValueError, match="binning_readout must be one of"):
+        epc_fast.evaluate(**unread, modes=[{"binning": 1}, {"binning_readout": value}])
+
+
+@pytest.mark.parametrize("value", [np.array(["charge"]), ["charge", "digital"]])
+def test_a_scan_designs_binning_readout_that_is_not_one_name_is_refused_naming_it(value):
+    from epc_fast import scan
+
+    design = {"name": "A", "pixel_pitch_um": 1.4, "f_number": 2.8, "focal_length_mm": 5.6,
+              "sensor_area_mm2": 10.0, "binning_readout": value}
+    with pytest.raises(ValueError, match=r"design 'A': binning_readout = .*charge.*: expected "
+                                         r"one of 'digital', 'charge'"):
+        scan.Space(design=[design], illuminance_lux=100.0)
+
+
+@pytest.mark.parametrize("value", [True, False, 2.0, "4"])
+@pytest.mark.parametrize("sampling", ["monte_carlo", "sobol"])
+def test_replicates_that_are_not_a_whole_number_are_refused_naming_them(value, sampling):
+    # True was taken as 1 replicate.
+    from epc_fast import scan
+    from epc_fast.presets import HIGH_TIER
+
+    space = scan.Space(design=HIGH_TIER, illuminance_lux=scan.LogUniform(10, 1e5))
+    with pytest.raises(TypeError, match=r"^replicates must be an integer, got " + re.escape(
+            repr(value))):
+        scan.run(space, 1 << 18, seed=1, sampling=sampling, replicates=value, progress=False)

@@ -106,3 +106,30 @@ def test_the_core_gives_share_lens_0_and_a_lens_elasticity_of_nan_as_the_referen
     given = epc_fast.evaluate(**p, outputs=("share_lens",), out=out)
     assert given.share_lens is out["share_lens"]
     assert np.array_equal(out["share_lens"], core.share_lens, equal_nan=True)
+
+
+@pytest.mark.parametrize("table, message", [
+    ((["0", "100", "200"], [1.0, 0.5, 0.1]),
+     "lens_mtf's frequencies must be real numbers, got ['0', '100', '200']"),
+    ((np.array([0.0, 100.0]), ["1", "0.5"]), "lens_mtf's mtf must be real numbers, got ['1', '0.5']"),
+    (([0.0, 100.0], [True, False]), "lens_mtf's mtf must be real numbers, got [True, False]"),
+])
+def test_a_table_of_strings_or_booleans_is_refused_naming_the_argument_and_value(table, message):
+    # Strings were read as the numbers they spell: "100" became 100 cycles/mm.
+    for backend in ("core", "reference"):
+        with pytest.raises(ValueError, match=re.escape(message)):
+            epc_fast.evaluate(**DESIGN, lens_mtf=table, backend=backend)
+
+
+def test_a_scan_config_lens_table_of_strings_is_a_config_error_with_exit_code_2(tmp_path, capsys):
+    from epc_fast.__main__ import main
+
+    config = tmp_path / "scan.toml"
+    config.write_text('[scan]\npoints = 65536\n[design]\npresets = ["HIGH_TIER"]\n'
+                      '[parameters]\nilluminance_lux = 100.0\n'
+                      '[evaluate]\nlens_mtf = [["0", "100"], [1.0, 0.5]]\n'
+                      '[reductions.s]\nkind = "summary"\n')
+    code = main(["scan", str(config), "--out", str(tmp_path / "out"), "--no-progress"])
+    err = capsys.readouterr().err
+    assert code == 2 and "lens_mtf" in err and "['0', '100']" in err, err
+    assert err.count("\n") == 1

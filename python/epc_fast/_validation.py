@@ -143,9 +143,11 @@ def tolerance(name: str, value) -> float:
 
 
 def choice(name: str, value, allowed) -> str:
-    """``value`` if it is one of ``allowed``, else a ValueError naming ``name`` and them all."""
-    if value not in allowed:
-        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got {value!r}")
+    """``value`` if it is one of the names ``allowed`` (a str), else a ValueError naming
+    ``name``, the value and them all (an array or a list of names too)."""
+    if not isinstance(value, str) or value not in allowed:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, allowed))}; got "
+                         f"{short(value)}")
     return value
 
 

@@ -390,7 +390,11 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         (or its container) has: evaluate such a grid in pieces.
     """
     if modes is not None:  # evaluate's own keywords, modes among them, to each mode
-        return evaluate_modes(evaluate, dict(locals()))
+        result = evaluate_modes(evaluate, dict(locals()))
+        first = _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
+                           sensor_diagonal_mm, aspect, snr_at, field_angle_deg, focal_length_mm)
+        object.__setattr__(result, "_snr_target", (snr_db, snr_at, first[1]))
+        return result
     sensor, field_angle_deg = _sensor_of(
         pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm, sensor_diagonal_mm,
         aspect, snr_at, field_angle_deg, focal_length_mm)
@@ -425,7 +429,10 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     check_memory(shape, arrays, options.backend, given is not None, options.computed,
                  threads=threads if options.backend == "core" else 1)
     result = _compute(arrays, shape, sensor, spec, options, threads, given, ready)
-    return _assembled(result, shape, names, arrays, sensor, options, given)
+    result = _assembled(result, shape, names, arrays, sensor, options, given)
+    # where the target was met, its text made when first read (Result.snr_target)
+    object.__setattr__(result, "_snr_target", (snr_db, snr_at, field_angle_deg))
+    return result
 
 
 def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),

@@ -77,10 +77,23 @@ class MtfTable:
         return mtf_tabulated(f, self)[0]
 
 
+def _real_array(name: str, part: str, values) -> np.ndarray:
+    """``values`` as a float64 array when they are real numbers (integers or floats); a
+    ValueError naming the table, the part and the values for anything else (strings, which
+    NumPy would read as the numbers they spell, booleans, objects)."""
+    try:
+        array = np.asarray(values)
+    except (TypeError, ValueError):
+        array = None
+    if array is None or array.dtype.kind not in "iuf":
+        raise ValueError(f"{name}'s {part} must be real numbers, got {short(values)}")
+    return array.astype(np.float64, copy=False)
+
+
 def mtf_table(name: str, table) -> MtfTable:
     """``table`` = (frequencies, mtf), two 1-D arrays of the same length, checked and made an
-    :class:`MtfTable`; a ValueError of one line naming ``name`` for anything else: fewer than
-    two points, a NaN or infinite value, a negative or unsorted (or repeated) frequency, an MTF
+    :class:`MtfTable`; a ValueError of one line naming ``name`` for anything else: values that
+    are not real numbers (strings, booleans), fewer than two points, a NaN or infinite value, a negative or unsorted (or repeated) frequency, an MTF
     outside [0, 1] or one that rises, a value other than 1 at frequency 0. A table that starts
     above 0 gets the point (0, 1): every MTF is 1 at 0."""
     if isinstance(table, MtfTable):
@@ -90,11 +103,8 @@ def mtf_table(name: str, table) -> MtfTable:
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a pair (frequencies, mtf) of 1-D arrays, got "
                          f"{short(table)}") from None
-    try:
-        f = np.asarray(frequencies, dtype=np.float64)
-        m = np.asarray(values, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must hold real numbers, got {short(table)}") from None
+    f = _real_array(name, "frequencies", frequencies)
+    m = _real_array(name, "mtf", values)
     if f.ndim != 1 or m.ndim != 1 or f.size != m.size:
         raise ValueError(f"{name}: frequencies and mtf must be 1-D arrays of one length, got "
                          f"shapes {f.shape} and {m.shape}")

@@ -4,6 +4,7 @@ flat arrays the backends return."""
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
 
@@ -55,6 +56,10 @@ class Result:
     mode : int16 array, with ``modes=``: the index of the readout mode the camera picks at
         each point (the highest EPC; every other output is that mode's), -1 where no mode has
         an EPC (the first mode's outputs then say why). None without ``modes=``.
+    snr_target : str (not an output array; a property), the SNR target and where
+        :func:`epc_fast.evaluate` met it, as a scan's tables and the figures say it:
+        ``"30 dB at axis (default)"``, ``"30 dB at corner (27.03 deg)"``, ``"30 dB at field
+        angle 12 deg"``, ranges for arrays; None for a Result evaluate did not make.
     """
 
     electron_rate_e_per_s: np.ndarray | float | None
@@ -82,9 +87,48 @@ class Result:
         return {f.name: getattr(self, f.name) for f in fields(self)
                 if f.name in OUTPUT_DTYPES or getattr(self, f.name) is not None}
 
+    @property
+    def snr_target(self) -> str | None:
+        """The SNR target and where evaluate met it (see the class), made when first read."""
+        where = self.__dict__.get("_snr_target")
+        if where is None or isinstance(where, str):
+            return where
+        text = _snr_target_text(*where)
+        object.__setattr__(self, "_snr_target", text)
+        return text
+
     def __repr__(self) -> str:
-        items = ", ".join(f"{name}={value!r}" for name, value in self.as_dict().items())
-        return f"Result({items})"
+        items = [f"{name}={value!r}" for name, value in self.as_dict().items()]
+        if self.snr_target is not None:
+            items.append(f"snr_target={self.snr_target!r}")
+        return f"Result({', '.join(items)})"
+
+
+def _range_text(values, digits: str = "g") -> str:
+    """``"30"`` for one value, ``"20 to 30"`` for an array's least and greatest (NaN left
+    out)."""
+    array = np.asarray(values, dtype=float)
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # an all-NaN array gives nan
+        low, high = float(np.nanmin(array)), float(np.nanmax(array))
+    return f"{low:{digits}}" if low == high else f"{low:{digits}} to {high:{digits}}"
+
+
+def _snr_target_text(snr_db, snr_at, field_angle_deg) -> str:
+    """The SNR target and where a call met it (:attr:`Result.snr_target`): the place as
+    :func:`epc_fast.sensor.snr_at_text` writes it, "(default)" on the axis when neither
+    ``snr_at`` nor ``field_angle_deg`` was given (``field_angle_deg`` 0), ranges for arrays."""
+    from .sensor import snr_at_text
+
+    level = f"{_range_text(snr_db)} dB"
+    angles = np.asarray(field_angle_deg, dtype=float)
+    if angles.size == 1 or np.all(angles == angles.flat[0]):
+        angle = float(angles.flat[0])
+        default = snr_at is None and angle == 0.0
+        return f"{level} at {snr_at_text(snr_at, angle, default)}"
+    if snr_at == "corner":
+        return f"{level} at corner ({_range_text(angles, '.2f')} deg)"
+    return f"{level} at field angles {_range_text(angles)} deg"
 
 
 #: The MTF factors whose shares of the loss at f50 evaluate gives, in the core's order.

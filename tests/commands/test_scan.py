@@ -411,3 +411,18 @@ def test_a_scan_with_readout_modes_writes_each_modes_share_per_design(tmp_path, 
     assert abs(sum(shares[0]) - 1.0) < 1e-12 and min(shares[0]) > 0.0
     assert shares[1] == [1.0, 0.0, 0.0]  # one mode, its own readout
     assert "| mode 0 | mode 1 | mode 2 |" in out
+
+
+@pytest.mark.parametrize("make, kind", [(os.mkfifo, "a FIFO"), (os.mkdir, "a directory")])
+def test_a_lock_path_that_is_not_a_file_is_a_usage_error_naming_it(tmp_path, capsys, make, kind):
+    # A FIFO there ended the scan with "OSError: [Errno 22] Invalid argument", exit code 1.
+    out = tmp_path / "out"
+    out.mkdir()
+    make(out / ".epc-fast.lock")
+    code = main(["scan", "--points", "65536", "--out", str(out), "--no-progress", "--no-plots"])
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert err == (f"epc-fast scan: error: --out {str(out)!r}: its lock file "
+                   f"{out / '.epc-fast.lock'} is {kind}, not a file: remove it, or choose "
+                   "another --out\n")
+    assert sorted(p.name for p in out.iterdir()) == [".epc-fast.lock"]

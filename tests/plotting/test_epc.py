@@ -25,8 +25,32 @@ def test_a_figure_draws_the_model_and_marks_each_pixel_count():
     assert lux[0] == pytest.approx(100.0) and lux[-1] == pytest.approx(1e5)
     expected = evaluate_over_illuminance(HIGH_TIER, lux).epc / 1e6
     np.testing.assert_array_equal(np.array([c.get_ydata() for c in curves]), expected)
-    assert marks == {d.pixel_count / 1e6 for d in HIGH_TIER}
+    assert marks == {_physical_count(d) / 1e6 for d in HIGH_TIER}
     assert ax.get_xscale() == "log"
+
+
+def _physical_count(design) -> float:
+    """pixels: the design's sensor area over its pitch squared (docs/model.md)."""
+    return design.sensor_area_mm2 * 1e6 / design.pixel_pitch_um ** 2
+
+
+def test_the_papers_figure_and_a_scans_plot_mark_one_design_at_one_pixel_count():
+    # The figure drew columns x rows (1.92 Mpixel for the 2.8 um design), the scan's bands
+    # area / pitch^2 (2.00 Mpixel).
+    from epc_fast import scan
+    from epc_fast.plotting.common import physical_pixel_count
+    from epc_fast.scan.plots import scan_pixel_counts
+
+    space = scan.Space(design=HIGH_TIER, illuminance_lux=scan.LogUniform(10, 1e5))
+    in_scan = scan_pixel_counts(space)
+    figure = plot_epc_over_illuminance(HIGH_TIER)
+    marks = sorted(line.get_ydata()[0] * 1e6 for line in figure.axes[0].lines
+                   if line.get_linestyle() == ":" and len(line.get_ydata()))
+    assert marks == pytest.approx(sorted(in_scan.values()), rel=1e-15)
+    for design in HIGH_TIER:
+        count = physical_pixel_count(design.sensor_area_mm2, design.pixel_pitch_um)
+        assert in_scan[design.name] == count == pytest.approx(_physical_count(design), rel=1e-15)
+    assert in_scan['1/3.2" 2.8 um'] == pytest.approx(1.999e6, rel=1e-3)
 
 
 def test_plotting_without_matplotlib_names_the_plot_extra(monkeypatch):
@@ -53,7 +77,7 @@ def test_no_pixel_count_label_touches_a_curve_or_another_label(figure_spec):
     figure = plot_epc_over_illuminance(figure_spec.designs, title=figure_spec.title)
     ax = figure.axes[0]
     boxes = label_boxes(figure, ax)
-    assert len(boxes) == len({d.pixel_count for d in figure_spec.designs})
+    assert len(boxes) == len({_physical_count(d) for d in figure_spec.designs})
     curves = [line for line in ax.lines if line.get_linestyle() == "-"]
     dotted = [line for line in ax.lines if line.get_linestyle() == ":" and len(line.get_xdata())]
     assert overlapping_pairs(boxes) == []
@@ -68,9 +92,9 @@ def test_each_pixel_count_label_sits_beside_its_own_line():
     figure = plot_epc_over_illuminance(HIGH_TIER)
     ax = figure.axes[0]
     for design in HIGH_TIER:
-        text = f"{design.pixel_count / 1e6:.2f} Mpixel"
+        text = f"{_physical_count(design) / 1e6:.2f} Mpixel"
         box = label_boxes(figure, ax)[text]
-        line_y = ax.transData.transform((1.0, design.pixel_count / 1e6))[1]
+        line_y = ax.transData.transform((1.0, _physical_count(design) / 1e6))[1]
         gap = min(abs(box.y0 - line_y), abs(box.y1 - line_y))
         # 2 pt from the line, at 100 dpi 2.8 px; the renderer's text box may start a pixel
         # off that.
@@ -116,3 +140,20 @@ def test_a_figure_carries_its_designs_snr_target_scene_points_and_build_under_th
     assert overlapping_pairs(boxes) == []
     assert boxes_outside(boxes, figure) == []
     assert boxes["figure text 0"].y1 < legend_boxes(figure)[0].y0
+
+
+def test_a_figure_of_designs_names_each_term_that_is_on_in_its_conditions():
+    # Figure 3's stabilised designs said only "the designs' own parameters".
+    from dataclasses import replace
+
+    from epc_fast.plotting.common import designs_conditions
+
+    designs = [d for d in FIGURES if d.name == "fig3"][0].designs
+    text = " ".join(designs_conditions(designs, np.array([100.0, 1e5])))
+    assert ("Terms on: stabilization 1 (1/3.2\" 1.75 µm), 4 (1/3.2\" 1.75 µm 4x IS), "
+            "1 (3x zoom 1.75 µm), 4 (3x zoom 1.75 µm 4x IS)") in text
+    noisy = [replace(d, read_noise_e=2.0, binning_readout="charge", binning=2) for d in HIGH_TIER]
+    text = " ".join(designs_conditions(noisy, np.array([100.0, 1e5])))
+    assert "Terms on: read_noise_e 2; binning 2; charge binning (every design)" in text
+    assert not any(line.startswith("Terms on") for line in designs_conditions(
+        HIGH_TIER, np.array([100.0, 1e5])))

@@ -14,8 +14,8 @@ import numpy as np
 
 __all__ = ["figure_class", "save_figure", "shared_reading", "illuminance_lux", "PLOT_EXTRA",
            "POINTS_PER_DECADE", "build_text", "conditions_lines", "add_conditions",
-           "space_conditions", "designs_conditions", "CONDITIONS_FONTSIZE",
-           "CONDITIONS_WIDTH"]
+           "space_conditions", "designs_conditions", "physical_pixel_count",
+           "CONDITIONS_FONTSIZE", "CONDITIONS_WIDTH"]
 
 #: The install command that brings matplotlib.
 PLOT_EXTRA = "pip install 'epc-fast[plot]'"
@@ -71,6 +71,16 @@ def illuminance_lux(lux_range) -> np.ndarray:
     both ends included."""
     lo, hi = np.log10(lux_range[0]), np.log10(lux_range[1])
     return np.logspace(lo, hi, int(round((hi - lo) * POINTS_PER_DECADE)) + 1)
+
+
+def physical_pixel_count(sensor_area_mm2, pixel_pitch_um):
+    """pixels: a design's physical pixel count as every figure draws it, N = S / p², the
+    sensor's area over the pitch squared (docs/model.md, "EPC"): the N of EPC = N (f50 /
+    f_Nyq)², so EPC reaches it where f50 reaches the Nyquist frequency. A float, or an array
+    for arrays."""
+    count = (np.asarray(sensor_area_mm2, dtype=float) * 1e6
+             / np.asarray(pixel_pitch_um, dtype=float) ** 2)
+    return float(count) if count.ndim == 0 else count
 
 
 def build_text() -> str:
@@ -145,13 +155,24 @@ def space_conditions(space, *, points=None, seed=None, skip=(), extra=()) -> lis
 def designs_conditions(designs, lux) -> list[str]:
     """:func:`conditions_lines` of a figure of presets' ``designs`` (:class:`epc_fast.presets.
     Design`) over the illuminances ``lux``: their names, SNR targets, the scene (illuminance
-    the x axis, every other parameter the design's own or evaluate's default) and the points."""
+    the x axis, every other parameter the design's own or evaluate's default), the points, and
+    every term the designs turn on (:func:`epc_fast.scan.terms.designs_terms`)."""
+    from ..scan.terms import default_values, designs_terms, readout_terms
+
     targets = [f"{design.evaluate_kwargs()['snr_db']:g} dB at {design.snr_at_text}"
                for design in designs]
     scene = (f"illuminance {lux[0]:g} to {lux[-1]:g} lux (the x axis); the designs' own "
              f"parameters, evaluate's defaults for the rest")
-    return conditions_lines(designs=[design.name for design in designs], snr_target=targets,
-                            scene=scene, points=len(lux) * len(designs))
+    names = [design.name for design in designs]
+    defaults = default_values()
+    kwargs = [design.evaluate_kwargs() for design in designs]
+    table = {name: [k.get(name, default) for k in kwargs] for name, default in defaults.items()}
+    on = designs_terms(names, table) + readout_terms(
+        names, [design.binning_readout for design in designs],
+        [design.modes for design in designs])
+    return conditions_lines(designs=names, snr_target=targets, scene=scene,
+                            points=len(lux) * len(designs),
+                            extra=[f"Terms on: {'; '.join(on)}"] if on else [])
 
 
 def add_conditions(figure, lines, fontsize: float = CONDITIONS_FONTSIZE):

@@ -4,7 +4,7 @@ functions)."""
 from __future__ import annotations
 
 from .common import (add_conditions, designs_conditions, figure_class, illuminance_lux,
-                     shared_reading)
+                     physical_pixel_count, shared_reading)
 from .layout import freeze_layout, place_line_labels
 from .text import quantity_label, unit_text
 from ..presets import READINGS, evaluate_over_illuminance
@@ -16,10 +16,11 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     """A figure of EPC against illuminance, one curve per design.
 
     The x axis is illuminance in lux on a log scale, the y axis EPC in megapixels; each design's
-    physical pixel count is marked by a dotted line in its curve's colour, labelled where no
-    curve passes (:func:`epc_fast.plotting.layout.place_line_labels`). The legend sits below the
-    axes, clear of the curves. The figure's layout is fixed when it is returned: add nothing
-    that needs room.
+    physical pixel count (its sensor's area over its pitch squared) is marked by a dotted line
+    in its curve's colour, labelled where no curve passes
+    (:func:`epc_fast.plotting.layout.place_line_labels`). The legend sits below the axes, clear
+    of the curves. The figure's layout is fixed when it is returned: add nothing that needs
+    room.
 
     Parameters
     ----------
@@ -49,7 +50,7 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     levels, colors = _pixel_count_lines(ax, designs)
     ax.set_xscale("log")
     ax.set_xlim(*lux_range)
-    ax.set_ylim(0.0, 1.08 * max(d.pixel_count for d in designs) / 1e6)
+    ax.set_ylim(0.0, 1.08 * max(_pixel_count(d) for d in designs) / 1e6)
     ax.set_xlabel(quantity_label("illuminance_lux"))
     ax.set_ylabel("Effective pixel count, EPC (Mpixel)")
     ax.set_title(unit_text(f"{title}\n{READINGS[reading].meaning}"), fontsize=10)
@@ -64,6 +65,12 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
     return figure
 
 
+def _pixel_count(design) -> float:
+    """pixels: ``design``'s physical pixel count, its sensor's area over its pitch squared
+    (:func:`epc_fast.plotting.common.physical_pixel_count`, as a scan's plots)."""
+    return physical_pixel_count(design.sensor_area_mm2, design.pixel_pitch_um)
+
+
 def _pixel_count_lines(ax, designs) -> tuple[list, list]:
     """A dotted line at each physical pixel count, in the colour of its design's curve, or
     grey where several designs share it; a legend entry says what the dotted lines are.
@@ -73,7 +80,7 @@ def _pixel_count_lines(ax, designs) -> tuple[list, list]:
     levels : list of float, Mpixel, one per distinct count.
     colors : list, the colour of each line.
     """
-    counts = [d.pixel_count for d in designs]
+    counts = [_pixel_count(d) for d in designs]
     levels, colors = [], []
     for index, count in enumerate(counts):
         if counts.index(count) != index:

@@ -19,8 +19,8 @@ import math
 
 import numpy as np
 
-from ..plotting.common import (add_conditions, conditions_lines, figure_class, save_figure,
-                               space_conditions)
+from ..plotting.common import (add_conditions, conditions_lines, figure_class,
+                               physical_pixel_count, save_figure, space_conditions)
 from ..plotting.layout import freeze_layout, place_line_labels, place_vertical_line_label
 from ..plotting.text import output_scale, quantity_label, quantity_unit, unit_text
 from .histograms import HistogramResult, QuantilesResult
@@ -194,13 +194,13 @@ def plot_bands(quantiles: QuantilesResult, path, fractions_below=(), partial="",
 
 def scan_pixel_counts(space) -> dict:
     """{design name: physical pixel count} of ``space``'s designs whose sensor area and pixel
-    pitch are their own (not a scanned parameter): area / pitch²."""
+    pitch are their own (not a scanned parameter): area / pitch²
+    (:func:`epc_fast.plotting.common.physical_pixel_count`, as the paper's figures)."""
     table = space.design_table
     if not space.design_names or any(name in space.axes or name not in table
                                      for name in ("sensor_area_mm2", "pixel_pitch_um")):
         return {}
-    counts = (np.asarray(table["sensor_area_mm2"], dtype=float) * 1e6
-              / np.asarray(table["pixel_pitch_um"], dtype=float) ** 2)
+    counts = physical_pixel_count(table["sensor_area_mm2"], table["pixel_pitch_um"])
     return {name: float(count) for name, count in zip(space.design_names, counts)
             if np.isfinite(count)}
 

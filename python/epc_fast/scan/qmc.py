@@ -54,10 +54,12 @@ class Sampling:
     replicates: int = DEFAULT_REPLICATES
 
     def __post_init__(self):
-        if self.method not in SAMPLINGS:
+        if not isinstance(self.method, str) or self.method not in SAMPLINGS:
             raise ValueError(f"sampling must be one of {', '.join(map(repr, SAMPLINGS))}; "
                              f"got {self.method!r}")
         try:
+            if isinstance(self.replicates, (bool, np.bool_)):  # True is no count of replicates
+                raise TypeError
             replicates = operator.index(self.replicates)
         except TypeError:
             raise TypeError(f"replicates must be an integer, got {self.replicates!r}") from None

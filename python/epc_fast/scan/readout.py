@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validation import short
 from ..api import BINNING_READOUTS, evaluate
 from ..modes import MODE_DEFAULTS, check_modes
 from ..outputs import Result
@@ -36,8 +37,8 @@ def design_readout(entry: dict, overridden: set) -> tuple[str, tuple | None]:
     ``entry``; a ValueError or TypeError naming the design and the mode otherwise."""
     name = entry["name"]
     readout = entry.pop("binning_readout", MODE_DEFAULTS["binning_readout"])
-    if readout not in BINNING_READOUTS:
-        raise ValueError(f"design {name!r}: binning_readout = {readout!r}: expected one of "
+    if not isinstance(readout, str) or readout not in BINNING_READOUTS:
+        raise ValueError(f"design {name!r}: binning_readout = {short(readout)}: expected one of "
                          f"{', '.join(map(repr, BINNING_READOUTS))}")
     modes = entry.pop("modes", None)
     if modes is None:
@@ -50,8 +51,8 @@ def design_readout(entry: dict, overridden: set) -> tuple[str, tuple | None]:
         for key, value in mode.items():
             where = f"design {name!r}: modes[{index}]: {key}"
             if key == "binning_readout":
-                if value not in BINNING_READOUTS:
-                    raise ValueError(f"{where} = {value!r}: expected one of "
+                if not isinstance(value, str) or value not in BINNING_READOUTS:
+                    raise ValueError(f"{where} = {short(value)}: expected one of "
                                      f"{', '.join(map(repr, BINNING_READOUTS))}")
                 continue
             if key in overridden:

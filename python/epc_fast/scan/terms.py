@@ -16,7 +16,7 @@ import numpy as np
 from ..cfa import DEFAULT_CFA_TRANSMITTANCE, DEFAULT_COLOR_NOISE_GAIN
 from ..params import PARAMETERS
 
-__all__ = ["default_values", "designs_terms", "terms_on"]
+__all__ = ["default_values", "designs_terms", "readout_terms", "terms_on"]
 
 #: Parameters that are no term: the SNR target's (said on its own line) and the lens table's
 #: index (said with the tables).
@@ -73,11 +73,19 @@ def terms_on(space) -> list[str]:
     if options.get("spectrum") is not None:
         terms.append("diffraction over a spectrum")
     terms += designs_terms(space.design_names, space.design_table, cfa, skip=space.axes)
-    charge = [name for name, readout in zip(space.design_names, space.design_readout)
-              if readout == "charge"]
+    return terms + readout_terms(space.design_names, space.design_readout, space.design_modes)
+
+
+def readout_terms(names, readouts, modes) -> list[str]:
+    """``"charge binning (A)"`` and ``"readout modes (A: 3)"`` for the designs of ``names``
+    that read their binned pixels as charge or pick among modes (``readouts``: each design's
+    ``binning_readout``; ``modes``: each design's modes or None); "every design" when all do."""
+    terms = []
+    charge = [name for name, readout in zip(names, readouts) if readout == "charge"]
     if charge:
-        terms.append(f"charge binning ({', '.join(charge)})")
-    modes = [f"{name}: {len(m)}" for name, m in zip(space.design_names, space.design_modes) if m]
-    if modes:
-        terms.append(f"readout modes ({'; '.join(modes)})")
+        which = "every design" if len(charge) == len(names) else ", ".join(charge)
+        terms.append(f"charge binning ({which})")
+    picked = [f"{name}: {len(m)}" for name, m in zip(names, modes) if m]
+    if picked:
+        terms.append(f"readout modes ({'; '.join(picked)})")
     return terms
