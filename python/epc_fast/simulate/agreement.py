@@ -157,7 +157,8 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     seeds : int, >= 2: the noisy captures (the noise drawn anew each time, the expected image
         computed once).
     seed : int, the first seed; the captures use seed, seed + 1, ...
-    **design : the design's keywords of :func:`epc_fast.evaluate` (scalars).
+    **design : the design's keywords of :func:`epc_fast.evaluate` (scalars). A design with
+        ``modes`` is captured, and its edge sized and measured, in the mode the model picks.
 
     Returns
     -------
