@@ -26,6 +26,7 @@ from ..scan.errors import ConfigError
 from ..scan.schema import MAX_CONFIG_BYTES, integer, number, short, table_of, take
 from ..scan.terms import terms_on
 from .agreement import MAX_EDGE_COLUMNS
+from .camera import GAIN_RTOL
 from .charts import MIN_EDGE_PX
 from .review import DEFAULTS
 from .star import MIN_STAR_PX
@@ -101,6 +102,20 @@ def _check_star(settings: dict, designs) -> None:
                                   f"({pitch:g} um)")
 
 
+def _check_colour(designs) -> None:
+    """A ConfigError for a design whose ``color_noise_gain`` is not the capture's own, its
+    filters' (1 without a CFA; the default channels' and weights' for a Bayer sensor): no
+    capture has it (:func:`epc_fast.simulate.capture`)."""
+    from ..cfa import color_noise_gain
+
+    for name, kwargs in designs:
+        given = kwargs.get("color_noise_gain")
+        own = color_noise_gain() if kwargs.get("cfa", "none") == "bayer" else 1.0
+        if given is not None and not abs(given - own) <= GAIN_RTOL * own:
+            raise ConfigError(f"scan config [design] {name!r}: color_noise_gain = {given:g}: "
+                              f"expected the capture's own, {own:.4g} (its filters'), or none")
+
+
 def _designs(space) -> list:
     """(name, keywords of :func:`epc_fast.evaluate`) of each of the space's designs: its
     parameters, its ``binning_readout`` (when not digital) and ``modes``, and ``[evaluate]``'s
@@ -127,6 +142,7 @@ def parse_simulate_config(text: str, source: str = "<string>") -> SimulateConfig
     space = parse_space({"design": document["design"], "evaluate": document.get("evaluate", {}),
                          "parameters": {"illuminance_lux": 1.0}})
     designs = _designs(space)
+    _check_colour(designs)
     _check_star(settings, designs)
     return SimulateConfig(designs, list(space.snr_target_text()), settings, source, text,
                           terms_on(space))
