@@ -1,13 +1,18 @@
-"""``epc-fast paper``: the figures, their companions and the statements it writes, end to end;
+"""``epc-fast paper``: the figures, their companions and the statements it writes, end to end
+(seconds); with ``--simulate`` the statements also checked on simulated captures (heavy);
 without matplotlib, the statements still."""
 
 from __future__ import annotations
 
 import csv
+import math
 import subprocess
 import sys
 
+import pytest
+
 from epc_fast.__main__ import main
+from epc_fast.commands.paper import SKIPPED
 from epc_fast.paper import CLAIMS, FIGURES
 
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -17,6 +22,11 @@ def png_size_px(data: bytes) -> tuple[int, int]:
     """(width, height) of a PNG, from its header chunk (IHDR), which follows the signature."""
     assert data.startswith(PNG_SIGNATURE) and data[12:16] == b"IHDR"
     return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+
+
+def read_statements(out) -> list:
+    with open(out / "statements.csv", newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
 
 
 def test_paper_command_writes_three_pngs_their_limits_and_the_statements(tmp_path, capsys):
@@ -32,12 +42,29 @@ def test_paper_command_writes_three_pngs_their_limits_and_the_statements(tmp_pat
         data = limits.read_bytes()
         assert len(data) > 10_000 and png_size_px(data) == (770, 682), limits.name
         assert f"{limits}\n" in printed
-    with open(out / "statements.csv", newline="", encoding="utf-8") as f:
-        rows = list(csv.DictReader(f))
+    rows = read_statements(out)
     assert [row["id"] for row in rows] == [c.id for c in CLAIMS]
     assert all(float(row["preset_value"]) > 0 for row in rows)
-    assert (out / "statements.md").read_text(encoding="utf-8").startswith("| id |")
     assert "does not hold: fraction_2.8_100klux" in printed
+    # Without --simulate no capture is simulated, and the output says how to simulate them.
+    assert all(math.isnan(float(row["simulated_value"])) for row in rows)
+    assert all(row["simulated_holds"] == "" for row in rows)
+    assert f"{SKIPPED}\n" in printed and "--simulate" in SKIPPED
+    md = (out / "statements.md").read_text(encoding="utf-8")
+    assert md.startswith("| id |") and "| simulated captures |" not in md
+    assert "`epc-fast paper --simulate`" in md
+
+
+@pytest.mark.heavy
+def test_paper_command_with_simulate_checks_the_statements_on_simulated_captures(tmp_path,
+                                                                                 capsys):
+    out = tmp_path / "figures"
+    assert main(["paper", "--out", str(out), "--threads", "2", "--simulate"]) == 0
+    printed = capsys.readouterr().out
+    assert SKIPPED not in printed
+    rows = read_statements(out)
+    assert [row["id"] for row in rows] == [c.id for c in CLAIMS]
+    assert all((out / f"{figure.name}.png").exists() for figure in FIGURES)
     # The statements checked on simulated captures, as the paper checked them.
     simulated = {row["id"]: float(row["simulated_value"]) for row in rows}
     model = {row["id"]: float(row["preset_value"]) for row in rows}
@@ -51,6 +78,9 @@ def test_paper_command_writes_three_pngs_their_limits_and_the_statements(tmp_pat
     # 4x IS with 4x less light is the same capture: the same exposure times shake.
     assert abs(simulated["is_4x_light"] - 4.0) < 1e-6
     assert all(simulated[sid] != simulated[sid] for sid in ("fov_normal", "fov_zoom"))
+    held = [row["simulated_holds"] == "true" for row in rows if row["simulated_holds"]]
+    assert f"  on simulated captures: {sum(held)} of {len(held)} with a paper value hold\n" \
+        in printed
     md = (out / "statements.md").read_text(encoding="utf-8")
     assert "Checked on simulated captures" in md and "| simulated captures |" in md
 

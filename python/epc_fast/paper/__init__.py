@@ -1,7 +1,8 @@
 """The paper's quantitative statements held against the model
 (:mod:`~epc_fast.paper.claims`) and checked on simulated captures
 (:mod:`~epc_fast.paper.simulated`), and their tables as CSV and Markdown
-(:mod:`~epc_fast.paper.table`); ``epc-fast paper`` writes both with the figures.
+(:mod:`~epc_fast.paper.table`); ``epc-fast paper`` writes them with the figures, the values
+on simulated captures with ``--simulate``.
 """
 
 from __future__ import annotations
