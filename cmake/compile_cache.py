@@ -34,6 +34,8 @@ from pathlib import Path
 KEEP = 12
 #: Arguments that name a path in the next argument and do not change the object's bits.
 PATH_ARGS = {"-o", "-MF", "-MT", "-MQ", "-I", "-isystem", "-iquote", "-idirafter"}
+#: Arguments that rename paths: their effect on the object is in the preprocessed text.
+PREFIX_MAPS = ("-ffile-prefix-map=", "-fmacro-prefix-map=")
 #: Arguments that only ask for the dependency file.
 DEPENDENCY_ARGS = {"-MD", "-MMD"}
 
@@ -55,7 +57,7 @@ def _split(args: list):
         if arg in PATH_ARGS:
             skip = True
             continue
-        if arg in DEPENDENCY_ARGS or arg.startswith(("-I", "-isystem")):
+        if arg in DEPENDENCY_ARGS or arg.startswith(("-I", "-isystem") + PREFIX_MAPS):
             continue
         if not arg.startswith("-") and i > 0 and Path(arg).suffix in (".c", ".cc", ".cpp",
                                                                          ".cxx", ".C"):
