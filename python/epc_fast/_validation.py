@@ -46,8 +46,9 @@ def _scalar_array(value: float) -> np.ndarray:
 
 
 def short(value) -> str:
-    """``repr(value)``, cut to 60 characters so that an error stays one readable line."""
-    text = repr(value)
+    """``repr(value)`` on one line (an array's repr breaks lines), cut to 60 characters so
+    that an error stays one readable line."""
+    text = " ".join(repr(value).split())
     return text if len(text) <= 60 else text[:57] + "..."
 
 

@@ -25,8 +25,10 @@ def test_a_side_three_times_as_slow_fails_the_comparison(tmp_path, capsys):
     (workload,) = report["workloads"]
     assert report["passed"] is False and workload["verdict"] == "slower"
     # the slow side does every call's work three times: about three times the CPU time (down
-    # to 1.8 where a worker's first rounds run slow), far from the 5% threshold
-    assert 1.3 < workload["ratio"]["estimate"] < 5.0
+    # to 1.8 where a worker's first rounds run slow, up to 5.3 measured on a 2-core machine
+    # running two other test suites, whose caches the longer side shares longer), far from the
+    # 5% threshold either way
+    assert 1.3 < workload["ratio"]["estimate"] < 8.0
     assert workload["ratio"]["low"] > 1.05
     assert "**FAIL**" in (tmp_path / "compare.md").read_text()
     assert "**SLOWER**" in capsys.readouterr().out
