@@ -43,6 +43,9 @@ from pathlib import Path
 
 import pytest
 
+#: Every page's examples run: about four minutes on 2 cores (a scan, the paper, captures).
+pytestmark = pytest.mark.heavy
+
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = [ROOT / "README.md"] + sorted((ROOT / "docs").glob("*.md"))
 #: Relative tolerance of printed numbers (the module docstring gives the reason).

@@ -80,6 +80,7 @@ def _counted_on_v3(name: str) -> tuple:
     return table, measured
 
 
+@pytest.mark.heavy  # counts instructions under valgrind: about a minute
 def test_the_default_call_costs_what_the_committed_table_says():
     table, measured = _counted_on_v3("default")
     ((name, old, new, ratio, verdict),) = compare_counts(measured, table)
@@ -90,6 +91,7 @@ def test_the_default_call_costs_what_the_committed_table_says():
     assert abs(ratio - 1) < 0.01
 
 
+@pytest.mark.heavy  # counts instructions under valgrind: about a minute
 def test_a_call_costs_what_the_committed_table_says():
     # evaluate's fixed cost: its Python layer, the binding and one block of the kernel
     table, measured = _counted_on_v3("call")

@@ -13,8 +13,10 @@ from helpers.scripts import ROOT, load_script
 
 HEADER = ROOT / "cpp" / "include" / "epc_fast" / "f50_start_coefficients.h"
 
-pytestmark = pytest.mark.skipif(not HEADER.exists(),
-                                reason="cpp/ is not beside the tests (an installed package)")
+# refitting the tables takes about a minute on 2 cores
+pytestmark = [pytest.mark.heavy,
+              pytest.mark.skipif(not HEADER.exists(),
+                                 reason="cpp/ is not beside the tests (an installed package)")]
 
 
 @pytest.fixture(scope="module")

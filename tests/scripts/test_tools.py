@@ -49,6 +49,7 @@ def _run(path, *args):
                           text=True, timeout=120).stdout
 
 
+@pytest.mark.heavy  # compiles tools/*.cpp: about 80 s on 2 cores
 def test_kernel_speed_solves_the_first_design_as_evaluate_does(built):
     text = _run(built["kernel_speed"], 300, 1)
     f50 = float(re.search(r"f50\[0\] = ([0-9.eE+-]+)", text).group(1))
@@ -58,6 +59,7 @@ def test_kernel_speed_solves_the_first_design_as_evaluate_does(built):
     assert re.search(r"best [0-9.]+ M points/s", text)
 
 
+@pytest.mark.heavy  # compiles tools/*.cpp: about 80 s on 2 cores
 @pytest.mark.parametrize("precision", ["float64", "float32"])
 def test_stage_costs_reports_the_five_stages_that_add_up_to_the_whole(built, precision):
     text = _run(built["stage_costs"], 256, 2, precision)
@@ -71,6 +73,7 @@ def test_stage_costs_reports_the_five_stages_that_add_up_to_the_whole(built, pre
     assert total > 0
 
 
+@pytest.mark.heavy  # compiles tools/*.cpp: about 80 s on 2 cores
 @pytest.mark.parametrize("mode, per_round", [("default", 7), ("lean", 6), ("out", 7),
                                              ("stream", 7)])
 def test_memory_floor_writes_the_outputs_it_times(built, mode, per_round):
@@ -85,6 +88,7 @@ def test_memory_floor_writes_the_outputs_it_times(built, mode, per_round):
     assert re.search(r"best [0-9.]+ M points/s", text)
 
 
+@pytest.mark.heavy  # compiles tools/*.cpp: about 80 s on 2 cores
 def test_stage_ab_alternates_two_builds_and_keeps_each_stages_least(built, tmp_path):
     stage_ab = load_script("tools/stage_ab.py")
     other = tmp_path / "stage_costs_copy"
@@ -98,6 +102,7 @@ def test_stage_ab_alternates_two_builds_and_keeps_each_stages_least(built, tmp_p
     assert text.count("least by stage: gather") == 2 and "f50 solve" in text
 
 
+@pytest.mark.heavy  # compiles tools/*.cpp: about 80 s on 2 cores
 def test_stage_ab_refuses_a_printout_without_every_stage_and_one_build_twice(built):
     stage_ab = load_script("tools/stage_ab.py")
     with pytest.raises(ValueError, match="no f50 solve, scatter"):

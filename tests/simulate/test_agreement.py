@@ -15,6 +15,9 @@ import pytest
 from epc_fast import Status, evaluate, presets, spectra
 from epc_fast.simulate.agreement import EDGE_ANGLE_DEG, agreement, edge_chart, every_term_design
 
+#: Each agreement captures and measures dozens of charts: about two minutes on 2 cores.
+pytestmark = pytest.mark.heavy
+
 #: The e-SFR's own error on a noise-free edge whose MTF is known in closed form
 #: (tests/simulate/test_edge_sfr.py asserts 0.6% for MTF50 there); the chart's span and window
 #: are sized to add under 0.35% (agreement.DIFFRACTION_SPAN). Measured here: 0.45% at most.
