@@ -353,7 +353,7 @@ def test_the_core_refuses_spectrum_weights_that_do_not_sum_to_one(weights, shown
 def test_binning_readout_that_is_not_one_name_raises_value_error_naming_it(value):
     # An array of names gave NumPy's "The truth value of an array ... is ambiguous".
     with pytest.raises(ValueError, match=r"^binning_readout must be one of 'digital', 'charge'; "
-                                         r"got " + re.escape(repr(value)[:20])):
+                                         r"got " + re.escape(" ".join(repr(value).split())[:20])):
         epc_fast.evaluate(**DESIGN, binning_readout=value)
     unread = {k: v for k, v in DESIGN.items()
               if k not in ("binning", "frames", "alignment_error_um")}
