@@ -17,6 +17,9 @@ from helpers.scan import assert_same_numbers, every_reduction
 
 distributed = pytest.importorskip("distributed")
 
+#: Each test starts a cluster of worker processes and kills or stalls them: 15 s on 2 cores.
+pytestmark = pytest.mark.heavy
+
 SPACE = Space(design=HIGH_TIER, illuminance_lux=LogUniform(10, 1e5))
 
 
