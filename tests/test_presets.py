@@ -40,6 +40,26 @@ def test_arrays_fill_their_formats():
         assert width == pytest.approx(design.sensor_width_mm, rel=0.02), design.name
 
 
+def test_a_designs_pixel_count_is_the_physical_one_the_figures_and_the_scans_draw():
+    # One rule (docs/model.md, "EPC"): N = S / p^2, the sensor's area over the pitch squared,
+    # for every preset: the same function and the same bits as the paper's figures and a
+    # scan's bands. Columns x rows (1.92 Mpixel for the 2.8 um design) is the array, not N.
+    from epc_fast import scan, sensor
+    from epc_fast.plotting import common
+    from epc_fast.scan.plots import scan_pixel_counts
+
+    assert common.physical_pixel_count is sensor.physical_pixel_count
+    designs = PAPER_DESIGNS + FIGURE_3[1::2]  # and the stabilised ones
+    in_scan = scan_pixel_counts(scan.Space(design=list(designs),
+                                           illuminance_lux=scan.LogUniform(10, 1e5)))
+    for design in designs:
+        count = sensor.physical_pixel_count(design.sensor_area_mm2, design.pixel_pitch_um)
+        assert design.pixel_count == count == in_scan[design.name], design.name
+        assert type(design.pixel_count) is float, design.name
+    assert HIGH_TIER[0].pixel_count == pytest.approx(1_999_375.0, rel=1e-15)
+    assert (HIGH_TIER[0].columns, HIGH_TIER[0].rows) == (1600, 1200)
+
+
 def test_designs_are_plain_data_that_can_be_changed():
     stabilised = ZOOM_3X.with_(stabilization=4.0)
     assert stabilised.stabilization == 4.0 and ZOOM_3X.stabilization == 1.0

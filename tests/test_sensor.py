@@ -140,7 +140,9 @@ def test_snr_at_is_checked_and_is_not_given_with_a_field_angle():
 def test_a_design_from_a_data_sheet_fills_in_its_array_and_meets_the_target_at_the_corner():
     d = Design("phone", 1.0, sensor_diagonal_mm=10.24, aspect="4:3", f_number=1.88,
                focal_length_mm=5.7)
-    assert (d.columns, d.rows, d.pixel_count) == (8192, 6144, 50_331_648)
+    assert (d.columns, d.rows) == (8192, 6144)
+    # The physical pixel count is the area over the pitch squared, unrounded (docs/model.md).
+    assert d.pixel_count == d.sensor_area_mm2 * 1e6 == pytest.approx(50_331_648, rel=1e-15)
     assert d.sensor_width_mm == pytest.approx(8.192, rel=1e-15)
     assert d.sensor_height_mm == pytest.approx(6.144, rel=1e-15)
     angle = math.degrees(math.atan(5.12 / 5.7))

@@ -54,7 +54,7 @@ def _design_table() -> None:
     print(f"{'design':<16}{'pixels':>11}" + "".join(f"{x:>11,g}" for x in lux) + "  lux")
     for design in HIGH_TIER:
         epc = evaluate(lux, **design.evaluate_kwargs()).epc
-        print(f"{design.name:<16}{design.pixel_count:>11,}"
+        print(f"{design.name:<16}{design.pixel_count:>11,.0f}"
               + "".join(f"{e:>11,.0f}" for e in epc))
 
 

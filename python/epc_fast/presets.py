@@ -24,7 +24,7 @@ from dataclasses import InitVar, asdict, dataclass, replace
 import numpy as np
 
 from .api import Result, evaluate
-from .sensor import check_snr_at, sensor_shape, snr_at_text
+from .sensor import check_snr_at, physical_pixel_count, sensor_shape, snr_at_text
 from .sensor import corner_field_angle_deg as _corner_angle
 
 #: How a Design can be given its sensor, for error messages.
@@ -91,14 +91,16 @@ class Design:
         Design("50 Mpx 1/1.56-inch", 1.0, sensor_diagonal_mm=10.24, aspect="4:3",
                f_number=1.9, focal_length_mm=5.7)
 
-    EPC uses the sensor's area, width x height (docs/model.md, "EPC"); the array, when not given,
-    is the sensor's width and height over the pitch, each rounded to the nearest pixel.
+    EPC uses the sensor's area, width x height (docs/model.md, "EPC"), and so does the physical
+    pixel count, :attr:`pixel_count` = area / pitch^2; the array, when not given, is the
+    sensor's width and height over the pitch, each rounded to the nearest pixel.
 
     Attributes
     ----------
     name : str
     pixel_pitch_um : um, pixel pitch.
-    columns, rows : pixels, the array.
+    columns, rows : pixels, the array (the paper's name for a design: 1600 x 1200); their
+        product is not the physical pixel count, :attr:`pixel_count`.
     sensor_width_mm, sensor_height_mm : mm, the sensor's (nominal) format.
     f_number : 1.
     focal_length_mm : mm.
@@ -197,9 +199,14 @@ class Design:
             object.__setattr__(self, "rows", round(height / pitch_mm))
 
     @property
-    def pixel_count(self) -> int:
-        """pixels: columns x rows."""
-        return self.columns * self.rows
+    def pixel_count(self) -> float:
+        """pixels: the physical pixel count N = S / p², the sensor's area over the pitch squared
+        (:func:`epc_fast.sensor.physical_pixel_count`, docs/model.md, "EPC"), unrounded: the N
+        of EPC = N (f50 / f_Nyq)², the paper's figures' dotted lines and a scan's, and what the
+        paper's kept fractions divide by. Not ``columns * rows``: a preset's array is a little
+        smaller than its format (1600 x 1200 = 1.92 Mpixel against 2.00 Mpixel for the 1/3.2"
+        2.8 um design)."""
+        return physical_pixel_count(self.sensor_area_mm2, self.pixel_pitch_um)
 
     @property
     def sensor_area_mm2(self) -> float:

@@ -4,8 +4,11 @@ Size. A data sheet gives the active area's width and height in mm, or its diagon
 ratio, and the pixel pitch in um. The model needs the sensor area S (docs/model.md, "EPC":
 EPC = 4 S f50^2, S = N p^2), so the area is taken exactly, S = width x height, and the pixel
 count follows as N = S / p^2 = (width / p) x (height / p) with no rounding: rounding the columns
-and rows would move S away from the sensor's area. :class:`epc_fast.presets.Design` reports
-whole columns and rows (each rounded to the nearest integer) for display only.
+and rows would move S away from the sensor's area. That N is the package's one physical pixel
+count, :func:`physical_pixel_count`: a :class:`epc_fast.presets.Design`'s ``pixel_count``, the
+dotted lines of the paper's figures and of a scan's bands, the paper's kept fractions.
+:class:`~epc_fast.presets.Design` reports whole columns and rows (each rounded to the nearest
+integer) for display only.
 
 Where the SNR target is met (``snr_at``). The light falls off as cos^4 of the field angle
 (docs/model.md, "Exposure: T_MPE"), so the same target met at the image corner asks for a
@@ -35,7 +38,8 @@ from .params import BIG
 from .portable_math import arctan_deg
 
 __all__ = ["SNR_AT", "SHAPE_KEYWORDS", "SIZE_WAYS", "SIZE_AND_SNR_AT", "aspect_ratio", "sensor_shape",
-           "corner_field_angle_deg", "check_snr_at", "snr_at_text", "design_parameters"]
+           "corner_field_angle_deg", "physical_pixel_count", "check_snr_at", "snr_at_text",
+           "design_parameters"]
 
 #: The named places where the SNR target can be met.
 SNR_AT = ("axis", "corner")
@@ -118,6 +122,17 @@ def corner_field_angle_deg(width_mm, height_mm, focal_length_mm):
     with np.errstate(divide="ignore", invalid="ignore"):
         angle = arctan_deg(half_diagonal / np.asarray(focal_length_mm, np.float64))
     return float(angle) if np.ndim(angle) == 0 else angle
+
+
+def physical_pixel_count(sensor_area_mm2, pixel_pitch_um):
+    """pixels: a design's physical pixel count, N = S / p², the sensor's area over the pitch
+    squared (docs/model.md, "EPC"), unrounded: the N of EPC = N (f50 / f_Nyq)², so EPC reaches
+    it where f50 reaches the Nyquist frequency. The package's one rule: a Design's
+    ``pixel_count``, the paper's kept fractions, the dotted lines of the paper's figures and of
+    a scan's bands all come from here. A float, or an array for arrays."""
+    count = (np.asarray(sensor_area_mm2, dtype=float) * 1e6
+             / np.asarray(pixel_pitch_um, dtype=float) ** 2)
+    return float(count) if count.ndim == 0 else count
 
 
 def check_snr_at(snr_at) -> str:

@@ -19,14 +19,15 @@ def test_main_job_prints_build_self_check_and_design_table(capsys):
     assert out.splitlines()[0] == str(epc_fast.build_info())
     assert "self-check passed" in out
     # The four 1/3.2" designs, one line each, EPC in pixels as in the scan's tables: the
-    # 1.4 um design's 3200 x 2400 array, then its EPC at 1000 lux (the preset, evaluated).
+    # 1.4 um design's physical pixel count, its area over its pitch squared (not its 3200 x
+    # 2400 array, 7,680,000), then its EPC at 1000 lux (the preset, evaluated).
     lines = out.splitlines()
     assert sum(line.startswith('1/3.2"') for line in lines) == 4
     assert "EPC in pixels of the paper's 1/3.2\" designs (30 dB met at the image corner, " \
         "27.03 deg)" in out
     row = next(line for line in lines if line.startswith('1/3.2" 1.4 um')).split()
     epc = epc_fast.evaluate(1000.0, **HIGH_TIER[3].evaluate_kwargs()).epc
-    assert row[3] == "7,680,000" and row[6] == f"{epc:,.0f}"
+    assert row[3] == "7,997,500" and row[6] == f"{epc:,.0f}"
     assert "| mean (pixels) | q5 (pixels) | q50 (pixels) | q95 (pixels) |" in out
     assert " 0.0 s" not in out
 

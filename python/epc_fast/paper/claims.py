@@ -167,7 +167,9 @@ def _lux_for(design: Design, target_epc: float) -> Callable:
 
 
 def _kept_fraction(design: Design, lux: float) -> Callable:
-    """1: EPC / physical pixel count at ``lux``, through :func:`epc_fast.evaluate`."""
+    """1: EPC / physical pixel count at ``lux``, through :func:`epc_fast.evaluate`; the count
+    is ``design.pixel_count``, N = S / p² (:func:`epc_fast.sensor.physical_pixel_count`), as
+    the figures' dotted lines, not the array's columns x rows."""
     return lambda **options: evaluate(lux, **_read(design), **options).epc / design.pixel_count
 
 

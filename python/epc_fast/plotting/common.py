@@ -12,6 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
+# The one physical pixel count, N = S / p² (docs/model.md, "EPC"), kept importable
+# from here, where the figures took it first.
+from ..sensor import physical_pixel_count
+
 __all__ = ["figure_class", "save_figure", "shared_reading", "illuminance_lux", "PLOT_EXTRA",
            "POINTS_PER_DECADE", "build_text", "conditions_lines", "add_conditions",
            "space_conditions", "designs_conditions", "physical_pixel_count",
@@ -71,16 +75,6 @@ def illuminance_lux(lux_range) -> np.ndarray:
     both ends included."""
     lo, hi = np.log10(lux_range[0]), np.log10(lux_range[1])
     return np.logspace(lo, hi, int(round((hi - lo) * POINTS_PER_DECADE)) + 1)
-
-
-def physical_pixel_count(sensor_area_mm2, pixel_pitch_um):
-    """pixels: a design's physical pixel count as every figure draws it, N = S / p², the
-    sensor's area over the pitch squared (docs/model.md, "EPC"): the N of EPC = N (f50 /
-    f_Nyq)², so EPC reaches it where f50 reaches the Nyquist frequency. A float, or an array
-    for arrays."""
-    count = (np.asarray(sensor_area_mm2, dtype=float) * 1e6
-             / np.asarray(pixel_pitch_um, dtype=float) ** 2)
-    return float(count) if count.ndim == 0 else count
 
 
 def build_text() -> str:

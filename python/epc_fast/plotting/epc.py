@@ -4,7 +4,7 @@ functions)."""
 from __future__ import annotations
 
 from .common import (add_conditions, designs_conditions, figure_class, illuminance_lux,
-                     physical_pixel_count, shared_reading)
+                     shared_reading)
 from .layout import freeze_layout, place_line_labels
 from .text import quantity_label, unit_text
 from ..presets import READINGS, evaluate_over_illuminance
@@ -67,8 +67,9 @@ def plot_epc_over_illuminance(designs, *, title="", lux_range=(100.0, 100000.0),
 
 def _pixel_count(design) -> float:
     """pixels: ``design``'s physical pixel count, its sensor's area over its pitch squared
-    (:func:`epc_fast.plotting.common.physical_pixel_count`, as a scan's plots)."""
-    return physical_pixel_count(design.sensor_area_mm2, design.pixel_pitch_um)
+    (:attr:`epc_fast.presets.Design.pixel_count`, :func:`epc_fast.sensor.physical_pixel_count`,
+    as a scan's plots)."""
+    return design.pixel_count
 
 
 def _pixel_count_lines(ax, designs) -> tuple[list, list]:
