@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 import textwrap
-from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,10 +21,10 @@ import numpy as np
 from ..modes import MODE_DEFAULTS
 from ..mtf_table import lens_tables_of
 from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
-from ..presets import Design
-from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
+from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS
 from . import qmc, streams, terms
 from .distributions import Choice, Grid
+from .designs import design_dict, fill_left_out
 from .readout import READOUT_KEYS, design_readout
 from .domains import _domain_of, _inside_probability, domain_problem
 
@@ -71,24 +70,6 @@ class Points:
         return self.index.size
 
 
-def _design_dict(design, position: int) -> tuple[dict, str]:
-    """A design's evaluate keywords (with its ``"name"``) and where it meets the SNR target,
-    for people."""
-    if isinstance(design, Design):
-        return {"name": design.name, **design.evaluate_kwargs()}, design.snr_at_text
-    if not isinstance(design, Mapping):
-        raise TypeError(f"a design is an epc_fast.presets.Design or a mapping of parameters, "
-                        f"got {design!r}")
-    entry = dict(design)
-    name = entry.pop("name", f"design {position}")
-    readout = {k: entry.pop(k) for k in READOUT_KEYS if k in entry}
-    try:
-        kwargs, where = design_parameters(entry)
-    except (TypeError, ValueError) as error:
-        raise type(error)(f"design {name!r}: {error}") from None
-    return {"name": name, **kwargs, **readout}, where
-
-
 def _readout_text(readout: str, modes) -> str:
     """``"; charge binning"``, ``"; modes: binning=1 | binning=4"``: a design's readout, for
     people; empty for the default."""
@@ -109,7 +90,9 @@ class Space:
         Designs (:class:`epc_fast.presets.Design` or mappings of :func:`epc_fast.evaluate`
         parameters, with an optional ``"name"``, the sensor given any way
         :func:`epc_fast.evaluate` takes it, and ``snr_at``). A plain sequence is a grid axis. A
-        parameter some designs give and others leave out takes evaluate's default in those.
+        parameter some designs give and others leave out takes in those the value evaluate
+        gives that design alone: its default, under ``cfa="bayer"`` the colour filter's
+        ``cfa_transmittance`` and ``color_noise_gain`` (:mod:`epc_fast.scan.designs`).
     evaluate_options : mapping, optional
         Options of :func:`epc_fast.evaluate` shared by every point: ``spectrum``, ``f50_rtol``,
         ``t_mpe_solver``, ``t_mpe_rtol``, ``lens_mtf`` (a lens table or a list of them, which
@@ -150,7 +133,8 @@ class Space:
         self.design_varying: tuple[str, ...] = ()
         self.design_constant: tuple[str, ...] = ()
         if design is not None:
-            self._set_designs(design, overridden=set(parameters))
+            self._set_designs(design, overridden=set(parameters),
+                              cfa=(evaluate_options or {}).get("cfa", "none"))
         for name, axis in parameters.items():
             self.axes[name] = self._checked_axis(name, axis)
         self.evaluate_options = dict(evaluate_options or {})
@@ -197,24 +181,16 @@ class Space:
                 seed, self.sampling.replicates, dimensions))}
         return self._sobol_tables[seed]
 
-    def _set_designs(self, design, overridden: set):
+    def _set_designs(self, design, overridden: set, cfa):
         axis = design if isinstance(design, (Grid, Choice)) else Grid(tuple(design))
-        resolved = [_design_dict(d, i) for i, d in enumerate(axis.values)]
+        resolved = [design_dict(d, i) for i, d in enumerate(axis.values)]
         entries = [{k: v for k, v in entry.items() if k not in overridden}
                    for entry, _ in resolved]
         readouts = [design_readout(entry, overridden) for entry in entries]
         self.design_readout = tuple(readout for readout, _ in readouts)
         self.design_modes = tuple(modes for _, modes in readouts)
         self.design_snr_at = tuple(where for _, where in resolved)
-        names = set().union(*entries) - {"name"}
-        defaults = {p.name: p.default for p in PARAMETERS if p.default is not None}
-        for entry in entries:
-            missing = sorted(names - set(entry))
-            if any(name not in defaults for name in missing):
-                raise ValueError(f"every design must give the same parameters, or leave out "
-                                 f"only parameters with a default: {entry['name']!r} gives "
-                                 f"{sorted(set(entry) - {'name'})}, others give {missing}")
-            entry.update({name: defaults[name] for name in missing})
+        names = fill_left_out(entries, cfa)  # (a Bayer design's, the colour filter's)
         unknown = sorted(names - set(POINT_PARAMETERS))
         if unknown:
             raise TypeError(f"designs give unknown parameter(s) {', '.join(unknown)}; a design "
