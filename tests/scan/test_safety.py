@@ -168,7 +168,7 @@ def test_a_read_only_directory_is_found_before_the_first_point(tmp_path, capsys,
         raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(path))
 
     fake_os = types.SimpleNamespace(**{**vars(os), "open": read_only_open})
-    monkeypatch.setattr(epc_fast.scan.output.directory, "os", fake_os)
+    monkeypatch.setattr(epc_fast.scan.atomic, "os", fake_os)
     code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
     assert code == 2 and chunks.calls == 0
     assert "is not writable: Read-only file system" in err

@@ -5,7 +5,6 @@ whole or not at all (:func:`write_reports`)."""
 from __future__ import annotations
 
 import json
-import os
 from dataclasses import asdict
 from pathlib import Path
 
@@ -82,7 +81,7 @@ def check_out(folder: Path) -> None:
     """Makes ``folder`` ready for the reports, or refuses it with an OutputError naming it: a
     path that is not a folder, one that cannot be created, a report's name taken by a folder,
     or a folder that cannot be written (a probe file is written and removed)."""
-    from ..scan.atomic import TEMPORARY_SUFFIX
+    from ..scan.atomic import probe_writable
     from ..scan.errors import OutputError
 
     def refuse(why: str):
@@ -97,15 +96,8 @@ def check_out(folder: Path) -> None:
     for name in REPORTS:
         if (folder / name).is_dir() and not (folder / name).is_symlink():
             refuse(f"{name} is a folder; the comparison writes a file of that name")
-    probe = folder / f".write-probe-{os.getpid()}{TEMPORARY_SUFFIX}"
     try:
-        descriptor = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-        try:
-            os.write(descriptor, b"epc_fast")
-            os.fsync(descriptor)
-        finally:
-            os.close(descriptor)
-        os.unlink(probe)
+        probe_writable(folder)
     except OSError as error:
         refuse(f"is not writable: {error.strerror}")
 

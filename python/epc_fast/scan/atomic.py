@@ -13,9 +13,22 @@ import os
 import secrets
 from pathlib import Path
 
-__all__ = ["atomic_write", "TEMPORARY_SUFFIX"]
+__all__ = ["atomic_write", "probe_writable", "TEMPORARY_SUFFIX"]
 
 TEMPORARY_SUFFIX = ".tmp"
+
+
+def probe_writable(directory) -> None:
+    """Write, sync and remove a probe file in ``directory``: an OSError (with its strerror)
+    when files cannot be written there (read-only, full, no permission)."""
+    probe = Path(directory) / f".write-probe-{os.getpid()}{TEMPORARY_SUFFIX}"
+    descriptor = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    try:
+        os.write(descriptor, b"epc_fast")
+        os.fsync(descriptor)
+    finally:
+        os.close(descriptor)
+    os.unlink(probe)
 
 
 def atomic_write(target, write) -> Path:

@@ -26,7 +26,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from ..atomic import TEMPORARY_SUFFIX, atomic_write
+from ..atomic import TEMPORARY_SUFFIX, atomic_write, probe_writable
 from ..errors import OutputError
 from ..manifest import describe, read_manifest
 from ..parquet import STAGING_PREFIX
@@ -213,15 +213,8 @@ class OutputDirectory:
             self._refuse(f"cannot remove {path.name}: {error.strerror}")
 
     def _probe(self, directory: Path) -> None:
-        probe = directory / f".write-probe-{os.getpid()}{TEMPORARY_SUFFIX}"
         try:
-            descriptor = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-            try:
-                os.write(descriptor, b"epc_fast")
-                os.fsync(descriptor)
-            finally:
-                os.close(descriptor)
-            os.unlink(probe)
+            probe_writable(directory)
         except OSError as error:
             self._refuse(f"{directory.name or directory} is not writable: {error.strerror}")
 
