@@ -25,7 +25,7 @@ _ATAN_TERMS = 13
 
 
 def exp10(u) -> np.ndarray:
-    """10**u, within 2e-15 relative for 0 <= u <= 5 and 1e-13 for |u| <= 300 (the rounding of
+    """10**u, within 2e-15 relative for 0 <= u <= 5 and 1e-13 for abs(u) <= 300 (the rounding of
     u·log2(10) grows with u); 10**inf = inf, 10**-inf = 0, NaN stays NaN."""
     x = np.asarray(u, dtype=np.float64) * _LOG2_10
     # beyond ±1e4 every result is 0 or inf (float64's range ends near 2**±1075)

@@ -113,7 +113,7 @@ class Chart:
 
 
 #: 1, the most :func:`band_limited_step` differs from 1/2 + Si(u)/pi: Si's asymptotic series
-#: cut after three terms each leaves at most 720/U^7 + 5040/U^8 for |u| >= U (each remainder
+#: cut after three terms each leaves at most 720/U^7 + 5040/U^8 for abs(u) >= U (each remainder
 #: is bounded by its first neglected term, DLMF 6.12.ii), 5.8e-11 after dividing by pi at
 #: U = 64 (4.2e-11 is the most seen); the rest is float64 rounding, under 1e-14.
 STEP_TOLERANCE = 1e-10
@@ -129,7 +129,7 @@ def band_limited_step(u_rows, u_cols) -> np.ndarray:
     the sharp step through an ideal low-pass, u = 2 pi band d at normal distance d.
 
     scipy.special.sici costs some 30 ns a point, a capture's fine grid millions of points.
-    Here Si comes from sici only where |u| < 64 (a few dozen columns a row); elsewhere from
+    Here Si comes from sici only where abs(u) < 64 (a few dozen columns a row); elsewhere from
     its asymptotic expansion Si(u) = sign(u) pi/2 - f(u) cos u - g(u) sin u, with
     f = (1 - 2/u^2 + 24/u^4)/u and g = (1 - 6/u^2 + 120/u^4)/u^2, and cos u and sin u from
     those of the rows' and the columns' terms by the angle-addition formulas (no
