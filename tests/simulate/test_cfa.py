@@ -167,7 +167,7 @@ def _bayer_edge(preset: int, lux: float, demosaic: str):
 def _model_mtf50(design: dict, c, table) -> float:
     """cycles/mm: the first crossing of 1/2 by the monochrome model MTF at the capture's blur
     times the demosaicker's table at f p_out."""
-    d = camera._design(design)
+    d = camera.capture_inputs(design)
     p_mm = c.pitch_um * 1e-3
 
     def mtf(f):

@@ -177,7 +177,7 @@ def add_conditions(figure, lines, fontsize: float = CONDITIONS_FONTSIZE):
     frozen. A ``$`` is shown as itself. Returns the Text."""
     import textwrap
 
-    from .layout import _renderer_of
+    from .layout import renderer_of
 
     wrapped = [textwrap.fill(line, CONDITIONS_WIDTH, subsequent_indent="  ",
                              break_on_hyphens=False) for line in lines]
@@ -186,7 +186,7 @@ def add_conditions(figure, lines, fontsize: float = CONDITIONS_FONTSIZE):
                        "\n".join(wrapped).replace("$", r"\$"), fontsize=fontsize,
                        color="0.35", linespacing=1.25, ha="center", va="bottom")
     text.set_in_layout(False)
-    height = text.get_window_extent(_renderer_of(figure)).height / figure.bbox.height
+    height = text.get_window_extent(renderer_of(figure)).height / figure.bbox.height
     room = height + 2 * pad_in / figure.get_figheight()
     engine = figure.get_layout_engine()
     if engine is not None and "rect" in engine.get():

@@ -34,7 +34,7 @@ _PAD_PT = 1.5
 _LEADER_FROM_PT = 7.0
 
 
-def _renderer_of(figure):
+def renderer_of(figure):
     """``figure``'s renderer, an Agg canvas given to a figure without one."""
     if not hasattr(figure.canvas, "get_renderer"):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -49,7 +49,7 @@ def freeze_layout(figure):
     figure (its ``rect``: room left below for the conditions,
     :func:`epc_fast.plotting.common.add_conditions`) has its legends placed outside the axes
     moved into that part, into the margin the layout made for them."""
-    _renderer_of(figure)
+    renderer_of(figure)
     engine = figure.get_layout_engine()
     rect = engine.get().get("rect") if engine is not None else None
     figure.draw_without_rendering()

@@ -120,7 +120,7 @@ def grid_oversample(pixel_pitch_um: float, f_number: float,
     return q if q % 2 == 1 else q + 1
 
 
-def _design(design: dict) -> dict:
+def capture_inputs(design: dict) -> dict:
     """Every parameter of the design, the caller's or evaluate's default."""
     unknown = sorted(set(design) - set(_EVALUATE) | (set(design) & _NOT_DESIGN))
     if unknown:
@@ -139,7 +139,7 @@ def _scalar(name, value) -> float:
     return float(a.reshape(()))
 
 
-def _spectrum(d: dict):
+def capture_spectrum(d: dict):
     """The wavelengths the lens images and their weights (evaluate has checked them)."""
     if d["spectrum"] is None:
         return np.array([_scalar("wavelength_nm", d["wavelength_nm"])]), np.array([1.0])
@@ -309,7 +309,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
         cfa_terms["cfa_transmittance"] = sensor_cfa.transmittance
         cfa_terms["color_noise_gain"] = cfa_color_noise_gain(sensor_cfa.channels,
                                                              sensor_cfa.weights)
-    d = _design(design)
+    d = capture_inputs(design)
     d.pop("invalid", None)
     d.update(cfa_terms)
     result = api.evaluate(lux, **{k: v for k, v in d.items() if k in design or k in cfa_terms},
@@ -329,8 +329,8 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     angle = _scalar("field_angle_deg", angle)
     shake = float(d["shake_deg_per_s"]) * math.pi / 180.0 / float(d["stabilization"])
     t = _exposure(exposure_s, result, shake)
-    wavelengths, weights = _spectrum(d)
-    table = _lens_table(d)
+    wavelengths, weights = capture_spectrum(d)
+    table = capture_lens_table(d)
     q_min = grid_oversample(p, f_number, float(wavelengths.min()),
                             None if table is None else table_cutoff_cyc_per_mm(table))
     q = q_min if oversample is None else _oversample(oversample, q_min)
@@ -386,7 +386,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                    bayer=sensor_cfa)
 
 
-def _lens_table(d: dict):
+def capture_lens_table(d: dict):
     """The design's lens table, ``lens_mtf[lens]`` (evaluate has checked both), or None."""
     if d.get("lens_mtf") is None:
         return None

@@ -190,7 +190,7 @@ def _size(size_px, minimum: int, what: str) -> tuple[int, int]:
         raise ValueError(f"size_px: an integer or (rows, columns), got {short(size_px)}")
     out = []
     for v in pair:
-        if isinstance(v, (bool, np.bool_)) or not _is_real(v) or not float(v).is_integer():
+        if isinstance(v, (bool, np.bool_)) or not is_real(v) or not float(v).is_integer():
             raise ValueError(f"size_px: whole numbers of pixels, got {short(size_px)}")
         if int(v) < minimum:
             raise ValueError(f"size_px: {what} needs at least {minimum} pixels a side, "
@@ -199,7 +199,8 @@ def _size(size_px, minimum: int, what: str) -> tuple[int, int]:
     return out[0], out[1]
 
 
-def _is_real(v) -> bool:
+def is_real(v) -> bool:
+    """Whether ``v`` is a finite real number (not complex)."""
     try:
         return math.isfinite(float(v)) and not isinstance(v, (complex, np.complexfloating))
     except (TypeError, ValueError):
@@ -207,7 +208,7 @@ def _is_real(v) -> bool:
 
 
 def _reflectance(value, name: str) -> float:
-    if not _is_real(value) or isinstance(value, (bool, np.bool_)) or not 0.0 <= float(value) <= 1.0:
+    if not is_real(value) or isinstance(value, (bool, np.bool_)) or not 0.0 <= float(value) <= 1.0:
         raise ValueError(f"{name}: a reflectance in [0, 1], got {short(value)}")
     return float(value)
 
@@ -227,7 +228,7 @@ def slanted_edge(size_px=256, angle_deg: float = 5.0, *, low: float = 0.1,
         with the light side at the model's default target reflectance, 0.4).
     """
     rows, cols = _size(size_px, MIN_EDGE_PX, "a slanted edge (the e-SFR)")
-    if not _is_real(angle_deg) or not 1.0 <= abs(float(angle_deg)) <= 30.0:
+    if not is_real(angle_deg) or not 1.0 <= abs(float(angle_deg)) <= 30.0:
         raise ValueError(f"angle_deg: the edge's slant from the vertical, 1 to 30 degrees "
                          f"either way, got {short(angle_deg)}")
     low, high = _reflectance(low, "low"), _reflectance(high, "high")

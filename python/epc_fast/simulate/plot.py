@@ -15,7 +15,7 @@ import numpy as np
 
 from ..plotting import common
 from ..plotting.common import CONDITIONS_FONTSIZE, add_conditions, conditions_lines
-from ..plotting.layout import _renderer_of, freeze_layout
+from ..plotting.layout import renderer_of, freeze_layout
 from ..plotting.text import unit_text
 
 __all__ = ["contact_sheet_figure", "mtf_figure", "conditions", "figure_class", "model_mtf"]
@@ -53,7 +53,7 @@ def fitted_lines(figure, lines, fontsize: float) -> list[str]:
     within ``figure``'s width less :data:`SIDE_IN` a side at ``fontsize`` points."""
     from matplotlib.font_manager import FontProperties
 
-    renderer = _renderer_of(figure)
+    renderer = renderer_of(figure)
     prop = FontProperties(size=fontsize)
     room = (figure.get_figwidth() - 2.0 * SIDE_IN) * figure.dpi
 
@@ -144,14 +144,14 @@ def model_mtf(frequency_cyc_per_mm, kwargs: dict, blur_mm: float) -> np.ndarray:
     denoising and demosaicker with the rest."""
     from ..cfa import demosaic_mtf_table
     from ..reference.model import mtf_system
-    from .camera import _design, _lens_table, _spectrum
+    from .camera import capture_inputs, capture_lens_table, capture_spectrum
 
-    d = _design(kwargs)
+    d = capture_inputs(kwargs)
     if d.get("modes") is not None:
         raise ValueError("kwargs: one readout, not modes: give the mode's keywords "
                          "(epc_fast.simulate.camera.picked_mode)")
-    wavelengths, weights = _spectrum(d)
-    table = _lens_table(d)
+    wavelengths, weights = capture_spectrum(d)
+    table = capture_lens_table(d)
     return mtf_system(np.asarray(frequency_cyc_per_mm, dtype=float), float(d["f_number"]),
                       float(d["pixel_pitch_um"]), float(d["fill_factor"]), float(blur_mm),
                       float(d["jitter_um"]), wavelengths, weights, float(d["binning"]),

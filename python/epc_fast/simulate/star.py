@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .._validation import short
-from .charts import Chart, _is_real, _reflectance, image
+from .charts import Chart, is_real, _reflectance, image
 
 __all__ = ["siemens_star", "star_size_px", "SUBSAMPLES", "MIN_STAR_PX", "MAX_STAR_PX",
            "PROFILES"]
@@ -34,7 +34,7 @@ def star_size_px(width_um: float, pitch_um: float) -> int:
     ``round(width_um / pitch_um)``: the same patch of scene for every design. A ValueError
     naming ``width_um`` when that is more than :data:`MAX_STAR_PX`."""
     for name, value in (("width_um", width_um), ("pitch_um", pitch_um)):
-        if (isinstance(value, (bool, np.bool_)) or not _is_real(value)
+        if (isinstance(value, (bool, np.bool_)) or not is_real(value)
                 or not 0 < float(value) < math.inf):
             raise ValueError(f"{name}: a length > 0 in µm, got {short(value)}")
     pixels = round(float(width_um) / float(pitch_um))
@@ -75,14 +75,14 @@ def siemens_star(size_px: int = 256, spokes: int = 36, low: float = 0.1, high: f
                          f"{short(width_um)}, pitch_um={short(pitch_um)}")
     if width_um is not None:
         size_px = star_size_px(width_um, pitch_um)
-    if (isinstance(size_px, (bool, np.bool_)) or not _is_real(size_px)
+    if (isinstance(size_px, (bool, np.bool_)) or not is_real(size_px)
             or not float(size_px).is_integer() or int(size_px) < MIN_STAR_PX):
         raise ValueError(f"size_px: a whole number of pixels >= {MIN_STAR_PX}, got "
                          f"{short(size_px)}")
     if int(size_px) > MAX_STAR_PX:
         raise ValueError(f"size_px: a whole number of pixels from {MIN_STAR_PX} to "
                          f"{MAX_STAR_PX:,}, got {short(size_px)}")
-    if (isinstance(spokes, (bool, np.bool_)) or not _is_real(spokes)
+    if (isinstance(spokes, (bool, np.bool_)) or not is_real(spokes)
             or not float(spokes).is_integer() or int(spokes) < 4):
         raise ValueError(f"spokes: a whole number >= 4, got {short(spokes)}")
     if profile not in PROFILES:
