@@ -19,6 +19,7 @@ import pytest
 
 import epc_fast
 from epc_fast import api
+from helpers.child_env import with_python_path
 from helpers.designs import random_design_points
 
 FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm", "epc",
@@ -127,13 +128,12 @@ def test_threads_passing_kept_output_memory_between_them_get_the_serial_answers(
 
 #: The child: times one chunk, then starts a call twelve chunks long and reports how it ended.
 #: A 16-line spectrum and f50_rtol=0 make each chunk long enough (about a second here) for the
-#: signal to land inside one. helpers.core_override keeps a sanitizer run sanitized. The
-#: child installs Python's SIGINT handler itself: a child inherits SIGINT ignored from a test run
-#: started as a background job, and Python then leaves it ignored.
+#: signal to land inside one. helpers.core_override (tests/ on the child's PYTHONPATH) keeps a
+#: sanitizer run sanitized. The child installs Python's SIGINT handler itself: a child inherits
+#: SIGINT ignored from a test run started as a background job, and Python then leaves it ignored.
 CHILD = """
 import signal, sys, time
 signal.signal(signal.SIGINT, signal.default_int_handler)
-sys.path.insert(0, {tests!r})
 from helpers.core_override import load_core_override
 load_core_override()
 import numpy as np, epc_fast
@@ -160,8 +160,9 @@ sys.exit(3)
 
 
 def test_ctrl_c_stops_a_long_call_at_the_next_chunk_boundary():
-    child = subprocess.Popen([sys.executable, "-c", CHILD.format(tests=str(Path(__file__).parent))],
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    child = subprocess.Popen([sys.executable, "-c", CHILD], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True,
+                             env=with_python_path(Path(__file__).parent))
     try:
         chunk_s = float(child.stdout.readline().split()[1])
         assert child.stdout.readline().strip() == "started"

@@ -3,7 +3,7 @@
 The reference is the model written out as the spec reads; the core is the same model, vectorised
 and threaded. Both use the closed-form T_MPE, so they agree to rounding wherever the answer is not
 amplified. Where it is amplified (near the PRNU cap, and where the blur angle is close to pi/2)
-the tolerance is scaled by the condition numbers computed below, point by point.
+the tolerance is scaled by condition numbers, point by point (helpers/backend_agreement.py).
 """
 
 from __future__ import annotations
@@ -16,116 +16,13 @@ import pytest
 import epc_fast
 from epc_fast import Cause, Status
 from epc_fast.spectra import diffraction_spectrum
+from helpers.backend_agreement import assert_backends_agree, evaluate_both
 from helpers.designs import box_corners, log_uniform, random_design_points
-
-# Relative agreement asked of the two backends on well-conditioned points. Each backend rounds
-# its own way (libm vs NumPy's SIMD cos/tan/pow/acos, (cos^2)^2 vs cos**4, a bisection to
-# 1e-14 vs to adjacent floats), which moves results by ~1e-14 at most; 1e-12 leaves 100x room
-# and still catches any formula slip (those show up at 1e-8 or worse).
-RTOL = 1e-12
 
 # Brent's tolerance is 2 eps + 1e-15/2 relative on the electrons; with rounding of ln SNR
 # amplified at most 1/(1 - s u^2) <= 1/(1 - 0.81) ~ 5 inside u sqrt(s) <= 0.9, the two solvers
-# agree to ~1e-14. 1e-13 is the brief's bound and leaves that 10x room.
+# agree to ~1e-14. 1e-13 is the bound asked and leaves that 10x room.
 RTOL_BRENT = 1e-13
-
-FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm",
-                "epc")
-
-def prnu_condition(p):
-    """T_MPE's condition number from the PRNU term: 1/(1 - s u^2), s = 10^(snr_db/10).
-
-    The quadratic's leading coefficient r^2 (1 - s u^2) loses its digits as u sqrt(s) -> 1, and a
-    relative rounding of u or s moves T_MPE by that factor. 1 where PRNU is off or capped. A
-    binned pixel's PRNU is u / k.
-    """
-    with np.errstate(all="ignore"):
-        su2 = (p["prnu"] / p.get("binning", 1.0)) ** 2 * 10.0 ** (p["snr_db"] / 10.0)
-        kappa = 1.0 / (1.0 - su2)
-    return np.where(np.isfinite(kappa) & (kappa > 1.0), kappa, 1.0)
-
-
-def tan_condition(p, t_mpe_s):
-    """The blur's condition number in the shake angle x: d ln tan(x) / d ln x = 2x / sin(2x).
-
-    1 at small angles, it grows as 1/(pi/2 - x) near pi/2. f50 moves at most as fast as the
-    blur (|d ln f50 / d ln b| <= 1: f50 scales as 1/b when motion dominates), so this times
-    prnu_condition bounds how much a relative rounding of T_MPE is amplified into f50. A frame
-    of a burst of n is exposed for T_MPE / n.
-    """
-    with np.errstate(all="ignore"):
-        x = (np.deg2rad(p["shake_deg_per_s"]) / (p["stabilization"] * p.get("frames", 1.0))
-             * t_mpe_s)
-        kappa = 2.0 * x / np.sin(2.0 * x)
-    return np.where(np.isfinite(kappa) & (kappa > 1.0), kappa, 1.0)
-
-
-def _relative_error(a, b):
-    with np.errstate(all="ignore"):
-        err = np.abs(a - b) / np.abs(b)
-    return np.where(a == b, 0.0, err)  # equal infinities and exact zeros agree exactly
-
-
-def _evaluate_both(p, **kwargs):
-    core = epc_fast.evaluate(**p, backend="core", **kwargs)
-    ref = epc_fast.evaluate(**p, backend="reference", **kwargs)
-    return core, ref
-
-
-def _assert_backends_agree(p, core, ref, label, extra_kappa=1.0):
-    """The core's outputs equal the reference's: statuses exactly, finite values to scaled RTOL.
-
-    Rule: electrons and T_MPE within RTOL * prnu_condition; blur, f50 and EPC within
-    RTOL * prnu_condition * tan_condition; everything further times ``extra_kappa`` (a
-    condition number the caller knows of, 1 by default).
-    """
-    np.testing.assert_array_equal(core.status, ref.status)
-    np.testing.assert_array_equal(core.cause, ref.cause)
-    for name in FLOAT_FIELDS:
-        a, b = getattr(core, name), getattr(ref, name)
-        # NaN and infinity where the other backend has them: same statuses, same conventions.
-        np.testing.assert_array_equal(np.isnan(a), np.isnan(b), err_msg=name)
-        np.testing.assert_array_equal(np.isposinf(a), np.isposinf(b), err_msg=name)
-
-    ok = ref.status == Status.OK
-    kappa_t = prnu_condition(p) * extra_kappa
-    kappa_f50 = kappa_t * tan_condition(p, ref.t_mpe_s)
-    # The electron rate is a product of inputs and cos^4: no amplification beyond cos near 80
-    # degrees (x tan x * 4 ~ 32, i.e. ~1e-14), inside RTOL.
-    scaled_tolerances = {
-        "electron_rate_e_per_s": np.ones_like(kappa_t) * extra_kappa,
-        "electrons": kappa_t,
-        "t_mpe_s": kappa_t,
-        "blur_mm": kappa_f50,
-        "f50_cyc_per_mm": kappa_f50,
-        "epc": kappa_f50,
-    }
-    report = {}
-    for name, kappa in scaled_tolerances.items():
-        a, b = getattr(core, name), getattr(ref, name)
-        finite = np.isfinite(b)
-        err = _relative_error(a[finite], b[finite])
-        tol = RTOL * kappa[finite]
-        bad = np.flatnonzero(err > tol)
-        assert bad.size == 0, (
-            f"{label}: {name} differs at {bad.size} points, worst relative error "
-            f"{err.max():.3g} (tolerance {tol[bad[0]]:.3g} at the first); "
-            f"first point index {np.flatnonzero(finite)[bad[0]]}")
-        report[name] = float(err.max(initial=0.0))
-    kappa_ok = kappa_f50[ok]
-    stats = {
-        "ok": int(ok.sum()),
-        "scaled": int(np.count_nonzero(kappa_ok > 1.0)),
-        "scaled_2": int(np.count_nonzero(kappa_ok >= 2.0)),
-        "scaled_10": int(np.count_nonzero(kappa_ok >= 10.0)),
-        "max_kappa": float(kappa_ok.max(initial=1.0)),
-        "max_error": report,
-    }
-    print(f"\n{label}: {stats['ok']} OK points; tolerance scaled on {stats['scaled']} "
-          f"(kappa >= 2 on {stats['scaled_2']}, >= 10 on {stats['scaled_10']}, "
-          f"max kappa {stats['max_kappa']:.3g}); max relative errors: "
-          + ", ".join(f"{k} {v:.2e}" for k, v in report.items()))
-    return stats
 
 
 def _assert_scaling_is_the_exception(stats):
@@ -137,7 +34,7 @@ def _assert_scaling_is_the_exception(stats):
 @pytest.fixture(scope="module")
 def whole_domain():
     p = random_design_points(100_000, seed=20090119)
-    core, ref = _evaluate_both(p)
+    core, ref = evaluate_both(p)
     return p, core, ref
 
 
@@ -162,15 +59,15 @@ def test_the_generator_produces_every_status_and_cause(whole_domain):
 
 def test_core_matches_reference_over_the_whole_domain(whole_domain):
     p, core, ref = whole_domain
-    stats = _assert_backends_agree(p, core, ref, "whole domain, sensor_area_mm2")
+    stats = assert_backends_agree(p, core, ref, "whole domain, sensor_area_mm2")
     _assert_scaling_is_the_exception(stats)
     assert stats["ok"] > 30_000
 
 
 def test_core_matches_reference_with_pixel_count_instead_of_sensor_area():
     p = random_design_points(20_000, seed=7250, size="pixel_count")
-    core, ref = _evaluate_both(p)
-    stats = _assert_backends_agree(p, core, ref, "whole domain, pixel_count")
+    core, ref = evaluate_both(p)
+    stats = assert_backends_agree(p, core, ref, "whole domain, pixel_count")
     _assert_scaling_is_the_exception(stats)
     assert stats["ok"] > 5_000
 
@@ -179,8 +76,8 @@ def test_core_matches_reference_with_a_polychromatic_spectrum():
     p = random_design_points(5_000, seed=2009)
     del p["wavelength_nm"]  # the spectrum replaces the monochromatic wavelength
     spectrum = diffraction_spectrum(n_samples=8)
-    core, ref = _evaluate_both(p, spectrum=spectrum)
-    stats = _assert_backends_agree(p, core, ref, "polychromatic, 8 samples")
+    core, ref = evaluate_both(p, spectrum=spectrum)
+    stats = assert_backends_agree(p, core, ref, "polychromatic, 8 samples")
     _assert_scaling_is_the_exception(stats)
     assert stats["ok"] > 1_000
 
@@ -188,8 +85,8 @@ def test_core_matches_reference_with_a_polychromatic_spectrum():
 def test_polychromatic_with_pixel_count_matches_reference():
     p = random_design_points(2_000, seed=2010, size="pixel_count")
     del p["wavelength_nm"]
-    core, ref = _evaluate_both(p, spectrum=diffraction_spectrum(n_samples=8))
-    _assert_backends_agree(p, core, ref, "polychromatic, pixel_count")
+    core, ref = evaluate_both(p, spectrum=diffraction_spectrum(n_samples=8))
+    assert_backends_agree(p, core, ref, "polychromatic, pixel_count")
 
 
 def _points_inside_the_prnu_cap(n, seed):
@@ -206,8 +103,8 @@ def _points_inside_the_prnu_cap(n, seed):
 @pytest.mark.parametrize("binning_readout", ["digital", "charge"])
 def test_core_matches_reference_with_binning_and_bursts(binning_readout):
     p = random_design_points(50_000, seed=39, sensor_terms=True)
-    core, ref = _evaluate_both(p, binning_readout=binning_readout)
-    stats = _assert_backends_agree(p, core, ref, f"binning and bursts, {binning_readout}")
+    core, ref = evaluate_both(p, binning_readout=binning_readout)
+    stats = assert_backends_agree(p, core, ref, f"binning and bursts, {binning_readout}")
     _assert_scaling_is_the_exception(stats)
     assert stats["ok"] > 15_000
     ok = ref.status == Status.OK
@@ -224,8 +121,8 @@ def test_core_matches_reference_with_the_wavefront_error_and_denoising(spectrum)
     if spectrum:
         del p["wavelength_nm"]
         kwargs["spectrum"] = diffraction_spectrum(n_samples=spectrum)
-    core, ref = _evaluate_both(p, **kwargs)
-    stats = _assert_backends_agree(p, core, ref, f"wavefront error and denoising, {spectrum}")
+    core, ref = evaluate_both(p, **kwargs)
+    stats = assert_backends_agree(p, core, ref, f"wavefront error and denoising, {spectrum}")
     _assert_scaling_is_the_exception(stats)
     ok = ref.status == Status.OK
     for name in ("wavefront_rms_waves", "denoise_sigma_px"):  # each term on for many OK points
@@ -240,7 +137,7 @@ def test_every_solver_agrees_with_the_reference_with_the_wavefront_error_and_den
     p = random_design_points(5_000, seed=4040, optics_terms=True)
     core = epc_fast.evaluate(**p, f50_solver=f50_solver)
     ref = epc_fast.evaluate(**p, backend="reference")
-    _assert_backends_agree(p, core, ref, f"optics terms, {f50_solver}")
+    assert_backends_agree(p, core, ref, f"optics terms, {f50_solver}")
 
 
 @pytest.mark.parametrize("broadcast", [{}, {"wavefront_rms_waves": 0.1, "denoise_sigma_px": 1.5},
@@ -295,8 +192,8 @@ def test_brent_agrees_with_the_closed_form_t_mpe():
 
 def test_core_matches_reference_at_the_corners_of_the_range():
     p = box_corners(20_000, seed=4390)
-    core, ref = _evaluate_both(p)
-    stats = _assert_backends_agree(p, core, ref, "corners of the range")
+    core, ref = evaluate_both(p)
+    stats = assert_backends_agree(p, core, ref, "corners of the range")
     assert stats["ok"] > 1_000
 
 
@@ -346,10 +243,10 @@ def test_core_matches_reference_at_the_edge_of_each_domain(keyword, value):
     p = {k: np.array([v]) for k, v in design.items()}
     with np.errstate(all="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)  # the reference's overflow warnings
-        core, ref = _evaluate_both(p)
+        core, ref = evaluate_both(p)
     assert ref.status[0] != Status.INVALID
     # Near +-90 degrees cos^4 is ill-conditioned: d ln cos^4 / d ln theta = 4 theta tan theta
     # (~1e17 at the last float below 90), so the rate may move by that many roundings.
     theta = np.deg2rad(p["field_angle_deg"])
     cos_condition = np.maximum(1.0, np.abs(4.0 * theta * np.tan(theta)))
-    _assert_backends_agree(p, core, ref, f"{keyword}={value!r}", extra_kappa=cos_condition)
+    assert_backends_agree(p, core, ref, f"{keyword}={value!r}", extra_kappa=cos_condition)

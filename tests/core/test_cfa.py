@@ -2,18 +2,13 @@
 demosaicker's table in optics_stage.h, its share and elasticities in sensitivity.h) against the
 NumPy reference on random designs, every demosaicker, both precisions."""
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 import epc_fast
 from epc_fast import Status, cfa
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from helpers.designs import random_design_points  # noqa: E402
-from test_core_vs_reference import _assert_backends_agree  # noqa: E402
+from helpers.backend_agreement import assert_backends_agree
+from helpers.designs import random_design_points
 
 SHARES = tuple(f"share_{n}" for n in epc_fast.outputs.SHARE_NAMES)
 
@@ -31,7 +26,7 @@ def test_the_core_agrees_with_the_reference_for_a_bayer_sensor(demosaic):
     p = _bayer_points(10_000, 43)
     core = epc_fast.evaluate(**p, cfa="bayer", demosaic=demosaic)
     ref = epc_fast.evaluate(**p, cfa="bayer", demosaic=demosaic, backend="reference")
-    _assert_backends_agree(p, core, ref, f"bayer, {demosaic}")
+    assert_backends_agree(p, core, ref, f"bayer, {demosaic}")
     assert np.count_nonzero(ref.status == Status.OK) > 2_000
 
 

@@ -3,9 +3,6 @@ against the NumPy reference: every output, the BEYOND_TABLE status, the shares a
 elasticities, one table or several picked per point, every solver, float32 (solved in float64)
 and a spectrum (which a table replaces)."""
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
@@ -13,9 +10,7 @@ import epc_fast
 from epc_fast import Status
 from epc_fast.reference import mtf_diffraction
 from epc_fast.spectra import diffraction_spectrum
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from helpers.designs import random_design_points  # noqa: E402
+from helpers.designs import random_design_points
 
 FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm", "epc")
 SHARES = tuple(f"share_{n}" for n in ("diffraction", "pixel", "motion", "jitter", "alignment",

@@ -2,5 +2,5 @@
 
 No test functions live here, and no module here imports a test module or conftest.py. Test
 files import these as ``helpers.<module>`` (pyproject.toml puts tests/ on sys.path for pytest;
-a subprocess of a test puts it there itself).
+a test's child process gets it through PYTHONPATH, helpers.child_env).
 """
