@@ -2,7 +2,9 @@
 
 Architecture guards, read from the source tree: subsystems are subpackages (no module-name
 prefix stands for one), files stay small, no module imports itself round a circle, importing
-epc_fast loads neither the scan nor the optimiser, and the import paths users have keep working.
+epc_fast loads neither the scan nor the optimiser, the import paths users have keep working,
+and tests share code only through tests/helpers/ (no test module imports another, no test
+file edits sys.path).
 """
 
 import ast
@@ -96,6 +98,62 @@ def test_no_module_of_the_package_imports_itself_round_a_circle():
 def test_the_circle_check_finds_a_circle():
     # the check itself: a -> b -> c -> a is one circle, d alone none
     assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+
+
+#: A statement that edits the module search path: sys.path.insert/append/extend, an item or
+#: slice of it assigned, or sys.path itself assigned or extended (in code or in a code string).
+SYS_PATH_EDIT = re.compile(r"\bsys\s*\.\s*path\s*"
+                           r"(\.\s*(insert|append|extend)\s*\(|\[[^\]]*\]\s*=|\+?=[^=])")
+
+
+def _test_module_imports(source: str) -> list:
+    """The imports in ``source`` that reach a test module (a dotted part named test_*), as
+    written (``test_x``, ``.test_x``, ``tests.test_x``, ``pkg.test_x`` for ``from pkg import
+    test_x``); helpers.* and conftest are the shared pieces tests may import."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            names = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = "." * node.level + (node.module or "")
+            sep = "" if base.endswith(".") else "."
+            names = [base] if _names_a_test(base) else [f"{base}{sep}{alias.name}"
+                                                        for alias in node.names]
+        else:
+            continue
+        found += [name for name in names if _names_a_test(name)]
+    return sorted(set(found))
+
+
+def _names_a_test(dotted: str) -> bool:
+    return any(part.startswith("test_") for part in dotted.split("."))
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "tests").rglob("*.py")),
+                         ids=lambda p: str(p.relative_to(ROOT / "tests")))
+def test_no_test_file_imports_a_test_module_or_edits_sys_path(path):
+    # what tests share lives in tests/helpers/ (pyproject.toml puts tests/ on sys.path; a child
+    # process gets it through PYTHONPATH, helpers.child_env)
+    source = path.read_text()
+    assert _test_module_imports(source) == []
+    assert not SYS_PATH_EDIT.search(source)
+
+
+def test_the_test_import_check_finds_an_import_of_a_test_module():
+    planted = ("import os, tests.test_api\nfrom test_core_vs_reference import x\n"
+               "from .test_golden import y\nfrom . import test_cfa\nfrom tests import test_modes\n"
+               "import helpers.designs\nfrom helpers.mp_model import mp_model\nimport conftest\n"
+               "import pytest\nfrom epc_fast import testing_tools\n")
+    assert _test_module_imports(planted) == [".test_cfa", ".test_golden", "test_core_vs_reference",
+                                             "tests.test_api", "tests.test_modes"]
+    path = "sys" + ".path"  # spelt apart, so that this file holds no edit of its own
+    for edit in (".insert(0, 'tests')", ".append(root)", ".extend([a])", "[:0] = [a]",
+                 " = ['x']", " += ['x']"):
+        assert SYS_PATH_EDIT.search(f"import sys\n{path}{edit}\n"), edit
+        assert SYS_PATH_EDIT.search(f"code = \"import sys; {path}{edit}\"\n"), edit
+    for reading in ("print(sys" ".path)", "x = sys" ".path[0]", "if sys" ".path == []: pass",
+                    "# pyproject.toml puts tests/ on sys" ".path"):
+        assert not SYS_PATH_EDIT.search(reading), reading
 
 
 def _shared_prefixes(names) -> dict:
