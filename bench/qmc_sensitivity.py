@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from epc_fast.scan import LogNormal, LogUniform, Space, Uniform
-from epc_fast.scan.sobol import indices as sobol
+from epc_fast.scan.indices import estimate
 
 SPACE = Space(illuminance_lux=LogUniform(10, 1e5), pixel_pitch_um=Uniform(0.8, 2.8),
               f_number=Uniform(1.4, 4.0), focal_length_mm=5.6, pixel_count=12e6,
@@ -35,20 +35,20 @@ def monte_carlo_design(d: int, points: int, seed: int) -> np.ndarray:
 
 
 def indices(design: np.ndarray, parameters: tuple, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    _, analyze = sobol._salib()
-    inputs = sobol.design_inputs(SPACE, parameters, design)
-    epc, _, _ = sobol._evaluated_epc(SPACE, 0, inputs, "zero", 2, "")
-    found = sobol._analysed(analyze, parameters, np.log(np.maximum(epc, 1.0)), False, 10,
+    _, analyze = estimate._salib()
+    inputs = estimate.design_inputs(SPACE, parameters, design)
+    epc, _, _ = estimate._evaluated_epc(SPACE, 0, inputs, "zero", 2, "")
+    found = estimate._analysed(analyze, parameters, np.log(np.maximum(epc, 1.0)), False, 10,
                             0.95, seed)
     return found["S1"], found["ST"]
 
 
 def main() -> None:
-    parameters = sobol.random_parameters(SPACE)
+    parameters = estimate.random_parameters(SPACE)
     results = {"Sobol' (SALib)": [], "Monte Carlo": []}
     for seed in range(SEEDS):
         results["Sobol' (SALib)"].append(indices(
-            sobol.unit_design(parameters, POINTS, seed), parameters, seed))
+            estimate.unit_design(parameters, POINTS, seed), parameters, seed))
         results["Monte Carlo"].append(indices(
             monte_carlo_design(len(parameters), POINTS, seed), parameters, seed))
     print(f"log EPC, {POINTS} base points ({POINTS * (len(parameters) + 2):,} evaluations), "

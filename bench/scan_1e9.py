@@ -37,7 +37,7 @@ import numpy as np
 from epc_fast import _core, evaluate
 from epc_fast.scan import FractionBelow, Quantiles, Summary, run
 from epc_fast.scan.config import default_config
-from epc_fast.scan.core_plan import CorePlan
+from epc_fast.scan.running.core_plan import CorePlan
 
 #: Points per chunk of the raw core's pre-drawn arrays.
 RAW_CHUNK = 1 << 20

@@ -25,10 +25,10 @@ import pytest
 
 from engine_suite import QUICK
 from epc_fast.scan import Summary
-from epc_fast.scan.core_plan import CorePlan
-from epc_fast.scan.groups import group_key, replicated
-from epc_fast.scan.qmc import Sampling
-from epc_fast.scan.tasks import PlanItem
+from epc_fast.scan.running.core_plan import CorePlan
+from epc_fast.scan.reductions.groups import group_key, replicated
+from epc_fast.scan.sampling.qmc import Sampling
+from epc_fast.scan.running.tasks import PlanItem
 from qmc_accuracy import SPACES, reference, time_ours, time_qmcpy, time_scipy
 
 POINTS = 1 << 17 if QUICK else 1 << 21

@@ -20,7 +20,7 @@ import pytest
 from engine_suite import QUICK
 from epc_fast import evaluate
 from epc_fast.scan import run
-from epc_fast.scan.core_plan import CorePlan
+from epc_fast.scan.running.core_plan import CorePlan
 from scan_1e9 import benchmark_reductions, benchmark_space
 
 POINTS = 1 << 17 if QUICK else 1 << 21

@@ -4,7 +4,7 @@ NumPy, and its speed in the scan's benchmark group:
     python -m pytest bench/test_bench_scan_peer.py --benchmark-only
 
 The NumPy side of every check draws the same points by the stream contract with the package's
-reference of it (``epc_fast.scan.streams``: uniforms, AS 241, then the log-uniform and
+reference of it (``epc_fast.scan.sampling.streams``: uniforms, AS 241, then the log-uniform and
 log-normal transforms written out here), evaluates them with ``epc_fast.evaluate`` (the core)
 and reduces them with plain NumPy (``np.histogram``, ``np.mean``, ...). Integer results (points,
 status counts, finite counts, both histograms, the count below 2e6) must be equal; the float
@@ -25,10 +25,10 @@ from engine_suite import QUICK, THREADS, blur_condition
 from epc_fast import Status, evaluate
 from epc_fast.scan import Quantiles
 from epc_fast.scan.config import default_config
-from epc_fast.scan.histograms import _histogram_quantiles
+from epc_fast.scan.reductions.histograms import _histogram_quantiles
 
 numba = pytest.importorskip("numba")
-streams = pytest.importorskip("epc_fast.scan.streams")
+streams = pytest.importorskip("epc_fast.scan.sampling.streams")
 
 from peers import numba_scan_peer as peer  # noqa: E402  (needs Numba)
 
@@ -87,7 +87,7 @@ def contract_draws(index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 @functools.lru_cache(maxsize=2)
 def numpy_scan(points: int) -> dict:
-    """The default scan's first ``points`` points drawn by ``epc_fast.scan.streams``,
+    """The default scan's first ``points`` points drawn by ``epc_fast.scan.sampling.streams``,
     evaluated by the core and reduced by NumPy, per design (the peer's keys, plus
     ``min_kappa`` and ``max_kappa``: the blur's condition number at the least and greatest
     EPC)."""

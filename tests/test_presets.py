@@ -46,7 +46,7 @@ def test_a_designs_pixel_count_is_the_physical_one_the_figures_and_the_scans_dra
     # scan's bands. Columns x rows (1.92 Mpixel for the 2.8 um design) is the array, not N.
     from epc_fast import scan, sensor
     from epc_fast.plotting import common
-    from epc_fast.scan.plots import scan_pixel_counts
+    from epc_fast.scan.plot import scan_pixel_counts
 
     assert common.physical_pixel_count is sensor.physical_pixel_count
     designs = PAPER_DESIGNS + FIGURE_3[1::2]  # and the stabilised ones

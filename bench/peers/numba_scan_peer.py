@@ -6,7 +6,7 @@ the paper's four 1/3.2" designs on a grid axis (point i has design i mod 4), ill
 log-uniform on [10, 1e5] lux, hand shake log-normal (median 4.39 degree/s, sigma 0.5 of ln),
 every other parameter the designs' value or evaluate's default.
 
-Draws follow the scan's counter-based stream contract (``epc_fast.scan.streams``), implemented
+Draws follow the scan's counter-based stream contract (``epc_fast.scan.sampling.streams``), implemented
 here in Numba:
 
 - Philox4x32-10 (Salmon, Moraes, Dror and Shaw, SC'11; multipliers 0xD2511F53, 0xCD9E8D57, key
@@ -37,7 +37,7 @@ standard deviation, which merge in another order):
 
 On the log10 histogram a value's bin is floor((log10 EPC - log10 low) bins / (log10 high -
 log10 low)) + 1 in slots 0 .. bins + 1 (0 below, bins + 1 at or above), as
-``epc_fast.scan.histograms`` bins; on the octave histogram it is the value's exponent and first
+``epc_fast.scan.reductions.histograms`` bins; on the octave histogram it is the value's exponent and first
 9 mantissa bits (from ``math.frexp``), less the first bin's, plus 1, clipped likewise, as
 ``epc_fast.scan.Quantiles`` bins. EPC = 0 (blur unbounded) is finite and falls below every
 histogram.
@@ -61,7 +61,7 @@ import numpy as np
 
 from epc_fast.params import PARAMETERS
 from epc_fast.scan.config import default_config
-from epc_fast.scan.distributions import Grid, LogNormal, LogUniform
+from epc_fast.scan.sampling.distributions import Grid, LogNormal, LogUniform
 from epc_fast.spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from epc_fast.status import Status
 
@@ -402,7 +402,7 @@ FINE_BINS, FINE_SLOTS = QUANTILE_HISTOGRAM.bins, QUANTILE_HISTOGRAM.bins + 2
 
 @numba.njit(inline="always")
 def _slot(t, first, scale, bins):
-    """The slot of t = log10(value) (-inf for 0): as epc_fast.scan.histograms bins it."""
+    """The slot of t = log10(value) (-inf for 0): as epc_fast.scan.reductions.histograms bins it."""
     position = (t - first) * scale + 1.0
     return int(min(max(position, 0.0), bins + 1.0))
 

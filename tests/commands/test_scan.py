@@ -152,11 +152,11 @@ SUMMARY = '[reductions.s]\nkind = "summary"\n'
 def test_a_missing_optional_dependency_stops_the_scan_before_the_first_point(
         tmp_path, capsys, monkeypatch, modules, more, args, message):
     # Unchecked, a scan without matplotlib computed every point, then failed on the plot.
-    import epc_fast.scan.runner
+    import epc_fast.scan.running.runner
 
     for module in modules:
         monkeypatch.setitem(sys.modules, module, None)
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", None)  # no point is computed
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", None)  # no point is computed
     code, out, err = _scan(tmp_path, capsys, SCAN_CONFIG + more, *args)
     assert (code, out, err) == (2, "", f"epc-fast scan: error: {message}\n")
     assert not (tmp_path / "out").exists()
@@ -181,12 +181,12 @@ def test_debug_shows_the_traceback(tmp_path, capsys):
 
 def test_an_error_that_is_not_the_users_is_one_line_with_exit_code_1(tmp_path, capsys,
                                                                      monkeypatch):
-    import epc_fast.scan.runner
+    import epc_fast.scan.running.runner
 
     def broken(*args, **kwargs):
         raise RuntimeError()
 
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", broken)
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", broken)
     code, _, err = _scan(tmp_path, capsys, SCAN_CONFIG + '[reductions.s]\nkind = "summary"\n')
     assert code == 1 and err == ("epc-fast scan: error: RuntimeError; the 0 points merged "
                                  "before it are written, marked partial\n")
@@ -285,12 +285,12 @@ def test_an_error_in_a_chunk_is_the_headline_and_the_error_line_even_with_plots(
         tmp_path, capsys, monkeypatch):
     # The headline said "INTERRUPTED", and the plots of 0 points on a log axis failed with
     # matplotlib's "Data cannot be log-scaled", which took the error line's place.
-    import epc_fast.scan.runner
+    import epc_fast.scan.running.runner
 
     def broken(*args, **kwargs):
         raise ValueError("cannot reshape array of size 190 into shape (4,12)")
 
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", broken)
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", broken)
     code, out, err = _scan(tmp_path, capsys, BAYER_SOBOL + LOG_BANDS)
     assert code == 1
     headline = out.splitlines()[0]

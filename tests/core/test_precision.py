@@ -15,7 +15,7 @@ import epc_fast
 from epc_fast import Status
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import BLOCK_POINTS, LogUniform, Space, Summary, run
-from epc_fast.scan.space import EVALUATE_OPTIONS
+from epc_fast.scan.sampling.space import EVALUATE_OPTIONS
 from epc_fast.selfcheck import random_designs
 from epc_fast.spectra import Spectrum
 from helpers.designs import WIDE_POINTS, ordinary_points, with_extremes

@@ -39,7 +39,7 @@ def test_the_papers_figure_and_a_scans_plot_mark_one_design_at_one_pixel_count()
     # area / pitch^2 (2.00 Mpixel).
     from epc_fast import scan
     from epc_fast.plotting.common import physical_pixel_count
-    from epc_fast.scan.plots import scan_pixel_counts
+    from epc_fast.scan.plot import scan_pixel_counts
 
     space = scan.Space(design=HIGH_TIER, illuminance_lux=scan.LogUniform(10, 1e5))
     in_scan = scan_pixel_counts(space)

@@ -6,7 +6,7 @@ import pytest
 
 from epc_fast.params import PARAMETER_NAMES
 from epc_fast.plotting.text import output_scale, quantity_label, quantity_unit, unit_text
-from epc_fast.scan.chunk import OUTPUTS
+from epc_fast.scan.running.chunk import OUTPUTS
 
 
 @pytest.mark.parametrize("name, label", [

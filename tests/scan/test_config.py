@@ -7,7 +7,7 @@ import re
 import numpy as np
 import pytest
 
-import epc_fast.scan.runner
+import epc_fast.scan.running.runner
 from epc_fast.__main__ import main
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (Binned, Choice, FractionBelow, Grid, LogNormal, LogUniform, Quantiles,
@@ -111,7 +111,7 @@ def test_cli_scan_without_a_config_runs_the_built_in_default(tmp_path, capsys):
 def test_cli_scan_interrupted_writes_the_partial_tables_and_exits_130(tmp_path, capsys,
                                                                      monkeypatch):
     calls = []
-    reduce_chunk = epc_fast.scan.runner.reduce_chunk
+    reduce_chunk = epc_fast.scan.running.runner.reduce_chunk
 
     def reduce_then_interrupt(*args, **kwargs):
         calls.append(1)
@@ -119,7 +119,7 @@ def test_cli_scan_interrupted_writes_the_partial_tables_and_exits_130(tmp_path, 
             raise KeyboardInterrupt
         return reduce_chunk(*args, **kwargs)
 
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", reduce_then_interrupt)
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", reduce_then_interrupt)
     assert main(["scan", "--out", str(tmp_path), "--no-plots", "--no-progress",
                  "--chunk-points", "65536"]) == 130
     assert "scan of 65,536 of 1,000,000 points" in capsys.readouterr().out

@@ -10,7 +10,7 @@ import pytest
 from epc_fast.__main__ import main
 from epc_fast.scan import sobol_indices
 from epc_fast.scan.config import parse_config
-from epc_fast.scan.config.sobol import SobolConfig
+from epc_fast.scan.config.indices import SobolConfig
 from epc_fast.scan.errors import ConfigError, OutputError, TooLargeError
 
 SCAN = """\

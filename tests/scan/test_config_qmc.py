@@ -9,7 +9,7 @@ from epc_fast.__main__ import main
 from epc_fast.scan import FractionBelow, Summary
 from epc_fast.scan.config import parse_config
 from epc_fast.scan.errors import ConfigError
-from epc_fast.scan.targets import Target
+from epc_fast.scan.reductions.targets import Target
 
 BASE = """
 [scan]

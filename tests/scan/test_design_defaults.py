@@ -10,7 +10,7 @@ import epc_fast
 from epc_fast import scan
 from epc_fast.cfa import DEFAULT_CFA_TRANSMITTANCE, DEFAULT_COLOR_NOISE_GAIN
 from epc_fast.scan import Grid, LogUniform, Summary, run
-from epc_fast.scan.space import BLOCK_POINTS
+from epc_fast.scan.sampling.space import BLOCK_POINTS
 
 #: Two 1/3.2" designs: A gives its filters' transmittance and colour noise gain, B neither.
 A = {"name": "A", "pixel_pitch_um": 1.4, "f_number": 2.8, "focal_length_mm": 5.6,

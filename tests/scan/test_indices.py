@@ -30,7 +30,7 @@ import pytest
 
 from epc_fast import evaluate, scan
 from epc_fast.presets import HIGH_TIER
-from epc_fast.scan import sobol as sobol_module
+from epc_fast.scan import indices as indices_module
 
 #: The fixed parameters of the power-law camera (module docstring).
 POWER_LAW = dict(pixel_pitch_um=1e-6, f_number=2.8, focal_length_mm=1e10, sensor_area_mm2=1.0,
@@ -202,8 +202,8 @@ def test_unreachable_points_counted_as_zero_pixels_follow_the_closed_form():
     # probability 2/3 and 0 otherwise.
     space = product_space(full_well=(500.0, 2000.0))
     result = scan.sobol_indices(space, points=2**13, seed=1, not_ok="zero")
-    parameters = sobol_module.random_parameters(space)
-    inputs = sobol_module.design_inputs(space, parameters, sobol_module.unit_design(
+    parameters = indices_module.random_parameters(space)
+    inputs = indices_module.design_inputs(space, parameters, indices_module.unit_design(
         parameters, 2**13, 1))
     assert result.unreachable[0] == np.count_nonzero(inputs["full_well_e"] < 1000.0)
     assert result.unreachable[0] / result.evaluations == pytest.approx(1 / 3, abs=0.01)
@@ -283,10 +283,10 @@ def test_each_design_gets_the_indices_of_a_space_holding_that_design_alone():
         "grid"])
 def test_the_design_draws_every_kind_of_parameter_from_its_distribution(axis, mean, std):
     space = scan.Space(illuminance_lux=scan.LogUniform(100, 1000), read_noise_e=axis, **POWER_LAW)
-    parameters = sobol_module.random_parameters(space)
-    unit = sobol_module.unit_design(parameters, 2**12, 4)
+    parameters = indices_module.random_parameters(space)
+    unit = indices_module.unit_design(parameters, 2**12, 4)
     assert unit.min() > 0.0 and unit.max() < 1.0
-    values = sobol_module.design_inputs(space, parameters, unit)["read_noise_e"]
+    values = indices_module.design_inputs(space, parameters, unit)["read_noise_e"]
     # The first 2^12 rows are Saltelli's matrix A, a scrambled Sobol' net: its moments are
     # within 1e-3 of the distribution's (Monte Carlo on 4096 points would give ~1.6e-2).
     a = values[::len(parameters) + 2]
@@ -350,7 +350,7 @@ def test_sobol_indices_without_salib_name_the_extra(monkeypatch):
 
 
 def test_importing_the_scan_package_does_not_import_salib():
-    code = ("import sys, epc_fast.scan, epc_fast.scan.sobol, epc_fast.scan.config, "
+    code = ("import sys, epc_fast.scan, epc_fast.scan.indices, epc_fast.scan.config, "
             "epc_fast.commands.sobol; "
             "sys.exit(1 if any(m.split('.')[0] == 'SALib' for m in sys.modules) else 0)")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

@@ -10,7 +10,7 @@ from epc_fast import optimize, scan
 from epc_fast.inverse import InverseStatus, crossover_lux, lux_for_epc
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import Grid, LogUniform, Summary, Uniform, run
-from epc_fast.scan.space import BLOCK_POINTS
+from epc_fast.scan.sampling.space import BLOCK_POINTS
 
 N = BLOCK_POINTS + 333  # a second, partial block
 #: A 1/3.2" 1.12 um phone camera whose read noise makes denoising pay at low light.

@@ -1,4 +1,4 @@
-"""The scan's figures (epc_fast.scan.plots): what a reader must find in them, read back from
+"""The scan's figures (epc_fast.scan.plot): what a reader must find in them, read back from
 the matplotlib objects: units in the labels, the threshold drawn where it is, the low cut
 stated, one readable panel per group, no label on a curve."""
 
@@ -13,7 +13,7 @@ from epc_fast.presets import HIGH_TIER
 matplotlib = pytest.importorskip("matplotlib")
 
 from epc_fast.plotting.layout import line_points  # noqa: E402
-from epc_fast.scan.plots import (bands_figure, distribution_figure, plot_bands,  # noqa: E402
+from epc_fast.scan.plot import (bands_figure, distribution_figure, plot_bands,  # noqa: E402
                                  plot_distributions, scan_conditions, scan_pixel_counts)
 
 THRESHOLD = 2e6
@@ -264,9 +264,9 @@ def test_the_output_table_log_y_key_asks_for_log_bands_and_must_be_a_boolean():
 
 def test_the_scan_command_draws_its_bands_with_conditions_pixel_counts_and_log_y(
         tmp_path, monkeypatch, capsys):
-    from epc_fast import scan as scan_package  # noqa: F401  (epc_fast.scan.plots loaded)
+    from epc_fast import scan as scan_package  # noqa: F401  (epc_fast.scan.plot loaded)
     from epc_fast.__main__ import main
-    import epc_fast.scan.plots as plots
+    import epc_fast.scan.plot as plots
 
     drawn = {}
     original = plots.bands_figure

@@ -12,8 +12,8 @@ import pytest
 
 from epc_fast import Status, _core, evaluate
 from epc_fast.presets import HIGH_TIER
-from epc_fast.scan.core_plan import CorePlan
-from epc_fast.scan.histograms import _OctaveBins
+from epc_fast.scan.running.core_plan import CorePlan
+from epc_fast.scan.reductions.histograms import _OctaveBins
 from epc_fast.scan import (BLOCK_POINTS, Binned, Choice, FractionBelow, Grid, Histogram,
                            LogUniform, Normal, Quantiles, Space, Summary, TopK, run)
 

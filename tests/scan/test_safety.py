@@ -17,7 +17,7 @@ import types
 import pytest
 
 import epc_fast.scan.output
-import epc_fast.scan.runner
+import epc_fast.scan.running.runner
 from epc_fast.__main__ import main
 from epc_fast.scan.atomic import atomic_write
 
@@ -68,7 +68,7 @@ class _Chunks:
     def __init__(self, stop_at=None):
         self.calls = 0
         self.stop_at = stop_at
-        self.reduce_chunk = epc_fast.scan.runner.reduce_chunk
+        self.reduce_chunk = epc_fast.scan.running.runner.reduce_chunk
 
     def __call__(self, *args, **kwargs):
         self.calls += 1
@@ -81,7 +81,7 @@ class _Chunks:
 @pytest.fixture
 def chunks(monkeypatch):
     counter = _Chunks()
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", counter)
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", counter)
     return counter
 
 
@@ -233,7 +233,7 @@ def test_a_parquet_part_that_fails_midway_is_never_under_a_part_name(tmp_path, m
 def test_ctrl_c_leaves_parquet_tables_and_manifest_on_the_same_prefix(tmp_path, capsys,
                                                                       monkeypatch):
     pq = pytest.importorskip("pyarrow.parquet")
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=3))
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", _Chunks(stop_at=3))
     out = tmp_path / "out"
     code, stdout, _ = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'),
                            "--out", out, "--chunk-points", CHUNK)
@@ -398,7 +398,7 @@ def test_a_full_disk_while_writing_a_table_leaves_no_truncated_table(tmp_path, c
 
 def test_ctrl_c_before_the_first_merge_writes_an_empty_top_k_table(tmp_path, capsys,
                                                                    monkeypatch):
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=1))
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", _Chunks(stop_at=1))
     out = tmp_path / "out"
     code, stdout, err = _cli(capsys, _config(tmp_path, '[reductions.best]\nkind = "top_k"\n'
                                              'k = 3\n'), "--out", out, "--no-plots")
@@ -458,7 +458,7 @@ def test_an_interrupted_scan_removes_only_the_parquet_files_it_wrote(tmp_path, m
     from epc_fast.presets import HIGH_TIER
     from epc_fast.scan import Space, run
 
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=2))
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", _Chunks(stop_at=2))
     points = tmp_path / "points"
     others = ["part-000000196608.parquet", ".ready-part-000000262144.parquet",
               ".part-000000327680.parquet.0a1b2c.tmp"]
@@ -519,7 +519,7 @@ def test_a_second_ctrl_c_while_the_tables_are_written_costs_no_file(tmp_path, ca
                                                                      monkeypatch):
     import epc_fast.scan.tables
 
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=2))
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", _Chunks(stop_at=2))
     real_write_csv = epc_fast.scan.tables.write_csv
 
     def write_csv_after_ctrl_c(path, columns):
@@ -540,7 +540,7 @@ def test_a_second_ctrl_c_while_the_tables_are_written_costs_no_file(tmp_path, ca
 
 def test_a_full_disk_mid_run_leaves_the_tables_of_the_merged_prefix(tmp_path, capsys,
                                                                     monkeypatch):
-    real_reduce_chunk = epc_fast.scan.runner.reduce_chunk
+    real_reduce_chunk = epc_fast.scan.running.runner.reduce_chunk
     calls = []
 
     def full_on_the_third_chunk(*args, **kwargs):
@@ -549,7 +549,7 @@ def test_a_full_disk_mid_run_leaves_the_tables_of_the_merged_prefix(tmp_path, ca
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
         return real_reduce_chunk(*args, **kwargs)
 
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", full_on_the_third_chunk)
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", full_on_the_third_chunk)
     out = tmp_path / "out"
     code, stdout, err = _cli(capsys, _config(tmp_path, TOP_K), "--out", out, "--no-plots",
                              "--chunk-points", CHUNK)
@@ -575,9 +575,9 @@ class _FullDisk:
 
         self.full = False
         self.chunks = 0
-        self.reduce_chunk = epc_fast.scan.runner.reduce_chunk
+        self.reduce_chunk = epc_fast.scan.running.runner.reduce_chunk
         monkeypatch.setattr(epc_fast.scan.atomic, "os", self)
-        monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", self.chunk)
+        monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", self.chunk)
 
     def chunk(self, *args, **kwargs):
         self.chunks += 1
@@ -628,12 +628,12 @@ def test_a_manifest_that_cannot_be_written_at_all_is_named_on_stderr(tmp_path, c
 
 def test_a_failed_plot_leaves_the_tables_and_a_manifest_that_says_so(tmp_path, capsys,
                                                                      monkeypatch):
-    import epc_fast.scan.plots
+    import epc_fast.scan.plot
 
     def broken_plot(*args, **kwargs):
         raise RuntimeError("no renderer")
 
-    monkeypatch.setattr(epc_fast.scan.plots, "plot_distributions", broken_plot)
+    monkeypatch.setattr(epc_fast.scan.plot, "plot_distributions", broken_plot)
     out = tmp_path / "out"
     code, _, err = _cli(capsys, _config(tmp_path, '[reductions.h]\nkind = "histogram"\n'
                                         'low = 1e3\nhigh = 1e7\n'), "--out", out)
@@ -684,10 +684,10 @@ def test_every_file_of_an_interrupted_scan_says_its_results_are_partial(tmp_path
                                                                        monkeypatch):
     from epc_fast.scan.tables import PARTIAL_COLUMN
 
-    monkeypatch.setattr(epc_fast.scan.runner, "reduce_chunk", _Chunks(stop_at=3))
+    monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", _Chunks(stop_at=3))
     titles = []
-    real_save = epc_fast.scan.plots._save
-    monkeypatch.setattr(epc_fast.scan.plots, "_save", lambda figure, path: (
+    real_save = epc_fast.scan.plot._save
+    monkeypatch.setattr(epc_fast.scan.plot, "_save", lambda figure, path: (
         titles.append(figure.get_suptitle() + " ".join(a.get_title() for a in figure.axes)),
         real_save(figure, path)))
     out = tmp_path / "out"
@@ -722,7 +722,7 @@ START_PHASES = {
     "the lock just taken": ("epc_fast.scan.output.lock", "OutputLock.acquire", True),
     "the first manifest written": ("epc_fast.scan.manifest", "write_manifest", True),
     "the cluster connected": ("epc_fast.commands.scan", "_client", False),
-    "the Parquet staging made": ("epc_fast.scan.parquet", "prepare_directory", True),
+    "the Parquet staging made": ("epc_fast.scan.running.parquet", "prepare_directory", True),
 }
 
 

@@ -37,7 +37,7 @@ EXIT_ABORTED = 1
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from ..api import MAX_THREADS
     from ..scan.schema import MAX_CHUNK_POINTS, MAX_POINTS
-    from ..scan.space import BLOCK_POINTS
+    from ..scan.sampling.space import BLOCK_POINTS
 
     parser.add_argument("config", nargs="?", help="TOML file (see examples/scan_designs.toml); "
                         "default: the built-in config (--show-config prints it)")
@@ -69,7 +69,7 @@ def _config(args):
             setattr(config, name, getattr(args, name))
     if args.points is not None:  # the sampling's rules on the points given here
         from ..scan.errors import ConfigError
-        from ..scan.runner import sampled_scan
+        from ..scan.running.runner import sampled_scan
 
         try:
             sampled_scan(config.space, config.points, config.reductions, config.sampling,
@@ -160,21 +160,21 @@ def _write_outputs(result, out, plots: bool, log_y: bool = False) -> None:
 
 
 def _write_plots(result, out, partial: str = "", log_y: bool = False) -> None:
-    from ..scan import plots
-    from ..scan.histograms import HistogramResult, QuantilesResult
-    from ..scan.summaries import FractionBelowResult
+    from ..scan import plot
+    from ..scan.reductions.histograms import HistogramResult, QuantilesResult
+    from ..scan.reductions.summaries import FractionBelowResult
 
     below = [r for r in result.results.values() if isinstance(r, FractionBelowResult)]
     for name, r in result.results.items():
         if isinstance(r, HistogramResult):
             out.write(f"{name}.png",
-                      lambda path: plots.plot_distributions(
-                          r, path, below, partial, conditions=plots.scan_conditions(result)))
-        elif isinstance(r, QuantilesResult) and plots.bands_parameter(r):
-            conditions = plots.scan_conditions(result, skip=(plots.bands_parameter(r),))
-            out.write(f"{name}.png", lambda path: plots.plot_bands(
+                      lambda path: plot.plot_distributions(
+                          r, path, below, partial, conditions=plot.scan_conditions(result)))
+        elif isinstance(r, QuantilesResult) and plot.bands_parameter(r):
+            conditions = plot.scan_conditions(result, skip=(plot.bands_parameter(r),))
+            out.write(f"{name}.png", lambda path: plot.plot_bands(
                 r, path, below, partial, conditions=conditions,
-                pixel_counts=plots.scan_pixel_counts(result.space), log_y=log_y))
+                pixel_counts=plot.scan_pixel_counts(result.space), log_y=log_y))
 
 
 def _planned(config, plots: bool) -> dict:
@@ -193,7 +193,7 @@ def _planned(config, plots: bool) -> dict:
 
 
 def _parquet_bytes(config) -> int:
-    from ..scan.chunk import OUTPUTS
+    from ..scan.running.chunk import OUTPUTS
     from ..scan.output import PARQUET_BYTES_PER_VALUE
 
     if config.parquet is None:
@@ -203,7 +203,7 @@ def _parquet_bytes(config) -> int:
 
 
 def _parquet_files(out, config) -> list[str]:
-    from ..scan.parquet import committed_parts
+    from ..scan.running.parquet import committed_parts
 
     if config.parquet is None:
         return []

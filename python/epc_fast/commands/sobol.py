@@ -1,6 +1,6 @@
 """``epc-fast sobol [CONFIG.toml]``: the Sobol' indices of a scan config's space alone.
 
-The config's ``[sobol]`` table (:mod:`epc_fast.scan.config.sobol`; its defaults when there is
+The config's ``[sobol]`` table (:mod:`epc_fast.scan.config.indices`; its defaults when there is
 none) says how; its ``[reductions]`` are not run. The indices go into ``--out`` as sobol.csv
 and sobol.md under the scan's output policy (:class:`epc_fast.scan.output.OutputDirectory`):
 checked before any evaluation, every file written atomically. ``epc-fast scan`` writes the same
@@ -22,7 +22,7 @@ HELP = ("apportion the variance of EPC among a scan config's random parameters: 
 
 def _power_of_two(text: str) -> int:
     """An argparse type: a power of 2 in [16, 2^23], in digits (``4096``)."""
-    from ..scan.sobol import MAX_BOOTSTRAP_VALUES, MIN_POINTS
+    from ..scan.indices import MAX_BOOTSTRAP_VALUES, MIN_POINTS
 
     value = int(text) if text.isdigit() else 0
     if value < MIN_POINTS or value > MAX_BOOTSTRAP_VALUES or value & (value - 1):
@@ -49,10 +49,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def settings(config, points=None, seed=None):
-    """The config's :class:`~epc_fast.scan.config.sobol.SobolConfig` (its defaults, seeded with
+    """The config's :class:`~epc_fast.scan.config.indices.SobolConfig` (its defaults, seeded with
     the scan's seed, when it has no ``[sobol]`` table), with the command line's overrides,
     checked against its space."""
-    from ..scan.config.sobol import SobolConfig
+    from ..scan.config.indices import SobolConfig
 
     sobol = config.sobol or SobolConfig(seed=config.seed)
     overrides = {k: v for k, v in (("points", points), ("seed", seed)) if v is not None}
@@ -64,7 +64,7 @@ def compute(config, sobol, threads):
     ValueError here is the space's (points that are not OK, an output without variance), a
     ConfigError naming [sobol]."""
     from ..scan.errors import ConfigError
-    from ..scan.sobol import sobol_indices
+    from ..scan.indices import sobol_indices
 
     start = time.perf_counter()
     try:
@@ -93,7 +93,7 @@ def run(args) -> int:
     from .._validation import threads_of
     from ..scan.config import default_config, load_config
     from ..scan.config.extras import SENSITIVITY, check_extras
-    from ..scan.config.sobol import SOBOL_FILES
+    from ..scan.config.indices import SOBOL_FILES
     from ..scan.output import OutputDirectory
     from ..scan.signals import SignalsHeld
 

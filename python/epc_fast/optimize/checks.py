@@ -7,7 +7,7 @@ import math
 
 from .._validation import integer, threads_of
 from ..params import PARAMETERS, SIZE_PARAMETERS, in_domain
-from ..scan.space import POINT_PARAMETERS, Space
+from ..scan.sampling.space import POINT_PARAMETERS, Space
 from .objectives import Mean, ProbabilityAtLeast, Quantile
 
 __all__ = ["checked_bounds", "whole_numbers_only", "checked_objective", "checked_points", "checked_search",

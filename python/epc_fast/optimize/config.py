@@ -29,9 +29,9 @@ from ..scan.config.files import read_text
 from ..scan.errors import ConfigError
 from ..scan.schema import (MAX_CONFIG_BYTES, choice, integer, number, number_list, short,
                           table_of, take, wrapped)
-from ..scan.distributions import Grid
-from ..scan.qmc import SAMPLINGS
-from ..scan.space import POINT_PARAMETERS, Space, domain_problem
+from ..scan.sampling.distributions import Grid
+from ..scan.sampling.qmc import SAMPLINGS
+from ..scan.sampling.space import POINT_PARAMETERS, Space, domain_problem
 
 __all__ = ["OptimizeConfig", "parse_optimize_config", "load_optimize_config",
            "MAX_OPTIMIZE_POINTS", "DEFAULT_CURVE_POINTS"]

@@ -23,9 +23,9 @@ from .checks import (checked_bounds, checked_objective, checked_points,
                               checked_search, checked_threads, size_name, unit_of)
 from .result import Curve, Estimate, Optimum
 from .search import maximize_on_cube
-from ..scan.core_plan import checked_seed
-from ..scan.qmc import Sampling
-from ..scan.space import Space
+from ..scan.running.core_plan import checked_seed
+from ..scan.sampling.qmc import Sampling
+from ..scan.sampling.space import Space
 from ..status import Status
 
 __all__ = ["Problem", "MIN_BATCH_POINTS", "DEFAULT_BATCHES", "DEFAULT_XTOL"]
@@ -69,7 +69,7 @@ class Problem:
     threads : int, optional
         Core threads (see :func:`epc_fast.evaluate`); results do not depend on it.
     sampling : {"monte_carlo", "sobol"}
-        How the scene is drawn (:mod:`epc_fast.scan.qmc`): independent draws, or scrambled
+        How the scene is drawn (:mod:`epc_fast.scan.sampling.qmc`): independent draws, or scrambled
         Sobol' points in :data:`DEFAULT_BATCHES` replicates, which are then the batches of
         :meth:`maximize` (``points`` a multiple of the replicates times the grid's cells) and
         give the estimates' standard errors; for a smooth objective their error falls faster
@@ -300,7 +300,7 @@ def design_readout(space, names) -> tuple[dict, frozenset]:
     """(evaluate's keywords for how the space's designs are read, the parameters their modes
     set): one readout for every design (their binning_readout and modes), which the optimised
     parameters do not set."""
-    from ..scan.readout import readout_groups, readout_kwargs
+    from ..scan.running.readout_modes import readout_groups, readout_kwargs
 
     if not space.has_readouts:
         return {}, frozenset()

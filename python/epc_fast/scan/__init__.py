@@ -17,16 +17,16 @@ The same seed gives the same numbers for any chunk size, thread count or Dask cl
 (the ``sensitivity`` extra).
 """
 
-from .best import TopK, TopKResult
-from .distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
+from .reductions.best import TopK, TopKResult
+from .sampling.distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
                             Uniform)
-from .groups import Binned
-from .histograms import Histogram, HistogramResult, Quantiles, QuantilesResult
-from .runner import DEFAULT_CHUNK_POINTS, ScanResult, Timing, default_reductions, run
-from .sobol.indices import sobol_indices
-from .sobol.result import SobolResult
-from .space import BLOCK_POINTS, Space
-from .summaries import FractionBelow, FractionBelowResult, Summary, SummaryResult
+from .reductions.groups import Binned
+from .reductions.histograms import Histogram, HistogramResult, Quantiles, QuantilesResult
+from .running.runner import DEFAULT_CHUNK_POINTS, ScanResult, Timing, default_reductions, run
+from .indices.estimate import sobol_indices
+from .indices.result import SobolResult
+from .sampling.space import BLOCK_POINTS, Space
+from .reductions.summaries import FractionBelow, FractionBelowResult, Summary, SummaryResult
 
 __all__ = [
     "Space", "Grid", "Choice", "Uniform", "LogUniform", "Normal", "LogNormal", "Truncated",

@@ -11,7 +11,7 @@ from collections.abc import Mapping
 
 from ..presets import Design
 from ..sensor import design_parameters
-from .readout import READOUT_KEYS
+from .running.readout_modes import READOUT_KEYS
 from .terms import default_values
 
 __all__ = ["design_dict", "fill_left_out"]

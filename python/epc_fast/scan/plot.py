@@ -23,7 +23,7 @@ from ..plotting.common import (add_conditions, conditions_lines, figure_class,
                                physical_pixel_count, save_figure, space_conditions)
 from ..plotting.layout import freeze_layout, place_line_labels, place_vertical_line_label
 from ..plotting.text import output_scale, quantity_label, quantity_unit, unit_text
-from .histograms import HistogramResult, QuantilesResult
+from .reductions.histograms import HistogramResult, QuantilesResult
 
 __all__ = ["plot_distributions", "plot_bands", "distribution_figure", "bands_figure",
            "bands_parameter", "bands_parameter_of", "plain_text", "scan_conditions",

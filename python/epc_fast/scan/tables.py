@@ -12,7 +12,7 @@ import numbers
 
 import numpy as np
 
-from .runner import ScanResult
+from .running.runner import ScanResult
 
 __all__ = ["grouped_tables", "grouping_units", "table_groupings", "file_stem", "top_k_columns",
            "histogram_tables", "HISTOGRAM_BINS", "write_csv", "markdown", "partial_note", "marked_partial", "SNR_TARGET_COLUMN",

@@ -8,7 +8,7 @@ import pytest
 
 from epc_fast.scan import (FractionBelow, Histogram, LogNormal, LogUniform, Quantiles, Space,
                            Summary, TopK, Uniform, run)
-from epc_fast.scan.targets import Target
+from epc_fast.scan.reductions.targets import Target
 from helpers.scan import SPACE, assert_same_numbers
 
 #: A smooth space of five random parameters, one design: its mean, median and fraction below

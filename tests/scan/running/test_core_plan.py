@@ -15,8 +15,8 @@ from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (BLOCK_POINTS, Binned, Choice, Empirical, FractionBelow, Grid,
                            Histogram, LogNormal, LogUniform, Normal, Quantiles, Space, Summary,
                            TopK, Truncated, Uniform, run)
-from epc_fast.scan import streams
-from epc_fast.scan.core_plan import CorePlan
+from epc_fast.scan.sampling import streams
+from epc_fast.scan.running.core_plan import CorePlan
 
 #: Values drawn by the core and by NumPy from the same uniform differ by the rounding of a
 #: fused multiply-add and of exp and log (the core's own, elementary.h, and the C library's,
@@ -327,12 +327,12 @@ def test_a_grid_space_is_visited_in_mixed_radix_by_both():
 
 
 def test_the_default_backend_needs_no_numpy_draw(monkeypatch):
-    import epc_fast.scan.space
+    import epc_fast.scan.sampling.space
 
     def refuse(*args, **kwargs):
         raise AssertionError("NumPy drew the points")
 
-    monkeypatch.setattr(epc_fast.scan.space.Space, "points", refuse)
+    monkeypatch.setattr(epc_fast.scan.sampling.space.Space, "points", refuse)
     result = run(SPACE, 2 * BLOCK_POINTS, seed=1, progress=False,
                  reductions={"s": Summary(), "q": Quantiles(exact_up_to=0)})
     assert result["s"].points.sum() == 2 * BLOCK_POINTS

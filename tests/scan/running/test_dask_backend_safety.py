@@ -8,7 +8,7 @@ import time
 
 import pytest
 
-import epc_fast.scan.dask_backend as dask_backend
+import epc_fast.scan.running.dask_backend as dask_backend
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import BLOCK_POINTS, LogUniform, Space, Summary, run
 from epc_fast.scan.errors import ScanAborted
@@ -144,7 +144,7 @@ def test_no_worker_writes_into_the_parquet_directory_after_the_command_returns(
     import threading
 
     import epc_fast.scan.manifest as manifest_module
-    import epc_fast.scan.parquet as parquet
+    import epc_fast.scan.running.parquet as parquet
     from epc_fast.__main__ import main
 
     started, release, finished = threading.Event(), threading.Event(), threading.Event()
@@ -215,7 +215,7 @@ def test_no_worker_writes_into_the_parquet_directory_after_the_command_returns(
 
 
 def _exit_on_the_third_chunk():
-    import epc_fast.scan.dask_backend as worker_backend
+    import epc_fast.scan.running.dask_backend as worker_backend
 
     real = worker_backend.reduce_chunk
 

@@ -11,9 +11,10 @@ from epc_fast import scan
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (Choice, Empirical, Grid, LogUniform, Summary, TopK, Truncated, Uniform,
                            run)
-from epc_fast.scan.readout import evaluate_points
-from epc_fast.scan.space import BLOCK_POINTS
-from epc_fast.scan.tasks import _core_plan
+from epc_fast.scan.running.readout_modes import evaluate_points
+from epc_fast.scan.sampling.space import BLOCK_POINTS
+from epc_fast.scan.reductions.groups import group_key
+from epc_fast.scan.running.tasks import PlanItem, _core_plan
 
 N = BLOCK_POINTS + 777  # a second, partial block
 MODES = ({"binning": 1}, {"binning": 2}, {"binning": 2, "frames": 4})
@@ -55,8 +56,7 @@ def test_the_new_parameters_scan_as_evaluate_gives_them_on_the_same_draws():
 def test_a_space_without_modes_or_charge_binning_keeps_the_fused_pass():
     space = scan.Space(design=HIGH_TIER, **_light(binning=Grid([1, 2])))
     assert not space.has_readouts and not space.has_modes
-    plan = tuple(scan.tasks.PlanItem("s", Summary(by="design"),
-                                     scan.groups.group_key(space, "design")) for _ in (0,))
+    plan = (PlanItem("s", Summary(by="design"), group_key(space, "design")),)
     core, arrays = _core_plan(space, plan, 1, 10**6)
     assert core.plan == plan and arrays == ()
 

@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 
 import epc_fast.scan
-import epc_fast.scan.tasks
+import epc_fast.scan.running.tasks
 from epc_fast import evaluate
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import BLOCK_POINTS, FractionBelow, Grid, Histogram, Space, Summary, TopK, run
-from epc_fast.scan.core_plan import CorePlan
-from epc_fast.scan.plots import plot_distributions
+from epc_fast.scan.running.core_plan import CorePlan
+from epc_fast.scan.plot import plot_distributions
 from helpers.scan import SPACE, assert_same_numbers, every_reduction
 
 POINTS = 10 * BLOCK_POINTS + 12345
@@ -77,7 +77,7 @@ def test_an_interrupt_inside_the_core_keeps_the_chunks_already_merged(monkeypatc
             raise KeyboardInterrupt
         return evaluate(*args, **kwargs)
 
-    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", evaluate_then_interrupt)
+    monkeypatch.setattr(epc_fast.scan.running.tasks, "evaluate", evaluate_then_interrupt)
     partial = run(SPACE, POINTS, seed=3, chunk_points=BLOCK_POINTS, progress=False)
     assert partial.partial and partial.points == 2 * BLOCK_POINTS
     assert partial["summary"].points.sum() == 2 * BLOCK_POINTS
@@ -207,13 +207,13 @@ def test_a_chunk_computes_only_the_outputs_its_reductions_use(reference, monkeyp
     # chunk_outputs: the reductions' outputs and the status; the same numbers as a scan that
     # computes every field (all outputs of one point come from one evaluation, bit for bit).
     asked = []
-    real = epc_fast.scan.tasks.evaluate
+    real = epc_fast.scan.running.tasks.evaluate
 
     def recording(*args, **kwargs):
         asked.append(kwargs.get("outputs"))
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(epc_fast.scan.tasks, "evaluate", recording)
+    monkeypatch.setattr(epc_fast.scan.running.tasks, "evaluate", recording)
     lean = _run(chunk_points=BLOCK_POINTS, threads=2)
     assert set(asked) == {("status", "epc")}
     assert_same_numbers(lean, reference)
@@ -226,23 +226,23 @@ def test_a_chunk_computes_only_the_outputs_its_reductions_use(reference, monkeyp
     assert asked == [] and np.array_equal(fused["t"].status_counts, only_t["t"].status_counts)
     # the same draws to a few ulp, summed in another order (docs/scan.md)
     np.testing.assert_allclose(fused["t"].mean, only_t["t"].mean, rtol=1e-13)
-    monkeypatch.setattr(epc_fast.scan.tasks, "chunk_outputs", lambda plan, parquet: None)
+    monkeypatch.setattr(epc_fast.scan.running.tasks, "chunk_outputs", lambda plan, parquet: None)
     asked.clear()
     assert_same_numbers(_run(chunk_points=BLOCK_POINTS, threads=2), reference)
     assert set(asked) == {None}
 
 
 def test_a_chunk_asks_for_each_output_its_reductions_summarise():
-    plan = tuple(epc_fast.scan.tasks.PlanItem(name, r, None) for name, r in {
+    plan = tuple(epc_fast.scan.running.tasks.PlanItem(name, r, None) for name, r in {
         "a": Summary(of="t_mpe_s"), "b": Histogram(1e-3, 1.0, 10, of="blur_mm"),
         "c": TopK(3)}.items())
-    assert epc_fast.scan.tasks.chunk_outputs(plan, parquet=False) == (
+    assert epc_fast.scan.running.tasks.chunk_outputs(plan, parquet=False) == (
         "status", "blur_mm", "epc", "t_mpe_s")
-    assert epc_fast.scan.tasks.chunk_outputs(plan, parquet=True) == tuple(
+    assert epc_fast.scan.running.tasks.chunk_outputs(plan, parquet=True) == tuple(
         epc_fast.api.OUTPUT_DTYPES)
-    shares = tuple(epc_fast.scan.tasks.PlanItem(name, Summary(of=name), None)
+    shares = tuple(epc_fast.scan.running.tasks.PlanItem(name, Summary(of=name), None)
                    for name in ("share_pixel", "epc"))
-    assert epc_fast.scan.tasks.chunk_outputs(shares, parquet=True) == tuple(
+    assert epc_fast.scan.running.tasks.chunk_outputs(shares, parquet=True) == tuple(
         epc_fast.api.OUTPUT_DTYPES) + ("share_pixel",)
 
 

@@ -9,7 +9,8 @@ from scipy import stats
 
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Space,
-                           Truncated, Uniform, streams)
+                           Truncated, Uniform)
+from epc_fast.scan.sampling import streams
 
 N = 10**6
 SEED = 20_240_611

@@ -7,8 +7,8 @@ import pytest
 
 from epc_fast.scan import (BLOCK_POINTS, Choice, FractionBelow, Grid, LogUniform, Quantiles,
                            Space, Summary, Uniform, run)
-from epc_fast.scan import qmc
-from epc_fast.scan.core_plan import CorePlan
+from epc_fast.scan.sampling import qmc
+from epc_fast.scan.running.core_plan import CorePlan
 from helpers.scan import SPACE, assert_same_numbers
 
 qmc_scipy = pytest.importorskip("scipy.stats.qmc")

@@ -5,7 +5,8 @@ import pytest
 
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (BLOCK_POINTS, Choice, Empirical, Grid, LogNormal, LogUniform, Normal,
-                           Space, Truncated, Uniform, streams)
+                           Space, Truncated, Uniform)
+from epc_fast.scan.sampling import streams
 
 
 def _space(**extra):

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from epc_fast.scan import Normal, Truncated, streams
+from epc_fast.scan import Normal, Truncated
+from epc_fast.scan.sampling import streams
 
 #: The smallest and largest uniforms: k = 0 and k = 2^52 - 1.
 U_MIN = 2.0**-53

@@ -53,20 +53,20 @@ from ... import presets
 from ...api import F50_SOLVERS, MAX_THREADS, PRECISIONS, T_MPE_SOLVERS
 from .files import read_samples, read_text
 from .reductions import check_reductions, parse_reductions
-from .sobol import SobolConfig, parse_sobol
-from ..distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
+from .indices import SobolConfig, parse_sobol
+from ..sampling.distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
                             Uniform)
 from ..errors import ConfigError
-from ..qmc import MAX_REPLICATES, SAMPLINGS
-from ..runner import DEFAULT_CHUNK_POINTS, sampled_scan
+from ..sampling.qmc import MAX_REPLICATES, SAMPLINGS
+from ..running.runner import DEFAULT_CHUNK_POINTS, sampled_scan
 from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
                      boolean, check_size, choice, file_name, integer, number, number_list, short,
                      string, table_of, take, wrapped)
 from ...mtf_table import lens_tables_of
 from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
-from ..readout import READOUT_KEYS
-from ..space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
+from ..running.readout_modes import READOUT_KEYS
+from ..sampling.space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
 from ...api import BINNING_READOUTS
 from ...cfa import CFAS, DEMOSAICS
 from ...modes import MODE_DEFAULTS, check_modes

@@ -11,17 +11,17 @@ import math
 
 import numpy as np
 
-from ..best import TopK
-from ..chunk import OUTPUTS
+from ..reductions.best import TopK
+from ..running.chunk import OUTPUTS
 from ..errors import ConfigError
-from ..groups import Binned, group_key
-from ..histograms import Histogram, Quantiles
+from ..reductions.groups import Binned, group_key
+from ..reductions.histograms import Histogram, Quantiles
 from ..schema import (MAX_CELLS, MAX_EXACT_QUANTILE_POINTS, MAX_GROUPS, MAX_TOP_K, boolean,
                      check_size, choice, file_name, integer, number, number_list, short,
                      table_of, take, where_prefix, wrapped)
-from ..replicates import REPLICATED
-from ..summaries import FractionBelow, Summary
-from ..targets import target_of
+from ..reductions.replicates import REPLICATED
+from ..reductions.summaries import FractionBelow, Summary
+from ..reductions.targets import target_of
 
 __all__ = ["parse_reductions", "check_reductions", "REDUCTIONS"]
 

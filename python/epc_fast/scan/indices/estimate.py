@@ -6,7 +6,7 @@ bootstrap confidence intervals from the outputs; the core evaluates the model at
 
 - **Coordinates to values.** A random parameter's value at coordinate u is its distribution's
   inverse CDF at u (``from_uniform``, the same function a scan draws with), for every
-  distribution of :mod:`epc_fast.scan.distributions`. A :class:`Choice` takes value index
+  distribution of :mod:`epc_fast.scan.sampling.distributions`. A :class:`Choice` takes value index
   ``indices_from_uniform(u)`` (its weights respected); a :class:`Grid` on a parameter is a
   random input whose values are equally likely, as a scan visits each equally often. A
   discrete parameter's indices are those of u, exactly: the output depends on u only through
@@ -31,10 +31,10 @@ import numpy as np
 from ...api import evaluate
 from ...params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, in_domain
 from ...status import Cause, Status
-from ..distributions import Choice, Grid
+from ..sampling.distributions import Choice, Grid
 from .result import SobolResult
-from ..readout import readout_kwargs
-from ..space import Space
+from ..running.readout_modes import readout_kwargs
+from ..sampling.space import Space
 
 __all__ = ["sobol_indices", "random_parameters", "unit_design", "design_inputs", "OUTPUTS",
            "NOT_OK_POLICIES", "MIN_POINTS", "MAX_BOOTSTRAP_VALUES", "MAX_DESIGN_VALUES",
@@ -235,7 +235,7 @@ def sobol_indices(space: Space, points: int = 4096, *, seed: int = 0, of="epc",
     variance drops, on average, once it is known), ST the fraction it explains with all its
     interactions (the variance left, on average, once every other parameter is known): one with
     ST near 0 can be fixed at any of its values without changing the spread. The module
-    docstring (:mod:`epc_fast.scan.sobol`) says how coordinates become values, what a design and
+    docstring (:mod:`epc_fast.scan.indices`) says how coordinates become values, what a design and
     a discrete parameter mean, and what happens at points that are not OK.
 
     Parameters

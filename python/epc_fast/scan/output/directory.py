@@ -29,7 +29,7 @@ from pathlib import Path
 from ..atomic import TEMPORARY_SUFFIX, atomic_write, probe_writable
 from ..errors import OutputError
 from ..manifest import describe, read_manifest
-from ..parquet import STAGING_PREFIX
+from ..running.parquet import STAGING_PREFIX
 from .lock import LOCK_NAME, OutputLock
 from .plan import COMMAND_FILES
 

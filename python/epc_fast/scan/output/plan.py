@@ -9,13 +9,13 @@ refused before any work rather than one file silently replacing the other.
 
 from __future__ import annotations
 
-from ..config.sobol import SOBOL_FILES
+from ..config.indices import SOBOL_FILES
 from ..errors import OutputError
-from ..groups import group_key
-from ..histograms import Histogram, Quantiles
+from ..reductions.groups import group_key
+from ..reductions.histograms import Histogram, Quantiles
 from ..manifest import MANIFEST_NAME
-from ..plots import bands_parameter_of
-from ..runner import default_reductions
+from ..plot import bands_parameter_of
+from ..running.runner import default_reductions
 from ..tables import file_stem, table_groupings
 
 __all__ = ["plan_outputs", "TABLE_KINDS", "COMMAND_FILES"]

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .chunk import Chunk
-from .errors import TooLargeError
+from ..running.chunk import Chunk
+from ..errors import TooLargeError
 from .groups import GroupKey
 from .summaries import _check_output
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .space import Points, Space
+from ..sampling.space import Points, Space
 
 __all__ = ["Binned", "GroupKey", "group_key", "replicated"]
 
@@ -160,7 +160,7 @@ def group_key(space: Space, by) -> GroupKey:
 
 
 def replicated(key: GroupKey, replicates: int) -> GroupKey:
-    """``key`` with the point's replicate (:mod:`epc_fast.scan.qmc`) as its first, slowest
+    """``key`` with the point's replicate (:mod:`epc_fast.scan.sampling.qmc`) as its first, slowest
     part: group ``r * key.size + g``; ``key`` itself for one replicate."""
     if replicates == 1:
         return key

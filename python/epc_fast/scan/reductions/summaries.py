@@ -1,10 +1,10 @@
 """Per-group count, mean, std, min, max and status counts; the fraction below a threshold.
 
-Every reduction follows one protocol (see :mod:`epc_fast.scan.runner`):
+Every reduction follows one protocol (see :mod:`epc_fast.scan.running.runner`):
 ``start(key, points_total) -> state``, ``reduce(chunk, key) -> partial``,
 ``merge(state, partial) -> state`` (called in block order), ``finish(state, key, space)``.
 
-Mean and variance are accumulated per block of :data:`~epc_fast.scan.space.BLOCK_POINTS`
+Mean and variance are accumulated per block of :data:`~epc_fast.scan.sampling.space.BLOCK_POINTS`
 points (count, mean, sum of squared deviations; ``np.bincount`` adds in point order) and
 merged block after block with Chan's update, so the result does not depend on the chunk size,
 the thread count or where a chunk was evaluated: it is the same to the last bit.
@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..status import Status
-from .chunk import OUTPUTS, Chunk
+from ...status import Status
+from ..running.chunk import OUTPUTS, Chunk
 from .groups import GroupKey
 from .targets import target_of
 
@@ -48,7 +48,7 @@ class SummaryResult:
         points per group at which the camera picks each mode (column 0: no mode has an EPC;
         column i + 1: mode i, the design's i-th); None otherwise.
     mean_error, std_error : float64 (groups,), the output's unit: the standard errors of
-        ``mean`` and ``std`` (:mod:`epc_fast.scan.replicates`); NaN where the scan cannot
+        ``mean`` and ``std`` (:mod:`epc_fast.scan.reductions.replicates`); NaN where the scan cannot
         tell (one replicate); None outside a scan.
     """
 
@@ -135,9 +135,9 @@ class Summary:
 
     Parameters
     ----------
-    by : group key, optional (see :mod:`epc_fast.scan.groups`); None: one group.
+    by : group key, optional (see :mod:`epc_fast.scan.reductions.groups`); None: one group.
     of : str, the output summarised (default ``"epc"``, pixels).
-    target : :class:`~epc_fast.scan.targets.Target` or mapping, optional: how accurate the
+    target : :class:`~epc_fast.scan.reductions.targets.Target` or mapping, optional: how accurate the
         mean must be, in every group, for a scan with a stopping rule to stop.
     """
 
@@ -232,7 +232,7 @@ class FractionBelowResult:
     fraction : float64 (groups,), below / count (NaN for an empty group).
     standard_error : float64 (groups,), the standard error of ``fraction``: under Monte Carlo
         sqrt(fraction (1 - fraction) / count), under Sobol' sampling the replicates' spread
-        (:mod:`epc_fast.scan.replicates`).
+        (:mod:`epc_fast.scan.reductions.replicates`).
     name : str, the column name in tables.
     """
 
@@ -260,7 +260,7 @@ class FractionBelow:
     threshold : the output's unit (pixels for EPC).
     by : group key, optional; None: one group.
     of : str, the output (default ``"epc"``).
-    target : :class:`~epc_fast.scan.targets.Target` or mapping, optional: how accurate the
+    target : :class:`~epc_fast.scan.reductions.targets.Target` or mapping, optional: how accurate the
         fraction must be, in every group, for a scan with a stopping rule to stop.
     """
 

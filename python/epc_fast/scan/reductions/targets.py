@@ -1,5 +1,5 @@
 """A reduction's stopping target: how accurate its statistics must be for a scan to stop
-(:mod:`epc_fast.scan.replicates` reads it)."""
+(:mod:`epc_fast.scan.reductions.replicates` reads it)."""
 
 from __future__ import annotations
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..api import Result
-from .groups import GroupKey
-from .space import BLOCK_POINTS, Points
+from ...api import Result
+from ..reductions.groups import GroupKey
+from ..sampling.space import BLOCK_POINTS, Points
 
 __all__ = ["Chunk", "OUTPUTS"]
 

@@ -12,18 +12,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import api, params
-from .._validation import choice, integer, tolerance
-from ..spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
-from ..status import Status
-from .best import TopK
+from ... import api, params
+from ..._validation import choice, integer, tolerance
+from ...spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
+from ...status import Status
+from ..reductions.best import TopK
 from .chunk import OUTPUTS
-from .distributions import Choice, Grid
-from .groups import GroupKey
-from .histograms import Histogram, Quantiles
-from .space import Points, Space
-from .streams import stream_id
-from .summaries import FractionBelow, Summary
+from ..sampling.distributions import Choice, Grid
+from ..reductions.groups import GroupKey
+from ..reductions.histograms import Histogram, Quantiles
+from ..sampling.space import Points, Space
+from ..sampling.streams import stream_id
+from ..reductions.summaries import FractionBelow, Summary
 
 __all__ = ["CorePlan"]
 
@@ -53,7 +53,7 @@ class CorePlan:
     ----------
     space : Space
     seed : int, in [0, 2**64).
-    plan : tuple of :class:`~epc_fast.scan.tasks.PlanItem`, the reductions the core folds
+    plan : tuple of :class:`~epc_fast.scan.running.tasks.PlanItem`, the reductions the core folds
         (exact quantiles and anything per point are the caller's).
     """
 
@@ -220,7 +220,7 @@ class CorePlan:
     def reduce(self, start: int, stop: int, threads: int) -> dict:
         """The partial of every planned reduction over points ``start .. stop - 1``, each in
         the form its ``merge`` takes."""
-        from .. import _core
+        from ... import _core
 
         partials = _core.scan_chunk(self.spec, self.key_specs, self.reduction_specs,
                                     *self.options, start, stop, threads)
@@ -246,7 +246,7 @@ class CorePlan:
     def points_at(self, index: np.ndarray) -> Points:
         """The parameters of the points ``index`` (int64), formed by the core as its fused
         pass forms them: :class:`Points` with the parameters the space gives."""
-        from .. import _core
+        from ... import _core
 
         index = np.ascontiguousarray(index, dtype=np.int64)
         values, axes = _core.scan_points(self.spec, index)

@@ -1,6 +1,6 @@
 """A scan's chunks as tasks on a ``dask.distributed`` cluster (the ``dask`` extra).
 
-Each chunk is one task (:func:`epc_fast.scan.tasks.reduce_chunk`) whose result is its partial
+Each chunk is one task (:func:`epc_fast.scan.running.tasks.reduce_chunk`) whose result is its partial
 reductions. Results are handed back in block order, the same partials merged in the same order
 as a local run: the reductions are the same to the last bit (for workers with the same NumPy
 and CPU features as the client, see docs/scan.md). At most twice as many chunks as the cluster
@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import time
 
-from .errors import ScanAborted
+from ..errors import ScanAborted
 from .tasks import reduce_chunk
 
 __all__ = ["dask_outcomes", "WorkerMismatch", "build", "WORKERLESS_S", "RESUBMITS",
@@ -55,7 +55,7 @@ class WorkerMismatch(RuntimeError):
 
 def build() -> tuple:
     """(epc_fast version, core level) of this process."""
-    from .. import __version__, _core
+    from ... import __version__, _core
 
     return __version__, _core.isa
 
@@ -137,7 +137,7 @@ def _lost(future) -> bool:
 
 def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_dir,
                   backend="core"):
-    """Yield the :class:`~epc_fast.scan.tasks.ChunkOutcome` of each range, in order."""
+    """Yield the :class:`~epc_fast.scan.running.tasks.ChunkOutcome` of each range, in order."""
     try:
         from distributed import wait
     except ImportError:

@@ -32,9 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..api import Result
-from .atomic import atomic_write
-from .space import Points, Space
+from ...api import Result
+from ..atomic import atomic_write
+from ..sampling.space import Points, Space
 
 __all__ = ["prepare_directory", "write_part", "commit_parts", "discard_uncommitted",
            "committed_parts", "STAGING_PREFIX"]

@@ -15,11 +15,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import short
-from ..api import BINNING_READOUTS, evaluate
-from ..modes import MODE_DEFAULTS, check_modes
-from ..outputs import Result
-from .domains import domain_problem
+from ..._validation import short
+from ...api import BINNING_READOUTS, evaluate
+from ...modes import MODE_DEFAULTS, check_modes
+from ...outputs import Result
+from ..sampling.domains import domain_problem
 
 # Space and Points (scan/space.py, which imports this module) are named in annotations only.
 

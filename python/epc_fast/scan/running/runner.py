@@ -15,17 +15,17 @@ import operator
 import time
 from dataclasses import dataclass
 
-from .errors import ScanAborted
-from .groups import group_key, replicated
-from .histograms import Quantiles
-from .progress import progress_reporter
-from .qmc import DEFAULT_REPLICATES, Sampling, check_points
-from .replicates import (REPLICATED, exact_companions, finish_plan, stage_plan,
+from ..errors import ScanAborted
+from ..reductions.groups import group_key, replicated
+from ..reductions.histograms import Quantiles
+from ..progress import progress_reporter
+from ..sampling.qmc import DEFAULT_REPLICATES, Sampling, check_points
+from ..reductions.replicates import (REPLICATED, exact_companions, finish_plan, stage_plan,
                          unmet_targets)
-from .signals import signals_deferred as _interrupts_deferred
-from .signals import terminate_as_interrupt
-from .space import BLOCK_POINTS, Space
-from .summaries import FractionBelow, Summary
+from ..signals import signals_deferred as _interrupts_deferred
+from ..signals import terminate_as_interrupt
+from ..sampling.space import BLOCK_POINTS, Space
+from ..reductions.summaries import FractionBelow, Summary
 from .core_plan import checked_seed
 from .tasks import BACKENDS, PlanItem, reduce_chunk
 
@@ -234,7 +234,7 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
         specification of a scan, for checking the core on small scans). The same draws in
         all three; the statistics agree to rounding (docs/scan.md).
     sampling : {"monte_carlo", "sobol"}
-        How the random parameters are drawn (:mod:`epc_fast.scan.qmc`): independent
+        How the random parameters are drawn (:mod:`epc_fast.scan.sampling.qmc`): independent
         Philox draws, or scrambled Sobol' points, whose errors fall faster with the points
         for smooth outputs. Sobol' sampling takes ``points = 2^m x replicates x grid cells``.
     replicates : int, optional
@@ -242,7 +242,7 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
         Carlo, whose mean, fraction and quantiles have errors of their own): point i is in replicate
         (i div grid cells) mod replicates, and the spread of the replicates' statistics gives
         each summary's, fraction's and quantile's standard error
-        (:mod:`epc_fast.scan.replicates`). One replicate for a space without random
+        (:mod:`epc_fast.scan.reductions.replicates`). One replicate for a space without random
         parameters.
 
     With a reduction's ``target`` (e.g. ``Summary(target={"relative": 1e-3})``), ``points``

@@ -16,14 +16,14 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from .._validation import threads_of
-from ..api import OUTPUT_DTYPES, evaluate
+from ..._validation import threads_of
+from ...api import OUTPUT_DTYPES, evaluate
 from .chunk import Chunk
 from .core_plan import CorePlan
-from .groups import GroupKey
-from .histograms import Quantiles
-from .readout import evaluate_points
-from .space import Space
+from ..reductions.groups import GroupKey
+from ..reductions.histograms import Quantiles
+from .readout_modes import evaluate_points
+from ..sampling.space import Space
 
 __all__ = ["PlanItem", "ChunkOutcome", "chunk_outputs", "reduce_chunk", "BACKENDS"]
 
@@ -34,7 +34,7 @@ BACKENDS = ("core", "numpy", "reference")
 @dataclass(frozen=True)
 class PlanItem:
     """A named reduction and its group key resolved against the scan's space: ``key`` the one
-    it folds by (the replicate first, :func:`~epc_fast.scan.groups.replicated`), ``base_key``
+    it folds by (the replicate first, :func:`~epc_fast.scan.reductions.groups.replicated`), ``base_key``
     the one its result is given by (None: ``key``)."""
 
     name: str
@@ -108,7 +108,7 @@ def reduce_chunk(space: Space, plan: tuple, seed: int, start: int, stop: int, po
 
 def _evaluate(space: Space, points, **options):
     """:func:`epc_fast.evaluate` at ``points``; per design's readout and modes when the space's
-    designs have them (:mod:`epc_fast.scan.readout`)."""
+    designs have them (:mod:`epc_fast.scan.running.readout_modes`)."""
     if space.has_readouts:
         return evaluate_points(space, points, **options)
     return evaluate(**points.parameters, **options)

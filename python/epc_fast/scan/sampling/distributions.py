@@ -1,7 +1,7 @@
 """How a scan's parameter varies: the random distributions, and the grid and choice axes.
 
 A distribution turns uniforms in (0, 1) into float64 values by the inverse of its CDF
-(``from_uniform``), following the scan's draw contract (:mod:`epc_fast.scan.streams`); its
+(``from_uniform``), following the scan's draw contract (:mod:`epc_fast.scan.sampling.streams`); its
 ``stream_spec()`` is that inverse as the few numbers the C++ core reads. Every value is in the
 unit of the parameter it describes (lux for ``illuminance_lux``, degree/s for
 ``shake_deg_per_s``, ...). ``sample(rng, n)`` draws from a ``numpy.random.Generator`` instead,
@@ -36,7 +36,7 @@ def _finite(name: str, value) -> float:
 
 def _spec(kind: str, low: float, high: float, a: float = 0.0, b: float = 0.0, pa: float = 0.0,
           pb: float = 0.0, mirror: bool = False, samples: np.ndarray | None = None) -> dict:
-    """A stream spec (:func:`epc_fast.scan.streams.transform`); unused keys are 0.0, False
+    """A stream spec (:func:`epc_fast.scan.sampling.streams.transform`); unused keys are 0.0, False
     and None."""
     return {"kind": kind, "a": float(a), "b": float(b), "pa": float(pa), "pb": float(pb),
             "mirror": bool(mirror), "low": float(low), "high": float(high), "samples": samples}

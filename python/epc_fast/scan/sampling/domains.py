@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from ..params import SIZE_PARAMETERS, in_domain, parameters
+from ...params import SIZE_PARAMETERS, in_domain, parameters
 from .distributions import (MIN_TRUNCATED_PROBABILITY, Choice, Empirical, Grid, LogNormal,
                             LogUniform, Truncated, Uniform)
 
@@ -52,7 +52,7 @@ def domain_problem(name: str, axis, lens_count: int = 1):
     it is, so each must lie in the domain. A uniform or log-uniform distribution's bounds, and
     a truncation's finite bounds, must lie in the domain or on its ends (draws never reach an
     open end). A distribution whose draws fall in the domain with a probability below
-    :data:`~epc_fast.scan.distributions.MIN_TRUNCATED_PROBABILITY` is refused (its points would
+    :data:`~epc_fast.scan.sampling.distributions.MIN_TRUNCATED_PROBABILITY` is refused (its points would
     all be INVALID); one whose tail only reaches outside keeps its draws there, which are
     INVALID points, counted as such (``truncate`` avoids them).
     """

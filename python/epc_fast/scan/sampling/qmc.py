@@ -4,7 +4,7 @@ replicates that give every streamed statistic a standard error.
 The NumPy statement of the contract that the C++ core (``cpp/include/epc_fast/sobol_points.h``)
 matches bit for bit. With ``R`` replicates and a grid of ``G`` cells, point ``i`` lies in grid
 cell ``i mod G``, replicate ``r = (i div G) mod R`` and is the ``k = i div (G R)``-th point of its
-cell and replicate. Monte Carlo draws as before (:mod:`epc_fast.scan.streams`: the replicate
+cell and replicate. Monte Carlo draws as before (:mod:`epc_fast.scan.sampling.streams`: the replicate
 only groups the points). Sobol' sampling gives random parameter number ``d`` (in the order the
 space lists its random parameters; a choice counts as one) the uniform
 :func:`sobol_uniform` of ``k``: the ``k``-th point of dimension ``d`` of Sobol' sequence in
@@ -38,7 +38,7 @@ MAX_REPLICATES = 1024
 #: Points of one grid cell and replicate that Sobol' sampling reaches (32-bit points).
 MAX_SOBOL_INDEX = 1 << 32
 
-_DATA = Path(__file__).resolve().parents[1] / "data" / "sobol_joe_kuo.csv"
+_DATA = Path(__file__).resolve().parents[2] / "data" / "sobol_joe_kuo.csv"
 _U32 = np.uint64(0xFFFFFFFF)
 
 

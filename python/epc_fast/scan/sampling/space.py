@@ -3,7 +3,7 @@
 Random parameter ``name``'s value at point i is its distribution's inverse CDF at one uniform,
 from Philox4x32-10 keyed by the seed at the counter ``(j mod 2^32, j div 2^32, crc32(name), 0)``
 of i's pair ``j = i div 2``, words (x0, x1) for an even i and (x2, x3) for an odd one
-(:mod:`epc_fast.scan.streams`; a choice of designs is the parameter ``"design"``); grid axes
+(:mod:`epc_fast.scan.sampling.streams`; a choice of designs is the parameter ``"design"``); grid axes
 take point i to grid cell ``i mod grid size``. So a point's parameters depend only on the seed
 and the point's index, never on the chunk size, the thread count or the machine that evaluates
 it, a scan of n points is the prefix of a longer one, and adding a random parameter leaves the
@@ -18,14 +18,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..modes import MODE_DEFAULTS
-from ..mtf_table import lens_tables_of
-from ..params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
-from ..sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS
-from . import qmc, streams, terms
+from ...modes import MODE_DEFAULTS
+from ...mtf_table import lens_tables_of
+from ...params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
+from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS
+from . import qmc, streams
+from .. import terms
 from .distributions import Choice, Grid
-from .designs import design_dict, fill_left_out
-from .readout import READOUT_KEYS, design_readout
+from ..designs import design_dict, fill_left_out
+from ..running.readout_modes import READOUT_KEYS, design_readout
 from .domains import _domain_of, _inside_probability, domain_problem
 
 __all__ = ["Space", "Points", "BLOCK_POINTS", "domain_problem"]
@@ -148,7 +149,7 @@ class Space:
         self._check_domains()
         self.grid_axes = tuple(n for n, a in self.axes.items() if isinstance(a, Grid))
         self.grid_shape = tuple(len(self.axes[n].values) for n in self.grid_axes)
-        #: How the random parameters are sampled (:class:`epc_fast.scan.qmc.Sampling`): plain
+        #: How the random parameters are sampled (:class:`epc_fast.scan.sampling.qmc.Sampling`): plain
         #: Monte Carlo in one replicate here; :func:`epc_fast.scan.run` scans a copy
         #: (:meth:`sampled`) with its own.
         self.sampling = qmc.Sampling("monte_carlo", 1)
@@ -274,7 +275,7 @@ class Space:
     @property
     def has_readouts(self) -> bool:
         """Whether a design has readout modes or reads its binned pixels as charge: then
-        each chunk's points are evaluated per design's readout (:mod:`epc_fast.scan.readout`),
+        each chunk's points are evaluated per design's readout (:mod:`epc_fast.scan.running.readout_modes`),
         not by the core's fused pass."""
         return any(m is not None for m in self.design_modes) or any(
             r != MODE_DEFAULTS["binning_readout"] for r in self.design_readout)
@@ -346,7 +347,7 @@ class Space:
 
     def _uniforms(self, seed: int, name: str, index: np.ndarray) -> np.ndarray:
         """The uniforms of random parameter ``name`` at points ``index``: its name's Philox
-        stream, or its Sobol' dimension (:mod:`epc_fast.scan.qmc`)."""
+        stream, or its Sobol' dimension (:mod:`epc_fast.scan.sampling.qmc`)."""
         if not self.sampling.sobol:
             return streams.uniforms(seed, streams.stream_id(name), index)
         directions, keys = self.sobol_tables(seed)

@@ -1,0 +1,1 @@
+"""A scan's reductions (epc_fast.scan.reductions): a file per module."""

@@ -1,0 +1,1 @@
+"""How a scan runs (epc_fast.scan.running): a file per module."""
