@@ -18,6 +18,7 @@ from epc_fast import Cause, Status
 from epc_fast.spectra import diffraction_spectrum
 from helpers.backend_agreement import assert_backends_agree, evaluate_both
 from helpers.designs import box_corners, log_uniform, random_design_points
+from helpers.mp_model import assert_matches_model, mp_model
 
 # Brent's tolerance is 2 eps + 1e-15/2 relative on the electrons; with rounding of ln SNR
 # amplified at most 1/(1 - s u^2) <= 1/(1 - 0.81) ~ 5 inside u sqrt(s) <= 0.9, the two solvers
@@ -250,3 +251,47 @@ def test_core_matches_reference_at_the_edge_of_each_domain(keyword, value):
     theta = np.deg2rad(p["field_angle_deg"])
     cos_condition = np.maximum(1.0, np.abs(4.0 * theta * np.tan(theta)))
     assert_backends_agree(p, core, ref, f"{keyword}={value!r}", extra_kappa=cos_condition)
+
+
+# --- The wavefront error and denoising against the mpmath model (helpers/mp_model.py) -----------
+
+#: The paper's 1.4 um design (K passed exactly), in daylight, where the optics limit f50.
+MP_DESIGN = dict(illuminance_lux=10000.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
+                 sensor_area_mm2=15.6751, electrons_per_lux_s_m2=2557705539053827.5)
+#: Dim light with read noise and PRNU, where denoising's noise gain shortens T_MPE and its
+#: transfer is a large factor at f50.
+MP_DIM = dict(MP_DESIGN, illuminance_lux=1000.0, read_noise_e=2.0, prnu=0.01)
+
+#: name -> (inputs, spectrum): each term on, alone and with the terms it meets.
+MP_OPTICS_CASES = {
+    "wavefront_0_05": (dict(MP_DESIGN, wavefront_rms_waves=0.05), None),
+    "wavefront_0_16": (dict(MP_DESIGN, wavefront_rms_waves=0.16), None),
+    "wavefront_0_12_three_lines": (dict(MP_DESIGN, wavefront_rms_waves=0.12, f_number=4.0),
+                                   ([450.0, 530.0, 610.0], [1.0, 3.0, 2.0])),
+    "denoise_0_5": (dict(MP_DIM, denoise_sigma_px=0.5), None),
+    "denoise_1": (dict(MP_DIM, denoise_sigma_px=1.0), None),
+    "denoise_2_5": (dict(MP_DIM, denoise_sigma_px=2.5), None),
+    "denoise_7_shake_bound": (dict(MP_DIM, denoise_sigma_px=7.0, illuminance_lux=30.0), None),
+    "denoise_binned_burst": (dict(MP_DIM, denoise_sigma_px=0.8, binning=2.0, frames=4.0,
+                                  alignment_error_um=0.7, illuminance_lux=100.0), None),
+    "denoise_and_wavefront": (dict(MP_DIM, denoise_sigma_px=1.5, wavefront_rms_waves=0.08,
+                                   jitter_um=0.3), None),
+}
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+@pytest.mark.parametrize("case", MP_OPTICS_CASES)
+def test_the_wavefront_error_and_denoising_match_the_mpmath_model(case, backend):
+    inputs, spectrum = MP_OPTICS_CASES[case]
+    model = mp_model(inputs, spectrum)
+    factors = dict(zip(("optics", "pixel", "motion", "jitter", "alignment", "denoise"),
+                       model["mtf_factors"]))
+    # each term matters at f50: the ATF's share of the optics, or H, a sizeable factor
+    if inputs.get("denoise_sigma_px"):
+        assert factors["denoise"] < 0.97, factors
+    result = epc_fast.evaluate(spectrum=spectrum, backend=backend, **inputs)
+    # The model takes the float64 inputs exactly; these points are well conditioned (u sqrt(s g)
+    # <= 0.3, shake angles of a few degrees, f50 on a steep MTF), so both backends owe their
+    # float64 accuracy (measured <= 2e-15): the suite's 1e-12 leaves 500x room and still
+    # catches a formula slip (a misread ATF or kernel moves f50 by 1e-3 or more).
+    assert_matches_model(result, model, rtol=1e-12, label=case)
