@@ -2,28 +2,23 @@
 
 from __future__ import annotations
 
-import functools
 import math
-import operator
-from typing import NamedTuple
 
 import numpy as np
 
 from . import elasticity_outputs, params
 from ._limits import MAX_THREADS
-from ._validation import as_float_array, float_arrays, short, threads_of
+from ._validation import threads_of
 from .core_call import run_core
+from .design import ResolvedDesign, resolve
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .footprint import check_memory
 from .modes import evaluate_modes
-from .cfa import sensor_colour
-from .mtf_table import lens_tables_of
 from .call_options import (BACKENDS, BINNING_READOUTS, F50_SOLVERS,  # noqa: F401 (api's names)
                            INVALID_POLICIES, PRECISIONS, T_MPE_SOLVERS, CallOptions, options_of)
 from .outputs import (ALL_OUTPUT_DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
                       SHARE_OUTPUTS, Result, new_result, out_arrays, result_of)
-from .sensor import check_snr_at, corner_field_angle_deg, sensor_shape
-from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
+from .sensor import size_and_field_angle
 from .status import Status
 
 __all__ = ["evaluate", "Result", "MAX_THREADS", "ELASTICITY_PARAMETERS", "OUTPUT_DTYPES",
@@ -31,39 +26,6 @@ __all__ = ["evaluate", "Result", "MAX_THREADS", "ELASTICITY_PARAMETERS", "OUTPUT
 
 #: Points per call into the core between two checks for Ctrl-C (the GIL is released inside).
 CHUNK_POINTS = 1 << 18
-
-
-def _one_wavelength(spec: Spectrum | None, arrays: list) -> tuple:
-    """A spectrum whose weight is all on one wavelength is the monochromatic model at it,
-    exactly (1 D + 0 D' = D, and the bracket's shortest wavelength is that one): the arrays with
-    that wavelength and no spectrum, so that the core takes its monochromatic path (no loop over
-    the spectrum, the accurate f50 start). No spectrum, or any other, is returned as it is."""
-    if spec is None:
-        return spec, arrays
-    positive = np.flatnonzero(spec.weights > 0)
-    index = params.PARAMETER_NAMES.index("wavelength_nm")
-    if positive.size != 1 or not params.in_domain(params.PARAMETERS[index],
-                                                   spec.wavelengths_nm[positive[0]]):
-        return spec, arrays
-    arrays = list(arrays)
-    arrays[index] = np.asarray(spec.wavelengths_nm[positive[0]], dtype=np.float64)
-    return None, arrays
-
-
-def _spectrum_of(spectrum, wavelength_nm) -> Spectrum | None:
-    if spectrum is None:
-        return None
-    if not isinstance(spectrum, Spectrum):
-        try:
-            wavelengths, weights = spectrum
-        except (TypeError, ValueError):
-            raise TypeError("spectrum must be an epc_fast.Spectrum or a pair "
-                            f"(wavelengths_nm, weights), got {short(spectrum)}") from None
-        spectrum = Spectrum(wavelengths, weights)
-    if not np.all(np.asarray(wavelength_nm) == 550.0):
-        raise ValueError("pass either wavelength_nm or spectrum, not both "
-                         f"(wavelength_nm={short(wavelength_nm)})")
-    return spectrum
 
 
 def _raise_first_invalid(arrays, names, status, shape, size_parts=None, lens_count=1):
@@ -88,107 +50,14 @@ def _raise_first_invalid(arrays, names, status, shape, size_parts=None, lens_cou
     raise AssertionError("a point is INVALID but every input is in its domain")  # pragma: no cover
 
 
-class _Sensor(NamedTuple):
-    """The size slot of one call: its name in messages, its value, whether it is a pixel
-    count, and the lengths it was made of (for messages)."""
-
-    name: str
-    value: object
-    is_pixel_count: bool
-    parts: dict
-
-
-def _size_slot(pixel_count, sensor_area_mm2) -> _Sensor:
-    """The size slot of a sensor given as a pixel count or as an area (the other None)."""
-    if pixel_count is not None:
-        return _Sensor("pixel_count", pixel_count, True, {})
-    return _Sensor("sensor_area_mm2", sensor_area_mm2, False, {})
-
-
-def _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
-               sensor_diagonal_mm, aspect, snr_at, field_angle_deg, focal_length_mm):
-    """The size slot and the field angle of one call, from however the caller gave them.
-
-    The area of a width and a height (or a diagonal and an aspect ratio) is their product,
-    NaN where a length is outside (0, BIG) so that the point is INVALID. ``snr_at="corner"``
-    is atan(half-diagonal / focal length), which needs the sensor's shape.
-    """
-    if (sensor_width_mm is None and sensor_height_mm is None and sensor_diagonal_mm is None
-            and aspect is None and snr_at is None
-            and (pixel_count is None) != (sensor_area_mm2 is None)):
-        # the size as an area or a pixel count, as most calls give it
-        return _size_slot(pixel_count, sensor_area_mm2), field_angle_deg
-    lengths = [None if v is None else as_float_array(k, v) for k, v in (
-        ("sensor_width_mm", sensor_width_mm), ("sensor_height_mm", sensor_height_mm),
-        ("sensor_diagonal_mm", sensor_diagonal_mm))]
-    shape = sensor_shape(sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect,
-                         sensor_area_mm2=sensor_area_mm2, pixel_count=pixel_count)
-    if shape is None:
-        sensor = _size_slot(pixel_count, sensor_area_mm2)
-    else:
-        width, height = shape
-        length = params.Param("length", None, 0.0, params.BIG, False, False, "mm")
-        valid = params.in_domain(length, width) & params.in_domain(length, height)
-        with np.errstate(all="ignore"):
-            area = np.where(valid, width * height, np.nan)
-        if sensor_width_mm is not None:
-            parts = {"sensor_width_mm": width, "sensor_height_mm": height}
-        else:
-            parts = {"sensor_diagonal_mm": lengths[2]}
-        sensor = _Sensor(" x ".join(parts), area, False, parts)
-    if snr_at is None:
-        return sensor, field_angle_deg
-    check_snr_at(snr_at)
-    if np.any(np.asarray(field_angle_deg) != 0.0):
-        raise TypeError(f"give snr_at or field_angle_deg, not both (snr_at={snr_at!r}, "
-                        f"field_angle_deg={short(field_angle_deg)})")
-    if snr_at == "axis":
-        return sensor, 0.0
-    if shape is None:
-        raise TypeError("snr_at='corner' needs the sensor's diagonal: give sensor_width_mm and "
-                        "sensor_height_mm, or sensor_diagonal_mm and aspect (not "
-                        f"{sensor.name}), or field_angle_deg")
-    focal = as_float_array("focal_length_mm", focal_length_mm)
-    return sensor, corner_field_angle_deg(shape[0], shape[1], focal)
-
-
-@functools.lru_cache(maxsize=None)
-def _argument_names(size_name: str) -> tuple:
-    """The model parameters' names as the caller gave them (the size under ``size_name``), in
-    the core's order."""
-    return tuple(size_name if n == "size" else n for n in params.PARAMETER_NAMES)
-
-
-#: The model parameters of a dict by name, as a tuple in the core's order.
-_in_core_order = operator.itemgetter(*params.PARAMETER_NAMES)
-
-
-def _broadcast_inputs(values: dict, size_name: str) -> tuple:
-    """(names, float64 arrays, broadcast shape, whether the arrays are the core's columns as
-    they are: 0-d, or C-contiguous of the broadcast shape) of the model parameters in the
-    core's order; ``values`` holds them by parameter name, ``size_name`` is how the caller
-    named the size."""
-    names = _argument_names(size_name)
-    arrays, shapes, contiguous = float_arrays(names, _in_core_order(values))
-    ready = contiguous and len(shapes) <= 1
-    try:  # most calls: a few arrays of one shape, and scalars
-        shape = (shapes.pop() if len(shapes) == 1 else
-                 np.broadcast_shapes(*shapes) if shapes else ())
-    except ValueError:
-        shapes = ", ".join(f"{n}{a.shape}" for n, a in zip(names, arrays) if a.ndim)
-        raise ValueError(f"the arguments' shapes do not broadcast: {shapes}") from None
-    return names, arrays, shape, ready
-
-
-def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads, given,
-             columns_ready=False) -> dict:
-    """The flat outputs of the chosen backend; the caller's ``out=`` arrays written.
-    ``columns_ready``: the arrays are the core's columns as they are (_broadcast_inputs)."""
+def _compute(design: ResolvedDesign, options: CallOptions, threads, given) -> dict:
+    """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
     if options.backend == "core":  # threads checked by the caller
         # the core writes the caller's arrays and allocates the others it computes
         flat = {} if given is None else {k: v if v.ndim == 1 else v.reshape(-1)
                                          for k, v in given.items()}
-        return run_core(arrays, shape, sensor.is_pixel_count, spec, options.f50_solver,
+        return run_core(design.arrays, design.shape, design.sensor.is_pixel_count,
+                        design.spectrum, options.f50_solver,
                         options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
                         out=flat, precision=options.precision,
                         binning_readout=options.binning_readout,
@@ -196,11 +65,14 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads
                         [k for k in options.computed
                          if k not in flat and k != elasticity_outputs.ALL],
                         lens_tables=options.lens_tables, demosaic_table=options.demosaic_table,
-                        chunk_points=CHUNK_POINTS, columns_ready=columns_ready)
+                        chunk_points=CHUNK_POINTS, columns_ready=design.columns_ready)
     if threads is not None:
         threads_of(threads)
-    result = _run_reference(arrays, shape, sensor.is_pixel_count, spec, options.computed,
-                            options.binning_readout, options.lens_tables, options.demosaic_table)
+    from .reference.call import run_reference  # the NumPy reference, loaded only when asked
+
+    result = run_reference(design.arrays, design.shape, design.sensor.is_pixel_count,
+                           design.spectrum, options.computed, options.binning_readout,
+                           options.lens_tables, options.demosaic_table)
     if given is not None:  # the caller's arrays: every elasticity in one, or one row each
         rows = dict(zip(elasticity_outputs.ROWS, result.get(elasticity_outputs.ALL, ())))
         for name, array in given.items():
@@ -208,24 +80,25 @@ def _compute(arrays, shape, sensor: _Sensor, spec, options: CallOptions, threads
     return result
 
 
-def _assembled(result: dict, shape, names, arrays, sensor: _Sensor, options: CallOptions,
-               given) -> Result:
+def _assembled(result: dict, design: ResolvedDesign, options: CallOptions, given) -> Result:
     """The Result of a call, after the ValueError ``invalid="raise"`` asks for."""
+    shape, is_pixel_count = design.shape, design.sensor.is_pixel_count
     if options.invalid == "raise" and "status" in result:
         status = result["status"].reshape(shape)
         if np.any(status == Status.INVALID):
-            _raise_first_invalid(arrays, names, status, shape, sensor.parts, options.lens_count)
+            _raise_first_invalid(design.arrays, design.names, status, shape,
+                                 design.sensor.parts, options.lens_count)
     if given is not None:
         kept = {name: array for name, array in given.items() if name in ALL_OUTPUT_DTYPES}
         if elasticity_outputs.ALL in given:
             kept["elasticities"] = elasticity_outputs.every_by_key(
-                given[elasticity_outputs.ALL], shape, sensor.is_pixel_count, arrays=True)
+                given[elasticity_outputs.ALL], shape, is_pixel_count, arrays=True)
         elif elasticity_outputs.rows_in(given):
-            kept["elasticities"] = elasticity_outputs.by_key(given, sensor.is_pixel_count)
+            kept["elasticities"] = elasticity_outputs.by_key(given, is_pixel_count)
         return new_result(kept)
     rows = elasticity_outputs.rows_in(options.selected)
     return result_of({k: v for k, v in result.items() if k in options.selected or k in rows},
-                     shape, sensor.is_pixel_count)
+                     shape, is_pixel_count)
 
 
 def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
@@ -391,76 +264,37 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     """
     if modes is not None:  # evaluate's own keywords, modes among them, to each mode
         result = evaluate_modes(evaluate, dict(locals()))
-        first = _sensor_of(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
-                           sensor_diagonal_mm, aspect, snr_at, field_angle_deg, focal_length_mm)
-        object.__setattr__(result, "_snr_target", (snr_db, snr_at, first[1]))
+        _, angle = size_and_field_angle(pixel_count, sensor_area_mm2, sensor_width_mm,
+                                        sensor_height_mm, sensor_diagonal_mm, aspect, snr_at,
+                                        field_angle_deg, focal_length_mm)
+        object.__setattr__(result, "_snr_target", (snr_db, snr_at, angle))
         return result
-    sensor, field_angle_deg = _sensor_of(
-        pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm, sensor_diagonal_mm,
-        aspect, snr_at, field_angle_deg, focal_length_mm)
-    if electrons_per_lux_s_m2 is None:
-        electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
-    colour = sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain)
-    values = {
-        "illuminance_lux": illuminance_lux, "pixel_pitch_um": pixel_pitch_um,
-        "f_number": f_number, "focal_length_mm": focal_length_mm, "size": sensor.value,
-        "reflectance": reflectance, "lens_transmittance": lens_transmittance,
-        "field_angle_deg": field_angle_deg, "fill_factor": fill_factor,
-        "electrons_per_lux_s_m2": electrons_per_lux_s_m2, "read_noise_e": read_noise_e,
-        "dark_current_e_per_s": dark_current_e_per_s, "prnu": prnu, "full_well_e": full_well_e,
-        "snr_db": snr_db, "shake_deg_per_s": shake_deg_per_s, "stabilization": stabilization,
-        "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
-        "binning": binning, "frames": frames, "alignment_error_um": alignment_error_um,
-        "wavefront_rms_waves": wavefront_rms_waves, "denoise_sigma_px": denoise_sigma_px,
-        "lens": lens, "cfa_transmittance": colour.transmittance,
-        "color_noise_gain": colour.noise_gain,
-    }
-    names, arrays, shape, ready = _broadcast_inputs(values, sensor.name)
-    spec, arrays = _one_wavelength(_spectrum_of(spectrum, wavelength_nm), arrays)
-    tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
+    design = resolve(
+        illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, pixel_count=pixel_count,
+        sensor_area_mm2=sensor_area_mm2, sensor_width_mm=sensor_width_mm,
+        sensor_height_mm=sensor_height_mm, sensor_diagonal_mm=sensor_diagonal_mm,
+        aspect=aspect, snr_at=snr_at, reflectance=reflectance,
+        lens_transmittance=lens_transmittance, field_angle_deg=field_angle_deg,
+        fill_factor=fill_factor, electrons_per_lux_s_m2=electrons_per_lux_s_m2,
+        read_noise_e=read_noise_e, dark_current_e_per_s=dark_current_e_per_s, prnu=prnu,
+        full_well_e=full_well_e, snr_db=snr_db, shake_deg_per_s=shake_deg_per_s,
+        stabilization=stabilization, jitter_um=jitter_um, wavelength_nm=wavelength_nm,
+        mtf_threshold=mtf_threshold, binning=binning, frames=frames,
+        alignment_error_um=alignment_error_um, wavefront_rms_waves=wavefront_rms_waves,
+        denoise_sigma_px=denoise_sigma_px, lens=lens, lens_mtf=lens_mtf, cfa=cfa,
+        demosaic=demosaic, cfa_transmittance=cfa_transmittance,
+        color_noise_gain=color_noise_gain, binning_readout=binning_readout, spectrum=spectrum)
     options = options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                         precision, outputs, sensor.is_pixel_count, binning_readout, tables,
-                         colour.demosaic_table)
+                         precision, outputs, design.sensor.is_pixel_count, binning_readout,
+                         design.lens_tables, design.colour.demosaic_table)
     given = (None if out is None
-             else out_arrays(out, shape, options.selected, sensor.is_pixel_count,
-                            core=options.backend == "core"))
+             else out_arrays(out, design.shape, options.selected, design.sensor.is_pixel_count,
+                             core=options.backend == "core"))
     if options.backend == "core":  # the threads first: their stacks take memory too
         threads = threads_of(threads)
-    check_memory(shape, arrays, options.backend, given is not None, options.computed,
-                 threads=threads if options.backend == "core" else 1)
-    result = _compute(arrays, shape, sensor, spec, options, threads, given, ready)
-    result = _assembled(result, shape, names, arrays, sensor, options, given)
+    check_memory(design.shape, design.arrays, options.backend, given is not None,
+                 options.computed, threads=threads if options.backend == "core" else 1)
+    result = _assembled(_compute(design, options, threads, given), design, options, given)
     # where the target was met, its text made when first read (Result.snr_target)
-    object.__setattr__(result, "_snr_target", (snr_db, snr_at, field_angle_deg))
-    return result
-
-
-def _run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
-                   binning_readout="digital", lens_tables=None, demosaic_table=None):
-    from . import reference  # the NumPy reference, loaded only by calls that ask for it
-    from .reference import sensitivity
-
-    n = math.prod(shape)
-    p = {name: np.broadcast_to(a, shape).reshape(n)
-         for name, a in zip(params.PARAMETER_NAMES, arrays)}
-    valid = np.ones(n, dtype=bool)
-    for param in params.parameters(1 if lens_tables is None else len(lens_tables)):
-        valid &= params.in_domain(param, p[param.name])
-    wavelengths = weights = None
-    if spec is not None:
-        wavelengths, weights = spec.wavelengths_nm, spec.weights
-    charge = binning_readout == "charge"
-    result = reference.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid,
-                                       charge_binning=charge, lens_tables=lens_tables,
-                                       demosaic_table=demosaic_table)
-    shares = any(name in computed for name in SHARE_OUTPUTS)
-    rows = elasticity_outputs.rows_in(computed)
-    if shares or rows:
-        result.update(sensitivity.sensitivity_points(
-            p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
-            elasticities=bool(rows), charge_binning=charge, lens_tables=lens_tables,
-            demosaic_table=demosaic_table))
-    if rows and elasticity_outputs.ALL not in computed:  # the rows asked for, one output each
-        every = dict(zip(elasticity_outputs.ROWS, result.pop(elasticity_outputs.ALL)))
-        result.update({row: every[row] for row in rows})
+    object.__setattr__(result, "_snr_target", (snr_db, snr_at, design.field_angle_deg))
     return result

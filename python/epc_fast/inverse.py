@@ -22,16 +22,15 @@ Conventions shared by both backends:
 from __future__ import annotations
 
 import enum
-import inspect
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import api, params
+from . import params
 from ._validation import as_float_array, choice, column, integer, short, threads_of, tolerance
-from .cfa import sensor_colour
-from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
+from .call_options import BACKENDS
+from .design import DESIGN_KEYWORDS, resolve
 from .status import Status
 
 __all__ = ["InverseStatus", "InverseResult", "lux_for_epc", "crossover_lux", "DEFAULT_LUX_RANGE"]
@@ -104,7 +103,7 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
     target = as_float_array("target_epc", target_epc)
     shape = _broadcast_shape({"design": inputs.shape, "target_epc": target.shape})
     lux_lo, lux_hi = _lux_range(lux_range)
-    choice("backend", backend, api.BACKENDS)
+    choice("backend", backend, BACKENDS)
     rtol = tolerance("rtol", rtol)
     f50_rtol = tolerance("f50_rtol", f50_rtol)
     columns = inputs.columns(shape)
@@ -156,7 +155,7 @@ def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE
     shape = _broadcast_shape({"design_a": a.shape, "design_b": b.shape})
     lux_lo, lux_hi = _lux_range(lux_range)
     grid_points = _grid_points(grid_points)
-    choice("backend", backend, api.BACKENDS)
+    choice("backend", backend, BACKENDS)
     rtol = tolerance("rtol", rtol)
     f50_rtol = tolerance("f50_rtol", f50_rtol)
     columns_a, columns_b = a.columns(shape), b.columns(shape)
@@ -215,19 +214,16 @@ def _broadcast_shape(shapes: dict) -> tuple:
 
 
 # --- A design's keywords as model columns ----------------------------------------------------
-# The inverse solvers take a design as evaluate()'s keywords without the illuminance, and
-# resolve its sensor size and field angle as evaluate() does (api._sensor_of).
+# The inverse solvers take a design as evaluate()'s keywords without the illuminance, resolved
+# as evaluate() resolves them (epc_fast.design.resolve).
 
-_EVALUATE = inspect.signature(api.evaluate)
-_SENSOR_KEYWORDS = ("pixel_count", "sensor_area_mm2", "sensor_width_mm", "sensor_height_mm",
-                    "sensor_diagonal_mm", "aspect", "snr_at")
-_DESIGN_KEYWORDS = frozenset(params.PARAMETER_NAMES[1:]) - {"size", "lens"} | {
-    *_SENSOR_KEYWORDS, "spectrum", "binning_readout", "cfa", "demosaic"}
+_DESIGN_KEYWORDS = frozenset(DESIGN_KEYWORDS) - {"illuminance_lux", "lens", "lens_mtf"}
 
 
 @dataclass(frozen=True)
 class ModelInputs:
-    """A design's model parameters as float64 arrays in :data:`params.PARAMETERS` order.
+    """A design's model parameters as float64 arrays in :data:`params.PARAMETERS` order, a
+    charge-binned read noise as digital reads (:meth:`ResolvedDesign.arrays_read_digitally`).
 
     The illuminance slot holds a placeholder 0 (the solvers choose the illuminance).
     """
@@ -286,33 +282,10 @@ def model_inputs(design: dict) -> ModelInputs:
     if unknown:
         raise TypeError(f"a design holds evaluate()'s model keywords except illuminance_lux; "
                         f"got {', '.join(unknown)}")
-    bound = _EVALUATE.bind(0.0, **design)
-    bound.apply_defaults()
-    values = dict(bound.arguments)
-    readout = choice("binning_readout", values.pop("binning_readout"), api.BINNING_READOUTS)
-    colour = sensor_colour(values.pop("cfa"), values.pop("demosaic"),
-                           values["cfa_transmittance"], values["color_noise_gain"])
-    values["cfa_transmittance"], values["color_noise_gain"] = (colour.transmittance,
-                                                               colour.noise_gain)
-    if readout == "charge":
-        # one read of sigma_r for the k x k pixels is k^2 reads of sigma_r / k (docs/model.md:
-        # only the read noise's variance, n k^2 sigma_r^2 or n sigma_r^2, differs)
-        values["read_noise_e"] = (as_float_array("read_noise_e", values["read_noise_e"])
-                                  / as_float_array("binning", values["binning"]))
-    sensor, values["field_angle_deg"] = api._sensor_of(
-        *(values.pop(name) for name in _SENSOR_KEYWORDS), values["field_angle_deg"],
-        values["focal_length_mm"])
-    size_is_pixel_count = sensor.is_pixel_count
-    values["size"] = sensor.value
-    if values["electrons_per_lux_s_m2"] is None:
-        values["electrons_per_lux_s_m2"] = DEFAULT_ELECTRONS_PER_LUX_S_M2
-    arrays = tuple(as_float_array(name, values[name]) for name in params.PARAMETER_NAMES)
-    shape = _broadcast_shape({name: a.shape for name, a in
-                              zip(params.PARAMETER_NAMES[1:], arrays[1:])})
-    # a spectrum with all its weight on one wavelength becomes the monochromatic model at it
-    spec, arrays = api._one_wavelength(
-        api._spectrum_of(values["spectrum"], values["wavelength_nm"]), arrays)
-    return ModelInputs(tuple(arrays), shape, size_is_pixel_count, spec, colour.demosaic_table)
+    resolved = resolve(0.0, **design)
+    return ModelInputs(tuple(resolved.arrays_read_digitally()), resolved.shape,
+                       resolved.sensor.is_pixel_count, resolved.spectrum,
+                       resolved.colour.demosaic_table)
 
 
 # --- The NumPy reference --------------------------------------------------------------------
@@ -330,10 +303,11 @@ class _Model:
 
         ``lux`` is 1-D with ``repeat`` consecutive entries per design point.
         """
+        from .reference.call import run_reference  # the NumPy reference, loaded when asked
+
         columns = [np.repeat(c, repeat) if c.size > 1 else c for c in self.columns[1:]]
-        out = api._run_reference([lux, *columns], lux.shape, self.inputs.size_is_pixel_count,
-                                 self.inputs.spectrum,
-                                 demosaic_table=self.inputs.demosaic_table)
+        out = run_reference([lux, *columns], lux.shape, self.inputs.size_is_pixel_count,
+                            self.inputs.spectrum, demosaic_table=self.inputs.demosaic_table)
         return np.where(out["status"] == Status.UNREACHABLE, 0.0, out["epc"])
 
 

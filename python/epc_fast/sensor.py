@@ -30,16 +30,18 @@ from __future__ import annotations
 
 import math
 import numbers
+from typing import NamedTuple
 
 import numpy as np
 
-from ._validation import short
+from . import params
+from ._validation import as_float_array, short
 from .params import BIG
 from .portable_math import arctan_deg
 
 __all__ = ["SNR_AT", "SHAPE_KEYWORDS", "SIZE_WAYS", "SIZE_AND_SNR_AT", "aspect_ratio", "sensor_shape",
            "corner_field_angle_deg", "physical_pixel_count", "check_snr_at", "snr_at_text",
-           "design_parameters"]
+           "design_parameters", "SizeSlot", "size_and_field_angle"]
 
 #: The named places where the SNR target can be met.
 SNR_AT = ("axis", "corner")
@@ -122,6 +124,72 @@ def corner_field_angle_deg(width_mm, height_mm, focal_length_mm):
     with np.errstate(divide="ignore", invalid="ignore"):
         angle = arctan_deg(half_diagonal / np.asarray(focal_length_mm, np.float64))
     return float(angle) if np.ndim(angle) == 0 else angle
+
+
+class SizeSlot(NamedTuple):
+    """The model's size parameter of one call: its name in messages, its value (pixels or
+    mm^2), whether it is a pixel count, and the lengths it was made of (for messages)."""
+
+    name: str
+    value: object
+    is_pixel_count: bool
+    parts: dict
+
+
+def _size_slot(pixel_count, sensor_area_mm2) -> SizeSlot:
+    """The size slot of a sensor given as a pixel count or as an area (the other None)."""
+    if pixel_count is not None:
+        return SizeSlot("pixel_count", pixel_count, True, {})
+    return SizeSlot("sensor_area_mm2", sensor_area_mm2, False, {})
+
+
+def size_and_field_angle(pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm,
+                         sensor_diagonal_mm, aspect, snr_at, field_angle_deg,
+                         focal_length_mm) -> tuple:
+    """(:class:`SizeSlot`, degree field angle) of one call, from however the caller gave them.
+
+    The area of a width and a height (or a diagonal and an aspect ratio) is their product,
+    NaN where a length is outside (0, BIG) so that the point is INVALID. ``snr_at="corner"``
+    is atan(half-diagonal / focal length), which needs the sensor's shape; ``"axis"`` is 0;
+    None keeps ``field_angle_deg``.
+    """
+    if (sensor_width_mm is None and sensor_height_mm is None and sensor_diagonal_mm is None
+            and aspect is None and snr_at is None
+            and (pixel_count is None) != (sensor_area_mm2 is None)):
+        # the size as an area or a pixel count, as most calls give it
+        return _size_slot(pixel_count, sensor_area_mm2), field_angle_deg
+    lengths = [None if v is None else as_float_array(k, v) for k, v in (
+        ("sensor_width_mm", sensor_width_mm), ("sensor_height_mm", sensor_height_mm),
+        ("sensor_diagonal_mm", sensor_diagonal_mm))]
+    shape = sensor_shape(sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect,
+                         sensor_area_mm2=sensor_area_mm2, pixel_count=pixel_count)
+    if shape is None:
+        sensor = _size_slot(pixel_count, sensor_area_mm2)
+    else:
+        width, height = shape
+        length = params.Param("length", None, 0.0, BIG, False, False, "mm")
+        valid = params.in_domain(length, width) & params.in_domain(length, height)
+        with np.errstate(all="ignore"):
+            area = np.where(valid, width * height, np.nan)
+        if sensor_width_mm is not None:
+            parts = {"sensor_width_mm": width, "sensor_height_mm": height}
+        else:
+            parts = {"sensor_diagonal_mm": lengths[2]}
+        sensor = SizeSlot(" x ".join(parts), area, False, parts)
+    if snr_at is None:
+        return sensor, field_angle_deg
+    check_snr_at(snr_at)
+    if np.any(np.asarray(field_angle_deg) != 0.0):
+        raise TypeError(f"give snr_at or field_angle_deg, not both (snr_at={snr_at!r}, "
+                        f"field_angle_deg={short(field_angle_deg)})")
+    if snr_at == "axis":
+        return sensor, 0.0
+    if shape is None:
+        raise TypeError("snr_at='corner' needs the sensor's diagonal: give sensor_width_mm and "
+                        "sensor_height_mm, or sensor_diagonal_mm and aspect (not "
+                        f"{sensor.name}), or field_angle_deg")
+    focal = as_float_array("focal_length_mm", focal_length_mm)
+    return sensor, corner_field_angle_deg(shape[0], shape[1], focal)
 
 
 def physical_pixel_count(sensor_area_mm2, pixel_pitch_um):
