@@ -26,7 +26,7 @@ LUX = np.geomspace(1.0, 1e5, 121)
 TABLE_LUX = (10.0, 100.0, 1000.0, 10_000.0)
 #: sigma (output pixels) searched for the best denoising at each light level
 SIGMAS = np.round(np.arange(0.0, 10.0001, 0.05), 2)
-#: The designed lens: the pupil's MTF (epc_fast.simulate.optics, FFT of a pupil) with this rms
+#: The designed lens: the pupil's MTF (epc_fast.simulate.pupil, FFT of a pupil) with this rms
 #: defocus at the design's f-number and 550 nm, tabulated at 20 frequencies up to its cut-off,
 #: as a lens maker's data sheet or an optical design program gives it.
 LENS_DEFOCUS_WAVES = 0.07
@@ -41,7 +41,7 @@ def _kwargs(design):
 def designed_lens_table(f_number: float, wavelength_nm: float = 550.0):
     """(frequencies_cyc_per_mm, mtf): the designed lens's table (LENS_DEFOCUS_WAVES of
     defocus), LENS_POINTS frequencies from 0 to the cut-off, the last at MTF 0."""
-    from epc_fast.simulate.optics import diffraction_transfer
+    from epc_fast.simulate.pupil import diffraction_transfer
 
     cutoff = 1.0 / (wavelength_nm * 1e-6 * f_number)
     f = np.linspace(0.0, cutoff, LENS_POINTS)

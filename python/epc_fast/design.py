@@ -382,6 +382,12 @@ class ResolvedDesign(NamedTuple):
         return (np.asarray(self.given_spectrum.wavelengths_nm),
                 np.asarray(self.given_spectrum.weights))
 
+    def lens_table(self):
+        """The lens table of a design of one point, ``lens_mtf[lens]``, or None."""
+        if self.lens_tables is None:
+            return None
+        return self.lens_tables[int(self.parameter("lens"))]
+
     def arrays_read_digitally(self) -> list:
         """The arrays with a charge-binned read noise as digital reads: one read of sigma_r for
         the k x k pixels is k^2 reads of sigma_r / k (docs/model.md: only the read noise's

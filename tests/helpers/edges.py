@@ -12,7 +12,7 @@ import math
 import numpy as np
 from scipy.special import ndtr
 
-from epc_fast.simulate import blur, optics
+from epc_fast.simulate import blur, pupil
 
 LO, HI = 100.0, 1100.0
 
@@ -89,10 +89,10 @@ def edge_spread(d_mm, *, angle_deg, f_number, wavelength_nm, pitch_um, fill_fact
     n = int(period_mm / spacing_mm)
     n += n % 2
     f_all = np.fft.rfftfreq(n, spacing_mm)
-    cutoff = optics.cutoff_cyc_per_mm(f_number, wavelength_nm)
+    cutoff = pupil.cutoff_cyc_per_mm(f_number, wavelength_nm)
     f = f_all[f_all < cutoff]  # the lens passes nothing above its cut-off
     a = math.radians(angle_deg)
-    h = optics.diffraction_transfer(f, f_number, [wavelength_nm], [1.0]).astype(complex)
+    h = pupil.diffraction_transfer(f, f_number, [wavelength_nm], [1.0]).astype(complex)
     width = math.sqrt(fill_factor) * pitch_um * 1e-3
     h *= blur.aperture_transfer(f * math.cos(a), width)
     h *= blur.aperture_transfer(f * math.sin(a), width)

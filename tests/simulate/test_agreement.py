@@ -104,7 +104,7 @@ LENS_TABLE = (np.linspace(0.0, 400.0, 21),
 
 @pytest.mark.parametrize("lux", [300.0, 3000.0])
 def test_a_lens_tables_f50_agrees_with_captures_through_that_lens(lux):
-    # The captures image through the table's MTF as the lens's OTF (simulate.optics.
+    # The captures image through the table's MTF as the lens's OTF (simulate.pupil.
     # table_transfer), the model puts the same interpolant in place of diffraction: the e-SFR
     # of the noise-free capture within its own error, the noisy captures' within their scatter
     # (check). f50 is set by the lens and the pixel at 3000 lux, by the motion at 300.
@@ -125,9 +125,9 @@ def test_denoising_agrees_with_its_simulated_captures(sigma, lux):
 
 
 def _pupil_table(w, f_number=PHONE["f_number"], points=40):
-    """The simulator's own defocused pupil MTF (simulate.optics) at ``points`` frequencies up
+    """The simulator's own defocused pupil MTF (simulate.pupil) at ``points`` frequencies up
     to the cut-off at 550 nm, as a lens table."""
-    from epc_fast.simulate.optics import diffraction_transfer
+    from epc_fast.simulate.pupil import diffraction_transfer
 
     f = np.linspace(0.0, 1.0 / (550e-6 * f_number), points)
     mtf = np.minimum.accumulate(np.clip(diffraction_transfer(f, f_number, [550.0], [1.0], w),

@@ -101,7 +101,7 @@ def test_a_spectrums_image_is_its_wavelengths_images_weighted():
                               exposure_s=both.exposure_s, **DESIGN).expected_e
              for w in (480.0, 620.0)]
     # Electrons add over wavelengths; the combined profile is one interpolation of the
-    # weighted profiles (1e-5 of the transfer, optics.diffraction_transfer).
+    # weighted profiles (1e-5 of the transfer, pupil.diffraction_transfer).
     assert np.allclose(both.expected_e, 0.25 * parts[0] + 0.75 * parts[1], rtol=2e-5)
 
 

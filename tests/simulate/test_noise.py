@@ -4,7 +4,7 @@ fixed pattern, the full well, read noise and the black level."""
 import numpy as np
 import pytest
 
-from epc_fast.simulate.readout import POISSON_NORMAL_ABOVE, read_out
+from epc_fast.simulate.noise import POISSON_NORMAL_ABOVE, read_out
 
 NONE = dict(dark_current_e_per_s=0.0, read_noise_e=0.0, prnu=0.0, full_well_e=np.inf)
 

@@ -30,14 +30,14 @@ def airy_first_dark_ring_lambda_f() -> float:
     minimum of the PSF along one axis, the squared magnitude of the Fourier transform of the
     pupil's projection on that axis, sampled 2^20 times over the pupil's period and refined
     by a parabola through the smallest sample and its neighbours."""
-    from ..simulate import optics
+    from ..simulate import pupil as lens
 
-    pupil = optics.pupil()
-    projection = pupil.sum(axis=0)
-    diameter = 2.0 * optics.PUPIL_RADIUS_SAMPLES
+    aperture = lens.pupil()
+    projection = aperture.sum(axis=0)
+    diameter = 2.0 * lens.PUPIL_RADIUS_SAMPLES
     n = 2 ** 20
     psf = np.abs(np.fft.rfft(projection, n)) ** 2
-    x = np.arange(psf.size) * diameter / n  # lambda F (see optics: 2 R samples = the pupil)
+    x = np.arange(psf.size) * diameter / n  # lambda F (see simulate.pupil: 2 R samples = the pupil)
     window = (x > 1.0) & (x < 1.5)
     i = np.flatnonzero(window)[np.argmin(psf[window])]
     a, b, c = psf[i - 1], psf[i], psf[i + 1]

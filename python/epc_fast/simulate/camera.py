@@ -20,18 +20,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _limits, api, spectra
+from .. import _limits
 from .._validation import as_float_array, short, threads_of
+from ..api import evaluate
+from ..design import DESIGN_KEYWORDS, resolve
 from ..cfa import check_cfa, check_demosaic
 from ..cfa import color_noise_gain as cfa_color_noise_gain
 from ..status import Status
 from .charts import Chart
 from .focal_plane import Optics, frame_irradiance
-from ..mtf_table import lens_tables_of
-from .optics import cutoff_cyc_per_mm, table_cutoff_cyc_per_mm
+from .pupil import cutoff_cyc_per_mm, table_cutoff_cyc_per_mm
 from .processing import denoise, kernel_reach_px
 from . import bayer as _bayer
-from .readout import bin_sum, read_out
+from .noise import bin_sum, read_out
 
 __all__ = ["Capture", "capture", "grid_oversample", "picked_mode", "mode_text", "BAND_FACTOR",
            "MAX_FRAMES"]
@@ -44,7 +45,7 @@ BAND_FACTOR = 2.05
 MAX_FRAMES = 1024
 #: The relative difference within which a given ``color_noise_gain`` is the capture's own.
 GAIN_RTOL = 1e-3
-_EVALUATE = inspect.signature(api.evaluate).parameters
+_EVALUATE = inspect.signature(evaluate).parameters
 _NOT_DESIGN = {"out", "outputs", "illuminance_lux"}
 
 
@@ -137,14 +138,6 @@ def _scalar(name, value) -> float:
     if a.size != 1:
         raise ValueError(f"{name}: capture simulates one design, got shape {a.shape}")
     return float(a.reshape(()))
-
-
-def capture_spectrum(d: dict):
-    """The wavelengths the lens images and their weights (evaluate has checked them)."""
-    if d["spectrum"] is None:
-        return np.array([_scalar("wavelength_nm", d["wavelength_nm"])]), np.array([1.0])
-    spec = api._spectrum_of(d["spectrum"], 550.0)
-    return np.asarray(spec.wavelengths_nm), np.asarray(spec.weights)
 
 
 def picked_mode(design: dict, result) -> dict:
@@ -295,102 +288,150 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                         f"got {type(chart).__name__}")
     lux = _scalar("illuminance_lux", illuminance_lux)
     _check_seed(seed)
-    sensor_cfa = None
-    if check_cfa(cfa) == "bayer":
-        sensor_cfa = _bayer.bayer(demosaic, cfa_transmittance, channel_transmittances,
-                                  luminance_weights)
-    else:
-        check_demosaic(demosaic)
-    _own_noise_gain(design.get("color_noise_gain"), sensor_cfa)
-    cfa_terms = {k: v for k, v in (("cfa", cfa), ("demosaic", demosaic),
-                                   ("cfa_transmittance", cfa_transmittance))
-                 if k in _EVALUATE and v is not None}
-    if sensor_cfa is not None:  # the model's exposure for this sensor's channels and weights
-        cfa_terms["cfa_transmittance"] = sensor_cfa.transmittance
-        cfa_terms["color_noise_gain"] = cfa_color_noise_gain(sensor_cfa.channels,
-                                                             sensor_cfa.weights)
-    d = capture_inputs(design)
-    d.pop("invalid", None)
-    d.update(cfa_terms)
-    result = api.evaluate(lux, **{k: v for k, v in d.items() if k in design or k in cfa_terms},
-                          invalid="raise")
-    for name in ("pixel_pitch_um", "f_number", "focal_length_mm"):
-        _scalar(name, d[name])
-    if np.ndim(result.epc) != 0:
-        raise ValueError(f"capture simulates one design, got arrays broadcasting to "
-                         f"{np.shape(result.epc)}")
-    d = picked_mode(d, result)  # with modes: the picked mode's binning, frames and readout
-    p = float(d["pixel_pitch_um"])
-    f_number = float(d["f_number"])
-    focal = float(d["focal_length_mm"])
-    _, angle = api._sensor_of(d["pixel_count"], d["sensor_area_mm2"], d["sensor_width_mm"],
-                              d["sensor_height_mm"], d["sensor_diagonal_mm"], d["aspect"],
-                              d["snr_at"], d["field_angle_deg"], focal)
-    angle = _scalar("field_angle_deg", angle)
-    shake = float(d["shake_deg_per_s"]) * math.pi / 180.0 / float(d["stabilization"])
-    t = _exposure(exposure_s, result, shake)
-    wavelengths, weights = capture_spectrum(d)
-    table = capture_lens_table(d)
-    q_min = grid_oversample(p, f_number, float(wavelengths.min()),
-                            None if table is None else table_cutoff_cyc_per_mm(table))
-    q = q_min if oversample is None else _oversample(oversample, q_min)
-    threads = threads_of(d.get("threads"))
-    k, n = int(d.get("binning", 1)), int(d.get("frames", 1))
-    alignment = float(d.get("alignment_error_um", 0.0)) * 1e-3
-    offsets = _alignment_offsets(seed, n, alignment)
-
-    optics = Optics(pitch_mm=p * 1e-3, binning=k, q=q, f_number=f_number,
-                    wavelengths_nm=wavelengths, weights=weights, focal_mm=focal,
-                    shake_rad_per_s=shake, jitter_mm=float(d["jitter_um"]) * 1e-3,
-                    aperture_mm=math.sqrt(float(d["fill_factor"])) * p * 1e-3,
-                    irradiance_lux=(lux * float(d["lens_transmittance"])
-                                    * math.cos(math.radians(angle)) ** 4 / (4.0 * f_number ** 2)),
-                    wavefront_rms_waves=float(d.get("wavefront_rms_waves", 0.0)),
-                    aberration=_aberration(aberration), lens_table=table)
-    sigma = float(d.get("denoise_sigma_px", 0.0))
-    border = kernel_reach_px(sigma)
-    if sensor_cfa is not None:
-        border += _bayer.BORDER_PX + border % 2
-    _check_frames(n, chart.shape, border, k)
-    images, blur = frame_irradiance(chart, optics, t, n, offsets, threads, border_px=border)
-    # a monochrome sensor behind a filter (cfa="none" with cfa_transmittance) collects t of
-    # the light; a Bayer sensor's filters are its mosaic's
-    t_filter = (1.0 if sensor_cfa is not None or cfa_transmittance is None
-                else _scalar("cfa_transmittance", cfa_transmittance))
-    yield_e = (float(d["electrons_per_lux_s_m2"] or spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2)
-               * (t / n) * float(d["fill_factor"]) * (p * 1e-6) ** 2 * t_filter)
-    frames_e = [image * yield_e for image in images]
-    if sensor_cfa is not None:
-        filters = sensor_cfa.mosaic((chart.shape[0] + 2 * border, chart.shape[1] + 2 * border), k)
-        frames_e = [frame * filters for frame in frames_e]
-    sensor = {"dark_current_e_per_s": float(d["dark_current_e_per_s"]),
-              "read_noise_e": float(d["read_noise_e"]), "prnu": float(d["prnu"]),
-              "full_well_e": float(d["full_well_e"]), "binning": k,
-              "binning_readout": d.get("binning_readout", "digital")}
-    image_e = read_out(frames_e, exposure_s=t, rng=np.random.default_rng(seed), **sensor)
+    sensor_cfa = _colour_sensor(cfa, demosaic, cfa_transmittance, channel_transmittances,
+                                luminance_weights, design.get("color_noise_gain"))
+    result, picked = _evaluated(lux, design, _cfa_terms(cfa, demosaic, cfa_transmittance,
+                                                        sensor_cfa))
+    resolved = resolve(lux, **{k: v for k, v in picked.items() if k in DESIGN_KEYWORDS})
+    t = _exposure(exposure_s, result, _shake_rad_per_s(resolved))
+    optics = _optics(resolved, lux, aberration, oversample)
+    sigma = float(resolved.parameter("denoise_sigma_px"))
+    border = _border_px(sigma, sensor_cfa)
+    frames_e, blur = _frames_e(chart, optics, resolved, t, seed, border, sensor_cfa,
+                               threads_of(picked.get("threads")))
+    readout = _readout(resolved)
+    image_e = read_out(frames_e, exposure_s=t, rng=np.random.default_rng(seed), **readout)
     image_e = _processed(image_e, sigma, border, sensor_cfa)
-    expected = _processed(sum(bin_sum(f, k) for f in frames_e), sigma, border, sensor_cfa)
+    expected = _processed(sum(bin_sum(f, optics.binning) for f in frames_e), sigma, border,
+                          sensor_cfa)
     recapture = None
-    if n > 1 and alignment > 0.0:
-        def recapture(new_seed):
+    if len(frames_e) > 1 and float(resolved.parameter("alignment_error_um")) > 0.0:
+        def recapture(new_seed):  # the frames' alignment errors are drawn from the seed too
             return capture(chart, illuminance_lux=illuminance_lux, seed=new_seed,
                            exposure_s=exposure_s, oversample=oversample,
                            aberration=aberration, cfa=cfa, demosaic=demosaic,
                            cfa_transmittance=cfa_transmittance,
                            channel_transmittances=channel_transmittances,
                            luminance_weights=luminance_weights, **design)
-    return Capture(image_e=image_e, expected_e=expected, pitch_um=p * k, exposure_s=t,
-                   illuminance_lux=lux, field_angle_deg=angle, blur_mm=blur, oversample=q,
-                   seed=seed, chart=chart, result=result, readout=sensor, frames_e=frames_e,
-                   recapture=recapture, denoise_sigma_px=sigma, border_px=border, cfa=cfa,
-                   bayer=sensor_cfa)
+    return Capture(image_e=image_e, expected_e=expected,
+                   pitch_um=float(resolved.parameter("pixel_pitch_um")) * optics.binning,
+                   exposure_s=t,
+                   illuminance_lux=lux, field_angle_deg=_scalar("field_angle_deg",
+                                                                resolved.field_angle_deg),
+                   blur_mm=blur, oversample=optics.q, seed=seed, chart=chart, result=result,
+                   readout=readout, frames_e=frames_e, recapture=recapture,
+                   denoise_sigma_px=sigma, border_px=border, cfa=cfa, bayer=sensor_cfa)
 
 
-def capture_lens_table(d: dict):
-    """The design's lens table, ``lens_mtf[lens]`` (evaluate has checked both), or None."""
-    if d.get("lens_mtf") is None:
-        return None
-    return lens_tables_of(d["lens_mtf"])[int(_scalar("lens", d.get("lens", 0.0)))]
+def _colour_sensor(cfa, demosaic, cfa_transmittance, channel_transmittances,
+                   luminance_weights, color_noise_gain):
+    """The capture's Bayer sensor (:func:`~epc_fast.simulate.bayer.bayer`), or None for
+    ``cfa="none"``; a ValueError for a ``color_noise_gain`` other than its own."""
+    sensor_cfa = None
+    if check_cfa(cfa) == "bayer":
+        sensor_cfa = _bayer.bayer(demosaic, cfa_transmittance, channel_transmittances,
+                                  luminance_weights)
+    else:
+        check_demosaic(demosaic)
+    _own_noise_gain(color_noise_gain, sensor_cfa)
+    return sensor_cfa
+
+
+def _cfa_terms(cfa, demosaic, cfa_transmittance, sensor_cfa) -> dict:
+    """evaluate's keywords of the capture's colour sensor: a Bayer sensor's transmittance and
+    the colour noise gain of its channels and weights, for the model's exposure."""
+    terms = {k: v for k, v in (("cfa", cfa), ("demosaic", demosaic),
+                               ("cfa_transmittance", cfa_transmittance)) if v is not None}
+    if sensor_cfa is not None:
+        terms["cfa_transmittance"] = sensor_cfa.transmittance
+        terms["color_noise_gain"] = cfa_color_noise_gain(sensor_cfa.channels,
+                                                         sensor_cfa.weights)
+    return terms
+
+
+def _evaluated(lux: float, design: dict, cfa_terms: dict) -> tuple:
+    """(evaluate's Result for the design at ``lux``, which raises for any input outside its
+    domain; the design's keywords with its colour sensor, read as the mode evaluate picked)."""
+    capture_inputs(design)  # the keywords capture takes
+    call = {k: v for k, v in design.items() if k != "invalid"}
+    call.update(cfa_terms)
+    result = evaluate(lux, **call, invalid="raise")
+    if np.ndim(result.epc) != 0:
+        raise ValueError(f"capture simulates one design, got arrays broadcasting to "
+                         f"{np.shape(result.epc)}")
+    return result, picked_mode(call, result)  # with modes: its binning, frames and readout
+
+
+def _shake_rad_per_s(resolved) -> float:
+    """rad/s: the camera's turn over the stabilisation."""
+    return (float(resolved.parameter("shake_deg_per_s")) * math.pi / 180.0
+            / float(resolved.parameter("stabilization")))
+
+
+def _optics(resolved, lux: float, aberration, oversample) -> Optics:
+    """What images the chart (:class:`~epc_fast.simulate.focal_plane.Optics`), on the grid of
+    ``oversample`` samples per pixel a side (default :func:`grid_oversample`)."""
+    p = float(resolved.parameter("pixel_pitch_um"))
+    f_number = float(resolved.parameter("f_number"))
+    wavelengths, weights = resolved.wavelengths()
+    table = resolved.lens_table()
+    q_min = grid_oversample(p, f_number, float(wavelengths.min()),
+                            None if table is None else table_cutoff_cyc_per_mm(table))
+    angle = _scalar("field_angle_deg", resolved.field_angle_deg)
+    return Optics(pitch_mm=p * 1e-3, binning=int(resolved.parameter("binning")),
+                  q=q_min if oversample is None else _oversample(oversample, q_min),
+                  f_number=f_number, wavelengths_nm=wavelengths, weights=weights,
+                  focal_mm=float(resolved.parameter("focal_length_mm")),
+                  shake_rad_per_s=_shake_rad_per_s(resolved),
+                  jitter_mm=float(resolved.parameter("jitter_um")) * 1e-3,
+                  aperture_mm=math.sqrt(float(resolved.parameter("fill_factor"))) * p * 1e-3,
+                  irradiance_lux=(lux * float(resolved.parameter("lens_transmittance"))
+                                  * math.cos(math.radians(angle)) ** 4 / (4.0 * f_number ** 2)),
+                  wavefront_rms_waves=float(resolved.parameter("wavefront_rms_waves")),
+                  aberration=_aberration(aberration), lens_table=table)
+
+
+def _border_px(sigma_px: float, sensor_cfa) -> int:
+    """Output pixels of scene imaged round the chart: the denoising filter's reach, and a
+    Bayer sensor's demosaicker's, to a whole cell."""
+    border = kernel_reach_px(sigma_px)
+    if sensor_cfa is not None:
+        border += _bayer.BORDER_PX + border % 2
+    return border
+
+
+def _frames_e(chart: Chart, optics: Optics, resolved, exposure_s: float, seed, border: int,
+              sensor_cfa, threads: int) -> tuple:
+    """(each frame's expected photo-electrons per sensor pixel, behind its filter; mm, the
+    distance the image travels over the exposure)."""
+    n = int(resolved.parameter("frames"))
+    offsets = _alignment_offsets(seed, n,
+                                 float(resolved.parameter("alignment_error_um")) * 1e-3)
+    _check_frames(n, chart.shape, border, optics.binning)
+    images, blur = frame_irradiance(chart, optics, exposure_s, n, offsets, threads,
+                                    border_px=border)
+    # a monochrome sensor behind a filter (cfa="none" with cfa_transmittance) collects t of
+    # the light; a Bayer sensor's filters are its mosaic's
+    t_filter = 1.0 if sensor_cfa is not None else float(resolved.colour.transmittance)
+    p = float(resolved.parameter("pixel_pitch_um"))
+    yield_e = (float(resolved.parameter("electrons_per_lux_s_m2")) * (exposure_s / n)
+               * float(resolved.parameter("fill_factor")) * (p * 1e-6) ** 2 * t_filter)
+    frames_e = [image * yield_e for image in images]
+    if sensor_cfa is not None:
+        shape = (chart.shape[0] + 2 * border, chart.shape[1] + 2 * border)
+        filters = sensor_cfa.mosaic(shape, optics.binning)
+        frames_e = [frame * filters for frame in frames_e]
+    return frames_e, blur
+
+
+def _readout(resolved) -> dict:
+    """The sensor's noise parameters, as :func:`~epc_fast.simulate.noise.read_out` takes them."""
+    return {"dark_current_e_per_s": float(resolved.parameter("dark_current_e_per_s")),
+            "read_noise_e": float(resolved.parameter("read_noise_e")),
+            "prnu": float(resolved.parameter("prnu")),
+            "full_well_e": float(resolved.parameter("full_well_e")),
+            "binning": int(resolved.parameter("binning")),
+            "binning_readout": resolved.binning_readout}
 
 
 def _processed(image, sigma_px: float, border_px: int, sensor_cfa=None) -> np.ndarray:
@@ -406,7 +447,7 @@ def _processed(image, sigma_px: float, border_px: int, sensor_cfa=None) -> np.nd
 
 
 def _aberration(value) -> str:
-    from .optics import ABERRATIONS
+    from .pupil import ABERRATIONS
 
     if not isinstance(value, str) or value not in ABERRATIONS:
         raise ValueError(f"aberration: one of {', '.join(map(repr, ABERRATIONS))}, got "

@@ -207,7 +207,8 @@ def is_real(v) -> bool:
         return False
 
 
-def _reflectance(value, name: str) -> float:
+def checked_reflectance(value, name: str) -> float:
+    """1: ``value`` as a reflectance in [0, 1], or a ValueError naming ``name`` and it."""
     if not is_real(value) or isinstance(value, (bool, np.bool_)) or not 0.0 <= float(value) <= 1.0:
         raise ValueError(f"{name}: a reflectance in [0, 1], got {short(value)}")
     return float(value)
@@ -231,7 +232,7 @@ def slanted_edge(size_px=256, angle_deg: float = 5.0, *, low: float = 0.1,
     if not is_real(angle_deg) or not 1.0 <= abs(float(angle_deg)) <= 30.0:
         raise ValueError(f"angle_deg: the edge's slant from the vertical, 1 to 30 degrees "
                          f"either way, got {short(angle_deg)}")
-    low, high = _reflectance(low, "low"), _reflectance(high, "high")
+    low, high = checked_reflectance(low, "low"), checked_reflectance(high, "high")
     if not high > low:
         raise ValueError(f"high: must exceed low for an edge, got low={low!r}, high={high!r}")
     return Chart("slanted_edge", (rows, cols), low=low, high=high, angle_deg=float(angle_deg))
@@ -246,7 +247,7 @@ def flat(size_px=256, reflectance: float = 0.4) -> Chart:
     reflectance : 1, in [0, 1] (default the model's default target, 0.4).
     """
     rows, cols = _size(size_px, 2, "a flat patch (its noise)")
-    return Chart("flat", (rows, cols), high=_reflectance(reflectance, "reflectance"))
+    return Chart("flat", (rows, cols), high=checked_reflectance(reflectance, "reflectance"))
 
 
 def image(reflectance_array) -> Chart:

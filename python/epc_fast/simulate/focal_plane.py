@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .blur import aperture_transfer, jitter_transfer, motion_transfer
-from .optics import cutoff_cyc_per_mm, diffraction_transfer, table_cutoff_cyc_per_mm, table_transfer
+from .pupil import cutoff_cyc_per_mm, diffraction_transfer, table_cutoff_cyc_per_mm, table_transfer
 
 __all__ = ["Optics", "frame_irradiance", "BYTES_PER_SAMPLE", "MARGIN_PX", "PSF_REACH"]
 
@@ -46,7 +46,7 @@ class Optics:
     jitter_mm : rms a side; aperture_mm : the side of the pixel's square aperture;
     irradiance_lux : the focal-plane illuminance of reflectance 1; wavefront_rms_waves and
     aberration : the lens's wavefront error, waves rms of a Zernike defocus or spherical
-    aberration (:data:`~epc_fast.simulate.optics.ABERRATIONS`); lens_table : an
+    aberration (:data:`~epc_fast.simulate.pupil.ABERRATIONS`); lens_table : an
     :class:`epc_fast.mtf_table.MtfTable`, the lens's MTF in place of its pupil's (None: the
     pupil's).
     """

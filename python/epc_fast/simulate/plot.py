@@ -142,23 +142,26 @@ def model_mtf(frequency_cyc_per_mm, kwargs: dict, blur_mm: float) -> np.ndarray:
     read as one of them, :func:`epc_fast.simulate.camera.picked_mode`) with evaluate's
     ``blur_mm`` (mm): its binned pixel, burst alignment, wavefront error or lens table,
     denoising and demosaicker with the rest."""
-    from ..cfa import demosaic_mtf_table
+    from ..design import DESIGN_KEYWORDS, resolve
     from ..reference.model import mtf_system
-    from .camera import capture_inputs, capture_lens_table, capture_spectrum
+    from .camera import capture_inputs
 
-    d = capture_inputs(kwargs)
-    if d.get("modes") is not None:
+    capture_inputs(kwargs)  # the keywords a capture takes
+    if kwargs.get("modes") is not None:
         raise ValueError("kwargs: one readout, not modes: give the mode's keywords "
                          "(epc_fast.simulate.camera.picked_mode)")
-    wavelengths, weights = capture_spectrum(d)
-    table = capture_lens_table(d)
-    return mtf_system(np.asarray(frequency_cyc_per_mm, dtype=float), float(d["f_number"]),
-                      float(d["pixel_pitch_um"]), float(d["fill_factor"]), float(blur_mm),
-                      float(d["jitter_um"]), wavelengths, weights, float(d["binning"]),
-                      float(d["alignment_error_um"]), float(d["frames"]),
-                      float(d["wavefront_rms_waves"]), float(d["denoise_sigma_px"]), 0.0,
-                      None if table is None else [table],
-                      demosaic_mtf_table(d["demosaic"]) if d["cfa"] == "bayer" else None)
+    d = resolve(0.0, **{k: v for k, v in kwargs.items() if k in DESIGN_KEYWORDS})
+    wavelengths, weights = d.wavelengths()
+    table = d.lens_table()
+    value = {name: float(d.parameter(name)) for name in (
+        "f_number", "pixel_pitch_um", "fill_factor", "jitter_um", "binning",
+        "alignment_error_um", "frames", "wavefront_rms_waves", "denoise_sigma_px")}
+    return mtf_system(np.asarray(frequency_cyc_per_mm, dtype=float), value["f_number"],
+                      value["pixel_pitch_um"], value["fill_factor"], float(blur_mm),
+                      value["jitter_um"], wavelengths, weights, value["binning"],
+                      value["alignment_error_um"], value["frames"],
+                      value["wavefront_rms_waves"], value["denoise_sigma_px"], 0.0,
+                      None if table is None else [table], d.colour.demosaic_table)
 
 
 def _output_pitch_um(cell, kwargs: dict) -> float:

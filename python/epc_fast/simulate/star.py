@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .._validation import short
-from .charts import Chart, is_real, _reflectance, image
+from .charts import Chart, checked_reflectance, image, is_real
 
 __all__ = ["siemens_star", "star_size_px", "SUBSAMPLES", "MIN_STAR_PX", "MAX_STAR_PX",
            "PROFILES"]
@@ -87,7 +87,7 @@ def siemens_star(size_px: int = 256, spokes: int = 36, low: float = 0.1, high: f
         raise ValueError(f"spokes: a whole number >= 4, got {short(spokes)}")
     if profile not in PROFILES:
         raise ValueError(f"profile: one of {', '.join(PROFILES)}, got {short(profile)}")
-    low, high = _reflectance(low, "low"), _reflectance(high, "high")
+    low, high = checked_reflectance(low, "low"), checked_reflectance(high, "high")
     if not high > low:
         raise ValueError(f"high: must exceed low for a star, got low={low!r}, high={high!r}")
     return image(_star(int(size_px), int(spokes), low, high, profile))
