@@ -14,6 +14,7 @@ import numpy as np
 
 from ... import api, params
 from ..._validation import choice, integer, tolerance
+from ...design import one_wavelength, spectrum_of
 from ...spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from ...status import Status
 from ..reductions.best import TopK
@@ -152,12 +153,11 @@ class CorePlan:
             return None, None
         if "wavelength_nm" in self.space.axes or "wavelength_nm" in self.space.design_table:
             raise ValueError("a space gives either wavelength_nm or a spectrum, not both")
-        spec = api._spectrum_of(spectrum, 550.0)
-        polychromatic, arrays = api._one_wavelength(spec, [np.asarray(550.0)] * len(
-            params.PARAMETERS))
-        if polychromatic is None:
-            return None, float(arrays[params.PARAMETER_NAMES.index("wavelength_nm")])
-        return polychromatic, None
+        spec = spectrum_of(spectrum)
+        wavelength = one_wavelength(spec)
+        if wavelength is not None:
+            return None, float(wavelength)
+        return spec, None
 
     def _options(self) -> tuple:
         given = {k: v for k, v in self.space.evaluate_options.items() if k != "spectrum"}
