@@ -294,3 +294,89 @@ def test_no_name_a_subpackage_exports_hides_one_of_its_modules():
             if value is not None and not isinstance(value, types.ModuleType):
                 hidden.append(f"{name}.{sub.name}")
     assert hidden == []
+
+
+def _is_private(name: str) -> bool:
+    return name.startswith("_") and not name.startswith("__")
+
+
+def _private_names(tree) -> set:
+    """The private names (one leading underscore) a module's text defines or binds anywhere:
+    functions, classes, variables, imports' aliases and attributes it assigns (``self._x``)."""
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+            names.add(node.id)
+        elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store):
+            names.add(node.attr)
+        elif isinstance(node, ast.alias):
+            names.add(node.asname or node.name.split(".")[0])
+    return {name for name in names if _is_private(name)}
+
+
+def _private_uses(texts: dict, packages: set) -> list:
+    """Where a module of ``texts`` ({dotted name: source}; ``packages``: the names that are
+    packages) uses a private name another module defines: ``from .x import _y``, ``x._y`` for
+    an imported module x of the package, and ``obj._y`` where only other modules define _y.
+    Private modules (``from . import _limits``) are the package's own and may be imported."""
+    trees = {name: ast.parse(text) for name, text in texts.items()}
+    defined = {name: _private_names(tree) for name, tree in trees.items()}
+    found = []
+    for name, tree in trees.items():
+        package = name.split(".") if name in packages else name.split(".")[:-1]
+        aliases = {}  # local name -> module of the package
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                base = (".".join(package[:len(package) - (node.level - 1)]
+                                 + ([node.module] if node.module else []))
+                        if node.level else node.module or "")
+                for alias in node.names:
+                    sub = f"{base}.{alias.name}"
+                    if sub in texts:
+                        aliases[alias.asname or alias.name] = sub
+                    elif base in texts and _is_private(alias.name):
+                        found.append(f"{name}: from {base} import {alias.name}")
+            elif isinstance(node, ast.Import):
+                for alias in node.names:
+                    if alias.name in texts and alias.asname:
+                        aliases[alias.asname] = alias.name
+        others = set().union(*(d for m, d in defined.items() if m != name))
+        for node in ast.walk(tree):
+            if not (isinstance(node, ast.Attribute) and _is_private(node.attr)):
+                continue
+            owner = node.value.id if isinstance(node.value, ast.Name) else None
+            if owner in aliases:
+                if f"{aliases[owner]}.{node.attr}" not in texts:
+                    found.append(f"{name}: {aliases[owner]}.{node.attr}")
+            elif (owner not in ("self", "cls") and node.attr not in defined[name]
+                  and node.attr in others):
+                found.append(f"{name}: .{node.attr} of another module")
+    return sorted(set(found))
+
+
+def test_no_module_of_the_package_uses_another_modules_private_names():
+    modules = _modules()
+    texts = {name: path.read_text() for name, path in modules.items()}
+    packages = {name for name, path in modules.items() if path.name == "__init__.py"}
+    assert _private_uses(texts, packages) == []
+
+
+def test_the_private_name_check_finds_a_private_use():
+    texts = {
+        "pkg": "",
+        "pkg._internal": "def public():\n    pass\n",
+        "pkg.a": ("def _hidden():\n    pass\n\nclass Bins:\n    def __init__(self):\n"
+                  "        self._bins = 1\n"),
+        "pkg.b": ("from .a import _hidden\nfrom . import a\n\na._hidden()\n\n"
+                  "def first(histogram):\n    return histogram._bins\n"),
+        "pkg.c": ("from . import _internal\nfrom .a import Bins\n\n_internal.public()\n\n"
+                  "class Own:\n    def __init__(self):\n        self._own = 1\n\n"
+                  "    def same(self, other):\n        return other._own, self._bins\n"),
+    }
+    # b reaches into a three ways; c imports a private module and uses its own and its
+    # instances' private names, which is fine
+    assert _private_uses(texts, {"pkg"}) == [
+        "pkg.b: ._bins of another module", "pkg.b: from pkg.a import _hidden",
+        "pkg.b: pkg.a._hidden"]
