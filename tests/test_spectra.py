@@ -183,7 +183,7 @@ def test_importing_spectra_does_not_import_colour():
 
 @pytest.mark.parametrize("backend", ["core", "reference"])
 def test_a_spectrum_with_its_weight_on_one_wavelength_is_that_monochromatic_call(backend):
-    # api._one_wavelength: 1 D + 0 D' = D, so the monochromatic model at that wavelength, which
+    # design.one_wavelength: 1 D + 0 D' = D, so the monochromatic model at that wavelength, which
     # the core solves on its monochromatic path (the accurate f50 start): the same bits.
     from epc_fast.selfcheck import random_designs
 
