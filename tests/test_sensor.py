@@ -11,7 +11,7 @@ from epc_fast import Status, evaluate
 from epc_fast.presets import HIGH_TIER, ZOOM_3X, Design
 from epc_fast.scan import LogUniform, Space
 from epc_fast.scan.config import parse_config
-from epc_fast.scan.errors import ConfigError
+from epc_fast.jobs.errors import ConfigError
 from epc_fast.sensor import aspect_ratio, corner_field_angle_deg, design_parameters
 
 BACKENDS = ("core", "reference")

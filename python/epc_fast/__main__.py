@@ -83,7 +83,7 @@ def build_parser(commands: dict) -> argparse.ArgumentParser:
 def _one_line(error: BaseException) -> str:
     """The error's message on one line; its type's name when the message is empty or the
     error is not one of the package's usage errors."""
-    from .scan.errors import UsageError
+    from .jobs.errors import UsageError
 
     text = " ".join(str(error).split())
     if isinstance(error, UsageError):
@@ -105,7 +105,7 @@ def main(argv=None) -> int:
         print(f"{prog}: interrupted", file=sys.stderr)
         return 130
     except Exception as error:
-        from .scan.errors import UsageError
+        from .jobs.errors import UsageError
 
         if args.debug:
             raise

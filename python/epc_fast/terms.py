@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..cfa import DEFAULT_CFA_TRANSMITTANCE, DEFAULT_COLOR_NOISE_GAIN
-from ..params import PARAMETERS
+from .cfa import DEFAULT_CFA_TRANSMITTANCE, DEFAULT_COLOR_NOISE_GAIN
+from .params import PARAMETERS
 
 __all__ = ["default_values", "designs_terms", "readout_terms", "terms_on"]
 

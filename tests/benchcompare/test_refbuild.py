@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from epc_fast.benchcompare import refbuild
-from epc_fast.scan.errors import UsageError
+from epc_fast.jobs.errors import UsageError
 
 ROOT = Path(__file__).resolve().parents[2]
 

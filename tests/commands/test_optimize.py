@@ -126,7 +126,7 @@ def test_a_config_error_is_one_line_naming_the_key_with_exit_code_2(tmp_path, ca
     assert old in CONFIG
     code, out, err = _optimize(tmp_path, capsys, CONFIG.replace(old, new))
     assert code == 2 and out == ""
-    assert err.startswith("epc-fast optimize: error: scan config") and key in err, err
+    assert err.startswith("epc-fast optimize: error: optimize config") and key in err, err
     assert err.count("\n") == 1
     assert not (tmp_path / "out").exists()
 
@@ -176,7 +176,7 @@ def test_without_scipy_the_command_stops_before_any_work(tmp_path, capsys, monke
 def test_an_out_another_run_writes_in_is_refused_naming_that_run(tmp_path, capsys):
     import os
 
-    from epc_fast.scan.output import OutputLock
+    from epc_fast.jobs.output import OutputLock
 
     (tmp_path / "out").mkdir()
     holder = OutputLock(tmp_path / "out")
@@ -202,7 +202,7 @@ def test_overwrite_removes_the_previous_runs_files_this_run_does_not_write(tmp_p
 
 def test_every_file_the_command_writes_is_one_overwrite_knows_as_a_commands():
     from epc_fast.commands.optimize import FILES
-    from epc_fast.scan.output.plan import COMMAND_FILES
+    from epc_fast.jobs.output import COMMAND_FILES
 
     assert set(FILES) <= COMMAND_FILES
 

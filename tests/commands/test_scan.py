@@ -173,7 +173,7 @@ def test_without_matplotlib_a_scan_runs_with_no_plots_or_with_no_plot_to_draw(tm
 
 
 def test_debug_shows_the_traceback(tmp_path, capsys):
-    from epc_fast.scan.errors import ConfigError
+    from epc_fast.jobs.errors import ConfigError
 
     with pytest.raises(ConfigError, match="presets = 5"):
         _scan(tmp_path, capsys, '[scan]\npoints = 10\n[design]\npresets = 5\n', "--debug")

@@ -111,7 +111,7 @@ def test_a_design_without_an_image_is_a_row_that_says_why(tmp_path, capsys):
 
 
 BAD_CONFIGS = [
-    (("seed = 5", "seed = -1"), "scan config [simulate]: seed = -1: expected an integer "
+    (("seed = 5", "seed = -1"), "simulate config [simulate]: seed = -1: expected an integer "
                                 "between 0 and"),
     (("spokes = 12", "spokes = 2"), "[simulate]: spokes = 2: expected an integer between 4"),
     (("spokes = 12", "spokes = 12\nstar_px = 3"), "[simulate]: unknown key(s) star_px"),

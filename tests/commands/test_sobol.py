@@ -6,7 +6,7 @@ import os
 import pytest
 
 from epc_fast.__main__ import main
-from epc_fast.scan.output import OutputLock
+from epc_fast.jobs.output import OutputLock
 
 
 def test_an_out_another_run_writes_in_is_refused_naming_that_run(tmp_path, capsys):

@@ -9,7 +9,7 @@ from epc_fast import optimize
 from epc_fast.optimize import Mean, Problem, Quantile
 from epc_fast.optimize.config import parse_optimize_config
 from epc_fast.scan import LogUniform, Space
-from epc_fast.scan.errors import ConfigError
+from epc_fast.jobs.errors import ConfigError
 
 PITCH = {"pixel_pitch_um": (0.8, 4.0)}
 

@@ -12,9 +12,10 @@ from epc_fast.__main__ import main
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (Binned, Choice, FractionBelow, Grid, LogNormal, LogUniform, Quantiles,
                            Summary, TopK, Truncated, run)
+from epc_fast.jobs import table_formats
 from epc_fast.scan import tables
 from epc_fast.scan.config import DEFAULT_CONFIG, default_config, load_config, parse_config
-from epc_fast.scan.errors import ConfigError, TooLargeError
+from epc_fast.jobs.errors import ConfigError, TooLargeError
 from helpers.scripts import ROOT
 
 EXAMPLE = ROOT / "examples" / "scan_designs.toml"
@@ -166,11 +167,6 @@ def test_table_files_are_named_by_their_grouping_in_short_words(grouping, stem):
     assert tables.file_stem(grouping) == stem
 
 
-def test_markdown_cells_have_thousands_separators_and_four_digits():
-    markdown = tables.markdown({"n": [1234567], "x": [0.000123456], "name": ["a|b"]})
-    assert markdown.splitlines()[2] == "| 1,234,567 | 0.0001235 | a\\|b |"
-
-
 # --- the config as a schema: strict types, bounded sizes, errors naming table, key, value ----
 
 SCHEMA_BASE = ("[scan]\npoints = 1000\n[design]\npresets = ['HIGH_TIER']\n[parameters]\n"
@@ -317,9 +313,9 @@ def test_a_group_with_no_finite_value_prints_a_dash_not_inf_or_nan():
     assert columns["ok"] == [0, columns["points"][1]]
     assert np.isnan(columns["min"][0]) and np.isnan(columns["max"][0])
     assert columns["min"][1] == columns["max"][1] > 0
-    unreachable = tables.markdown(columns).splitlines()[2]
+    unreachable = table_formats.markdown(columns).splitlines()[2]
     cells = [cell.strip() for cell in unreachable.strip("|").split("|")]
-    assert cells[-4:] == [tables.NO_VALUE] * 4  # mean, std, min, max
+    assert cells[-4:] == [table_formats.NO_VALUE] * 4  # mean, std, min, max
     assert "inf" not in unreachable and "nan" not in unreachable
 
 

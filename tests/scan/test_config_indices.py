@@ -11,7 +11,7 @@ from epc_fast.__main__ import main
 from epc_fast.scan import sobol_indices
 from epc_fast.scan.config import parse_config
 from epc_fast.scan.config.indices import SobolConfig
-from epc_fast.scan.errors import ConfigError, OutputError, TooLargeError
+from epc_fast.jobs.errors import ConfigError, OutputError, TooLargeError
 
 SCAN = """\
 [scan]
@@ -163,7 +163,7 @@ def test_unreachable_points_end_the_sobol_command_with_one_line_naming_the_polic
                                  "\"uniform\", low = 500, high = 2000 }\n\n[reductions.summary]"))
     assert main(["sobol", str(path), "--out", str(tmp_path / "out"), "--points", "64"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("epc-fast sobol: error: scan config [sobol]: Sobol' indices of design "
+    assert err.startswith("epc-fast sobol: error: sobol config [sobol]: Sobol' indices of design "
                           "'1/3.2\" 2.8 um': ") and "not_ok='zero'" in err
     assert err.count("\n") == 1
 
@@ -177,7 +177,7 @@ def test_the_sobol_command_refuses_points_that_are_not_a_power_of_2(tmp_path, ca
 
 
 def test_the_output_policy_refuses_a_file_where_the_indices_go(tmp_path):
-    from epc_fast.scan.output import OutputDirectory
+    from epc_fast.jobs.output import OutputDirectory
 
     (tmp_path / "out" / "sobol.csv").mkdir(parents=True)
     with pytest.raises(OutputError, match="sobol.csv is a directory"):
@@ -196,7 +196,7 @@ def test_a_value_outside_its_domain_ends_the_sobol_command_before_any_point(tmp_
     path.write_text(SCAN.replace("[reductions.summary]", line + "\n\n[reductions.summary]"))
     assert main(["sobol", str(path), "--out", str(tmp_path / "out"), "--points", "64"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("epc-fast sobol: error: scan config") and message in err, err
+    assert err.startswith("epc-fast sobol: error: sobol config") and message in err, err
     assert err.count("\n") == 1 and not (tmp_path / "out").exists()
 
 

@@ -8,7 +8,7 @@ import pytest
 from epc_fast.__main__ import main
 from epc_fast.scan import FractionBelow, Summary
 from epc_fast.scan.config import parse_config
-from epc_fast.scan.errors import ConfigError
+from epc_fast.jobs.errors import ConfigError
 from epc_fast.scan.reductions.targets import Target
 
 BASE = """
@@ -93,7 +93,7 @@ def test_the_command_names_a_target_that_did_not_hold(tmp_path, capsys):
 
 
 def test_replicates_count_in_the_bounds_of_a_reductions_groups():
-    from epc_fast.scan.errors import TooLargeError
+    from epc_fast.jobs.errors import TooLargeError
 
     # 4 designs' streamed quantiles: ~70,000 histogram bins, 70 million in 1024 replicates,
     # beyond the 20 million cells a reduction may hold

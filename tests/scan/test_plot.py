@@ -252,7 +252,7 @@ def test_log_y_draws_the_bands_output_on_a_log_axis(result):
 
 def test_the_output_table_log_y_key_asks_for_log_bands_and_must_be_a_boolean():
     from epc_fast.scan.config import parse_config
-    from epc_fast.scan.errors import ConfigError
+    from epc_fast.jobs.errors import ConfigError
 
     base = ('[scan]\npoints = 100\n[design]\npresets = ["HIGH_TIER"]\n'
             '[parameters]\nilluminance_lux = 100\n')

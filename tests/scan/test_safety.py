@@ -19,7 +19,7 @@ import pytest
 import epc_fast.scan.output
 import epc_fast.scan.running.runner
 from epc_fast.__main__ import main
-from epc_fast.scan.atomic import atomic_write
+from epc_fast.jobs.atomic import atomic_write
 
 CONFIG = """\
 [scan]
@@ -154,7 +154,7 @@ def test_a_parquet_directory_that_is_a_symlink_is_refused(tmp_path, capsys, chun
 def test_a_full_disk_is_found_before_the_first_point(tmp_path, capsys, monkeypatch, chunks):
     usage = types.SimpleNamespace(total=10**9, used=10**9 - 4096, free=4096)
     fake_shutil = types.SimpleNamespace(disk_usage=lambda path: usage)
-    monkeypatch.setattr(epc_fast.scan.output.directory, "shutil", fake_shutil)
+    monkeypatch.setattr(epc_fast.jobs.output.directory, "shutil", fake_shutil)
     code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
     assert code == 2 and chunks.calls == 0
     assert "4.1 KB free" in err and "this scan writes up to" in err
@@ -168,7 +168,7 @@ def test_a_read_only_directory_is_found_before_the_first_point(tmp_path, capsys,
         raise OSError(errno.EROFS, os.strerror(errno.EROFS), str(path))
 
     fake_os = types.SimpleNamespace(**{**vars(os), "open": read_only_open})
-    monkeypatch.setattr(epc_fast.scan.atomic, "os", fake_os)
+    monkeypatch.setattr(epc_fast.jobs.atomic, "os", fake_os)
     code, _, err = _cli(capsys, _config(tmp_path), "--out", tmp_path / "out")
     assert code == 2 and chunks.calls == 0
     assert "is not writable: Read-only file system" in err
@@ -178,7 +178,7 @@ def test_a_parquet_scan_asking_more_than_the_free_space_is_refused(tmp_path, cap
                                                                    chunks):
     pytest.importorskip("pyarrow")
     usage = types.SimpleNamespace(total=10**12, used=0, free=10**9)
-    monkeypatch.setattr(epc_fast.scan.output.directory, "shutil",
+    monkeypatch.setattr(epc_fast.jobs.output.directory, "shutil",
                         types.SimpleNamespace(disk_usage=lambda path: usage))
     code, _, err = _cli(capsys, _config(tmp_path, '[output]\nparquet = "points"\n'), "--out",
                         tmp_path / "out", "--points", "1e9")
@@ -350,7 +350,7 @@ print("partial", result.partial, result.points, int(result["summary"].points.sum
 def test_a_failed_cluster_writes_the_prefix_marked_partial_and_says_so(tmp_path, capsys,
                                                                        monkeypatch):
     import epc_fast.scan
-    from epc_fast.scan.errors import ScanAborted
+    from epc_fast.scan.running.aborted import ScanAborted
 
     real_run = epc_fast.scan.run
 
@@ -489,16 +489,16 @@ def test_a_signal_while_the_tables_are_written_costs_no_file(tmp_path, signame, 
     script = tmp_path / "signalled.py"
     script.write_text(f"""
 import os, signal, sys
-import epc_fast.scan.tables as tables
+import epc_fast.jobs.table_formats as table_formats
 from epc_fast.__main__ import main
 
-real_write_csv = tables.write_csv
+real_write_csv = table_formats.write_csv
 
 def write_csv_signalled(path, columns):
     os.kill(os.getpid(), signal.{signame})
     real_write_csv(path, columns)
 
-tables.write_csv = write_csv_signalled
+table_formats.write_csv = write_csv_signalled
 sys.exit(main(["scan", {str(config)!r}, "--out", {str(out)!r}, "--no-progress", "--no-plots"]))
 """)
     finished = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
@@ -517,16 +517,16 @@ sys.exit(main(["scan", {str(config)!r}, "--out", {str(out)!r}, "--no-progress", 
 
 def test_a_second_ctrl_c_while_the_tables_are_written_costs_no_file(tmp_path, capsys,
                                                                      monkeypatch):
-    import epc_fast.scan.tables
+    import epc_fast.jobs.table_formats
 
     monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", _Chunks(stop_at=2))
-    real_write_csv = epc_fast.scan.tables.write_csv
+    real_write_csv = epc_fast.jobs.table_formats.write_csv
 
     def write_csv_after_ctrl_c(path, columns):
         os.kill(os.getpid(), signal.SIGINT)
         real_write_csv(path, columns)
 
-    monkeypatch.setattr(epc_fast.scan.tables, "write_csv", write_csv_after_ctrl_c)
+    monkeypatch.setattr(epc_fast.jobs.table_formats, "write_csv", write_csv_after_ctrl_c)
     out = tmp_path / "out"
     code, stdout, _ = _cli(capsys, _config(tmp_path, TOP_K), "--out", out, "--no-plots",
                            "--chunk-points", CHUNK)
@@ -566,17 +566,17 @@ def test_a_full_disk_mid_run_leaves_the_tables_of_the_merged_prefix(tmp_path, ca
 
 
 class _FullDisk:
-    """The ``os`` module of :mod:`epc_fast.scan.atomic` on a disk that fills while the scan's
+    """The ``os`` module of :mod:`epc_fast.jobs.atomic` on a disk that fills while the scan's
     second chunk runs: from then on no new file can be made (ENOSPC), as on a real full disk,
     while a file's blocks already written can be written again."""
 
     def __init__(self, monkeypatch):
-        import epc_fast.scan.atomic
+        import epc_fast.jobs.atomic
 
         self.full = False
         self.chunks = 0
         self.reduce_chunk = epc_fast.scan.running.runner.reduce_chunk
-        monkeypatch.setattr(epc_fast.scan.atomic, "os", self)
+        monkeypatch.setattr(epc_fast.jobs.atomic, "os", self)
         monkeypatch.setattr(epc_fast.scan.running.runner, "reduce_chunk", self.chunk)
 
     def chunk(self, *args, **kwargs):
@@ -609,13 +609,13 @@ def test_a_disk_that_fills_mid_run_leaves_a_manifest_that_says_failed_and_why(
 
 def test_a_manifest_that_cannot_be_written_at_all_is_named_on_stderr(tmp_path, capsys,
                                                                      monkeypatch):
-    import epc_fast.scan.manifest
+    import epc_fast.jobs.output.manifest
 
     def no_block_left(*args, **kwargs):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
     _FullDisk(monkeypatch)
-    monkeypatch.setattr(epc_fast.scan.manifest, "_rewrite_in_place", no_block_left)
+    monkeypatch.setattr(epc_fast.jobs.output.manifest, "_rewrite_in_place", no_block_left)
     out = tmp_path / "out"
     code, stdout, err = _cli(capsys, _config(tmp_path), "--out", out, "--no-plots",
                              "--chunk-points", CHUNK)
@@ -719,8 +719,8 @@ def test_a_complete_scans_files_carry_no_partial_mark(tmp_path, capsys):
 #: Where a signal may arrive between the --out lock and the scan's first chunk: the module,
 #: the function and whether the signal comes after it ran (else before it runs).
 START_PHASES = {
-    "the lock just taken": ("epc_fast.scan.output.lock", "OutputLock.acquire", True),
-    "the first manifest written": ("epc_fast.scan.manifest", "write_manifest", True),
+    "the lock just taken": ("epc_fast.jobs.output.lock", "OutputLock.acquire", True),
+    "the first manifest written": ("epc_fast.jobs.output.manifest", "write_manifest", True),
     "the cluster connected": ("epc_fast.commands.scan", "_client", False),
     "the Parquet staging made": ("epc_fast.scan.running.parquet", "prepare_directory", True),
 }

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from epc_fast.presets import HIGH_TIER
-from epc_fast.scan.errors import ConfigError
+from epc_fast.jobs.errors import ConfigError
 from epc_fast.simulate.config import load_simulate_config, parse_simulate_config
 from epc_fast.simulate.review import DEFAULTS
 from helpers.scripts import ROOT
@@ -76,7 +76,7 @@ def test_the_evaluate_table_and_a_designs_readout_and_modes_reach_its_keywords()
     np.testing.assert_array_equal(got.epc, typed.epc)
     np.testing.assert_array_equal(got.mode, typed.mode)
     assert list(got.mode) == [1, 0]
-    # and the figures' conditions say so (epc_fast.scan.terms, as a scan's figures do)
+    # and the figures' conditions say so (epc_fast.terms, as a scan's figures do)
     terms = "; ".join(parse_simulate_config(PHONE).terms)
     assert "Bayer" in terms and "lens MTF table" in terms and "readout modes" in terms
 

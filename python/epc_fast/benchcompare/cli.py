@@ -98,7 +98,7 @@ def _progress(line: str) -> None:
 
 def _check_sides(args) -> None:
     """A UsageError for the wrong number of SIDEs or one that is not a command line."""
-    from ..scan.errors import UsageError
+    from ..jobs.errors import UsageError
     from .sides import split_command
 
     if args.ref is not None and len(args.sides) != 1:

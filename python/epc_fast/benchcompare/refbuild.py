@@ -27,7 +27,7 @@ def cache_root() -> Path:
 def resolve(repo: Path, ref: str) -> str:
     """The full commit id ``ref`` names in ``repo``; a UsageError naming both when it names
     none."""
-    from ..scan.errors import UsageError
+    from ..jobs.errors import UsageError
 
     try:
         out = subprocess.run(["git", "-C", str(repo), "rev-parse", "--verify", "--quiet",

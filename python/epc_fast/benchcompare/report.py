@@ -81,8 +81,8 @@ def check_out(folder: Path) -> None:
     """Makes ``folder`` ready for the reports, or refuses it with an OutputError naming it: a
     path that is not a folder, one that cannot be created, a report's name taken by a folder,
     or a folder that cannot be written (a probe file is written and removed)."""
-    from ..scan.atomic import probe_writable
-    from ..scan.errors import OutputError
+    from ..jobs.atomic import probe_writable
+    from ..jobs.errors import OutputError
 
     def refuse(why: str):
         raise OutputError(f"--out {str(folder)!r}: {why}")
@@ -105,9 +105,9 @@ def check_out(folder: Path) -> None:
 def write_reports(folder: Path, comparison, text: str | None = None) -> list:
     """compare.md (``text``, else :func:`markdown`) and compare.json in ``folder``, each
     written to a temporary file beside it and renamed into place
-    (:func:`~epc_fast.scan.atomic.atomic_write`): a report is the previous one, or none, until
+    (:func:`~epc_fast.jobs.atomic.atomic_write`): a report is the previous one, or none, until
     the new one is whole. An OSError naming the file when one cannot be written."""
-    from ..scan.atomic import atomic_write
+    from ..jobs.atomic import atomic_write
 
     texts = {"compare.md": markdown(comparison) if text is None else text,
              "compare.json": as_json(comparison)}

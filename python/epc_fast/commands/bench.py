@@ -177,7 +177,7 @@ def run(args) -> int:
 
 def run_tradeoff(args) -> int:
     from .. import __version__
-    from ..scan.tables import markdown, write_csv
+    from ..jobs.table_formats import markdown, write_csv
     from ..tradeoff import csv_columns, front_of, markdown_columns, measure
 
     load_before = _load_average()

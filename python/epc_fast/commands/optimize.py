@@ -76,9 +76,9 @@ def run(args) -> int:
 
     from .._validation import threads_of
     from ..optimize import Problem
-    from ..scan.config.extras import OPTIMIZE, PLOT, check_extras
-    from ..scan.output import OutputDirectory
-    from ..scan.signals import SignalsHeld
+    from ..jobs.extras import OPTIMIZE, PLOT, check_extras
+    from ..jobs.output import OutputDirectory
+    from ..jobs.signals import SignalsHeld
 
     config = _config(args)
     threads_of(config.threads)  # the threads (or OMP_NUM_THREADS), before anything is written

@@ -36,7 +36,7 @@ EXIT_ABORTED = 1
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     from ..api import MAX_THREADS
-    from ..scan.schema import MAX_CHUNK_POINTS, MAX_POINTS
+    from ..scan.config.bounds import MAX_CHUNK_POINTS, MAX_POINTS
     from ..scan.sampling.space import BLOCK_POINTS
 
     parser.add_argument("config", nargs="?", help="TOML file (see examples/scan_designs.toml); "
@@ -68,7 +68,7 @@ def _config(args):
         if getattr(args, name) is not None:
             setattr(config, name, getattr(args, name))
     if args.points is not None:  # the sampling's rules on the points given here
-        from ..scan.errors import ConfigError
+        from ..jobs.errors import ConfigError
         from ..scan.running.runner import sampled_scan
 
         try:
@@ -136,6 +136,7 @@ def _quantile_notes(result) -> list[str]:
 
 def _write_outputs(result, out, plots: bool, log_y: bool = False) -> None:
     """Every table, top-k list and plot of ``result``, each written atomically in ``out``."""
+    from ..jobs import table_formats
     from ..scan import tables
 
     # a partial scan says so in every file: a last column, a line above the table, the title
@@ -144,17 +145,17 @@ def _write_outputs(result, out, plots: bool, log_y: bool = False) -> None:
     for grouping, columns in tables.grouped_tables(result).items():
         stem = tables.file_stem(grouping)
         out.write(stem + ".csv",
-                  lambda path: tables.write_csv(path, tables.marked_partial(columns, result)))
+                  lambda path: table_formats.write_csv(path, tables.marked_partial(columns, result)))
         out.write(stem + ".md",
-                  lambda path: path.write_text(above + tables.markdown(columns) + "\n"))
+                  lambda path: path.write_text(above + table_formats.markdown(columns) + "\n"))
     for name, columns in tables.histogram_tables(result).items():
         out.write(f"{name}.csv",
-                  lambda path: tables.write_csv(path, tables.marked_partial(columns, result)))
+                  lambda path: table_formats.write_csv(path, tables.marked_partial(columns, result)))
         out.write(f"{name}.md",
-                  lambda path: path.write_text(above + tables.markdown(columns) + "\n"))
+                  lambda path: path.write_text(above + table_formats.markdown(columns) + "\n"))
     for name, columns in tables.top_k_columns(result).items():
         out.write(f"{name}.csv",
-                  lambda path: tables.write_csv(path, tables.marked_partial(columns, result)))
+                  lambda path: table_formats.write_csv(path, tables.marked_partial(columns, result)))
     if plots:
         _write_plots(result, out, note, log_y)
 
@@ -178,8 +179,8 @@ def _write_plots(result, out, partial: str = "", log_y: bool = False) -> None:
 
 
 def _planned(config, plots: bool) -> dict:
-    from ..scan.errors import OutputError
-    from ..scan.manifest import MANIFEST_NAME
+    from ..jobs.errors import OutputError
+    from ..jobs.output.manifest import MANIFEST_NAME
     from ..scan.output import plan_outputs
 
     planned = plan_outputs(config.space, config.reductions, plots, config.parquet,
@@ -194,7 +195,7 @@ def _planned(config, plots: bool) -> dict:
 
 def _parquet_bytes(config) -> int:
     from ..scan.running.chunk import OUTPUTS
-    from ..scan.output import PARQUET_BYTES_PER_VALUE
+    from ..jobs.output import PARQUET_BYTES_PER_VALUE
 
     if config.parquet is None:
         return 0
@@ -214,11 +215,13 @@ def run(args) -> int:
     from .._validation import threads_of
     from ..scan import run as run_scan
     from ..scan.config import DEFAULT_CONFIG
-    from ..scan.config.extras import check_extras, scan_extras
-    from ..scan.errors import ScanAborted
-    from ..scan.manifest import new_manifest, write_manifest
-    from ..scan.output import OutputDirectory
-    from ..scan.signals import SignalsHeld, StopSignals
+    from ..jobs.extras import check_extras
+    from ..scan.config.needs import scan_extras
+    from ..scan.running.aborted import ScanAborted
+    from ..jobs.output import OutputDirectory
+    from ..jobs.output.manifest import write_manifest
+    from ..scan.output import new_manifest
+    from ..jobs.signals import SignalsHeld, StopSignals
     from .sobol import compute
 
     if args.show_config:
@@ -252,7 +255,7 @@ def run(args) -> int:
                 with stops:
                     client = _client(args.scheduler)
                     if config.sobol is not None:
-                        sobol = compute(config, config.sobol, config.threads)
+                        sobol = compute(config, config.sobol, config.threads, NAME)
                     parquet = None if config.parquet is None else out.path / config.parquet
                     result = run_scan(config.space, **config.run_kwargs(),
                                       progress=False if args.no_progress else None,
@@ -291,7 +294,7 @@ def run(args) -> int:
 
 def _interrupted_before_the_first_point(out, manifest: dict, name: str) -> int:
     """Record a scan stopped by the signal ``name`` before its first point; its exit code."""
-    from ..scan.manifest import write_manifest
+    from ..jobs.output.manifest import write_manifest
 
     manifest.update(state="interrupted", stopped_by=name)
     write_manifest(out.path, manifest)
@@ -302,7 +305,7 @@ def _interrupted_before_the_first_point(out, manifest: dict, name: str) -> int:
 def _one_line(error) -> str:
     """An error that ended the scan, on one line: a lost cluster's message, else the error's
     type and message."""
-    from ..scan.errors import ScanAborted
+    from ..scan.running.aborted import ScanAborted
 
     text = " ".join(str(error).split())
     if isinstance(error, ScanAborted):
@@ -312,7 +315,7 @@ def _one_line(error) -> str:
 
 def _stopped_by(error) -> str:
     """The manifest's ``stopped_by`` for an error."""
-    from ..scan.errors import ScanAborted
+    from ..scan.running.aborted import ScanAborted
 
     return str(error) if isinstance(error, ScanAborted) else f"{type(error).__name__}: {error}"
 
@@ -320,8 +323,9 @@ def _stopped_by(error) -> str:
 def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None:
     """Print the results, write every table, plot and the manifest; an error while writing is
     recorded in the manifest (state ``failed``, the files written so far) and raised."""
+    from ..jobs import table_formats
     from ..scan import tables
-    from ..scan.manifest import write_manifest
+    from ..jobs.output.manifest import write_manifest
     from .sobol import report, write_indices
 
     try:
@@ -333,12 +337,12 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
         for grouping, columns in tables.grouped_tables(result).items():
             if len(next(iter(columns.values()))) <= MAX_PRINTED_ROWS:
                 unit = f" ({units[grouping]})" if grouping in units else ""
-                print(f"\nby {grouping}{unit}:\n{tables.markdown(columns)}")
+                print(f"\nby {grouping}{unit}:\n{table_formats.markdown(columns)}")
         for name, columns in tables.histogram_tables(result).items():
             if len(columns["points"]) <= MAX_PRINTED_ROWS:
                 unit = tables.OUTPUT_UNITS.get(result[name].of)
                 print(f"\nby {name}" + (f" ({result[name].of} in {unit})" if unit else "")
-                      + f":\n{tables.markdown(columns)}")
+                      + f":\n{table_formats.markdown(columns)}")
         if sobol is not None:
             print(f"\n{report(*sobol)}")
         print()
@@ -376,6 +380,7 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
 def print_default_scan(points: int = MAIN_JOB_POINTS) -> None:
     """The main job's scan: the built-in config on ``points`` points, a compact table (EPC in
     pixels, as everywhere)."""
+    from ..jobs import table_formats
     from ..scan import run as run_scan
     from ..scan import tables
     from ..scan.config import default_config
@@ -390,4 +395,4 @@ def print_default_scan(points: int = MAIN_JOB_POINTS) -> None:
     print("\nDefault scan (epc-fast scan --show-config): EPC over log-uniform 10..100,000 lux "
           "and log-normal hand shake (median 4.39 deg/s), 30 dB met at the image corner:")
     print(headline(result, config.source))
-    print(tables.markdown(compact))
+    print(table_formats.markdown(compact))

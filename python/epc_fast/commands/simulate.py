@@ -116,10 +116,10 @@ def markdown(rows, seed) -> str:
 
 
 def run(args) -> int:
-    from ..scan.config.extras import PLOT, check_extras
-    from ..scan.errors import UsageError
-    from ..scan.output import OutputDirectory
-    from ..scan.signals import SignalsHeld
+    from ..jobs.extras import PLOT, check_extras
+    from ..jobs.errors import UsageError
+    from ..jobs.output import OutputDirectory
+    from ..jobs.signals import SignalsHeld
     from ..simulate.config import load_simulate_config
     from ..simulate.review import review
 

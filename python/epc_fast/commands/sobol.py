@@ -59,18 +59,18 @@ def settings(config, points=None, seed=None):
     return dataclasses.replace(sobol, **overrides).check(config.space)
 
 
-def compute(config, sobol, threads):
+def compute(config, sobol, threads, command: str = NAME):
     """The indices and their wall time in seconds. The arguments are checked already: a
     ValueError here is the space's (points that are not OK, an output without variance), a
-    ConfigError naming [sobol]."""
-    from ..scan.errors import ConfigError
+    ConfigError naming [sobol] of ``command``'s config."""
+    from ..jobs.errors import ConfigError
     from ..scan.indices import sobol_indices
 
     start = time.perf_counter()
     try:
         result = sobol_indices(config.space, **sobol.kwargs(), threads=threads)
     except ValueError as error:
-        raise ConfigError(f"scan config [sobol]: {error}") from None
+        raise ConfigError(f"{command} config [sobol]: {error}") from None
     return result, time.perf_counter() - start
 
 
@@ -81,24 +81,26 @@ def report(result, seconds: float) -> str:
 
 def write_indices(out, result) -> None:
     """sobol.csv (full precision) and sobol.md (the headline and the table), atomically."""
-    from ..scan import tables
+    from ..jobs import table_formats
 
     columns = result.table()
-    out.write("sobol.csv", lambda path: tables.write_csv(path, columns))
+    out.write("sobol.csv", lambda path: table_formats.write_csv(path, columns))
     out.write("sobol.md", lambda path: path.write_text(
-        f"{result.headline()}\n\n{tables.markdown(columns)}\n", encoding="utf-8"))
+        f"{result.headline()}\n\n{table_formats.markdown(columns)}\n", encoding="utf-8"))
 
 
 def run(args) -> int:
     from .._validation import threads_of
+    from ..jobs.extras import SENSITIVITY, check_extras
+    from ..jobs.output import OutputDirectory
+    from ..jobs.schema import config_of
+    from ..jobs.signals import SignalsHeld
     from ..scan.config import default_config, load_config
-    from ..scan.config.extras import SENSITIVITY, check_extras
     from ..scan.config.indices import SOBOL_FILES
-    from ..scan.output import OutputDirectory
-    from ..scan.signals import SignalsHeld
 
-    config = load_config(args.config) if args.config else default_config()
-    sobol = settings(config, args.points, args.seed)
+    with config_of(NAME):
+        config = load_config(args.config, NAME) if args.config else default_config(NAME)
+        sobol = settings(config, args.points, args.seed)
     threads = threads_of(args.threads or config.threads)  # before anything is written
     check_extras([(SENSITIVITY, "Sobol' indices", "")])
     with OutputDirectory(args.out, overwrite=args.overwrite) as out:

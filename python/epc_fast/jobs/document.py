@@ -1,25 +1,28 @@
-"""Files a scan config reads: the config itself and empirical sample files.
+"""A command's config file as a TOML document.
 
-Both are read only when they are regular files within a size bound (``/dev/zero`` or a FIFO
-would never end), as UTF-8; a mistake raises a ConfigError naming the file.
+A file is read only when it is a regular file within a size bound (``/dev/zero`` or a FIFO
+would never end), as UTF-8, and its text parsed as TOML; a mistake raises a ConfigError naming
+the command's config (:func:`~epc_fast.jobs.schema.config_of`) and the file.
 """
 
 from __future__ import annotations
 
-import math
 import os
 import stat
 from pathlib import Path
 
-from ..errors import ConfigError, TooLargeError
-from ..schema import MAX_LIST, MAX_SAMPLE_FILE_BYTES, short, where_prefix
+from .errors import ConfigError, TooLargeError
+from .schema import config_prefix, where_prefix
 
-__all__ = ["read_text", "read_samples"]
+__all__ = ["MAX_CONFIG_BYTES", "read_text", "toml_document"]
+
+#: Bytes of a config file.
+MAX_CONFIG_BYTES = 16 * 2**20
 
 
 def read_text(path: Path, max_bytes: int, where: str | None = None) -> str:
     """The UTF-8 text of the regular file ``path`` of at most ``max_bytes`` bytes."""
-    prefix = f"{where_prefix(where)}: " if where else "scan config: "
+    prefix = f"{where_prefix(where)}: " if where else f"{config_prefix()}: "
     try:
         info = os.stat(path)
     except OSError as error:
@@ -43,29 +46,22 @@ def read_text(path: Path, max_bytes: int, where: str | None = None) -> str:
                           ) from None
 
 
-def read_samples(where: str, name, base: Path) -> tuple:
-    """The finite numbers of a sample file, one a line (blank lines and ``#`` comments
-    skipped), at most :data:`MAX_LIST` of them."""
-    if not isinstance(name, str) or not name:
-        raise ConfigError(f"{where_prefix(where)}: file = {short(name)}: expected a file name")
-    path = base / name
-    text = read_text(path, MAX_SAMPLE_FILE_BYTES, where)
-    samples = []
-    for number, line in enumerate(text.splitlines(), 1):
-        line = line.split("#", 1)[0].strip()
-        if not line:
-            continue
+def _toml():
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python < 3.11
         try:
-            value = float(line)
-        except ValueError:
-            value = math.nan
-        if not math.isfinite(value):
-            raise ConfigError(f"{where_prefix(where)}: file {str(path)!r} line {number}: "
-                              f"{short(line)}: expected one finite number a line")
-        if len(samples) == MAX_LIST:
-            raise TooLargeError(f"{where_prefix(where)}: file {str(path)!r} holds more than "
-                                f"{MAX_LIST:,} samples")
-        samples.append(value)
-    if not samples:
-        raise ConfigError(f"{where_prefix(where)}: file {str(path)!r} holds no sample")
-    return tuple(samples)
+            import tomli as tomllib
+        except ModuleNotFoundError:
+            raise ImportError("reading configs on Python < 3.11 needs tomli: "
+                              "pip install tomli") from None
+    return tomllib
+
+
+def toml_document(text: str, source: str) -> dict:
+    """The TOML document of a config's ``text``; a ConfigError naming ``source`` when it is
+    not TOML."""
+    try:
+        return _toml().loads(text)
+    except _toml().TOMLDecodeError as error:
+        raise ConfigError(f"{config_prefix()} {source}: not valid TOML: {error}") from None

@@ -1,12 +1,12 @@
-"""The errors a scan raises for a user's mistake, as opposed to a fault in the package.
+"""The errors a command raises for a user's mistake, as opposed to a fault in the package.
 
-``epc-fast scan`` prints these as one line and exits with code 2 (a usage error); the others
-are printed as one line with exit code 1 (``--debug`` shows their traceback).
+``epc-fast`` prints these as one line and exits with code 2 (a usage error); the others are
+printed as one line with exit code 1 (``--debug`` shows their traceback).
 """
 
 from __future__ import annotations
 
-__all__ = ["UsageError", "ConfigError", "TooLargeError", "OutputError", "ScanAborted"]
+__all__ = ["UsageError", "ConfigError", "TooLargeError", "OutputError"]
 
 
 class UsageError(ValueError):
@@ -14,7 +14,8 @@ class UsageError(ValueError):
 
 
 class ConfigError(UsageError):
-    """A scan config key with a wrong type or value; the message names table, key and value."""
+    """A config key with a wrong type or value; the message names the command's config,
+    table, key and value."""
 
 
 class TooLargeError(ConfigError, MemoryError):
@@ -22,18 +23,4 @@ class TooLargeError(ConfigError, MemoryError):
 
 
 class OutputError(UsageError):
-    """An output directory or file name the scan refuses to write to."""
-
-
-class ScanAborted(RuntimeError):
-    """A scan that could not go on (e.g. its Dask cluster lost every worker).
-
-    Attributes
-    ----------
-    result : ScanResult or None, the prefix of points merged before the failure, marked
-        ``partial``, when the scan got as far as building it.
-    """
-
-    def __init__(self, message: str):
-        super().__init__(message)
-        self.result = None
+    """An output directory or file name a command refuses to write to."""

@@ -12,10 +12,10 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 
-from ..errors import UsageError
+from .errors import UsageError
 
 __all__ = ["Extra", "MissingExtra", "PLOT", "PARQUET", "DASK", "SENSITIVITY", "OPTIMIZE",
-           "check_extras", "scan_extras"]
+           "check_extras"]
 
 
 class MissingExtra(UsageError, ImportError):
@@ -60,19 +60,3 @@ def check_extras(needs) -> None:
             alternative = f" (or {without})" if without else ""
             raise MissingExtra(f"{extra.package} is needed for {what} and is not installed: "
                                f"pip install 'epc-fast[{extra.name}]'{alternative}")
-
-
-def scan_extras(config, planned, cluster: bool) -> list:
-    """What a scan of ``config`` needs (see :func:`check_extras`): matplotlib when it writes a
-    plot (a ``.png`` among the ``planned`` files), pyarrow for Parquet, dask.distributed on a
-    cluster, SALib for a ``[sobol]`` table."""
-    needs = []
-    if any(str(name).endswith(".png") for name in planned):
-        needs.append((PLOT, "the scan's plots", "--no-plots"))
-    if config.parquet is not None:
-        needs.append((PARQUET, "the Parquet points ([output] parquet)", "no [output] parquet"))
-    if cluster:
-        needs.append((DASK, "a scan on a cluster (--scheduler)", ""))
-    if config.sobol is not None:
-        needs.append((SENSITIVITY, "the [sobol] table's Sobol' indices", ""))
-    return needs

@@ -1,50 +1,61 @@
-"""Typed checks of scan config values, and the bounds on every size a config controls.
+"""Typed checks of a command's config values, each message naming the command's config.
 
 Each check takes ``where`` (the TOML table, e.g. ``reductions.best``), the key and the value,
-and returns the value in its Python type or raises :class:`~epc_fast.scan.errors.ConfigError`
-with one line naming all three and what was expected. Types are strict: a string is never a
-boolean or a list, a float with a fraction is never an integer, NaN and infinities are never
-numbers. A float that is a whole number is an integer (TOML writes large counts as ``1e6``).
+and returns the value in its Python type or raises :class:`~epc_fast.jobs.errors.ConfigError`
+with one line naming the config (``simulate config [simulate]``), the key and the value and
+what was expected. A command's parser reads its config inside :func:`config_of` (its name);
+every check and every message of a shared parser (a scan space's, read by ``scan``,
+``optimize`` and ``simulate`` alike) names that command's config. Types are strict: a string is
+never a boolean or a list, a float with a fraction is never an integer, NaN and infinities are
+never numbers. A float that is a whole number is an integer (TOML writes large counts as
+``1e6``).
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import re
 
 from .._validation import short
 from .errors import ConfigError, TooLargeError
 
-__all__ = ["MAX_POINTS", "MAX_CHUNK_POINTS", "MAX_TOP_K", "MAX_GROUPS", "MAX_CELLS",
-           "MAX_LIST", "MAX_SAMPLE_FILE_BYTES", "MAX_EXACT_QUANTILE_POINTS", "MAX_CONFIG_BYTES",
-           "where_prefix", "short", "integer", "number", "boolean", "string", "choice",
-           "number_list", "table_of", "take", "wrapped", "file_name", "check_size"]
+__all__ = ["MAX_LIST", "config_of", "config_prefix", "where_prefix", "short", "integer",
+           "number", "boolean", "string", "choice", "number_list", "table_of", "take", "wrapped",
+           "file_name", "check_size"]
 
-#: Points of one scan: 10^12 is a week of one machine, minutes of a large cluster.
-MAX_POINTS = 10**12
-#: Points per chunk: memory is ~200 bytes a point, so 2^24 points is ~3.4 GB per chunk.
-MAX_CHUNK_POINTS = 1 << 24
-#: k of a top-k reduction: each kept point holds every varying parameter (8 bytes each).
-MAX_TOP_K = 1_000_000
-#: Groups of one reduction (the product of its ``by`` parts' sizes).
-MAX_GROUPS = 1_000_000
-#: Groups times bins of one histogram or streamed quantiles (8 bytes a cell, held twice).
-MAX_CELLS = 20_000_000
 #: Values in one list (grid, choice, weights, edges, samples, q).
 MAX_LIST = 1_000_000
-#: Bytes of an empirical sample file (one value a line).
-MAX_SAMPLE_FILE_BYTES = 64 * 2**20
-#: ``exact_up_to`` of quantiles: 16 bytes a kept value, so 2^26 is ~1 GB.
-MAX_EXACT_QUANTILE_POINTS = 1 << 26
-#: Bytes of a config file.
-MAX_CONFIG_BYTES = 16 * 2**20
+
+#: The command whose config is being read ("scan", "optimize", ...); None: a config alone.
+_COMMAND = contextvars.ContextVar("command", default=None)
 
 #: A name that becomes a file name: a letter or digit, then letters, digits, _ - and dots.
 _FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.-]{0,99}")
 
 
+@contextlib.contextmanager
+def config_of(command: str):
+    """Within the block, a config's messages name ``command``'s config (``"optimize"``:
+    ``optimize config [optimize]: ...``)."""
+    token = _COMMAND.set(command)
+    try:
+        yield
+    finally:
+        _COMMAND.reset(token)
+
+
+def config_prefix() -> str:
+    """How a message names the config being read: ``"scan config"``, or ``"config"`` outside
+    :func:`config_of`."""
+    command = _COMMAND.get()
+    return "config" if command is None else f"{command} config"
+
+
 def where_prefix(where: str) -> str:
-    return f"scan config [{where}]"
+    """How a message names table ``where`` of the config being read: ``"scan config [scan]"``."""
+    return f"{config_prefix()} [{where}]"
 
 
 def _fail(where: str, key: str, value, expected: str, cls=ConfigError):

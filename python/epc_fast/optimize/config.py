@@ -1,7 +1,8 @@
 """Optimiser configurations in TOML, for ``epc-fast optimize``.
 
 The scene and the fixed design are a scan config's ``[design]``, ``[parameters]`` and
-``[evaluate]`` tables, read by the scan's own parser (:func:`epc_fast.scan.config.parse_space`);
+``[evaluate]`` tables, read by the scan's own parser (:func:`epc_fast.scan.config.parse_space`,
+its messages naming the optimize config);
 ``[optimize]`` replaces ``[scan]`` and ``[reductions]``::
 
     [optimize]                   # points (required), seed, batches, threads, start_grid,
@@ -12,7 +13,7 @@ The scene and the fixed design are a scan config's ``[design]``, ``[parameters]`
                                  #   "probability_at_least" (target_pixels)
 
 Every key is checked before any work; a mistake raises
-:class:`~epc_fast.scan.errors.ConfigError` naming the table, the key and the value.
+:class:`~epc_fast.jobs.errors.ConfigError` naming the table, the key and the value.
 """
 
 from __future__ import annotations
@@ -24,11 +25,11 @@ from ..api import MAX_THREADS
 from .objectives import OBJECTIVES
 from .checks import checked_bounds, whole_numbers_only
 from .problem import DEFAULT_BATCHES, DEFAULT_XTOL, MIN_BATCH_POINTS, design_readout
-from ..scan.config import parse_space, toml_document
-from ..scan.config.files import read_text
-from ..scan.errors import ConfigError
-from ..scan.schema import (MAX_CONFIG_BYTES, choice, integer, number, number_list, short,
-                          table_of, take, wrapped)
+from ..jobs.document import MAX_CONFIG_BYTES, read_text, toml_document
+from ..scan.config import parse_space
+from ..jobs.errors import ConfigError
+from ..jobs.schema import (choice, config_of, config_prefix, integer, number, number_list,
+                           short, table_of, take, wrapped)
 from ..scan.sampling.distributions import Grid
 from ..scan.sampling.qmc import SAMPLINGS
 from ..scan.sampling.space import POINT_PARAMETERS, Space, domain_problem
@@ -95,23 +96,23 @@ class OptimizeConfig:
 def _bounds(table) -> dict:
     table = table_of("optimize.bounds", table)
     if not table:
-        raise ConfigError("scan config [optimize.bounds]: give at least one parameter as "
+        raise ConfigError(f"{config_prefix()} [optimize.bounds]: give at least one parameter as "
                           "name = [low, high], e.g. pixel_pitch_um = [0.8, 4.0]")
     bounds = {}
     for name, value in table.items():
         if name not in POINT_PARAMETERS:
-            raise ConfigError(f"scan config [optimize.bounds]: unknown parameter {short(name)}; "
-                              f"the parameters are {', '.join(POINT_PARAMETERS)}")
+            raise ConfigError(f"{config_prefix()} [optimize.bounds]: unknown parameter "
+                              f"{short(name)}; the parameters are {', '.join(POINT_PARAMETERS)}")
         pair = number_list("optimize.bounds", name, value, min_length=2)
         if whole_numbers_only(name):  # before [parameters] holds its midpoint, not whole
-            raise ConfigError(f"scan config [optimize.bounds]: {name} = {short(value)}: "
+            raise ConfigError(f"{config_prefix()} [optimize.bounds]: {name} = {short(value)}: "
                               + whole_numbers_only(name))
         if len(pair) != 2 or not pair[0] < pair[1]:
-            raise ConfigError(f"scan config [optimize.bounds]: {name} = {short(value)}: "
+            raise ConfigError(f"{config_prefix()} [optimize.bounds]: {name} = {short(value)}: "
                               "expected [low, high] with low < high")
         problem = domain_problem(name, Grid(tuple(pair)))
         if problem:
-            raise ConfigError(f"scan config [optimize.bounds]: {name} = {short(value)}: "
+            raise ConfigError(f"{config_prefix()} [optimize.bounds]: {name} = {short(value)}: "
                               + problem.split(": ", 1)[1].replace("every value", "both bounds"))
         bounds[name] = (float(pair[0]), float(pair[1]))
     return bounds
@@ -129,7 +130,12 @@ def _objective(table):
 
 def parse_optimize_config(text: str, base_dir=".", source: str = "<string>") -> OptimizeConfig:
     """An :class:`OptimizeConfig` from TOML text; files it names are relative to
-    ``base_dir``."""
+    ``base_dir``. Its mistakes name the optimize config (``optimize config [optimize]: ...``)."""
+    with config_of("optimize"):
+        return _optimize_config(text, base_dir, source)
+
+
+def _optimize_config(text: str, base_dir, source: str) -> OptimizeConfig:
     document = toml_document(text, source)
     take(document, "top level", required=("optimize",),
          optional=("design", "parameters", "evaluate"))
@@ -142,7 +148,7 @@ def parse_optimize_config(text: str, base_dir=".", source: str = "<string>") -> 
     parameters = table_of("parameters", document.get("parameters", {}))
     given = sorted(set(parameters) & set(bounds))
     if given:
-        raise ConfigError(f"scan config [parameters]: {', '.join(given)} is optimised "
+        raise ConfigError(f"{config_prefix()} [parameters]: {', '.join(given)} is optimised "
                           "([optimize.bounds]); remove it from [parameters]")
     # The optimised parameters at their midpoints: the space needs a value; each candidate
     # replaces it.
@@ -155,13 +161,13 @@ def parse_optimize_config(text: str, base_dir=".", source: str = "<string>") -> 
     points = integer("optimize", "points", table["points"], 1, MAX_OPTIMIZE_POINTS, size=True)
     batches = integer("optimize", "batches", table.get("batches", DEFAULT_BATCHES), 0, 1000)
     if space.is_random and (batches == 1 or (batches and points // batches < MIN_BATCH_POINTS)):
-        raise ConfigError(f"scan config [optimize]: batches = {batches}: expected 0 or 2 and "
+        raise ConfigError(f"{config_prefix()} [optimize]: batches = {batches}: expected 0 or 2 and "
                           f"more, each of at least {MIN_BATCH_POINTS} of the {points:,} points")
     sampling = choice("optimize", "sampling", table.get("sampling", "monte_carlo"), SAMPLINGS)
     unit = space.grid_size * DEFAULT_BATCHES
     if sampling == "sobol" and space.is_random and (batches not in (0, DEFAULT_BATCHES)
                                                     or points % unit):
-        raise ConfigError(f"scan config [optimize]: sampling = \"sobol\" draws "
+        raise ConfigError(f"{config_prefix()} [optimize]: sampling = \"sobol\" draws "
                           f"{DEFAULT_BATCHES} replicates, which are the batches: expected "
                           f"batches = {DEFAULT_BATCHES} or 0 and points a multiple of {unit}; "
                           f"got batches = {batches}, points = {points}")
@@ -183,4 +189,6 @@ def parse_optimize_config(text: str, base_dir=".", source: str = "<string>") -> 
 def load_optimize_config(path) -> OptimizeConfig:
     """An :class:`OptimizeConfig` from a TOML file (UTF-8, at most 16 MB)."""
     path = Path(path)
-    return parse_optimize_config(read_text(path, MAX_CONFIG_BYTES), path.parent, str(path))
+    with config_of("optimize"):
+        text = read_text(path, MAX_CONFIG_BYTES)
+    return parse_optimize_config(text, path.parent, str(path))

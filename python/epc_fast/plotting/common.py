@@ -50,10 +50,10 @@ def figure_class(what: str = "plotting", without: str = ""):
 
 
 def save_figure(figure, path, dpi: int = 110, file_format: str | None = None) -> Path:
-    """Write ``figure`` to ``path`` whole or not at all (:func:`epc_fast.scan.atomic.atomic_write`);
+    """Write ``figure`` to ``path`` whole or not at all (:func:`epc_fast.jobs.atomic.atomic_write`);
     in ``file_format`` ("png", "pdf", "svg", ...), by default the path's suffix, PNG without one.
     Returns the path."""
-    from ..scan.atomic import atomic_write
+    from ..jobs.atomic import atomic_write
 
     path = Path(path)
     file_format = file_format or path.suffix.lstrip(".").lower() or "png"
@@ -134,9 +134,9 @@ def space_conditions(space, *, points=None, seed=None, skip=(), extra=()) -> lis
     """:func:`conditions_lines` of a scan's or an optimisation's space
     (:class:`epc_fast.scan.Space`): its designs, where each meets its SNR target, its other
     parameters (``skip`` left out: the axes the figure draws) as the scene, and every term
-    it turns on beside them (:func:`epc_fast.scan.terms.terms_on`: a colour filter, lens
+    it turns on beside them (:func:`epc_fast.terms.terms_on`: a colour filter, lens
     tables, the designs' stabilisation, read noise, ...)."""
-    from ..scan.terms import terms_on
+    from ..terms import terms_on
 
     scene = "; ".join(f"{name} {axis!r}" for name, axis in space.axes.items()
                       if name != "design" and name not in skip)
@@ -150,8 +150,8 @@ def designs_conditions(designs, lux) -> list[str]:
     """:func:`conditions_lines` of a figure of presets' ``designs`` (:class:`epc_fast.presets.
     Design`) over the illuminances ``lux``: their names, SNR targets, the scene (illuminance
     the x axis, every other parameter the design's own or evaluate's default), the points, and
-    every term the designs turn on (:func:`epc_fast.scan.terms.designs_terms`)."""
-    from ..scan.terms import default_values, designs_terms, readout_terms
+    every term the designs turn on (:func:`epc_fast.terms.designs_terms`)."""
+    from ..terms import default_values, designs_terms, readout_terms
 
     targets = [f"{design.evaluate_kwargs()['snr_db']:g} dB at {design.snr_at_text}"
                for design in designs]

@@ -2,7 +2,7 @@
 (:func:`design_dict`), and a parameter that some designs give and others leave out filled in
 those at the value evaluate gives that design alone (:func:`fill_left_out`): evaluate's
 default, and under a Bayer sensor the colour filter's ``cfa_transmittance`` and
-``color_noise_gain`` (:func:`epc_fast.scan.terms.default_values`), not the monochrome 1.
+``color_noise_gain`` (:func:`epc_fast.terms.default_values`), not the monochrome 1.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from ..presets import Design
 from ..sensor import design_parameters
 from .running.readout_modes import READOUT_KEYS
-from .terms import default_values
+from ..terms import default_values
 
 __all__ = ["design_dict", "fill_left_out"]
 

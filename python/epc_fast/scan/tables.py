@@ -1,22 +1,16 @@
-"""A scan's results as tables: one row per group, written as CSV or markdown.
-
-Text cells come from users (design names): a CSV cell starting with ``=``, ``+``, ``-``, ``@``,
-a tab or a carriage return gets a leading ``'`` so that a spreadsheet shows it as text instead
-of running it as a formula; a markdown cell has its pipes escaped and line breaks as spaces.
+"""A scan's results as tables: one row per group, as columns for the CSV and markdown
+writers of :mod:`epc_fast.jobs.table_formats`.
 """
 
 from __future__ import annotations
-
-import csv
-import numbers
 
 import numpy as np
 
 from .running.runner import ScanResult
 
 __all__ = ["grouped_tables", "grouping_units", "table_groupings", "file_stem", "top_k_columns",
-           "histogram_tables", "HISTOGRAM_BINS", "write_csv", "markdown", "partial_note", "marked_partial", "SNR_TARGET_COLUMN",
-           "OUTPUT_UNITS", "PARTIAL_COLUMN", "NO_VALUE"]
+           "histogram_tables", "HISTOGRAM_BINS", "partial_note", "marked_partial",
+           "SNR_TARGET_COLUMN", "OUTPUT_UNITS", "PARTIAL_COLUMN"]
 
 #: The column, after ``design``, that says where each design meets its SNR target.
 SNR_TARGET_COLUMN = "SNR target"
@@ -26,14 +20,9 @@ OUTPUT_UNITS = {"electron_rate_e_per_s": "e-/s", "electrons": "e-", "t_mpe_s": "
 
 #: The column every table of a partial scan ends with: the points done of those asked for.
 PARTIAL_COLUMN = "partial: points done"
-#: What a Markdown cell shows for a statistic with no value (NaN: a group with no finite value).
-NO_VALUE = "–"
 
 #: The ``bin`` column of a histogram's table: the slots around the numbered bins.
 HISTOGRAM_BINS = ("below", "above", "not finite")
-
-#: First characters that make a spreadsheet read a CSV cell as a formula.
-FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
 
 
 def _same_groups(a: dict, b: dict) -> bool:
@@ -152,36 +141,6 @@ def histogram_tables(result: ScanResult) -> dict:
     return found
 
 
-def write_csv(path, columns: dict) -> None:
-    """One header row, then one row per entry; floats at full precision."""
-    with open(path, "w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(columns)
-        writer.writerows(zip(*(map(_csv_value, v) for v in columns.values())))
-
-
-def _csv_value(value):
-    if isinstance(value, numbers.Integral):
-        return int(value)
-    if isinstance(value, numbers.Real):
-        return repr(float(value))
-    text = str(value)
-    return "'" + text if text.startswith(FORMULA_STARTS) else text
-
-
-def _cell(value) -> str:
-    if isinstance(value, numbers.Integral):
-        return f"{int(value):,}"
-    if isinstance(value, numbers.Real):
-        value = float(value)
-        if np.isnan(value):
-            return NO_VALUE
-        if not np.isfinite(value):
-            return str(value)
-        return f"{value:,.0f}" if abs(value) >= 1000 else f"{value:.4g}"
-    return " ".join(str(value).replace("|", "\\|").splitlines())
-
-
 def partial_note(result: ScanResult) -> str:
     """What marks every file of a partial scan: ``"PARTIAL RESULTS: 120,000 of 1,000,000
     points"``; empty for a complete one."""
@@ -198,14 +157,3 @@ def marked_partial(columns: dict, result: ScanResult) -> dict:
     rows = len(next(iter(columns.values()))) if columns else 0
     done = f"{result.points} of {result.points_requested}"
     return {**columns, PARTIAL_COLUMN: [done] * rows}
-
-
-def markdown(columns: dict) -> str:
-    """A markdown table: integers and values >= 1000 with thousands separators, others to 4
-    significant digits, a statistic with no value (NaN) a dash."""
-    if not columns:
-        return ""
-    header = "| " + " | ".join(map(_cell, columns)) + " |"
-    rule = "|" + "|".join("---" for _ in columns) + "|"
-    rows = ["| " + " | ".join(_cell(v) for v in row) + " |" for row in zip(*columns.values())]
-    return "\n".join([header, rule, *rows])

@@ -11,7 +11,7 @@ parser (:func:`epc_fast.scan.config.parse_space`), so that one config serves bot
                                  #   (pixels)
 
 Every key is checked before any capture; a mistake raises
-:class:`~epc_fast.scan.errors.ConfigError` naming the table, the key, the value and what is
+:class:`~epc_fast.jobs.errors.ConfigError` naming the table, the key, the value and what is
 expected.
 """
 
@@ -20,11 +20,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..scan.config import parse_space, toml_document
-from ..scan.config.files import read_text
-from ..scan.errors import ConfigError
-from ..scan.schema import MAX_CONFIG_BYTES, integer, number, short, table_of, take
-from ..scan.terms import terms_on
+from ..jobs.document import MAX_CONFIG_BYTES, read_text, toml_document
+from ..scan.config import parse_space
+from ..jobs.errors import ConfigError
+from ..jobs.schema import config_of, config_prefix, integer, number, short, table_of, take
+from ..terms import terms_on
 from .agreement import MAX_EDGE_COLUMNS
 from .camera import GAIN_RTOL
 from .charts import MIN_EDGE_PX
@@ -59,7 +59,7 @@ class SimulateConfig:
     source : str, the file it came from.
     text : str, the TOML it was read from.
     terms : list of str, the model terms the designs turn on, for people
-        (:func:`epc_fast.scan.terms.terms_on`).
+        (:func:`epc_fast.terms.terms_on`).
     """
 
     designs: list
@@ -96,7 +96,7 @@ def _check_star(settings: dict, designs) -> None:
         for pitch in _output_pitches_um(kwargs):
             pixels = round(width / pitch)
             if not MIN_STAR_PX <= pixels <= MAX_CHART_PX:
-                raise ConfigError(f"scan config [simulate]: star_width_um = {short(width)}: "
+                raise ConfigError(f"{config_prefix()} [simulate]: star_width_um = {short(width)}: "
                                   f"expected a width of {MIN_STAR_PX} to {MAX_CHART_PX:,} "
                                   f"pixels of every design, got {pixels:,} pixels of {name!r} "
                                   f"({pitch:g} um)")
@@ -112,7 +112,7 @@ def _check_colour(designs) -> None:
         given = kwargs.get("color_noise_gain")
         own = color_noise_gain() if kwargs.get("cfa", "none") == "bayer" else 1.0
         if given is not None and not abs(given - own) <= GAIN_RTOL * own:
-            raise ConfigError(f"scan config [design] {name!r}: color_noise_gain = {given:g}: "
+            raise ConfigError(f"{config_prefix()} [design] {name!r}: color_noise_gain = {given:g}: "
                               f"expected the capture's own, {own:.4g} (its filters'), or none")
 
 
@@ -133,7 +133,13 @@ def _designs(space) -> list:
 
 
 def parse_simulate_config(text: str, source: str = "<string>") -> SimulateConfig:
-    """A :class:`SimulateConfig` from TOML text, every key checked."""
+    """A :class:`SimulateConfig` from TOML text, every key checked; its mistakes name the
+    simulate config (``simulate config [design]: ...``)."""
+    with config_of("simulate"):
+        return _simulate_config(text, source)
+
+
+def _simulate_config(text: str, source: str) -> SimulateConfig:
     document = toml_document(text, source)
     take(document, "top level", required=("design",), optional=("evaluate", "simulate"))
     settings = _settings(document.get("simulate", {}))
@@ -151,4 +157,6 @@ def parse_simulate_config(text: str, source: str = "<string>") -> SimulateConfig
 def load_simulate_config(path) -> SimulateConfig:
     """A :class:`SimulateConfig` from a TOML file (UTF-8, at most 16 MB)."""
     path = Path(path)
-    return parse_simulate_config(read_text(path, MAX_CONFIG_BYTES), str(path))
+    with config_of("simulate"):
+        text = read_text(path, MAX_CONFIG_BYTES)
+    return parse_simulate_config(text, str(path))

@@ -115,7 +115,7 @@ class Review:
     cells : tuple of tuples of :class:`Cell`, ``cells[design][light]``.
     settings : dict, the charts and seed (:data:`DEFAULTS`' keys).
     terms : tuple of str, the model terms the designs turn on, for people (a config's
-        :func:`epc_fast.scan.terms.terms_on`; empty: none said).
+        :func:`epc_fast.terms.terms_on`; empty: none said).
     """
 
     designs: tuple

@@ -11,7 +11,7 @@ import pytest
 import epc_fast.scan.running.dask_backend as dask_backend
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import BLOCK_POINTS, LogUniform, Space, Summary, run
-from epc_fast.scan.errors import ScanAborted
+from epc_fast.scan.running.aborted import ScanAborted
 from helpers.scan import SPACE as EVERY_KIND_SPACE
 from helpers.scan import assert_same_numbers, every_reduction
 
@@ -143,7 +143,7 @@ def test_no_worker_writes_into_the_parquet_directory_after_the_command_returns(
     import json
     import threading
 
-    import epc_fast.scan.manifest as manifest_module
+    import epc_fast.jobs.output.manifest as manifest_module
     import epc_fast.scan.running.parquet as parquet
     from epc_fast.__main__ import main
 

@@ -1,7 +1,7 @@
-"""The output directory of ``epc-fast scan``: one policy for everything a scan writes.
+"""The output directory of an ``epc-fast`` command: one policy for everything a run writes.
 
 - One run writes in a directory at a time: :meth:`OutputDirectory.prepare` takes its lock
-  (:mod:`~epc_fast.scan.output.lock`) before anything else, refuses it while another run
+  (:mod:`~epc_fast.jobs.output.lock`) before anything else, refuses it while another run
   holds it, and takes it over, saying so, from a run that died; :meth:`OutputDirectory.close`
   (or the end of a ``with`` block) releases it.
 - Everything stays inside the directory: file names are checked (no separator, no ``..``) and
@@ -9,13 +9,13 @@
 - A directory that is not empty is refused unless ``overwrite``; then the files this run
   writes are replaced, and the previous run's files it will not write are removed before the
   first point (those its manifest lists, its Parquet parts, and the names an ``epc-fast``
-  command always writes, :data:`~epc_fast.scan.output.plan.COMMAND_FILES`), so no file of
+  command always writes, :data:`COMMAND_FILES`), so no file of
   another run is left beside this run's; nothing else is touched. A dead run's temporary
   files (and its lock file) are removed, and do not make the directory "not empty".
 - Before the first point: the directory is created, a probe file is written and removed
   (writability), and its free space is compared with what the scan will write.
 - Every file is written to a temporary name in the same directory and renamed into place
-  (:func:`~epc_fast.scan.atomic.atomic_write`).
+  (:func:`~epc_fast.jobs.atomic.atomic_write`).
 """
 
 from __future__ import annotations
@@ -28,12 +28,19 @@ from pathlib import Path
 
 from ..atomic import TEMPORARY_SUFFIX, atomic_write, probe_writable
 from ..errors import OutputError
-from ..manifest import describe, read_manifest
-from ..running.parquet import STAGING_PREFIX
 from .lock import LOCK_NAME, OutputLock
-from .plan import COMMAND_FILES
+from .manifest import MANIFEST_NAME, describe, read_manifest
 
-__all__ = ["OutputDirectory", "TABLE_BYTES", "PARQUET_BYTES_PER_VALUE"]
+__all__ = ["OutputDirectory", "TABLE_BYTES", "PARQUET_BYTES_PER_VALUE", "STAGING_PREFIX",
+           "COMMAND_FILES"]
+
+#: The file names an ``epc-fast`` command writes whatever its config: ``optimize``'s four,
+#: ``sobol``'s two and the scan's manifest (which lists the scan's other files). ``--overwrite``
+#: removes these, and those the previous manifest lists, when the run will not write them.
+COMMAND_FILES = frozenset({"optimum.json", "optimum.md", "curve.csv", "curve.png",
+                           "sobol.csv", "sobol.md", MANIFEST_NAME})
+#: The start of the name of a run's staging directory for its Parquet parts.
+STAGING_PREFIX = ".run-"
 
 #: Bytes kept free for tables, plots and the manifest.
 TABLE_BYTES = 16 * 2**20

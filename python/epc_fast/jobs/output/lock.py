@@ -72,7 +72,7 @@ def _read_holder(descriptor: int) -> dict:
 class OutputLock:
     """The lock of the directory ``directory`` (which exists).
 
-    :meth:`acquire` takes it or raises :class:`~epc_fast.scan.errors.OutputError` naming the
+    :meth:`acquire` takes it or raises :class:`~epc_fast.jobs.errors.OutputError` naming the
     holder; it returns the holder taken over from (a run that died holding it), or None.
     :meth:`release` gives it back and removes the file.
     """

@@ -1,10 +1,12 @@
-"""A scan's manifest, ``manifest.json`` in its output directory: what ran and how far it got.
+"""A scan's manifest, ``manifest.json`` in its output directory: what ran and how far it got,
+written and read here for every command's output directory (the scan's first record:
+:func:`epc_fast.scan.output.record.new_manifest`).
 
 It records the config (its TOML text and the command line's overrides), the seed, the epc_fast
 version and core build, the points asked for and done, ``partial``, the state (``running``
 while the scan runs, updated after every merged chunk; then ``complete``, ``interrupted`` or
 ``failed``) and the files written. A directory whose manifest still says ``running`` and
-whose lock no run holds (:mod:`~epc_fast.scan.output.lock`) was left by a scan that was killed.
+whose lock no run holds (:mod:`~epc_fast.jobs.output.lock`) was left by a scan that was killed.
 
 A scan's last record (any state but ``running``) is written even on a full disk: every
 manifest's file keeps :data:`RESERVE_BYTES` of spaces after its JSON (which JSON ignores), and
@@ -22,10 +24,10 @@ import sys
 import time
 from pathlib import Path
 
-from .atomic import atomic_write
+from ..atomic import atomic_write
 
-__all__ = ["MANIFEST_NAME", "FORMAT", "RESERVE_BYTES", "new_manifest", "write_manifest", "read_manifest",
-           "describe"]
+__all__ = ["MANIFEST_NAME", "FORMAT", "RESERVE_BYTES", "write_manifest", "read_manifest",
+           "describe", "now_utc"]
 
 MANIFEST_NAME = "manifest.json"
 FORMAT = "epc_fast scan manifest 1"
@@ -36,20 +38,9 @@ RESERVE_BYTES = 4096
 _NO_ROOM = (errno.ENOSPC, errno.EDQUOT)
 
 
-def _now() -> str:
+def now_utc() -> str:
+    """The time now in UTC, as a manifest records it."""
     return time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
-
-
-def new_manifest(config, overrides: dict, points: int) -> dict:
-    """The manifest of a scan about to start (state ``running``, no point done)."""
-    from .. import __version__, _core
-
-    return {"format": FORMAT, "epc_fast_version": __version__, "core_isa": _core.isa,
-            "config_source": config.source, "config": config.text, "overrides": overrides,
-            "seed": config.seed, "points_requested": points, "points_done": 0,
-            "chunk_points": config.chunk_points, "partial": True, "state": "running",
-            "stopped_by": None, "parquet": config.parquet, "files": [],
-            "started_utc": _now(), "updated_utc": _now()}
 
 
 def write_manifest(directory, manifest: dict) -> Path:
@@ -59,7 +50,7 @@ def write_manifest(directory, manifest: dict) -> Path:
     written in place over the previous record; when it cannot be written at all, stderr says
     so before the error is raised.
     """
-    manifest["updated_utc"] = _now()
+    manifest["updated_utc"] = now_utc()
     text = json.dumps(manifest, indent=1) + "\n"
     path = Path(directory) / MANIFEST_NAME
     try:

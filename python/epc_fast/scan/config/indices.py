@@ -20,8 +20,8 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass
 
-from ..errors import ConfigError
-from ..schema import check_size, choice, integer, number, short, table_of, take, wrapped
+from ...jobs.errors import ConfigError
+from ...jobs.schema import check_size, choice, integer, number, short, table_of, take, wrapped
 from ..indices.estimate import (MAX_BOOTSTRAP_VALUES, MAX_DESIGN_VALUES, MIN_POINTS, NOT_OK_POLICIES,
                     OUTPUTS, design_rows, random_parameters)
 

@@ -38,8 +38,8 @@ The format, section by section (every value in the unit of the parameter it sets
                                  #   the space (config_sobol.py)
 
 Every key is checked before any work (its type, its range, and every size it controls, against
-the bounds in :mod:`epc_fast.scan.schema`); a mistake raises
-:class:`~epc_fast.scan.errors.ConfigError` naming the table, the key and the value.
+the bounds in :mod:`epc_fast.jobs.schema`); a mistake raises
+:class:`~epc_fast.jobs.errors.ConfigError` naming the table, the key and the value.
 
 :data:`DEFAULT_CONFIG` is the scan ``epc-fast scan`` runs without a file.
 """
@@ -51,17 +51,19 @@ from pathlib import Path
 
 from ... import presets
 from ...api import F50_SOLVERS, MAX_THREADS, PRECISIONS, T_MPE_SOLVERS
-from .files import read_samples, read_text
+from ...jobs.document import MAX_CONFIG_BYTES, read_text, toml_document
 from .reductions import check_reductions, parse_reductions
 from .indices import SobolConfig, parse_sobol
 from ..sampling.distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
                             Uniform)
-from ..errors import ConfigError
+from ...jobs.errors import ConfigError
 from ..sampling.qmc import MAX_REPLICATES, SAMPLINGS
 from ..running.runner import DEFAULT_CHUNK_POINTS, sampled_scan
-from ..schema import (MAX_CHUNK_POINTS, MAX_CONFIG_BYTES, MAX_GROUPS, MAX_LIST, MAX_POINTS,
-                     boolean, check_size, choice, file_name, integer, number, number_list, short,
-                     string, table_of, take, wrapped)
+from ...jobs.schema import (MAX_LIST, boolean, check_size, choice, config_of, config_prefix,
+                           file_name, integer, number, number_list, short, string, table_of,
+                           take, wrapped)
+from .bounds import MAX_CHUNK_POINTS, MAX_GROUPS, MAX_POINTS
+from .samples import read_samples
 from ...mtf_table import lens_tables_of
 from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
@@ -171,60 +173,48 @@ class ScanConfig:
                 "sampling": self.sampling, "replicates": self.replicates}
 
 
-def _toml():
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python < 3.11
-        try:
-            import tomli as tomllib
-        except ModuleNotFoundError:
-            raise ImportError("reading scan configs on Python < 3.11 needs tomli: "
-                              "pip install tomli") from None
-    return tomllib
-
-
 def _designs(table: dict):
     take(table, "design", optional=("presets", "custom", "sampling", "weights"))
     designs = []
     names = table.get("presets", [])
     if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
-        raise ConfigError(f"scan config [design]: presets = {short(names)}: expected a list of "
-                          'preset names, e.g. ["HIGH_TIER"]')
+        raise ConfigError(f"{config_prefix()} [design]: presets = {short(names)}: expected a list "
+                          'of preset names, e.g. ["HIGH_TIER"]')
     #: {design name: where it was given}: a name names one design only.
     named = {}
     for name in names:
         found = getattr(presets, name, None) if name.isidentifier() else None
         if not (isinstance(found, presets.Design) or (isinstance(found, tuple) and found
                                                       and isinstance(found[0], presets.Design))):
-            raise ConfigError(f"scan config [design]: presets: {short(name)} is not a preset "
+            raise ConfigError(f"{config_prefix()} [design]: presets: {short(name)} is not a preset "
                               "of epc_fast.presets (e.g. HIGH_TIER, LOW_TIER, ZOOM_3X)")
         for design in found if isinstance(found, tuple) else (found,):
             if design.name in named:
-                raise ConfigError(f"scan config [design]: presets: {short(name)} gives the "
+                raise ConfigError(f"{config_prefix()} [design]: presets: {short(name)} gives the "
                                   f"design {short(design.name)} a second time")
             named[design.name] = f"the preset {name}'s design"
             designs.append(design)
     custom = table.get("custom", [])
     if not isinstance(custom, list) or len(custom) > MAX_LIST:
-        raise ConfigError(f"scan config [design]: custom = {short(custom)}: expected "
+        raise ConfigError(f"{config_prefix()} [design]: custom = {short(custom)}: expected "
                           "[[design.custom]] tables")
     for index, entry in enumerate(custom):
         design = _custom_design(entry, index)
         # Space names a design without a name by its position.
         name = design.get("name", f"design {len(designs)}")
         if name in named:
-            raise ConfigError(f"scan config [design.custom[{index}]]: name = {short(name)}: "
+            raise ConfigError(f"{config_prefix()} [design.custom[{index}]]: name = {short(name)}: "
                               f"expected a name no other design has ({named[name]} is named "
                               f"{short(name)})")
         named[name] = f"[design.custom[{index}]]"
         designs.append(design)
     check_size("design", "designs", len(designs), MAX_GROUPS, 64)
     if not designs:
-        raise ConfigError("scan config [design]: give presets or [[design.custom]] entries")
+        raise ConfigError(f"{config_prefix()} [design]: give presets or [[design.custom]] entries")
     sampling = choice("design", "sampling", table.get("sampling", "grid"), ("grid", "choice"))
     if sampling == "grid":
         if "weights" in table:
-            raise ConfigError("scan config [design]: weights need sampling = \"choice\"")
+            raise ConfigError(f"{config_prefix()} [design]: weights need sampling = \"choice\"")
         return wrapped("design", lambda: Grid(designs))
     weights = table.get("weights")
     if weights is not None:
@@ -243,7 +233,7 @@ def _custom_design(entry, index: int) -> dict:
     design = {}
     for key, value in entry.items():
         if key not in known:
-            raise ConfigError(f"scan config [{where}]: unknown key {short(key)}; a design "
+            raise ConfigError(f"{config_prefix()} [{where}]: unknown key {short(key)}; a design "
                               "gives parameters of epc_fast.evaluate (pixel_pitch_um, "
                               "f_number, focal_length_mm, ...), its sensor (sensor_width_mm "
                               "and sensor_height_mm, or sensor_diagonal_mm and aspect, or "
@@ -252,7 +242,7 @@ def _custom_design(entry, index: int) -> dict:
         if key in ("name", "snr_at"):
             design[key] = string(where, key, value)
             if key == "name" and not any(c.isalnum() for c in value):
-                raise ConfigError(f"scan config [{where}]: name = {short(value)}: expected a "
+                raise ConfigError(f"{config_prefix()} [{where}]: name = {short(value)}: expected a "
                                   "name with a letter or digit")
         elif key == "aspect" and isinstance(value, str):
             design[key] = value
@@ -267,14 +257,14 @@ def _custom_design(entry, index: int) -> dict:
         problem = (domain_problem(key, value) if key in POINT_PARAMETERS and key != "lens"
                    else None)
         if problem:
-            raise ConfigError(f"scan config {label}: {key} = {problem}")
+            raise ConfigError(f"{config_prefix()} {label}: {key} = {problem}")
     if "modes" in design:
         design["modes"] = _modes(where, label, design)
     try:
         design_parameters({k: v for k, v in design.items()
                            if k != "name" and k not in READOUT_KEYS})
     except (TypeError, ValueError) as error:
-        raise ConfigError(f"scan config {label}: {error}") from None
+        raise ConfigError(f"{config_prefix()} {label}: {error}") from None
     return design
 
 
@@ -283,12 +273,12 @@ def _modes(where: str, label: str, design: dict) -> list:
     :func:`epc_fast.modes.check_modes` and every value against its domain."""
     value = design["modes"]
     if not isinstance(value, list) or len(value) > MAX_LIST:
-        raise ConfigError(f"scan config {label}: modes = {short(value)}: expected a list of "
+        raise ConfigError(f"{config_prefix()} {label}: modes = {short(value)}: expected a list of "
                           "readout modes, e.g. [{binning = 1}, {binning = 4}]")
     try:
         modes = check_modes(value)
     except (TypeError, ValueError) as error:
-        raise ConfigError(f"scan config {label}: {error}") from None
+        raise ConfigError(f"{config_prefix()} {label}: {error}") from None
     for index, mode in enumerate(modes):
         for key, item in mode.items():
             if key == "binning_readout":
@@ -297,9 +287,9 @@ def _modes(where: str, label: str, design: dict) -> list:
             number(f"{where}.modes[{index}]", key, item)
             problem = domain_problem(key, item)
             if problem:
-                raise ConfigError(f"scan config {label}: modes[{index}]: {key} = {problem}")
+                raise ConfigError(f"{config_prefix()} {label}: modes[{index}]: {key} = {problem}")
             if key in design and design[key] != MODE_DEFAULTS[key]:
-                raise ConfigError(f"scan config {label}: modes[{index}]: {key} is set by the "
+                raise ConfigError(f"{config_prefix()} {label}: modes[{index}]: {key} is set by the "
                                   f"design too ({key} = {design[key]:g}): give it in each mode")
     return list(modes)
 
@@ -309,7 +299,7 @@ def _parameter(name: str, value, base: Path):
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         return number("parameters", name, value)
     if not isinstance(value, dict):
-        raise ConfigError(f"scan config [parameters]: {name} = {short(value)}: expected a "
+        raise ConfigError(f"{config_prefix()} [parameters]: {name} = {short(value)}: expected a "
                           "finite number or a table ({grid = [...]}, {choice = [...]}, "
                           "{distribution = ...})")
     if "grid" in value:
@@ -322,14 +312,14 @@ def _parameter(name: str, value, base: Path):
             weights = number_list(where, "weights", weights, low=0.0)
         return wrapped(where, lambda: Choice(values, weights))
     if "distribution" not in value:
-        raise ConfigError(f"scan config [{where}]: give grid, choice or distribution")
+        raise ConfigError(f"{config_prefix()} [{where}]: give grid, choice or distribution")
     kind = choice(where, "distribution", value["distribution"],
                   tuple(DISTRIBUTIONS) + ("empirical",))
     rest = {k: v for k, v in value.items() if k not in ("distribution", "truncate")}
     if kind == "empirical":
         take(rest, where, optional=("samples", "file"))
         if ("samples" in rest) == ("file" in rest):
-            raise ConfigError(f"scan config [{where}]: give samples or file")
+            raise ConfigError(f"{config_prefix()} [{where}]: give samples or file")
         if "samples" in rest:
             samples = number_list(where, "samples", rest["samples"])
         else:
@@ -344,8 +334,8 @@ def _parameter(name: str, value, base: Path):
     if "truncate" in value:
         low, high = number_list(where, "truncate", value["truncate"], min_length=2)[:2]
         if len(value["truncate"]) != 2:
-            raise ConfigError(f"scan config [{where}]: truncate = {short(value['truncate'])}: "
-                              "expected [low, high]")
+            raise ConfigError(f"{config_prefix()} [{where}]: truncate = "
+                              f"{short(value['truncate'])}: expected [low, high]")
         return wrapped(where, lambda: Truncated(distribution, low, high))
     return distribution
 
@@ -364,8 +354,8 @@ def _evaluate_options(table) -> dict:
             options[key] = _lens_tables(value)
         else:
             if not (isinstance(value, list) and len(value) == 2):
-                raise ConfigError(f"scan config [evaluate]: spectrum = {short(value)}: expected "
-                                  "[[wavelengths_nm, ...], [weights, ...]]")
+                raise ConfigError(f"{config_prefix()} [evaluate]: spectrum = {short(value)}: "
+                                  "expected [[wavelengths_nm, ...], [weights, ...]]")
             options[key] = (number_list("evaluate", "spectrum", value[0], low=0.0),
                             number_list("evaluate", "spectrum", value[1], low=0.0))
     return options
@@ -375,12 +365,12 @@ def _lens_tables(value) -> tuple:
     """``[evaluate] lens_mtf``: one table [[frequencies_cyc_per_mm, ...], [mtf, ...]] or a list
     of them (``lens`` picks one per point), each checked (epc_fast.mtf_table)."""
     if not isinstance(value, list) or not value:
-        raise ConfigError(f"scan config [evaluate]: lens_mtf = {short(value)}: expected "
+        raise ConfigError(f"{config_prefix()} [evaluate]: lens_mtf = {short(value)}: expected "
                           "[[frequencies_cyc_per_mm, ...], [mtf, ...]] or a list of them")
     try:
         return lens_tables_of(value)
     except ValueError as error:
-        raise ConfigError(f"scan config [evaluate]: {error}") from None
+        raise ConfigError(f"{config_prefix()} [evaluate]: {error}") from None
 
 
 def _scan_table(scan) -> dict:
@@ -389,7 +379,7 @@ def _scan_table(scan) -> dict:
     chunk_points = integer("scan", "chunk_points", scan.get("chunk_points", DEFAULT_CHUNK_POINTS),
                            BLOCK_POINTS, MAX_CHUNK_POINTS, size=True)
     if chunk_points % BLOCK_POINTS:
-        raise ConfigError(f"scan config [scan]: chunk_points = {chunk_points}: expected a "
+        raise ConfigError(f"{config_prefix()} [scan]: chunk_points = {chunk_points}: expected a "
                           f"multiple of {BLOCK_POINTS} (the block)")
     threads = scan.get("threads")
     return {"points": integer("scan", "points", scan["points"], 1, MAX_POINTS, size=True),
@@ -403,15 +393,6 @@ def _scan_table(scan) -> dict:
                 "scan", "replicates", scan["replicates"], 1, MAX_REPLICATES)}
 
 
-def toml_document(text: str, source: str) -> dict:
-    """The TOML document of a config's ``text``; a ConfigError naming ``source`` when it is
-    not TOML."""
-    try:
-        return _toml().loads(text)
-    except _toml().TOMLDecodeError as error:
-        raise ConfigError(f"scan config {source}: not valid TOML: {error}") from None
-
-
 def _check_sizes(design) -> None:
     """A ConfigError naming the first [[design.custom]] table that gives no sensor size (none
     is in [parameters]): the size belongs in the design's table, where its shape decides
@@ -420,8 +401,8 @@ def _check_sizes(design) -> None:
     for index, entry in enumerate(custom):
         if not set(entry) & set(SIZE_KEYWORDS):
             name = f" {short(entry['name'])}" if "name" in entry else ""
-            raise ConfigError(f"scan config [design.custom[{index}]]{name}: no sensor size: give "
-                              f"it in this table, one of four ways: {SIZE_WAYS}; "
+            raise ConfigError(f"{config_prefix()} [design.custom[{index}]]{name}: no sensor size: "
+                              f"give it in this table, one of four ways: {SIZE_WAYS}; "
                               f"{SIZE_AND_SNR_AT}")
 
 
@@ -441,16 +422,25 @@ def _space_builder(document: dict, base_dir):
 def parse_space(document: dict, base_dir=".") -> Space:
     """The :class:`Space` of a config's ``[design]``, ``[parameters]`` and ``[evaluate]``
     tables (``document``, a parsed TOML document), every key checked; files it names are
-    relative to ``base_dir``. Shared by the scan's and the optimiser's configs."""
+    relative to ``base_dir``. Shared by the scan's, the optimiser's and the simulator's configs;
+    its messages name the config of the command reading it
+    (:func:`~epc_fast.jobs.schema.config_of`)."""
     return _space_builder(document, base_dir)()
 
 
-def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfig:
+def parse_config(text: str, base_dir=".", source: str = "<string>",
+                 command: str = "scan") -> ScanConfig:
     """A :class:`ScanConfig` from TOML text; files it names are relative to ``base_dir``.
 
     Every key is checked (type, range, size) before anything is evaluated; a mistake raises
-    :class:`~epc_fast.scan.errors.ConfigError` (a ValueError) naming table, key and value.
+    :class:`~epc_fast.jobs.errors.ConfigError` (a ValueError) naming ``command``'s config
+    (``epc-fast sobol`` reads the same file: ``"sobol"``), the table, the key and the value.
     """
+    with config_of(command):
+        return _scan_config(text, base_dir, source)
+
+
+def _scan_config(text: str, base_dir, source: str) -> ScanConfig:
     document = toml_document(text, source)
     take(document, "top level", required=("scan",),
          optional=("design", "parameters", "evaluate", "reductions", "output", "sobol"))
@@ -474,12 +464,15 @@ def parse_config(text: str, base_dir=".", source: str = "<string>") -> ScanConfi
                       log_y, counts["sampling"], counts["replicates"])
 
 
-def load_config(path) -> ScanConfig:
-    """A :class:`ScanConfig` from a TOML file (UTF-8, at most 16 MB)."""
+def load_config(path, command: str = "scan") -> ScanConfig:
+    """A :class:`ScanConfig` from a TOML file (UTF-8, at most 16 MB), its mistakes naming
+    ``command``'s config."""
     path = Path(path)
-    return parse_config(read_text(path, MAX_CONFIG_BYTES), path.parent, str(path))
+    with config_of(command):
+        text = read_text(path, MAX_CONFIG_BYTES)
+    return parse_config(text, path.parent, str(path), command)
 
 
-def default_config() -> ScanConfig:
+def default_config(command: str = "scan") -> ScanConfig:
     """The built-in scan, :data:`DEFAULT_CONFIG`."""
-    return parse_config(DEFAULT_CONFIG, source="built-in default")
+    return parse_config(DEFAULT_CONFIG, source="built-in default", command=command)

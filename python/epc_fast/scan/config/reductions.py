@@ -1,7 +1,7 @@
 """The ``[reductions.NAME]`` tables of a scan config: each key checked, each size bounded.
 
 The sizes a reduction allocates (its groups, its bins, its kept points) are computed from the
-config alone and refused beyond the bounds of :mod:`epc_fast.scan.schema` before any group key
+config alone and refused beyond the bounds of :mod:`epc_fast.jobs.schema` before any group key
 or array is built.
 """
 
@@ -13,12 +13,12 @@ import numpy as np
 
 from ..reductions.best import TopK
 from ..running.chunk import OUTPUTS
-from ..errors import ConfigError
+from ...jobs.errors import ConfigError
 from ..reductions.groups import Binned, group_key
 from ..reductions.histograms import Histogram, Quantiles
-from ..schema import (MAX_CELLS, MAX_EXACT_QUANTILE_POINTS, MAX_GROUPS, MAX_TOP_K, boolean,
-                     check_size, choice, file_name, integer, number, number_list, short,
-                     table_of, take, where_prefix, wrapped)
+from ...jobs.schema import (boolean, check_size, choice, file_name, integer, number,
+                           number_list, short, table_of, take, where_prefix, wrapped)
+from .bounds import MAX_CELLS, MAX_EXACT_QUANTILE_POINTS, MAX_GROUPS, MAX_TOP_K
 from ..reductions.replicates import REPLICATED
 from ..reductions.summaries import FractionBelow, Summary
 from ..reductions.targets import target_of

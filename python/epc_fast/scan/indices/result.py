@@ -104,7 +104,7 @@ class SobolResult:
 
     def markdown(self) -> str:
         """:meth:`table` as a markdown table (indices to 4 significant digits)."""
-        from ..tables import markdown
+        from ...jobs.table_formats import markdown
 
         return markdown(self.table())
 

@@ -1,12 +1,10 @@
-"""What a scan writes: the output directory and its policy (:mod:`~epc_fast.scan.output.directory`),
-its one writer (:mod:`~epc_fast.scan.output.lock`) and the files named before the first point
-(:mod:`~epc_fast.scan.output.plan`)."""
+"""What a scan writes: the files named before its first point (:mod:`~epc_fast.scan.output.plan`)
+and its manifest's first record (:mod:`~epc_fast.scan.output.record`), in the output directory
+of :mod:`epc_fast.jobs.output`."""
 
 from __future__ import annotations
 
-from .directory import PARQUET_BYTES_PER_VALUE, TABLE_BYTES, OutputDirectory
-from .lock import LOCK_NAME, OutputLock
 from .plan import TABLE_KINDS, plan_outputs
+from .record import new_manifest
 
-__all__ = ["OutputDirectory", "TABLE_BYTES", "PARQUET_BYTES_PER_VALUE", "plan_outputs",
-           "TABLE_KINDS", "OutputLock", "LOCK_NAME"]
+__all__ = ["plan_outputs", "TABLE_KINDS", "new_manifest"]

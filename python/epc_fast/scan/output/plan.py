@@ -10,23 +10,18 @@ refused before any work rather than one file silently replacing the other.
 from __future__ import annotations
 
 from ..config.indices import SOBOL_FILES
-from ..errors import OutputError
+from ...jobs.errors import OutputError
 from ..reductions.groups import group_key
 from ..reductions.histograms import Histogram, Quantiles
-from ..manifest import MANIFEST_NAME
+from ...jobs.output.manifest import MANIFEST_NAME
 from ..plot import bands_parameter_of
 from ..running.runner import default_reductions
 from ..tables import file_stem, table_groupings
 
-__all__ = ["plan_outputs", "TABLE_KINDS", "COMMAND_FILES"]
+__all__ = ["plan_outputs", "TABLE_KINDS"]
 
 #: Reductions whose results join the per-grouping tables (those with labels and columns).
 TABLE_KINDS = ("Summary", "Quantiles", "FractionBelow")
-#: The file names an ``epc-fast`` command writes whatever its config: ``optimize``'s four,
-#: ``sobol``'s two and the scan's manifest (which lists the scan's other files). ``--overwrite``
-#: removes these, and those the previous manifest lists, when the run will not write them.
-COMMAND_FILES = frozenset({"optimum.json", "optimum.md", "curve.csv", "curve.png",
-                           *SOBOL_FILES, MANIFEST_NAME})
 
 
 def plan_outputs(space, reductions: dict | None, plots: bool, parquet: str | None,

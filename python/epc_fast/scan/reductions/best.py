@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..running.chunk import Chunk
-from ..errors import TooLargeError
+from ...jobs.errors import TooLargeError
 from .groups import GroupKey
 from .summaries import _check_output
 

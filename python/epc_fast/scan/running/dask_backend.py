@@ -16,7 +16,7 @@ cluster computes them again for the workers left or new, where scattered data wo
 take every chunk with it. A chunk whose worker dies is run again by the cluster (up to its
 ``distributed.scheduler.allowed-failures``); a chunk whose task is lost all the same (cancelled)
 is submitted again by the scan, up to :data:`RESUBMITS` times. The scan ends with
-:class:`~epc_fast.scan.errors.ScanAborted`, which keeps the prefix merged before, only when the
+:class:`~epc_fast.jobs.errors.ScanAborted`, which keeps the prefix merged before, only when the
 cluster is lost: no worker for :data:`WORKERLESS_S` seconds, a chunk that killed its workers
 more often than the cluster allows (``KilledWorker``) or was lost more than :data:`RESUBMITS`
 times, or a task that fails; or when it stalls: no chunk merged for the stall timeout (the Dask
@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import time
 
-from ..errors import ScanAborted
+from .aborted import ScanAborted
 from .tasks import reduce_chunk
 
 __all__ = ["dask_outcomes", "WorkerMismatch", "build", "WORKERLESS_S", "RESUBMITS",

@@ -33,14 +33,13 @@ from pathlib import Path
 import numpy as np
 
 from ...api import Result
-from ..atomic import atomic_write
+from ...jobs.atomic import atomic_write
+from ...jobs.output.directory import STAGING_PREFIX
 from ..sampling.space import Points, Space
 
 __all__ = ["prepare_directory", "write_part", "commit_parts", "discard_uncommitted",
-           "committed_parts", "STAGING_PREFIX"]
+           "committed_parts"]
 
-#: The start of a run's hidden staging directory's name.
-STAGING_PREFIX = ".run-"
 
 _READY = re.compile(r"\.ready-(part-(\d{12,})\.parquet)")
 _PART = re.compile(r"part-(\d{12,})\.parquet")

@@ -15,15 +15,15 @@ import operator
 import time
 from dataclasses import dataclass
 
-from ..errors import ScanAborted
+from .aborted import ScanAborted
 from ..reductions.groups import group_key, replicated
 from ..reductions.histograms import Quantiles
 from ..progress import progress_reporter
 from ..sampling.qmc import DEFAULT_REPLICATES, Sampling, check_points
 from ..reductions.replicates import (REPLICATED, exact_companions, finish_plan, stage_plan,
                          unmet_targets)
-from ..signals import signals_deferred as _interrupts_deferred
-from ..signals import terminate_as_interrupt
+from ...jobs.signals import signals_deferred as _interrupts_deferred
+from ...jobs.signals import terminate_as_interrupt
 from ..sampling.space import BLOCK_POINTS, Space
 from ..reductions.summaries import FractionBelow, Summary
 from .core_plan import checked_seed

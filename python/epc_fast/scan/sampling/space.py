@@ -23,7 +23,7 @@ from ...mtf_table import lens_tables_of
 from ...params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS
 from . import qmc, streams
-from .. import terms
+from ... import terms
 from .distributions import Choice, Grid
 from ..designs import design_dict, fill_left_out
 from ..running.readout_modes import READOUT_KEYS, design_readout
