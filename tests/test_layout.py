@@ -100,6 +100,51 @@ def test_the_circle_check_finds_a_circle():
     assert _circles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
 
 
+#: The modules outside scan/ that may import the scan's inner modules (``epc_fast.scan.x``),
+#: {module or subpackage: (the inner modules' prefixes it may import, why)}. Every module may
+#: use the scan's public names (``from epc_fast import scan``; ``scan.run``), as users do.
+SCAN_INSIDERS = {
+    "epc_fast.commands.scan": (("epc_fast.scan.",), "the scan command"),
+    "epc_fast.commands.sobol": (("epc_fast.scan.",), "the Sobol' indices of a scan config's "
+                                "space and its [sobol] table: part of the scan"),
+    "epc_fast.optimize": (("epc_fast.scan.config", "epc_fast.scan.sampling.",
+                           "epc_fast.scan.running.readout_modes", "epc_fast.scan.running.core_plan"),
+                          "the optimiser scans: its scene and designs are a scan config's space "
+                          "(the scan's parser), drawn by the scan's sampling, evaluated per "
+                          "readout group and seeded as a scan's points are"),
+    "epc_fast.simulate.config": (("epc_fast.scan.config",), "a review's designs are a scan "
+                                 "config's [design] and [evaluate] tables (the scan's parser)"),
+}
+
+
+def _scan_intrusions(modules: dict, insiders: dict) -> list:
+    """"importer -> inner module" of every import of an inner module of epc_fast.scan from
+    outside it that ``insiders`` does not allow."""
+    found = []
+    for name, path in modules.items():
+        if name == "epc_fast.scan" or name.startswith("epc_fast.scan."):
+            continue
+        allowed = [prefixes for owner, (prefixes, _) in insiders.items()
+                   if name == owner or name.startswith(owner + ".")]
+        found += [f"{name} -> {m}" for m in sorted(_imports(name, path, modules))
+                  if m.startswith("epc_fast.scan.")
+                  and not any(m.startswith(p) for prefixes in allowed for p in prefixes)]
+    return found
+
+
+def test_no_subsystem_imports_the_scans_inner_modules_but_the_scan_command():
+    assert _scan_intrusions(_modules(), SCAN_INSIDERS) == []
+
+
+def test_the_scan_import_check_finds_an_intrusion():
+    modules = {name: path for name, path in _modules().items()
+               if name.startswith("epc_fast.scan.sampling") or name in (
+                   "epc_fast.optimize.checks", "epc_fast.plotting.common")}
+    assert _scan_intrusions(modules, {}) == ["epc_fast.optimize.checks -> "
+                                             "epc_fast.scan.sampling.space"]
+    assert _scan_intrusions(modules, SCAN_INSIDERS) == []
+
+
 #: A statement that edits the module search path: sys.path.insert/append/extend, an item or
 #: slice of it assigned, or sys.path itself assigned or extended (in code or in a code string).
 SYS_PATH_EDIT = re.compile(r"\bsys\s*\.\s*path\s*"
