@@ -108,7 +108,8 @@ SCAN_INSIDERS = {
     "epc_fast.commands.sobol": (("epc_fast.scan.",), "the Sobol' indices of a scan config's "
                                 "space and its [sobol] table: part of the scan"),
     "epc_fast.optimize": (("epc_fast.scan.config", "epc_fast.scan.sampling.",
-                           "epc_fast.scan.running.readout_modes", "epc_fast.scan.running.core_plan"),
+                           "epc_fast.scan.running.readout_modes",
+                           "epc_fast.scan.running.core_plan"),
                           "the optimiser scans: its scene and designs are a scan config's space "
                           "(the scan's parser), drawn by the scan's sampling, evaluated per "
                           "readout group and seeded as a scan's points are"),

@@ -6,8 +6,8 @@ the paper's four 1/3.2" designs on a grid axis (point i has design i mod 4), ill
 log-uniform on [10, 1e5] lux, hand shake log-normal (median 4.39 degree/s, sigma 0.5 of ln),
 every other parameter the designs' value or evaluate's default.
 
-Draws follow the scan's counter-based stream contract (``epc_fast.scan.sampling.streams``), implemented
-here in Numba:
+Draws follow the scan's counter-based stream contract (``epc_fast.scan.sampling.streams``),
+implemented here in Numba:
 
 - Philox4x32-10 (Salmon, Moraes, Dror and Shaw, SC'11; multipliers 0xD2511F53, 0xCD9E8D57, key
   increments 0x9E3779B9, 0xBB67AE85), the 32x32 -> 64-bit products in uint64; key
@@ -37,8 +37,8 @@ standard deviation, which merge in another order):
 
 On the log10 histogram a value's bin is floor((log10 EPC - log10 low) bins / (log10 high -
 log10 low)) + 1 in slots 0 .. bins + 1 (0 below, bins + 1 at or above), as
-``epc_fast.scan.reductions.histograms`` bins; on the octave histogram it is the value's exponent and first
-9 mantissa bits (from ``math.frexp``), less the first bin's, plus 1, clipped likewise, as
+``epc_fast.scan.reductions.histograms`` bins; on the octave histogram it is the value's exponent and
+first 9 mantissa bits (from ``math.frexp``), less the first bin's, plus 1, clipped likewise, as
 ``epc_fast.scan.Quantiles`` bins. EPC = 0 (blur unbounded) is finite and falls below every
 histogram.
 

@@ -136,7 +136,7 @@ def _quantile_notes(result) -> list[str]:
 
 def _write_outputs(result, out, plots: bool, log_y: bool = False) -> None:
     """Every table, top-k list and plot of ``result``, each written atomically in ``out``."""
-    from ..jobs import table_formats
+    from ..jobs.table_formats import markdown, write_csv
     from ..scan import tables
 
     # a partial scan says so in every file: a last column, a line above the table, the title
@@ -145,17 +145,17 @@ def _write_outputs(result, out, plots: bool, log_y: bool = False) -> None:
     for grouping, columns in tables.grouped_tables(result).items():
         stem = tables.file_stem(grouping)
         out.write(stem + ".csv",
-                  lambda path: table_formats.write_csv(path, tables.marked_partial(columns, result)))
+                  lambda path: write_csv(path, tables.marked_partial(columns, result)))
         out.write(stem + ".md",
-                  lambda path: path.write_text(above + table_formats.markdown(columns) + "\n"))
+                  lambda path: path.write_text(above + markdown(columns) + "\n"))
     for name, columns in tables.histogram_tables(result).items():
         out.write(f"{name}.csv",
-                  lambda path: table_formats.write_csv(path, tables.marked_partial(columns, result)))
+                  lambda path: write_csv(path, tables.marked_partial(columns, result)))
         out.write(f"{name}.md",
-                  lambda path: path.write_text(above + table_formats.markdown(columns) + "\n"))
+                  lambda path: path.write_text(above + markdown(columns) + "\n"))
     for name, columns in tables.top_k_columns(result).items():
         out.write(f"{name}.csv",
-                  lambda path: table_formats.write_csv(path, tables.marked_partial(columns, result)))
+                  lambda path: write_csv(path, tables.marked_partial(columns, result)))
     if plots:
         _write_plots(result, out, note, log_y)
 
@@ -194,8 +194,8 @@ def _planned(config, plots: bool) -> dict:
 
 
 def _parquet_bytes(config) -> int:
-    from ..scan.running.chunk import OUTPUTS
     from ..jobs.output import PARQUET_BYTES_PER_VALUE
+    from ..scan.running.chunk import OUTPUTS
 
     if config.parquet is None:
         return 0
@@ -213,15 +213,15 @@ def _parquet_files(out, config) -> list[str]:
 
 def run(args) -> int:
     from .._validation import threads_of
-    from ..scan import run as run_scan
-    from ..scan.config import DEFAULT_CONFIG
     from ..jobs.extras import check_extras
-    from ..scan.config.needs import scan_extras
-    from ..scan.running.aborted import ScanAborted
     from ..jobs.output import OutputDirectory
     from ..jobs.output.manifest import write_manifest
-    from ..scan.output import new_manifest
     from ..jobs.signals import SignalsHeld, StopSignals
+    from ..scan import run as run_scan
+    from ..scan.config import DEFAULT_CONFIG
+    from ..scan.config.needs import scan_extras
+    from ..scan.output import new_manifest
+    from ..scan.running.aborted import ScanAborted
     from .sobol import compute
 
     if args.show_config:
@@ -324,8 +324,8 @@ def _finish(config, out, manifest, result, sobol, failure, stops, plots) -> None
     """Print the results, write every table, plot and the manifest; an error while writing is
     recorded in the manifest (state ``failed``, the files written so far) and raised."""
     from ..jobs import table_formats
-    from ..scan import tables
     from ..jobs.output.manifest import write_manifest
+    from ..scan import tables
     from .sobol import report, write_indices
 
     try:

@@ -19,8 +19,8 @@ import numpy as np
 
 from ..api import evaluate
 from ..memory import memory_limit_bytes
-from .checks import (checked_bounds, checked_objective, checked_points,
-                              checked_search, checked_threads, size_name, unit_of)
+from .checks import (checked_bounds, checked_objective, checked_points, checked_search,
+                     checked_threads, size_name, unit_of)
 from .result import Curve, Estimate, Optimum
 from .search import maximize_on_cube
 from ..scan.running.core_plan import checked_seed

@@ -18,8 +18,8 @@ The same seed gives the same numbers for any chunk size, thread count or Dask cl
 """
 
 from .reductions.best import TopK, TopKResult
-from .sampling.distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
-                            Uniform)
+from .sampling.distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal,
+                                     Truncated, Uniform)
 from .reductions.groups import Binned
 from .reductions.histograms import Histogram, HistogramResult, Quantiles, QuantilesResult
 from .running.runner import DEFAULT_CHUNK_POINTS, ScanResult, Timing, default_reductions, run

@@ -1,6 +1,7 @@
 """Issue #39 in scans: binning, bursts and alignment as scan parameters, a design's
-binning_readout, and readout modes (scan/readout.py): each chunk's points evaluated per design's
-readout, every mode on the same draws, the best per point, and the share of each mode per group.
+binning_readout, and readout modes (scan/running/readout_modes.py): each chunk's points evaluated
+per design's readout, every mode on the same draws, the best per point, and the share of each mode
+per group.
 """
 
 import numpy as np
@@ -11,7 +12,7 @@ from epc_fast import scan
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import (Choice, Empirical, Grid, LogUniform, Summary, TopK, Truncated, Uniform,
                            run)
-from epc_fast.scan.running.readout_modes import evaluate_points
+from epc_fast.scan.running.readout_modes import evaluate_space_points
 from epc_fast.scan.sampling.space import BLOCK_POINTS
 from epc_fast.scan.reductions.groups import group_key
 from epc_fast.scan.running.tasks import PlanItem, _core_plan
@@ -129,7 +130,7 @@ def test_each_design_is_read_its_own_way_in_one_scan():
     assert space.design_readout == ("digital", "charge", "digital")
     assert space.mode_count == 4
     points = space.points(7, 0, N)
-    result = evaluate_points(space, points, outputs=("epc", "status"))
+    result = evaluate_space_points(space, points, outputs=("epc", "status"))
     design = points.indices["design"]
     for d, entry in enumerate((plain, charge, moded)):
         at = design == d

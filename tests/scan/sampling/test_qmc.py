@@ -1,6 +1,7 @@
-"""Scrambled Sobol' sampling (epc_fast/scan/qmc.py, cpp/include/epc_fast/sobol_points.h):
-the sequence against SciPy's, the scrambling's nets, the core against the NumPy statement bit
-for bit, the same numbers whatever the chunks and threads, and bad input."""
+"""Scrambled Sobol' sampling (epc_fast/scan/sampling/qmc.py,
+cpp/include/epc_fast/scan/sobol_points.h): the sequence against SciPy's, the scrambling's nets, the
+core against the NumPy statement bit for bit, the same numbers whatever the chunks and threads, and
+bad input."""
 
 import numpy as np
 import pytest

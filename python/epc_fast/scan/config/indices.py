@@ -22,8 +22,8 @@ from dataclasses import asdict, dataclass
 
 from ...jobs.errors import ConfigError
 from ...jobs.schema import check_size, choice, integer, number, short, table_of, take, wrapped
-from ..indices.estimate import (MAX_BOOTSTRAP_VALUES, MAX_DESIGN_VALUES, MIN_POINTS, NOT_OK_POLICIES,
-                    OUTPUTS, design_rows, random_parameters)
+from ..indices.estimate import (MAX_BOOTSTRAP_VALUES, MAX_DESIGN_VALUES, MIN_POINTS,
+                                NOT_OK_POLICIES, OUTPUTS, design_rows, random_parameters)
 
 __all__ = ["SobolConfig", "parse_sobol", "SOBOL_FILES", "DEFAULT_SOBOL_POINTS"]
 

@@ -54,14 +54,14 @@ from ...api import F50_SOLVERS, MAX_THREADS, PRECISIONS, T_MPE_SOLVERS
 from ...jobs.document import MAX_CONFIG_BYTES, read_text, toml_document
 from .reductions import check_reductions, parse_reductions
 from .indices import SobolConfig, parse_sobol
-from ..sampling.distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal, Truncated,
-                            Uniform)
+from ..sampling.distributions import (Choice, Empirical, Grid, LogNormal, LogUniform, Normal,
+                                      Truncated, Uniform)
 from ...jobs.errors import ConfigError
 from ..sampling.qmc import MAX_REPLICATES, SAMPLINGS
 from ..running.runner import DEFAULT_CHUNK_POINTS, sampled_scan
 from ...jobs.schema import (MAX_LIST, boolean, check_size, choice, config_of, config_prefix,
-                           file_name, integer, number, number_list, short, string, table_of,
-                           take, wrapped)
+                            file_name, integer, number, number_list, short, string, table_of, take,
+                            wrapped)
 from .bounds import MAX_CHUNK_POINTS, MAX_GROUPS, MAX_POINTS
 from .samples import read_samples
 from ...mtf_table import lens_tables_of

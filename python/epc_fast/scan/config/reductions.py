@@ -16,8 +16,8 @@ from ..running.chunk import OUTPUTS
 from ...jobs.errors import ConfigError
 from ..reductions.groups import Binned, group_key
 from ..reductions.histograms import Histogram, Quantiles
-from ...jobs.schema import (boolean, check_size, choice, file_name, integer, number,
-                           number_list, short, table_of, take, where_prefix, wrapped)
+from ...jobs.schema import (boolean, check_size, choice, file_name, integer, number, number_list,
+                            short, table_of, take, where_prefix, wrapped)
 from .bounds import MAX_CELLS, MAX_EXACT_QUANTILE_POINTS, MAX_GROUPS, MAX_TOP_K
 from ..reductions.replicates import REPLICATED
 from ..reductions.summaries import FractionBelow, Summary

@@ -6,8 +6,8 @@
 from __future__ import annotations
 
 from .estimate import (MAX_BOOTSTRAP_VALUES, MAX_DESIGN_VALUES, MIN_POINTS, NOT_OK_POLICIES,
-                      OUTPUTS, design_inputs, design_rows, random_parameters, sobol_indices,
-                      unit_design)
+                       OUTPUTS, design_inputs, design_rows, random_parameters, sobol_indices,
+                       unit_design)
 from .result import SobolResult
 
 __all__ = ["sobol_indices", "SobolResult", "random_parameters", "unit_design", "design_inputs",

@@ -232,8 +232,8 @@ class QuantilesResult:
     relative_resolution : 1, one bin of the histogram as a ratio minus 1 (0 when exact): on
         dense samples [lower, upper] spans one or two bins.
     standard_error : float64 (groups, nq), the output's unit: the estimates' standard errors
-        from the scan's replicates (:mod:`epc_fast.scan.reductions.replicates`); NaN with one replicate;
-        None outside a scan.
+        from the scan's replicates (:mod:`epc_fast.scan.reductions.replicates`); NaN with one
+        replicate; None outside a scan.
     """
 
     of: str
@@ -329,8 +329,8 @@ class Quantiles:
         read from its bits.
     exact_up_to : int, scans of at most this many points keep every finite value (16 bytes
         each with its group index) and compute exact quantiles.
-    target : :class:`~epc_fast.scan.reductions.targets.Target` or mapping, optional: how accurate every
-        quantile must be, in every group, for a scan with a stopping rule to stop.
+    target : :class:`~epc_fast.scan.reductions.targets.Target` or mapping, optional: how
+        accurate every quantile must be, in every group, for a scan with a stopping rule to stop.
     """
 
     q: tuple = (0.05, 0.5, 0.95)

@@ -1,16 +1,17 @@
 """Standard errors from replicates, and the stopping rules that read them.
 
-A scan in ``R`` replicates (:mod:`epc_fast.scan.sampling.qmc`) folds each of its summaries, fractions
-below and quantiles per replicate and group (the replicate is the key's first part,
-:func:`epc_fast.scan.reductions.groups.replicated`). :func:`finish` pools the replicates' states into the
-reduction's own (its estimate is the statistic of every point, as with one replicate) and
+A scan in ``R`` replicates (:mod:`epc_fast.scan.sampling.qmc`) folds each of its summaries,
+fractions below and quantiles per replicate and group (the replicate is the key's first part,
+:func:`epc_fast.scan.reductions.groups.replicated`). :func:`finish` pools the replicates' states
+into the reduction's own (its estimate is the statistic of every point, as with one replicate) and
 gives each statistic the standard error of the replicates' spread,
 ``std(estimate_r, ddof=1) / sqrt(R)``: the ``R`` replicates are independent randomisations of
 the same kind of sample, so their spread measures the error under Sobol' sampling, whose error
 no variance formula gives. Under Monte Carlo the mean's and the fraction's standard errors are
 their variances' (``std / sqrt(count)``, ``sqrt(p (1 - p) / count)``), the quantiles' in one
-replicate the order statistics' (:func:`~epc_fast.scan.reductions.histograms.finish_with_order_statistics`),
-the std's and, with replicates, the quantiles' the replicates'.
+replicate the order statistics'
+(:func:`~epc_fast.scan.reductions.histograms.finish_with_order_statistics`), the std's and, with
+replicates, the quantiles' the replicates'.
 
 A reduction's ``target`` (:class:`Target`) holds when, in every group, each of its statistics
 (a summary's mean, a fraction, every quantile) has a standard error within the target.
@@ -84,7 +85,8 @@ def _spread(per_replicate: np.ndarray) -> np.ndarray:
 
 def finish(item, state: dict, space):
     """The result of a plan item's reduction over its state: pooled over the replicates, with
-    the standard errors (:mod:`epc_fast.scan.reductions.replicates`); the state is left as it was."""
+    the standard errors (:mod:`epc_fast.scan.reductions.replicates`); the state is left as it
+    was."""
     reduction, key, base = item.reduction, item.key, item.base_key
     if base is None or key is base:
         return _one_replicate(reduction, state, key, space)

@@ -137,8 +137,8 @@ class Summary:
     ----------
     by : group key, optional (see :mod:`epc_fast.scan.reductions.groups`); None: one group.
     of : str, the output summarised (default ``"epc"``, pixels).
-    target : :class:`~epc_fast.scan.reductions.targets.Target` or mapping, optional: how accurate the
-        mean must be, in every group, for a scan with a stopping rule to stop.
+    target : :class:`~epc_fast.scan.reductions.targets.Target` or mapping, optional: how
+        accurate the mean must be, in every group, for a scan with a stopping rule to stop.
     """
 
     by: object = None
@@ -260,8 +260,8 @@ class FractionBelow:
     threshold : the output's unit (pixels for EPC).
     by : group key, optional; None: one group.
     of : str, the output (default ``"epc"``).
-    target : :class:`~epc_fast.scan.reductions.targets.Target` or mapping, optional: how accurate the
-        fraction must be, in every group, for a scan with a stopping rule to stop.
+    target : :class:`~epc_fast.scan.reductions.targets.Target` or mapping, optional: how
+        accurate the fraction must be, in every group, for a scan with a stopping rule to stop.
     """
 
     threshold: float

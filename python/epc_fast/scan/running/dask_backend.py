@@ -1,8 +1,8 @@
 """A scan's chunks as tasks on a ``dask.distributed`` cluster (the ``dask`` extra).
 
-Each chunk is one task (:func:`epc_fast.scan.running.tasks.reduce_chunk`) whose result is its partial
-reductions. Results are handed back in block order, the same partials merged in the same order
-as a local run: the reductions are the same to the last bit (for workers with the same NumPy
+Each chunk is one task (:func:`epc_fast.scan.running.tasks.reduce_chunk`) whose result is its
+partial reductions. Results are handed back in block order, the same partials merged in the same
+order as a local run: the reductions are the same to the last bit (for workers with the same NumPy
 and CPU features as the client, see docs/scan.md). At most twice as many chunks as the cluster
 has worker threads are submitted or waiting to be merged at a time, so memory stays bounded.
 

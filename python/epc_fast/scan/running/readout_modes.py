@@ -21,9 +21,10 @@ from ...modes import MODE_DEFAULTS, check_modes
 from ...outputs import Result
 from ..sampling.domains import domain_problem
 
-# Space and Points (scan/space.py, which imports this module) are named in annotations only.
+# Space and Points (scan/sampling/space.py, which imports this module) are named in annotations
+# only.
 
-__all__ = ["evaluate_points", "readout_groups", "readout_kwargs", "design_readout",
+__all__ = ["evaluate_space_points", "readout_groups", "readout_kwargs", "design_readout",
            "READOUT_KEYS"]
 
 #: What a design gives besides evaluate's per-point parameters: how its sensor is read
@@ -98,7 +99,7 @@ def _subset(value, positions):
     return np.asarray(value)[positions]
 
 
-def evaluate_points(space: Space, points: Points, **options) -> Result:
+def evaluate_space_points(space: Space, points: Points, **options) -> Result:
     """The :class:`~epc_fast.Result` of ``points`` (of ``space``), each point read by its
     design's readout: per point the mode with the highest EPC, its outputs, and its index in
     ``mode`` (int16). ``options`` are evaluate's (``outputs``, ``threads``, ``backend``, the

@@ -21,7 +21,7 @@ from ..reductions.histograms import Quantiles
 from ..progress import progress_reporter
 from ..sampling.qmc import DEFAULT_REPLICATES, Sampling, check_points
 from ..reductions.replicates import (REPLICATED, exact_companions, finish_plan, stage_plan,
-                         unmet_targets)
+                                     unmet_targets)
 from ...jobs.signals import signals_deferred as _interrupts_deferred
 from ...jobs.signals import terminate_as_interrupt
 from ..sampling.space import BLOCK_POINTS, Space

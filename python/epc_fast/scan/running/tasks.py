@@ -22,7 +22,7 @@ from .chunk import Chunk
 from .core_plan import CorePlan
 from ..reductions.groups import GroupKey
 from ..reductions.histograms import Quantiles
-from .readout_modes import evaluate_points
+from .readout_modes import evaluate_space_points
 from ..sampling.space import Space
 
 __all__ = ["PlanItem", "ChunkOutcome", "chunk_outputs", "reduce_chunk", "BACKENDS"]
@@ -34,8 +34,8 @@ BACKENDS = ("core", "numpy", "reference")
 @dataclass(frozen=True)
 class PlanItem:
     """A named reduction and its group key resolved against the scan's space: ``key`` the one
-    it folds by (the replicate first, :func:`~epc_fast.scan.reductions.groups.replicated`), ``base_key``
-    the one its result is given by (None: ``key``)."""
+    it folds by (the replicate first, :func:`~epc_fast.scan.reductions.groups.replicated`),
+    ``base_key`` the one its result is given by (None: ``key``)."""
 
     name: str
     reduction: object
@@ -110,7 +110,7 @@ def _evaluate(space: Space, points, **options):
     """:func:`epc_fast.evaluate` at ``points``; per design's readout and modes when the space's
     designs have them (:mod:`epc_fast.scan.running.readout_modes`)."""
     if space.has_readouts:
-        return evaluate_points(space, points, **options)
+        return evaluate_space_points(space, points, **options)
     return evaluate(**points.parameters, **options)
 
 
@@ -135,8 +135,8 @@ def _core_plan(space, plan, seed, points_total) -> tuple:
             and last[0][2:] == (seed, points_total)):
         return last[1]
     # the fused pass reads every point one way and has no tables: a design's modes or charge
-    # binning (scan/readout.py) and a space's lens tables or colour sensor are evaluated as
-    # arrays
+    # binning (scan/running/readout_modes.py) and a space's lens tables or colour sensor are
+    # evaluated as arrays
     tables = (space.evaluate_options.get("lens_mtf") is not None
               or space.evaluate_options.get("cfa", "none") != "none")
     fused = tuple(item for item in plan if not _per_point(item, points_total)

@@ -52,8 +52,8 @@ def domain_problem(name: str, axis, lens_count: int = 1):
     it is, so each must lie in the domain. A uniform or log-uniform distribution's bounds, and
     a truncation's finite bounds, must lie in the domain or on its ends (draws never reach an
     open end). A distribution whose draws fall in the domain with a probability below
-    :data:`~epc_fast.scan.sampling.distributions.MIN_TRUNCATED_PROBABILITY` is refused (its points would
-    all be INVALID); one whose tail only reaches outside keeps its draws there, which are
+    :data:`~epc_fast.scan.sampling.distributions.MIN_TRUNCATED_PROBABILITY` is refused (its points
+    would all be INVALID); one whose tail only reaches outside keeps its draws there, which are
     INVALID points, counted as such (``truncate`` avoids them).
     """
     param = _domain_of(name, lens_count)

@@ -4,9 +4,9 @@ replicates that give every streamed statistic a standard error.
 The NumPy statement of the contract that the C++ core (``cpp/include/epc_fast/sobol_points.h``)
 matches bit for bit. With ``R`` replicates and a grid of ``G`` cells, point ``i`` lies in grid
 cell ``i mod G``, replicate ``r = (i div G) mod R`` and is the ``k = i div (G R)``-th point of its
-cell and replicate. Monte Carlo draws as before (:mod:`epc_fast.scan.sampling.streams`: the replicate
-only groups the points). Sobol' sampling gives random parameter number ``d`` (in the order the
-space lists its random parameters; a choice counts as one) the uniform
+cell and replicate. Monte Carlo draws as before (:mod:`epc_fast.scan.sampling.streams`: the
+replicate only groups the points). Sobol' sampling gives random parameter number ``d`` (in the order
+the space lists its random parameters; a choice counts as one) the uniform
 :func:`sobol_uniform` of ``k``: the ``k``-th point of dimension ``d`` of Sobol' sequence in
 Gray-code order (``scipy.stats.qmc.Sobol``'s order) with the direction numbers of S. Joe and
 F. Y. Kuo (2008, new-joe-kuo-6.21201), under a nested uniform scrambling of its 32 bits by

@@ -3,8 +3,8 @@
 Random parameter ``name``'s value at point i is its distribution's inverse CDF at one uniform,
 from Philox4x32-10 keyed by the seed at the counter ``(j mod 2^32, j div 2^32, crc32(name), 0)``
 of i's pair ``j = i div 2``, words (x0, x1) for an even i and (x2, x3) for an odd one
-(:mod:`epc_fast.scan.sampling.streams`; a choice of designs is the parameter ``"design"``); grid axes
-take point i to grid cell ``i mod grid size``. So a point's parameters depend only on the seed
+(:mod:`epc_fast.scan.sampling.streams`; a choice of designs is the parameter ``"design"``); grid
+axes take point i to grid cell ``i mod grid size``. So a point's parameters depend only on the seed
 and the point's index, never on the chunk size, the thread count or the machine that evaluates
 it, a scan of n points is the prefix of a longer one, and adding a random parameter leaves the
 others' draws unchanged. A chunk is a whole number of :data:`BLOCK_POINTS` points.
@@ -149,8 +149,8 @@ class Space:
         self._check_domains()
         self.grid_axes = tuple(n for n, a in self.axes.items() if isinstance(a, Grid))
         self.grid_shape = tuple(len(self.axes[n].values) for n in self.grid_axes)
-        #: How the random parameters are sampled (:class:`epc_fast.scan.sampling.qmc.Sampling`): plain
-        #: Monte Carlo in one replicate here; :func:`epc_fast.scan.run` scans a copy
+        #: How the random parameters are sampled (:class:`epc_fast.scan.sampling.qmc.Sampling`):
+        #: plain Monte Carlo in one replicate here; :func:`epc_fast.scan.run` scans a copy
         #: (:meth:`sampled`) with its own.
         self.sampling = qmc.Sampling("monte_carlo", 1)
         self._sobol_tables: dict = {}
@@ -275,8 +275,8 @@ class Space:
     @property
     def has_readouts(self) -> bool:
         """Whether a design has readout modes or reads its binned pixels as charge: then
-        each chunk's points are evaluated per design's readout (:mod:`epc_fast.scan.running.readout_modes`),
-        not by the core's fused pass."""
+        each chunk's points are evaluated per design's readout
+        (:mod:`epc_fast.scan.running.readout_modes`), not by the core's fused pass."""
         return any(m is not None for m in self.design_modes) or any(
             r != MODE_DEFAULTS["binning_readout"] for r in self.design_readout)
 
