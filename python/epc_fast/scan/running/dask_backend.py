@@ -135,6 +135,119 @@ def _lost(future) -> bool:
     return future.status in ("cancelled", "lost")
 
 
+class _InFlight:
+    """A scan's chunk tasks on a Dask cluster: at most twice as many as the cluster has threads
+    ahead of the next chunk to merge, the space and the plan sent once (again when lost), a lost
+    task submitted again (at most :data:`RESUBMITS` times), and the outcomes kept until they are
+    given in order."""
+
+    def __init__(self, client, expected: tuple, space, plan, seed, ranges, rest: tuple):
+        self.client, self.expected, self.space, self.plan = client, expected, space, plan
+        self.seed, self.rest = seed, rest  # rest: points, threads, parquet_dir, backend
+        self.sources = []
+        self.limit = 2 * max(1, sum(client.nthreads().values()))
+        self.ranges = iter(ranges)
+        self.number_of = {}  # future -> chunk number
+        self.span_of = {}  # chunk number -> (start, stop)
+        self.resubmitted = {}
+        self.arrived = {}  # chunk number -> outcome
+        self.submitted = self.next_number = 0
+        self.merged_points = 0
+        self.workerless_since = None
+        self.merged_at = time.monotonic()
+
+    def _sources_now(self) -> list:
+        if not self.sources or any(_lost(source) for source in self.sources):
+            self.sources[:] = [self.client.submit(_value, self.space, pure=False),
+                               self.client.submit(_value, self.plan, pure=False)]
+        return self.sources
+
+    def _submit(self, number: int, span: tuple) -> None:
+        future = self.client.submit(checked_reduce_chunk, self.expected, *self._sources_now(),
+                                    self.seed, *span, *self.rest, pure=False)
+        self.number_of[future] = number
+        self.span_of[number] = span
+
+    def top_up(self) -> None:
+        """Submit the next chunks, up to the limit ahead of the next one to merge."""
+        while self.submitted - self.next_number < self.limit:
+            span = next(self.ranges, None)
+            if span is None:
+                return
+            self._submit(self.submitted, span)
+            self.submitted += 1
+
+    def _take(self, future) -> bool:
+        """Keep a finished chunk's outcome or submit a lost one again (True); False when its
+        result was lost after it finished and the cluster is computing it again."""
+        number = self.number_of.pop(future)
+        if _lost(future):
+            self.resubmitted[number] = self.resubmitted.get(number, 0) + 1
+            if self.resubmitted[number] > RESUBMITS:
+                span = self.span_of[number]
+                raise ScanAborted(
+                    f"the Dask cluster lost the task of points {span[0]:,} to "
+                    f"{span[1] - 1:,} {self.resubmitted[number]} times, after "
+                    f"{self.merged_points:,} points were merged")
+            try:
+                self._submit(number, self.span_of[number])
+            except Exception as error:  # e.g. the client lost its scheduler
+                raise _aborted(error, self.merged_points) from error
+            return True
+        try:
+            self.arrived[number] = future.result(timeout=POLL_S)
+        except TimeoutError:  # its worker left with the result: waited for again
+            self.number_of[future] = number
+            return False
+        except Exception as error:
+            raise _aborted(error, self.merged_points) from error
+        del self.span_of[number]
+        return True
+
+    def check_stall(self, stall_s: float) -> None:
+        """A :class:`ScanAborted` when no chunk was merged for ``stall_s`` seconds."""
+        if time.monotonic() - self.merged_at > stall_s:
+            waited = next((f for f, n in self.number_of.items() if n == self.next_number), None)
+            raise _stalled(stall_s, self.span_of[self.next_number], waited,
+                           len(self.client.nthreads()), self.merged_points)
+
+    def took_some(self, wait) -> bool:
+        """Wait up to :data:`POLL_S` for tasks to finish; whether one gave its outcome or was
+        submitted again."""
+        failure = None
+        try:
+            wait(list(self.number_of), timeout=POLL_S, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            pass
+        except Exception as error:  # futures cancelled (their task lost): submitted again
+            failure = error
+        finished = [future for future in self.number_of if future.status != "pending"]
+        if failure is not None and not finished:
+            raise _aborted(failure, self.merged_points) from failure
+        return bool([future for future in finished if self._take(future)])
+
+    def check_workers(self) -> None:
+        """A :class:`ScanAborted` when the cluster has had no worker for
+        :data:`WORKERLESS_S` seconds."""
+        if self.client.nthreads():
+            self.workerless_since = None
+        elif self.workerless_since is None:
+            self.workerless_since = time.monotonic()
+        elif time.monotonic() - self.workerless_since > WORKERLESS_S:
+            raise ScanAborted(f"the Dask cluster has had no worker for {WORKERLESS_S:g} "
+                              f"s, after {self.merged_points:,} points were merged")
+
+    def merged(self, outcome) -> None:
+        """Note that ``outcome``, the next chunk's, was merged."""
+        self.merged_points = outcome.stop
+        self.merged_at = time.monotonic()
+        self.next_number += 1
+
+    def cancel(self) -> None:
+        for future in [*self.number_of, *self.sources]:
+            future.cancel()
+
+
 def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_dir,
                   backend="core"):
     """Yield the :class:`~epc_fast.scan.running.tasks.ChunkOutcome` of each range, in order."""
@@ -146,99 +259,19 @@ def dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_di
     expected = build()
     stall_s = stall_timeout_s()
     _check_workers(client, expected)
-    sources = []
-
-    def sources_now():
-        if not sources or any(_lost(source) for source in sources):
-            sources[:] = [client.submit(_value, space, pure=False),
-                          client.submit(_value, plan, pure=False)]
-        return sources
-
-    limit = 2 * max(1, sum(client.nthreads().values()))
-    ranges = iter(ranges)
-    number_of = {}
-    span_of = {}
-    resubmitted = {}
-    arrived = {}
-    submitted = expected_number = 0
-    merged_points = 0
-    workerless_since = None
-    merged_at = time.monotonic()
-
-    def submit(number, span):
-        future = client.submit(checked_reduce_chunk, expected, *sources_now(), seed, *span,
-                               points, threads, parquet_dir, backend, pure=False)
-        number_of[future] = number
-        span_of[number] = span
-
-    def top_up():
-        nonlocal submitted
-        while submitted - expected_number < limit:
-            span = next(ranges, None)
-            if span is None:
-                return
-            submit(submitted, span)
-            submitted += 1
-
-    def take(future) -> bool:
-        """Keep a finished chunk's outcome or submit a lost one again (True); False when its
-        result was lost after it finished and the cluster is computing it again."""
-        number = number_of.pop(future)
-        if _lost(future):
-            resubmitted[number] = resubmitted.get(number, 0) + 1
-            if resubmitted[number] > RESUBMITS:
-                raise ScanAborted(
-                    f"the Dask cluster lost the task of points {span_of[number][0]:,} to "
-                    f"{span_of[number][1] - 1:,} {resubmitted[number]} times, after "
-                    f"{merged_points:,} points were merged")
-            try:
-                submit(number, span_of[number])
-            except Exception as error:  # e.g. the client lost its scheduler
-                raise _aborted(error, merged_points) from error
-            return True
-        try:
-            arrived[number] = future.result(timeout=POLL_S)
-        except TimeoutError:  # its worker left with the result: waited for again
-            number_of[future] = number
-            return False
-        except Exception as error:
-            raise _aborted(error, merged_points) from error
-        del span_of[number]
-        return True
-
-    top_up()
+    chunks = _InFlight(client, expected, space, plan, seed, ranges,
+                       (points, threads, parquet_dir, backend))
+    chunks.top_up()
     try:
-        while number_of:
-            if time.monotonic() - merged_at > stall_s:
-                waited = next((f for f, n in number_of.items() if n == expected_number), None)
-                raise _stalled(stall_s, span_of[expected_number], waited,
-                               len(client.nthreads()), merged_points)
-            failure = None
-            try:
-                wait(list(number_of), timeout=POLL_S, return_when="FIRST_COMPLETED")
-            except TimeoutError:
-                pass
-            except Exception as error:  # futures cancelled (their task lost): submitted again
-                failure = error
-            finished = [future for future in number_of if future.status != "pending"]
-            if failure is not None and not finished:
-                raise _aborted(failure, merged_points) from failure
-            if not [future for future in finished if take(future)]:
-                if client.nthreads():
-                    workerless_since = None
-                elif workerless_since is None:
-                    workerless_since = time.monotonic()
-                elif time.monotonic() - workerless_since > WORKERLESS_S:
-                    raise ScanAborted(f"the Dask cluster has had no worker for {WORKERLESS_S:g} "
-                                      f"s, after {merged_points:,} points were merged")
+        while chunks.number_of:
+            chunks.check_stall(stall_s)
+            if not chunks.took_some(wait):
+                chunks.check_workers()
                 continue
-            while expected_number in arrived:
-                outcome = arrived.pop(expected_number)
+            while chunks.next_number in chunks.arrived:
+                outcome = chunks.arrived.pop(chunks.next_number)
                 yield outcome
-                merged_points = outcome.stop
-                merged_at = time.monotonic()
-                expected_number += 1
-            top_up()
+                chunks.merged(outcome)
+            chunks.top_up()
     finally:
-        for future in [*number_of, *sources]:
-            future.cancel()
+        chunks.cancel()

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import operator
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from .aborted import ScanAborted
 from ..reductions.groups import group_key, replicated
@@ -190,6 +190,98 @@ def _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir, bac
         yield reduce_chunk(space, plan, seed, start, stop, points, threads, parquet_dir, backend)
 
 
+def _outcomes(client, space, plan, seed, ranges, points, threads, parquet_dir, backend):
+    """The chunk outcomes of ``ranges``, in order: computed here, or on ``client``'s cluster."""
+    if client is None:
+        return _local_outcomes(space, plan, seed, ranges, points, threads, parquet_dir, backend)
+    from .dask_backend import dask_outcomes
+
+    return dask_outcomes(client, space, plan, seed, ranges, points, threads, parquet_dir,
+                         backend)
+
+
+@dataclass
+class _Progress:
+    """A running scan's state: its reductions' states, the points merged (a prefix), whether a
+    merge is under way, its timing, progress reporter, Parquet staging directory and the
+    current stage's outcomes."""
+
+    states: dict
+    reporter: object
+    timing: Timing = field(default_factory=Timing)
+    done: int = 0
+    merging: bool = False
+    parquet_dir: object = None
+    outcomes: object = None
+
+
+def _merge(state: _Progress, items, outcome, on_chunk) -> None:
+    """Merge one chunk's partial reductions, with SIGINT and SIGTERM held: then its Parquet part
+    is committed and ``on_chunk`` told the points done."""
+    merge_started = time.perf_counter()
+    with _interrupts_deferred():
+        state.merging = True
+        for item in items:
+            state.states[item.name] = item.reduction.merge(state.states[item.name],
+                                                           outcome.partials[item.name])
+        state.done = outcome.stop
+        state.merging = False
+        if state.parquet_dir is not None:
+            from .parquet import commit_parts
+
+            commit_parts(state.parquet_dir, state.done)
+        if on_chunk is not None:
+            on_chunk(state.done)
+    timing = state.timing
+    for name in ("sampling_s", "core_s", "output_s", "reduction_s"):
+        setattr(timing, name, getattr(timing, name) + getattr(outcome, name))
+    timing.reduction_s += time.perf_counter() - merge_started
+    state.reporter.update(state.done)
+
+
+def _targets_met(state: _Progress, plan, companions, space) -> bool:
+    """Whether every reduction's target holds on the points merged so far."""
+    checked = time.perf_counter()
+    unmet = unmet_targets(plan, finish_plan(plan, companions, state.states, space,
+                                            targeted=True))
+    state.timing.reduction_s += time.perf_counter() - checked
+    return not unmet
+
+
+def _stop(state: _Progress) -> None:
+    """Stop whole, with SIGINT and SIGTERM held (a second Ctrl-C waits until the tasks are
+    cancelled and the staging directory is gone, then stops the scan as the first): the
+    outcomes closed, the reporter closed, the uncommitted Parquet parts removed."""
+    with _interrupts_deferred():
+        if state.outcomes is not None:
+            state.outcomes.close()
+        state.reporter.close()
+        if state.parquet_dir is not None:
+            from .parquet import discard_uncommitted
+
+            discard_uncommitted(state.parquet_dir, state.done)
+
+
+def _result(state: _Progress, space, seed, points, partial, plan, companions, targets,
+            error) -> ScanResult:
+    """The scan's result; an error that stopped it is raised with the result (the prefix
+    merged before it) as its ``result`` (:class:`ScanAborted`) or ``scan_result``."""
+    results = finish_plan(plan, companions, state.states, space)
+    unmet = unmet_targets(plan, results) if targets else []
+    result = ScanResult(space, seed, state.done, points, partial, results, state.timing,
+                        tuple(unmet))
+    if isinstance(error, ScanAborted):
+        error.result = result
+        raise error
+    if error is not None:
+        try:
+            error.scan_result = result
+        except AttributeError:  # an exception type without attributes of its own
+            pass
+        raise error
+    return result
+
+
 def run(space: Space, points: int | None = None, *, seed: int | None = None,
         reductions: dict | None = None, chunk_points: int = DEFAULT_CHUNK_POINTS,
         threads: int | None = None, progress=None, parquet=None, client=None,
@@ -273,94 +365,44 @@ def run(space: Space, points: int | None = None, *, seed: int | None = None,
     plan = _plan(space, reductions)
     stages = _stages(space, points, targets)
     companions = exact_companions(plan, stages, points)  # exact quantiles where it may stop
-    states = {item.name: item.reduction.start(item.key, points) for item in plan + companions}
-    if parquet is not None:
-        from .parquet import commit_parts, discard_uncommitted, prepare_directory
-    unmet: list = []
-    reporter = progress_reporter(progress, points)
-    timing = Timing()
-    done = 0
+    state = _Progress({item.name: item.reduction.start(item.key, points)
+                       for item in plan + companions}, progress_reporter(progress, points))
     partial = False
     aborted = failure = None
-    merging = False
-    parquet_dir = outcomes = None
     started = time.perf_counter()
     with terminate_as_interrupt():
         try:
             if parquet is not None:
-                with _interrupts_deferred():  # its staging directory is made and known, or not
-                    parquet_dir = prepare_directory(parquet)
-            for stage in stages:
-                items = stage_plan(plan, companions, stage, states)
-                ranges = ((start, min(start + chunk_points, stage))
-                          for start in range(done, stage, chunk_points))
-                if client is None:
-                    outcomes = _local_outcomes(space, items, seed, ranges, points, threads,
-                                               parquet_dir, backend)
-                else:
-                    from .dask_backend import dask_outcomes
+                from .parquet import prepare_directory
 
-                    outcomes = dask_outcomes(client, space, items, seed, ranges, points,
-                                             threads, parquet_dir, backend)
-                for outcome in outcomes:
-                    merge_started = time.perf_counter()
-                    with _interrupts_deferred():
-                        merging = True
-                        for item in items:
-                            states[item.name] = item.reduction.merge(
-                                states[item.name], outcome.partials[item.name])
-                        done = outcome.stop
-                        merging = False
-                        if parquet_dir is not None:
-                            commit_parts(parquet_dir, done)
-                        if on_chunk is not None:
-                            on_chunk(done)
-                    for field in ("sampling_s", "core_s", "output_s", "reduction_s"):
-                        setattr(timing, field, getattr(timing, field) + getattr(outcome, field))
-                    timing.reduction_s += time.perf_counter() - merge_started
-                    reporter.update(done)
-                if targets:
-                    checked = time.perf_counter()
-                    unmet = unmet_targets(plan, finish_plan(plan, companions, states, space,
-                                                            targeted=True))
-                    timing.reduction_s += time.perf_counter() - checked
-                    if not unmet:
-                        break
+                with _interrupts_deferred():  # its staging directory is made and known, or not
+                    state.parquet_dir = prepare_directory(parquet)
+            for stage in stages:
+                items = stage_plan(plan, companions, stage, state.states)
+                ranges = ((start, min(start + chunk_points, stage))
+                          for start in range(state.done, stage, chunk_points))
+                state.outcomes = _outcomes(client, space, items, seed, ranges, points, threads,
+                                           state.parquet_dir, backend)
+                for outcome in state.outcomes:
+                    _merge(state, items, outcome, on_chunk)
+                if targets and _targets_met(state, plan, companions, space):
+                    break
         except KeyboardInterrupt:
-            partial = done < points
+            partial = state.done < points
         except ScanAborted as error:
             aborted, partial = error, True
         except Exception as error:
-            if merging:  # the states may hold part of a chunk: no prefix to give
+            if state.merging:  # the states may hold part of a chunk: no prefix to give
                 raise
-            if parquet is not None and parquet_dir is None:  # refused before the first point
+            if parquet is not None and state.parquet_dir is None:  # refused before the first point
                 raise
             failure, partial = error, True
         finally:
-            # The scan stops whole: a signal now (a second Ctrl-C) waits until the tasks are
-            # cancelled and the staging directory is gone, then stops the scan as the first.
             try:
-                with _interrupts_deferred():
-                    if outcomes is not None:
-                        outcomes.close()
-                    reporter.close()
-                    if parquet_dir is not None:
-                        discard_uncommitted(parquet_dir, done)
+                _stop(state)
             except KeyboardInterrupt:
-                partial = done < points
-    timing.wall_s = time.perf_counter() - started
-    results = finish_plan(plan, companions, states, space)
-    if targets:
-        unmet = unmet_targets(plan, results)
-    result = ScanResult(space, seed, done, points, partial, results, timing, tuple(unmet))
-    if aborted is not None:
-        aborted.result = result
-        raise aborted
-    if failure is not None:
-        try:
-            failure.scan_result = result
-        except AttributeError:  # an exception type without attributes of its own
-            pass
-        raise failure
-    return result
+                partial = state.done < points
+    state.timing.wall_s = time.perf_counter() - started
+    return _result(state, space, seed, points, partial, plan, companions, targets,
+                   aborted if aborted is not None else failure)
 
