@@ -236,3 +236,11 @@ sys.exit(main(["optimize", {str(config)!r}, "--out", {str(out)!r}]))
     assert sorted(p.name for p in out.iterdir()) == ["curve.csv", "curve.png", "optimum.json",
                                                      "optimum.md"]
     assert len((out / "curve.csv").read_text().splitlines()) == 1 + 5
+
+
+def test_a_design_error_names_the_optimize_config(tmp_path, capsys):
+    # the designs are read by the scan's parser: its mistakes are the optimize config's
+    code, _, err = _optimize(tmp_path, capsys, CONFIG.replace("f_number = 2.8", "f_number = -2"))
+    assert code == 2
+    assert err.startswith("epc-fast optimize: error: optimize config [design.custom[0]] "
+                          "'1/3.2 inch': f_number = -2: expected a value in (1e-30, inf)")

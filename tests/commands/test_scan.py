@@ -426,3 +426,11 @@ def test_a_lock_path_that_is_not_a_file_is_a_usage_error_naming_it(tmp_path, cap
                    f"{out / '.epc-fast.lock'} is {kind}, not a file: remove it, or choose "
                    "another --out\n")
     assert sorted(p.name for p in out.iterdir()) == [".epc-fast.lock"]
+
+
+def test_a_design_error_names_the_scan_config(tmp_path, capsys):
+    path = tmp_path / "scan.toml"
+    path.write_text(SCAN_CONFIG.replace('"HIGH_TIER"', '"NOPE"'))
+    assert main(["scan", str(path), "--out", str(tmp_path / "out"), "--no-progress"]) == 2
+    assert capsys.readouterr().err.startswith(
+        "epc-fast scan: error: scan config [design]: presets: 'NOPE' is not a preset")

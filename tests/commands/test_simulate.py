@@ -192,3 +192,11 @@ def test_a_bayer_design_with_modes_is_captured_in_the_picked_mode_and_meets_the_
         assert float(row["mtf50_over_f50"]) == pytest.approx(1.0, abs=0.2)
         assert float(row["snr_sim_db"]) == pytest.approx(30.0, abs=0.6)
     assert "| big pixel (binning=2) | 100 |" in (tmp_path / "out" / "agreement.md").read_text()
+
+
+def test_a_design_error_names_the_simulate_config(tmp_path, capsys):
+    # the designs are read by the scan's parser: its mistakes are the simulate config's
+    code, _, err = _simulate(tmp_path, capsys, CONFIG.replace("f_number = 2.8", "f_number = -2"))
+    assert code == 2
+    assert err.startswith("epc-fast simulate: error: simulate config [design.custom[0]] "
+                          "'big pixel': f_number = -2: expected a value in (1e-30, inf)")

@@ -1,5 +1,5 @@
 """``epc-fast sobol``: what it writes in --out, under the scan's output policy (the indices
-themselves are tested with their config in tests/scan/test_config_sobol.py)."""
+themselves are tested with their config in tests/scan/test_config_indices.py)."""
 
 import os
 
@@ -61,3 +61,13 @@ def test_overwrite_into_a_scans_out_leaves_no_file_of_that_scan(tmp_path, capsys
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt", "points", "sobol.csv",
                                                      "sobol.md"]
     assert [p.name for p in (out / "points").iterdir()] == ["mine.txt"]
+
+
+def test_a_design_error_names_the_sobol_config(tmp_path, capsys):
+    # the sobol command reads a scan's config file with the scan's parser: its mistakes are
+    # the sobol config's
+    config = tmp_path / "scan.toml"
+    config.write_text(SCAN.replace('"HIGH_TIER"', '"NOPE"'))
+    assert main(["sobol", str(config), "--out", str(tmp_path / "out"), "--points", "16"]) == 2
+    assert capsys.readouterr().err.startswith(
+        "epc-fast sobol: error: sobol config [design]: presets: 'NOPE' is not a preset")
