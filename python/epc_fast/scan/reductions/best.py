@@ -14,7 +14,7 @@ import numpy as np
 from ..running.chunk import Chunk
 from ...jobs.errors import TooLargeError
 from .groups import GroupKey
-from .summaries import _check_output
+from .summaries import check_output
 
 __all__ = ["TopK", "TopKResult", "MAX_K"]
 
@@ -75,7 +75,7 @@ class TopK:
     by = None
 
     def __post_init__(self):
-        _check_output(self.of)
+        check_output(self.of)
         if self.k < 1:
             raise ValueError(f"k must be >= 1, got {self.k!r}")
         if self.k > MAX_K:

@@ -19,7 +19,7 @@ import numpy as np
 from ..running.chunk import Chunk
 from .targets import target_of
 from .groups import GroupKey
-from .summaries import _check_output
+from .summaries import check_output
 
 __all__ = ["Histogram", "HistogramResult", "Quantiles", "QuantilesResult"]
 
@@ -179,7 +179,7 @@ class Histogram:
     of: str = "epc"
 
     def __post_init__(self):
-        _check_output(self.of)
+        check_output(self.of)
         _check_range(self.low, self.high, self.log)
         if self.bins < 1:
             raise ValueError(f"bins must be >= 1, got {self.bins!r}")
@@ -343,7 +343,7 @@ class Quantiles:
     target: object = None
 
     def __post_init__(self):
-        _check_output(self.of)
+        check_output(self.of)
         object.__setattr__(self, "target", target_of(self.target))
         _check_range(self.low, self.high, log=True)
         q = tuple(float(p) for p in np.atleast_1d(self.q))

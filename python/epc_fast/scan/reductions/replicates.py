@@ -30,7 +30,7 @@ from dataclasses import replace
 import numpy as np
 
 from .histograms import Quantiles, QuantilesResult, finish_with_order_statistics
-from .summaries import FractionBelow, FractionBelowResult, Summary, SummaryResult, _Moments
+from .summaries import FractionBelow, FractionBelowResult, Summary, SummaryResult, Moments
 from .targets import Target, target_of
 
 __all__ = ["Target", "target_of", "finish", "unmet_targets", "REPLICATED", "exact_companions",
@@ -44,7 +44,7 @@ REPLICATED = (Summary, FractionBelow, Quantiles)
 
 def _pool_summary(state: dict, r: int, g: int) -> dict:
     moments = state["moments"]
-    pooled = _Moments(np.zeros(g, np.int64), np.zeros(g), np.zeros(g))
+    pooled = Moments(np.zeros(g, np.int64), np.zeros(g), np.zeros(g))
     for k in range(r):
         rows = slice(k * g, (k + 1) * g)
         pooled.add(moments.count[rows], moments.mean[rows], moments.m2[rows])

@@ -21,12 +21,14 @@ from ..running.chunk import OUTPUTS, Chunk
 from .groups import GroupKey
 from .targets import target_of
 
-__all__ = ["Summary", "SummaryResult", "FractionBelow", "FractionBelowResult"]
+__all__ = ["Summary", "SummaryResult", "FractionBelow", "FractionBelowResult", "Moments",
+           "check_output"]
 
 STATUS_COUNT = len(Status)
 
 
-def _check_output(of: str) -> None:
+def check_output(of: str) -> None:
+    """A ValueError unless ``of`` is an output a reduction can take."""
     if of not in OUTPUTS:
         raise ValueError(f"of must be one of {', '.join(OUTPUTS)}; got {of!r}")
 
@@ -113,7 +115,7 @@ def _status_counts(chunk: Chunk, key: GroupKey) -> np.ndarray:
 
 
 @dataclass
-class _Moments:
+class Moments:
     """Running count, mean and sum of squared deviations per group (Chan et al.)."""
 
     count: np.ndarray
@@ -146,13 +148,13 @@ class Summary:
     target: object = None
 
     def __post_init__(self):
-        _check_output(self.of)
+        check_output(self.of)
         object.__setattr__(self, "target", target_of(self.target))
 
     def start(self, key: GroupKey, points_total: int) -> dict:
         groups = key.size
         return {"status": np.zeros((groups, STATUS_COUNT), np.int64),
-                "moments": _Moments(np.zeros(groups, np.int64), np.zeros(groups),
+                "moments": Moments(np.zeros(groups, np.int64), np.zeros(groups),
                                     np.zeros(groups)),
                 "min": np.full(groups, np.inf), "max": np.full(groups, -np.inf)}
 
@@ -270,7 +272,7 @@ class FractionBelow:
     target: object = None
 
     def __post_init__(self):
-        _check_output(self.of)
+        check_output(self.of)
         object.__setattr__(self, "target", target_of(self.target))
 
     @property

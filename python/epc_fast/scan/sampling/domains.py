@@ -13,10 +13,10 @@ from ...params import SIZE_PARAMETERS, in_domain, parameters
 from .distributions import (MIN_TRUNCATED_PROBABILITY, Choice, Empirical, Grid, LogNormal,
                             LogUniform, Truncated, Uniform)
 
-__all__ = ["domain_problem"]
+__all__ = ["domain_problem", "domain_of", "inside_probability"]
 
 
-def _domain_of(name: str, lens_count: int = 1):
+def domain_of(name: str, lens_count: int = 1):
     """The :class:`~epc_fast.params.Param` of a point parameter (the size slot for
     ``pixel_count`` and ``sensor_area_mm2``), with ``lens_count`` lens tables."""
     slot = "size" if name in SIZE_PARAMETERS else name
@@ -25,7 +25,7 @@ def _domain_of(name: str, lens_count: int = 1):
 
 def _expected(name: str, what: str = "a value", lens_count: int = 1) -> str:
     """``"expected <what> in <domain> (<unit>, <meaning>)"`` of point parameter ``name``."""
-    param = _domain_of(name, lens_count)
+    param = domain_of(name, lens_count)
     if name in SIZE_PARAMETERS:
         unit, meaning = ("pixels", "pixel count") if name == "pixel_count" else \
             ("mm^2", "sensor area")
@@ -56,7 +56,7 @@ def domain_problem(name: str, axis, lens_count: int = 1):
     would all be INVALID); one whose tail only reaches outside keeps its draws there, which are
     INVALID points, counted as such (``truncate`` avoids them).
     """
-    param = _domain_of(name, lens_count)
+    param = domain_of(name, lens_count)
 
     def expected(what="a value"):
         return _expected(name, what, lens_count)
@@ -95,18 +95,18 @@ def domain_problem(name: str, axis, lens_count: int = 1):
            if given and not _inside_closure(param, v)]
     if bad:
         return f"{axis!r} reaches {bad[0]:g}: {expected('its bounds')}"
-    inside = _inside_probability(name, axis)
+    inside = inside_probability(name, axis)
     if inside < MIN_TRUNCATED_PROBABILITY:
         return (f"{axis!r} draws in the domain with a probability of {inside:.2g}: "
                 f"{expected('draws')}")
     return None
 
 
-def _inside_probability(name: str, axis) -> float:
+def inside_probability(name: str, axis) -> float:
     """1: the probability that a distribution's draw of parameter ``name`` falls inside its
     domain; 1 for a number, a grid, a choice and an empirical distribution, whose values are
     checked one by one."""
-    param = _domain_of(name)
+    param = domain_of(name)
     parent = axis.distribution if isinstance(axis, Truncated) else axis
     if not hasattr(parent, "probability_within") or isinstance(parent, Empirical):
         return 1.0

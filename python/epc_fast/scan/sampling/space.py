@@ -27,7 +27,7 @@ from ... import terms
 from .distributions import Choice, Grid
 from ..designs import design_dict, fill_left_out
 from ..running.readout_modes import READOUT_KEYS, design_readout
-from .domains import _domain_of, _inside_probability, domain_problem
+from .domains import domain_of, inside_probability, domain_problem
 
 __all__ = ["Space", "Points", "BLOCK_POINTS", "domain_problem"]
 
@@ -451,10 +451,10 @@ class Space:
                                  self.design_modes))
             else:
                 share = 0.0 if isinstance(axis, (float, Grid, Choice)) else \
-                    1.0 - _inside_probability(name, axis)
+                    1.0 - inside_probability(name, axis)
                 lines.append(f"{name}: {axis!r}" + (
                     f": {100 * share:.2g}% of the draws fall outside the domain "
-                    f"{_domain_of(name).domain_text()} and are INVALID points"
+                    f"{domain_of(name).domain_text()} and are INVALID points"
                     if share >= MIN_REPORTED_SHARE else ""))
         if not self.design_names:
             lines.append(f"SNR target: {targets[0]}")
