@@ -16,7 +16,7 @@ from .footprint import check_memory
 from .modes import evaluate_modes
 from .call_options import (BACKENDS, BINNING_READOUTS, F50_SOLVERS,  # noqa: F401 (api's names)
                            INVALID_POLICIES, PRECISIONS, T_MPE_SOLVERS, CallOptions, options_of)
-from .outputs import (ALL_OUTPUT_DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS,
+from .outputs import (ALL_OUTPUT_DTYPES, OUTPUT_DTYPES, SENSITIVITY_OUTPUTS, attach_snr_target,
                       SHARE_OUTPUTS, Result, new_result, out_arrays, result_of)
 from .sensor import size_and_field_angle
 from .status import Status
@@ -267,8 +267,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         _, angle = size_and_field_angle(pixel_count, sensor_area_mm2, sensor_width_mm,
                                         sensor_height_mm, sensor_diagonal_mm, aspect, snr_at,
                                         field_angle_deg, focal_length_mm)
-        object.__setattr__(result, "_snr_target", (snr_db, snr_at, angle))
-        return result
+        return attach_snr_target(result, snr_db, snr_at, angle)
     design = resolve(
         illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, pixel_count=pixel_count,
         sensor_area_mm2=sensor_area_mm2, sensor_width_mm=sensor_width_mm,
@@ -295,6 +294,4 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     check_memory(design.shape, design.arrays, options.backend, given is not None,
                  options.computed, threads=threads if options.backend == "core" else 1)
     result = _assembled(_compute(design, options, threads, given), design, options, given)
-    # where the target was met, its text made when first read (Result.snr_target)
-    object.__setattr__(result, "_snr_target", (snr_db, snr_at, design.field_angle_deg))
-    return result
+    return attach_snr_target(result, snr_db, snr_at, design.field_angle_deg)

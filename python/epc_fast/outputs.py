@@ -17,7 +17,7 @@ from .status import Cause, Status
 
 __all__ = ["Result", "SHARE_NAMES", "SHARE_OUTPUTS", "SENSITIVITY_OUTPUTS", "OUTPUT_DTYPES",
            "ALL_OUTPUT_DTYPES", "DTYPES", "selected_outputs", "out_arrays", "result_arrays",
-           "output_shape", "output_bytes", "result_of", "new_result"]
+           "output_shape", "output_bytes", "result_of", "new_result", "attach_snr_target"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -102,6 +102,13 @@ class Result:
         if self.snr_target is not None:
             items.append(f"snr_target={self.snr_target!r}")
         return f"Result({', '.join(items)})"
+
+
+def attach_snr_target(result: Result, snr_db, snr_at, field_angle_deg) -> Result:
+    """``result`` with the SNR target and where evaluate met it (:attr:`Result.snr_target`),
+    whose text is made when first read."""
+    object.__setattr__(result, "_snr_target", (snr_db, snr_at, field_angle_deg))
+    return result
 
 
 def _range_text(values, digits: str = "g") -> str:

@@ -131,7 +131,7 @@ def _check_sizes(where: str, reduction, space, replicates: int) -> None:
     if isinstance(reduction, Histogram):
         check_size(where, "groups x bins", groups * (reduction.bins + 2), MAX_CELLS, 16)
     if isinstance(reduction, Quantiles):
-        slots = reduction._bins.slots
+        slots = reduction.bin_layout.slots
         check_size(where, "groups x streamed histogram bins", groups * slots, MAX_CELLS, 16)
 
 

@@ -31,7 +31,7 @@ def _slot_counts(slot: np.ndarray, group: np.ndarray, groups: int, slots: int) -
 
 
 @dataclass(frozen=True)
-class _Bins:
+class BinLayout:
     """Equal bins on t in [first, last); slot 0 is below, slots 1..bins, bins + 1 above."""
 
     first: float
@@ -185,18 +185,18 @@ class Histogram:
             raise ValueError(f"bins must be >= 1, got {self.bins!r}")
 
     @property
-    def _bins(self) -> _Bins:
+    def bin_layout(self) -> BinLayout:
         if self.log:
-            return _Bins(math.log10(self.low), math.log10(self.high), int(self.bins))
-        return _Bins(float(self.low), float(self.high), int(self.bins))
+            return BinLayout(math.log10(self.low), math.log10(self.high), int(self.bins))
+        return BinLayout(float(self.low), float(self.high), int(self.bins))
 
     def start(self, key: GroupKey, points_total: int) -> dict:
-        return {"counts": np.zeros((key.size, self._bins.slots), np.int64),
+        return {"counts": np.zeros((key.size, self.bin_layout.slots), np.int64),
                 "points": np.zeros(key.size, np.int64)}
 
     def reduce(self, chunk: Chunk, key: GroupKey) -> dict:
         t = chunk.finite_log10(self.of) if self.log else chunk.finite_values(self.of)
-        return {"counts": self._bins.counts(t, chunk.finite_groups(self.of, key), key.size),
+        return {"counts": self.bin_layout.counts(t, chunk.finite_groups(self.of, key), key.size),
                 "points": chunk.group_counts(key)}
 
     def merge(self, state: dict, partial: dict) -> dict:
@@ -206,7 +206,7 @@ class Histogram:
 
     def finish(self, state: dict, key: GroupKey, space) -> HistogramResult:
         counts = state["counts"]
-        edges = self._bins.edges
+        edges = self.bin_layout.edges
         return HistogramResult(self.of, key.columns, 10.0 ** edges if self.log else edges,
                                counts[:, 1:-1], counts[:, 0], counts[:, -1],
                                state["points"] - counts.sum(axis=1))
@@ -354,13 +354,13 @@ class Quantiles:
             raise ValueError(f"bins_per_decade must be >= 1, got {self.bins_per_decade!r}")
 
     @property
-    def _bins(self) -> _OctaveBins:
+    def bin_layout(self) -> _OctaveBins:
         return _OctaveBins.covering(self.low, self.high, self.bins_per_decade)
 
     def start(self, key: GroupKey, points_total: int) -> dict:
         if points_total <= self.exact_up_to:
             return {"exact": True, "values": [], "groups": []}
-        return {"exact": False, "counts": np.zeros((key.size, self._bins.slots), np.int64),
+        return {"exact": False, "counts": np.zeros((key.size, self.bin_layout.slots), np.int64),
                 "min": np.full(key.size, np.inf), "max": np.full(key.size, -np.inf)}
 
     def reduce(self, chunk: Chunk, key: GroupKey) -> dict:
@@ -370,7 +370,7 @@ class Quantiles:
             return {"values": values, "groups": group}
         low, high = chunk.finite_min_max(self.of, key)
         return {"min": low, "max": high,
-                "counts": self._bins.counts(values, group, key.size)}
+                "counts": self.bin_layout.counts(values, group, key.size)}
 
     def merge(self, state: dict, partial: dict) -> dict:
         if state["exact"]:
@@ -388,7 +388,7 @@ class Quantiles:
             estimate = _exact_quantiles(state, key.size, q)
             return QuantilesResult(self.of, key.columns, q, estimate, estimate, estimate,
                                    True, 0.0)
-        bins = self._bins
+        bins = self.bin_layout
         estimate, lower, upper = _histogram_quantiles(bins, state, q)
         return QuantilesResult(self.of, key.columns, q, estimate, lower, upper, False,
                                bins.relative_resolution)

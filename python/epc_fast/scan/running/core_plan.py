@@ -204,11 +204,11 @@ class CorePlan:
         elif isinstance(reduction, FractionBelow):
             spec.update(kind="fraction_below", threshold=float(reduction.threshold))
         elif isinstance(reduction, Histogram):
-            bins = reduction._bins
+            bins = reduction.bin_layout
             spec.update(kind="histogram", first=bins.first, last=bins.last, bins=bins.bins,
                         log=bool(reduction.log))
         elif isinstance(reduction, Quantiles):
-            bins = reduction._bins
+            bins = reduction.bin_layout
             spec.update(kind="quantiles", first_key=bins.first_key, bins=bins.bins,
                         shift=bins.shift)
         else:
