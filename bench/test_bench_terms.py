@@ -48,7 +48,7 @@ SCENES = {
     "read+dark+prnu": {"read_noise_e": 3.0, "dark_current_e_per_s": 50.0, "prnu": 0.005},
     "motion": {"shake_deg_per_s": 4.39},
     "jitter": {"jitter_um": 1.0},
-    "MTF30": {"mtf_threshold": 0.3},  # a threshold with an accurate start (f50_start.h)
+    "MTF30": {"mtf_threshold": 0.3},  # a threshold with an accurate start (f50/guesses.h)
     "MTF25": {"mtf_threshold": 0.25},  # one without: the cubic start
     "fill factor": {"fill_factor": 0.6},
     "brent T_MPE": {"read_noise_e": 3.0, "t_mpe_solver": "brent"},

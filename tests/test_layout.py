@@ -13,10 +13,10 @@ import os
 import re
 import subprocess
 import sys
-from collections import Counter
 from pathlib import Path
 
 import pytest
+from helpers.layout import shared_prefixes
 
 ROOT = Path(__file__).resolve().parents[1]
 PACKAGE = ROOT / "python" / "epc_fast"
@@ -202,15 +202,6 @@ def test_the_test_import_check_finds_an_import_of_a_test_module():
         assert not SYS_PATH_EDIT.search(reading), reading
 
 
-def _shared_prefixes(names) -> dict:
-    """{first word: count} of the module names (``optimize_config``: ``optimize``) that two or
-    more of ``names`` share, the bare word (``optimize``) counted too."""
-    names = [name for name in names if not name.startswith("_")]
-    prefixes = Counter(name.split("_")[0] for name in names if "_" in name)
-    return {prefix: count + (prefix in names) for prefix, count in prefixes.items()
-            if count + (prefix in names) > 1}
-
-
 @pytest.mark.parametrize("folder", sorted({p.parent for p in PACKAGE.rglob("__init__.py")}),
                          ids=lambda p: str(p.relative_to(PACKAGE.parent)))
 def test_no_module_name_prefix_stands_for_a_subsystem(folder):
@@ -218,13 +209,13 @@ def test_no_module_name_prefix_stands_for_a_subsystem(folder):
     # name's first word side by side
     names = [p.stem for p in folder.glob("*.py")] + [p.name for p in folder.iterdir()
                                                      if (p / "__init__.py").exists()]
-    assert _shared_prefixes(names) == {}
+    assert shared_prefixes(names) == {}
 
 
 def test_the_prefix_check_finds_a_subsystem():
-    assert _shared_prefixes(["optimize", "optimize_config", "api", "_core_x86"]) == {"optimize": 2}
-    assert _shared_prefixes(["plot_text", "plot_layout", "limits_plot"]) == {"plot": 2}
-    assert _shared_prefixes(["elasticity_outputs", "api"]) == {}
+    assert shared_prefixes(["optimize", "optimize_config", "api", "_core_x86"]) == {"optimize": 2}
+    assert shared_prefixes(["plot_text", "plot_layout", "limits_plot"]) == {"plot": 2}
+    assert shared_prefixes(["elasticity_outputs", "api"]) == {}
 
 
 @pytest.mark.parametrize("path", sorted(PACKAGE.rglob("*.py")), ids=lambda p: str(p.relative_to(PACKAGE)))
@@ -309,10 +300,12 @@ def test_every_all_entry_names_something():
 
 
 def test_the_map_in_docs_internals_names_every_header_and_binding_file():
+    # a header by its path under cpp/include/epc_fast/ (its folder: f50/stage.h)
     text = INTERNALS.read_text()
-    files = sorted(ROOT.glob("cpp/include/epc_fast/*.h")) + sorted(ROOT.glob("cpp/src/*"))
-    unnamed = [f.name for f in files
-               if not re.search(rf"`(?:[\w/]+/)?{re.escape(f.name)}`", text)]
+    headers = ROOT / "cpp" / "include" / "epc_fast"
+    files = [f.relative_to(headers).as_posix() for f in sorted(headers.rglob("*.h"))]
+    files += [f.name for f in sorted(ROOT.glob("cpp/src/*"))]
+    unnamed = [f for f in files if not re.search(rf"`(?:[\w/]+/)?{re.escape(f)}`", text)]
     assert unnamed == []
 
 

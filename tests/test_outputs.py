@@ -153,7 +153,7 @@ def test_the_memory_estimate_counts_only_the_selected_outputs(monkeypatch):
 
 
 def test_out_may_reuse_input_arrays_each_point_is_read_before_it_is_written(designs):
-    # The kernel reads full blocks of contiguous input columns in place (kernel.h gather) and
+    # The kernel reads full blocks of contiguous input columns in place (gather.h) and
     # writes a block's outputs one after another, so core_call.run_core copies an input column that
     # shares memory with an output. Here the rate overwrites the pitch, which the EPC of pixel
     # counts reads after the rate is written, and f50 the pixel count, read for the EPC too.

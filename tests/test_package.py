@@ -59,6 +59,28 @@ def test_core_formulas_carry_the_reference_names():
         assert hasattr(_core.testing, name) and hasattr(reference, name), name
 
 
+#: The newest terms' formulas (the wavefront error, denoising, a lens table, a colour sensor's
+#: demosaicker): each defined under this name in a header of the core and in the reference.
+TERM_FORMULAS = ("mtf_aberration", "aberration_log_factor", "noise_gain_denoise",
+                 "denoise_log_factor", "noise_gain_log_slope", "mtf_lens", "lens_log_factor",
+                 "mtf_demosaic", "demosaic_log_factor", "diffraction_log_slope_numerator")
+
+
+@pytest.mark.parametrize("name", TERM_FORMULAS)
+def test_each_terms_formulas_carry_the_same_name_in_the_core_and_the_reference(name):
+    import re
+    from pathlib import Path
+
+    headers = Path(__file__).resolve().parents[1] / "cpp" / "include" / "epc_fast"
+    # a definition: the name after a return type, then its parameters
+    returns = r"(?:void|bool|double|T|\w+Factor|\w+Slopes<T>)"
+    defined = re.compile(rf"^[\w:<>, ]*\b{returns} {name}\(", re.M)
+    assert any(defined.search(h.read_text()) for h in headers.rglob("*.h")), name
+    modules = (reference.model, reference.mtf, reference.optics, reference.lens, reference.cfa,
+               reference.sensitivity)
+    assert any(callable(getattr(m, name, None)) for m in modules), name
+
+
 def test_the_core_stub_lists_every_public_function_of_the_core():
     import ast
     from pathlib import Path

@@ -10,7 +10,7 @@
 //                     [threads=1] [jitter_um=0] [wavelengths=0] [all|f50_epc]
 //
 // wavelengths > 0: a spectrum of that many equally weighted wavelengths over 480..580 nm (the
-// default QE's band), with its fitted f50 start (spectrum_start.h); < 0: the same spectrum
+// default QE's band), with its fitted f50 start (f50/spectrum_fit.h); < 0: the same spectrum
 // without it (the cubic start), for comparison.
 //
 // f50_epc: only f50 and EPC written (the others null: not computed), as `outputs=("f50_cyc_per_mm",
@@ -24,8 +24,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "epc_fast/f50/spectrum_fit.h"
 #include "epc_fast/kernel.h"
-#include "epc_fast/spectrum_start.h"
 #include "phone_designs.h"
 
 using namespace epc_fast;

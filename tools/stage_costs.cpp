@@ -1,5 +1,5 @@
-// Where the kernel's time goes, stage by stage (kernel.h, exposure_stage.h, f50.h): one thread
-// runs the blocks of `points` random phone designs (phone_designs.h) through the stages
+// Where the kernel's time goes, stage by stage (kernel.h, exposure/stage.h, f50/stage.h): one
+// thread runs the blocks of `points` random phone designs (phone_designs.h) through the stages
 // cumulatively (gather; then the exposure; then f50's start and bracket; then its solve; then
 // the scatter into the outputs, which is evaluate_block) and prints each stage's share, from
 // the best of `rounds` passes of each (taken in turn). The stages run in their real order on

@@ -15,7 +15,7 @@ derivatives, inside the bisection bracket [0, f_hi] of MODEL.md section 6:
   may round onto a bracket end), or when the bracket is that narrow.
 
 With ``same_algorithm=True`` the peer runs the core's own algorithm instead, to separate what
-the algorithm buys from what the C++ buys: the core's accurate start (f50_start.h, its
+the algorithm buys from what the C++ buys: the core's accurate start (f50/guesses.h, its
 coefficients read from ``epc_fast._core``, threshold 1/2 only: within 4.2e-8 of f50) and the
 core's stop test (a lane stops when its step d <= (rtol/10)^(1/3) f and d^3 / p^2 <=
 (rtol/10) f, p the step before, the bracket's width at first), so that it too stops after one
@@ -45,7 +45,7 @@ UNREACHABLE = int(Status.UNREACHABLE)
 BLUR_UNBOUNDED = int(Status.BLUR_UNBOUNDED)
 #: Below this |pi x| the sinc's derivatives come from their Taylor series (no cancellation).
 SMALL_PI_X = 1e-2
-#: The core's accurate start (f50_start.h): each factor's own f50 in units of its length, and
+#: The core's accurate start (f50/guesses.h): each factor's own f50 in units of its length, and
 #: the polynomial in a = 2 v_d - 1 and z = w^2, rows a^0 .. a^degree of z^0 .. z^((degree-i)/2).
 NU50 = 0.4039727532995172
 X50 = 0.6033545644016142

@@ -9,10 +9,10 @@
 #include <utility>
 #include <vector>
 
+#include "epc_fast/f50/spectrum_fit.h"
 #include "epc_fast/output_cache.h"
 #include "epc_fast/params.h"
-#include "epc_fast/scan_reductions.h"
-#include "epc_fast/spectrum_start.h"
+#include "epc_fast/scan/reductions.h"
 
 namespace epc_fast {
 namespace bindings {

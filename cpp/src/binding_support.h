@@ -22,7 +22,7 @@
 
 namespace epc_fast {
 
-struct Reduction;  // scan_reductions.h
+struct Reduction;  // scan/states.h
 
 namespace bindings {
 
@@ -61,7 +61,7 @@ Spectrum spectrum_of(const double_array& wavelengths_nm, const double_array& wei
 Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                  const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n);
 
-// The call's lens tables into `in` (mtf_table.h): `tables` None or a list of
+// The call's lens tables into `in` (tabulated.h): `tables` None or a list of
 // (knots, values, coefficients) triples of 1-D float64 arrays (epc_fast.mtf_table.MtfTable's
 // frequencies, values and its (knots - 1, 4) coefficients flattened). With tables, a wavefront
 // error other than 0 is outside its domain (a lens table includes its aberrations).

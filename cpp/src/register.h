@@ -17,7 +17,7 @@ void register_evaluate(pybind11::module_& m);
 // lux_for_epc and crossover_lux: the illuminance at which a design reaches an EPC, or two
 // designs have equal EPC (inverse.h).
 void register_inverse(pybind11::module_& m);
-// scan_chunk and scan_points: the fused scan pass and its points (scan.h).
+// scan_chunk and scan_points: the fused scan pass and its points (scan/pass.h).
 void register_scan(pybind11::module_& m);
 // output_cache: the memory kept for evaluate's output arrays (output_cache.h).
 void register_memory(pybind11::module_& m);

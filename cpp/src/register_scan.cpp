@@ -1,6 +1,6 @@
-// Scans (scan.h): the space, group keys and reductions arrive as plain dicts and lists built by
-// python/epc_fast/scan/core_plan.py, which has validated them; a chunk's pass runs with the GIL
-// released and each reduction's partial results come back as a dict of arrays.
+// Scans (scan/pass.h): the space, group keys and reductions arrive as plain dicts and lists built
+// by python/epc_fast/scan/running/core_plan.py, which has validated them; a chunk's pass runs with
+// the GIL released and each reduction's partial results come back as a dict of arrays.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "binding_support.h"
-#include "epc_fast/scan.h"
+#include "epc_fast/scan/pass.h"
 #include "register.h"
 
 namespace epc_fast {
@@ -344,7 +344,7 @@ void register_scan(py::module_& m) {
     m.def("scan_chunk", &scan_chunk_py, py::arg("space"), py::arg("keys"), py::arg("reductions"),
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
           py::arg("precision"), py::arg("start"), py::arg("stop"), py::arg("threads"),
-          "Draws, evaluates and reduces points [start, stop) of a scan (scan.h); one dict of "
+          "Draws, evaluates and reduces points [start, stop) of a scan (scan/pass.h); one dict of "
           "partial results per reduction.");
     m.def("scan_points", &scan_points_py, py::arg("space"), py::arg("index"),
           "The parameters (None where fixed) and discrete axes' indices of the points `index`.");

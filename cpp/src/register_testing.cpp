@@ -13,14 +13,14 @@
 
 #include "binding_support.h"
 #include "epc_fast/block.h"
-#include "epc_fast/draws.h"
 #include "epc_fast/elementary.h"
-#include "epc_fast/exposure.h"
-#include "epc_fast/f50_start.h"
+#include "epc_fast/exposure/point.h"
+#include "epc_fast/f50/guesses.h"
+#include "epc_fast/f50/spectrum_fit.h"
 #include "epc_fast/mtf.h"
-#include "epc_fast/philox.h"
-#include "epc_fast/scan_reductions.h"
-#include "epc_fast/spectrum_start.h"
+#include "epc_fast/scan/draws.h"
+#include "epc_fast/scan/philox.h"
+#include "epc_fast/scan/reductions.h"
 #include "register.h"
 
 namespace epc_fast {
@@ -30,7 +30,7 @@ void register_testing(py::module_& parent) {
     py::module_ m = parent.def_submodule(
         "testing", "Single formulas and stages of the core, for the tests and the benchmarks' peers.");
     m.def("stream_uniforms",
-          // block by block, through the fused pass's own stream_uniforms (philox.h); the tail
+          // block by block, through the fused pass's own stream_uniforms (scan/philox.h); the tail
           // lanes of a partial last block repeat its last index, as form_points pads them
           [](std::uint64_t seed, std::uint32_t stream, const py::array_t<std::int64_t, py::array::c_style>& index) {
               const auto n = static_cast<std::size_t>(index.size());
@@ -48,7 +48,7 @@ void register_testing(py::module_& parent) {
           },
           py::arg("seed"), py::arg("stream"), py::arg("index"));
     m.def("ndtri", py::vectorize([](double p) { return ndtri(p); }), py::arg("p"));
-    // the draws' block form of ndtri (draws.h ndtri_block), block by block; the tail of the
+    // the draws' block form of ndtri (scan/draws.h ndtri_block), block by block; the tail of the
     // last block is padded with 1/2
     m.def("ndtri_blocks",
           [](py::array_t<double, py::array::c_style | py::array::forcecast> p) {
@@ -72,7 +72,7 @@ void register_testing(py::module_& parent) {
               return std::fabs(x) <= exp_normal_bound ? exp_normal(x) : std::numeric_limits<double>::quiet_NaN();
           }), py::arg("x"));
     m.def("elementary_log", py::vectorize([](double x) { return log_any(x); }), py::arg("x"));
-    // the streamed quantiles' slot of each value (scan_reductions.h octave_slot_of), as the
+    // the streamed quantiles' slot of each value (scan/folds.h octave_slot_of), as the
     // fused pass bins it
     m.def(
         "octave_slots",
@@ -113,7 +113,7 @@ void register_testing(py::module_& parent) {
     m.def("f50_cubic_start", py::vectorize(&detail::f50_cubic_start), py::arg("lambda_f_mm"),
           py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("jitter_mm"),
           py::arg("mtf_threshold"));
-    // A spectrum's fitted start (spectrum_start.h): its coefficients and fit errors (None where
+    // A spectrum's fitted start (f50/spectrum_fit.h): its coefficients and fit errors (None where
     // none can be fitted), and the start a polychromatic float64 lane without jitter takes
     // (lambda_f_mm with the spectrum's mean wavelength; the cubic start for a threshold without
     // a row or a spectrum without a fit).
@@ -148,7 +148,7 @@ void register_testing(py::module_& parent) {
         },
         py::arg("wavelengths_nm"), py::arg("weights"), py::arg("lambda_f_mm"),
         py::arg("aperture_mm"), py::arg("blur_mm"), py::arg("mtf_threshold"));
-    // The accurate starts' polynomials (f50_start.h): one row of coefficients per threshold of
+    // The accurate starts' polynomials (f50/guesses.h): one row of coefficients per threshold of
     // accurate_start_thresholds, for the tests and the benchmarks' Numba peer that runs the
     // core's algorithm.
     m.attr("accurate_start_degree") = detail::accurate_start_degree;

@@ -1,5 +1,5 @@
-"""The core's colour filter array (the rate times t and the noise gain in exposure_stage.h, the
-demosaicker's table in optics_stage.h, its share and elasticities in sensitivity.h) against the
+"""The core's colour filter array (cpp/include/epc_fast/cfa.h: the rate times t, the noise gain,
+the demosaicker's table and its share; the elasticities in log_slopes.h) against the
 NumPy reference on random designs, every demosaicker, both precisions."""
 
 import numpy as np

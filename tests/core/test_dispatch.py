@@ -25,7 +25,7 @@ kw["jitter_um"] = 0.5
 r = epc_fast.evaluate(**kw, threads=2)
 spectrum = epc_fast.spectra.Spectrum([480.0, 530.0, 580.0], [1, 2, 1])
 s = epc_fast.evaluate(**kw, spectrum=spectrum)
-# the spectrum's fitted f50 start (spectrum_start.h): fused levels give it the same bits
+# the spectrum's fitted f50 start (f50/spectrum_fit.h): fused levels give it the same bits
 start = _core.testing.spectrum_start(spectrum.wavelengths_nm, spectrum.weights)["coefficients"]
 np.savez(sys.argv[1], spectrum_start=start,
          **{f"{name}_{k}": getattr(x, k) for name, x in (("mono", r), ("poly", s))

@@ -1,4 +1,4 @@
-"""The exposure stage's vector path (exposure_stage.h): the electron rate and T_MPE come out
+"""The exposure stage's vector path (exposure/stage.h): the electron rate and T_MPE come out
 rounded as their formulas say, step by step, however the core forms its quotients (one
 reciprocal shared by the quotients with the same divisor, each corrected to the correctly
 rounded one)."""

@@ -1,4 +1,4 @@
-"""Every f50 solver (cpp/include/epc_fast/f50.h) at several tolerances, against the NumPy
+"""Every f50 solver (cpp/include/epc_fast/f50/solvers.h) at several tolerances, against the NumPy
 reference (which bisects f50 to adjacent doubles) on scenes that use every term."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""The f50 solvers' starting guesses (cpp/include/epc_fast/f50_start.h) against the exact f50,
+"""The f50 solvers' starting guesses (cpp/include/epc_fast/f50/guesses.h) against the exact f50,
 and the per-lane choice between them."""
 
 import numpy as np
@@ -24,7 +24,7 @@ def _exact_f50(f_number, aperture_mm, blur_mm, jitter_mm, threshold):
 #: Each accurate start's largest relative error, as tools/fit_f50_start.py measures it over the
 #: whole (v_d, w) domain, with room for the rounding of the lengths and of Horner's rule. One
 #: Halley step from 5.2e-6 leaves an error of order (5.2e-6)^3 and meets the default stop test
-#: (f50.h); from 0.1's 5.2e-5 it takes a second step.
+#: (f50/solvers.h); from 0.1's 5.2e-5 it takes a second step.
 ACCURATE_BOUND = {0.5: 5e-8, 0.3: 1.5e-6, 0.2: 6e-6, 0.1: 6e-5}
 
 
@@ -67,7 +67,7 @@ def test_the_start_for_other_thresholds_and_jitter_is_a_finite_positive_guess(th
     # Jitter, or a threshold without an accurate start, scales the cubic by
     # sqrt(ln(1/c) / ln 2), exact for jitter alone and
     # coarse otherwise (measured: median 25% at c = 0.05, up to 180% at c = 0.95). It only sets
-    # the solvers' first abscissa; one outside the bracket is replaced by f_hi / 2 (f50_start.h),
+    # the solvers' first abscissa; one outside the bracket is replaced by f_hi / 2 (f50/start.h),
     # so what it must be is finite and positive.
     f_number, lambda_f, aperture, blur = lengths(5_000, seed=4, wavelength_nm=WAVELENGTH_NM)
     rng = np.random.default_rng(5)
@@ -335,7 +335,7 @@ def test_lengths_at_the_ends_of_the_domains_still_meet_the_tolerance():
 @pytest.mark.parametrize("threshold, jitter_um", [(0.5, 0.0), (0.3, 0.0), (0.1, 0.0), (0.5, 0.6)])
 def test_float32_settles_on_the_float64_start_rounded_once(threshold, jitter_um):
     # float32 computes a certified start in float64 from the float64 lengths and rounds it once
-    # (f50_start.h): at a tolerance that settles the row in both precisions, float32's f50 is
+    # (f50/settle.h): at a tolerance that settles the row in both precisions, float32's f50 is
     # float64's rounded to float32 (within half a float32 ulp, 2^-24 relative)
     d = random_designs(2000, seed=26)
     row = {0.5: 0, 0.3: 1, 0.1: 3}[threshold] if jitter_um == 0 else 4

@@ -1,4 +1,4 @@
-"""The f50 starts' coefficient tables (cpp/include/epc_fast/f50_start_coefficients.h): written
+"""The f50 starts' coefficient tables (cpp/include/epc_fast/f50/coefficients.h): written
 by tools/fit_f50_start.py, compiled into the core as written, and as accurate as the file says.
 
 Refitting takes about two minutes (``python tools/fit_f50_start.py`` rewrites the file, the same
@@ -11,7 +11,7 @@ import pytest
 from epc_fast import _core
 from helpers.scripts import ROOT, load_script
 
-HEADER = ROOT / "cpp" / "include" / "epc_fast" / "f50_start_coefficients.h"
+HEADER = ROOT / "cpp" / "include" / "epc_fast" / "f50" / "coefficients.h"
 
 # refitting the tables takes about a minute on 2 cores
 pytestmark = [pytest.mark.heavy,

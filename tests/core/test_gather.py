@@ -1,4 +1,4 @@
-"""kernel.h gather: a thread's first block sets up the broadcast columns (ColumnLayout), the
+"""gather.h gather: a thread's first block sets up the broadcast columns (ColumnLayout), the
 blocks after it with the same columns read only the varying ones. Every block must come out as
 if it had been read on its own: the same bits as calls of one block each."""
 

@@ -1,4 +1,4 @@
-"""The core's lens tables (cpp/include/epc_fast/mtf_table.h and the kernel's use of them)
+"""The core's lens tables (cpp/include/epc_fast/tabulated.h, lens.h)
 against the NumPy reference: every output, the BEYOND_TABLE status, the shares and the
 elasticities, one table or several picked per point, every solver, float32 (solved in float64)
 and a spectrum (which a table replaces)."""

@@ -1,4 +1,4 @@
-"""The core's wavefront error and denoising (cpp/include/epc_fast/optics.h, optics_stage.h):
+"""The core's wavefront error and denoising (cpp/include/epc_fast/aberration.h, denoise.h):
 off is today's kernel bit for bit, on agrees with the NumPy reference (the random-domain
 comparisons are in tests/test_core_vs_reference.py and tests/test_sensitivity.py), the domains'
 ends, and points whose neighbours have the terms."""

@@ -1,4 +1,4 @@
-"""The f50 start fitted to a call's spectrum (cpp/include/epc_fast/spectrum_start.h) against the
+"""The f50 start fitted to a call's spectrum (cpp/include/epc_fast/f50/spectrum_fit.h) against the
 exact f50, its determinism, and the solve it starts."""
 
 import numpy as np
@@ -15,7 +15,7 @@ THRESHOLDS = (0.5, 0.3, 0.2, 0.1)
 #: The fitted start's largest relative error per threshold for the default spectra (D50 and
 #: the default QE, 480..580 nm), over lengths spanning e^-9..e^9: measured 1.0e-7, 1.9e-6,
 #: 7.9e-6 and 8.5e-5 (16 wavelengths; 4 and 64 within 1%), with room for the rounding of the
-#: lengths. Halley's stop test (f50.h) accepts its first step from up to about 1e-5 at the
+#: lengths. Halley's stop test (f50/solvers.h) accepts its first step from up to about 1e-5 at the
 #: default tolerance: MTF50 to MTF20 stop after one evaluation of the MTF, MTF10 after two.
 SPECTRUM_BOUND = {0.5: 2e-7, 0.3: 2.5e-6, 0.2: 1e-5, 0.1: 1.2e-4}
 
@@ -49,7 +49,7 @@ def test_the_spectrum_start_is_within_its_bound_everywhere(samples, threshold):
 
 
 def test_one_wavelength_fits_the_monochromatic_accurate_start():
-    # The same function fitted twice: offline by minimax on 140^2 nodes (f50_start.h's rows,
+    # The same function fitted twice: offline by minimax on 140^2 nodes (f50/guesses.h's rows,
     # within 4.2e-8 .. 5.2e-5), and here by least squares on 24^2; the two polynomials agree
     # within the sum of their errors.
     spectrum = epc_fast.Spectrum([550.0], [1.0])

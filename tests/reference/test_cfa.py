@@ -51,7 +51,7 @@ def test_a_bayer_sensor_needs_1_over_t_more_light_for_the_same_shot_noise_exposu
 
 
 @pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
-def test_a_colour_sensor_falls_below_the_monochrome_upper_bound(demosaic):
+def test_a_color_sensor_falls_below_the_monochrome_upper_bound(demosaic):
     mono = epc_fast.evaluate(LUX, **DESIGN)
     bayer = epc_fast.evaluate(LUX, **DESIGN, cfa="bayer", demosaic=demosaic)
     assert np.all(bayer.epc < mono.epc)

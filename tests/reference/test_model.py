@@ -1,5 +1,5 @@
-"""Known values of each formula of MODEL.md, for the NumPy reference (epc_fast.reference) and for
-the C++ formulas exposed in epc_fast._core (sinc, mtf_diffraction, signal_electrons,
+"""Known values of each formula of docs/model.md, for the NumPy reference (epc_fast.reference) and
+for the C++ formulas exposed in epc_fast._core (sinc, mtf_diffraction, signal_electrons,
 signal_electrons_brent).
 
 Expected values are closed forms or mpmath at 50 digits; every tolerance says why it is that size.
@@ -73,7 +73,7 @@ def root_s_amplification(electrons, snr_db, dark_per_signal, prnu):
     return 2.0 * electrons / (2.0 * w * electrons - s * (1.0 + dark_per_signal))
 
 
-# --- Diffraction MTF (MODEL.md section 5) -------------------------------------------------------
+# --- Diffraction MTF (docs/model.md, "System MTF") ------------------------------------------------
 
 
 @pytest.mark.parametrize("mtf", DIFFRACTION)
@@ -122,7 +122,7 @@ def test_diffraction_mtf_matches_mpmath_on_a_grid(mtf):
     np.testing.assert_allclose(mtf(nu), expected, rtol=0, atol=1e-15)
 
 
-# --- sinc (MODEL.md section 5) ------------------------------------------------------------------
+# --- sinc (docs/model.md, "System MTF") -----------------------------------------------------------
 
 
 @pytest.mark.parametrize("sinc", SINC)
@@ -174,7 +174,7 @@ def test_sinc_matches_mpmath_on_a_grid(sinc):
     np.testing.assert_allclose(sinc(x), expected, rtol=0, atol=1e-15)
 
 
-# --- T_MPE: electrons needed (MODEL.md section 3) -----------------------------------------------
+# --- T_MPE: electrons needed (docs/model.md, "Exposure: T_MPE") -----------------------------------
 
 
 @pytest.mark.parametrize("signal_electrons", SIGNAL_ELECTRONS)
@@ -269,7 +269,7 @@ def test_closed_form_depends_on_rate_and_dark_only_through_their_ratio(signal_el
 
 
 def test_prnu_cap_is_inclusive():
-    # u 10^(snr/20) = 0.1 * 10 rounds to exactly 1.0: the cap, which MODEL.md says is reached.
+    # u 10^(snr/20) = 0.1 * 10 rounds to exactly 1.0: the cap, which docs/model.md says is reached.
     assert 0.1 * 10.0 ** (20.0 / 20.0) == 1.0
     assert reference.t_mpe_closed_form(1000.0, 20.0, 0.0, 0.0, 0.1) == math.inf
 
@@ -281,7 +281,7 @@ def test_evaluate_reports_prnu_at_exactly_its_cap_as_unreachable(options):
     assert (r.status, r.cause, r.t_mpe_s) == (Status.UNREACHABLE, Cause.PRNU, math.inf)
 
 
-# --- Rayleigh blur: the units of lambda and F (MODEL.md section 9) ------------------------------
+# --- Rayleigh blur: the units of lambda and F (docs/model.md, "The paper's systems") --------------
 
 
 def diffraction_cutoff(f_number, wavelength_nm):
@@ -306,7 +306,7 @@ def test_reference_diffraction_mtf_vanishes_at_the_rayleigh_cutoff_and_not_befor
     assert reference.mtf_diffraction(cutoff, 550.0, 2.8) == 0
 
 
-# --- Blur (MODEL.md section 4) ------------------------------------------------------------------
+# --- Blur (docs/model.md, "Blur during the exposure") ---------------------------------------------
 
 
 @pytest.mark.parametrize("t_s", [1e-4, 0.0248, 0.25, 2.0])
@@ -328,7 +328,7 @@ def test_blur_length_divides_the_angle_by_the_stabilization():
 @pytest.mark.parametrize("t_s", [1.0, 1.5, 2.0, 4.0, 1e9])
 def test_blur_is_infinite_once_the_angle_reaches_a_quarter_turn(t_s):
     # 90 deg/s for 1 s is exactly pi/2 in float64 (deg2rad(90) == pi/2); beyond it tan would
-    # wrap to finite or negative values, which MODEL.md forbids.
+    # wrap to finite or negative values, which docs/model.md forbids.
     assert np.deg2rad(90.0) == np.pi / 2
     assert reference.blur_length_mm(5.6, 90.0, 1.0, t_s) == math.inf
 
@@ -347,7 +347,7 @@ def test_evaluate_reports_an_unbounded_blur_with_zero_f50_and_epc(options):
                                                                0.0, 0.0)
 
 
-# --- f50 (MODEL.md section 6) -------------------------------------------------------------------
+# --- f50 (docs/model.md, "The cut-off frequency f50") ---------------------------------------------
 
 
 def bracket(f_number=2.8, wavelength_nm=550.0, pitch_um=1.4, fill_factor=1.0, blur_mm=0.0,
@@ -424,7 +424,7 @@ def test_evaluate_with_a_vanishing_pixel_gives_the_diffraction_f50(options):
     assert r.f50_cyc_per_mm == pytest.approx(float(expected), rel=1e-14)
 
 
-# --- EPC (MODEL.md section 7) -------------------------------------------------------------------
+# --- EPC (docs/model.md, "EPC") -------------------------------------------------------------------
 
 
 def test_epc_of_a_sensor_of_n_pixels_is_n_times_f50_over_nyquist_squared():

@@ -1,5 +1,6 @@
 // The per-lane state of one block of points, laid out as structure of arrays so that every
-// stage of the kernel (kernel.h, exposure_stage.h, f50.h) is a loop over lanes that vectorises.
+// stage of the kernel (kernel.h, exposure/stage.h, f50/stage.h) is a loop over lanes that
+// vectorises.
 #pragma once
 
 #include <array>
@@ -9,8 +10,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "mtf_table.h"
 #include "params.h"
+#include "tabulated.h"
 
 namespace epc_fast {
 
@@ -26,7 +27,8 @@ constexpr double inf = std::numeric_limits<double>::infinity();
 // vectoriser no scalar prologue or epilogue, so every lane runs the same instructions and a
 // point's result does not depend on its place in the block.
 //
-// T is the type f50 is solved in (f50.h): float64, or float32 in the float32 precision mode.
+// T is the type f50 is solved in (f50/solvers.h): float64, or float32 in the float32 precision
+// mode.
 // The parameters, the exposure stage and the outputs are float64 in both.
 // A lane flag of a loop over T. On AVX2 (without AVX-512) it is as wide as the loop's lanes
 // (64 bits in float64 loops, 32 in float32 ones): AVX2 keeps a mask in a vector register of
@@ -43,7 +45,7 @@ template <class T>
 using LaneFlag = unsigned char;
 #endif
 
-// The columns a Block's broadcast rows were set up for (kernel.h gather): the Inputs' columns
+// The columns a Block's broadcast rows were set up for (gather.h): the Inputs' columns
 // as they were (data and stride), whether the illuminance column was replaced, whether a
 // broadcast value is outside its domain, the varying columns and the broadcast ones with
 // their values' bits as read.
@@ -86,18 +88,18 @@ struct alignas(64) Block {
     // lane; the lane's products leave the range the vector path vouches for (exposure_lane
     // redoes it); the rate's partial products stay moderate
     LaneFlag<double> capped[block_size], slow[block_size], rate_normal[block_size];
-    // binning and bursts (exposure_stage.h sensor_terms): the read noise, dark current, PRNU,
+    // binning and bursts (exposure/sensor.h sensor_terms): the read noise, dark current, PRNU,
     // full well and stabilisation as the exposure sees them, and k^2, in a block that has them
     double sensor_store[6][block_size];
     bool sensor = false;
-    // what the exposure stage decides (exposure_stage.h): each lane's Status and Cause codes
+    // what the exposure stage decides (exposure/stage.h): each lane's Status and Cause codes
     // (status.h), the blur as written out (NaN where undefined, +inf where unbounded), the
     // lanes to solve
     unsigned char status[block_size], cause[block_size];
     double blur_out[block_size];
     LaneFlag<T> solve[block_size];
     double scratch[5][block_size];  // the exposure stage's, then f50's start's
-    unsigned char row_code[block_size];  // f50's start: the accurate start's row (f50_start.h)
+    unsigned char row_code[block_size];  // f50's start: the accurate start's row (f50/start.h)
     // float32 mode: a lane f50 cannot be solved for in float32 (a length outside
     // [2^-40, 2^40] mm); the block is redone in float64 for it (kernel.h)
     unsigned char wide[block_size];
@@ -111,23 +113,23 @@ struct alignas(64) Block {
     // the system MTF at `at`, its log-slope R = M'/M and S = sum of (M_i''/M_i - (M_i'/M_i)^2)
     // over the factors, so that M''/M = R^2 + S
     T mtf[block_size], slope[block_size], curvature[block_size];
-    T denominator[block_size];  // monochromatic diffraction's slopes' (f50.h)
+    T denominator[block_size];  // monochromatic diffraction's slopes' (f50/system_mtf.h)
     T previous_step[block_size];  // Newton/Halley: each lane's previous step
     // Newton/Halley: the step tolerance last derived from f50_rtol (a cube or square root)
     T memo_rtol = T(-1), memo_step_rtol = T(0);
     bool memo_halley = false;
     T f50[block_size];
     LaneFlag<T> active[block_size];  // the solvers' lanes still stepping
-    // Halley/Newton: a lane whose start is certified within f50_rtol (f50_start.h,
+    // Halley/Newton: a lane whose start is certified within f50_rtol (f50/settle.h,
     // certified_start_error) takes it as f50 without a step; n_settled counts them
     LaneFlag<T> settled[block_size];
     int n_settled = 0;
     double certified_start[block_size] = {};  // float32: the settled lanes' starts, in float64
     // The terms beyond the paper's camera, last: a block without them never touches these, and
     // the arrays every block uses stay together, as compact in the caches as without them.
-    // the wavefront error and denoising (optics.h), in a block whose lanes to solve have them
-    // (`aberration`, `denoise`): the ATF's depth a = (W / 0.18)^2; the output pitch (mm), the
-    // filter's 1 / (2 sigma^2), 1 / Z and reach R, and the largest R (`denoise_taps`); the
+    // the wavefront error and denoising (aberration.h, denoise.h), in a block whose lanes to solve
+    // have them (`aberration`, `denoise`): the ATF's depth a = (W / 0.18)^2; the output pitch (mm),
+    // the filter's 1 / (2 sigma^2), 1 / Z and reach R, and the largest R (`denoise_taps`); the
     // filter's x = min(f p, 1/2) and its transfer with two derivatives, per lane
     T atf_depth[block_size];
     T output_pitch_mm[block_size], denoise_scale[block_size], denoise_inverse_norm[block_size];

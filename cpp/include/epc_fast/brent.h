@@ -1,8 +1,8 @@
 // Brent's method on a bracket (Brent 1973, "Algorithms for minimization without derivatives",
 // ch. 4), written as a state machine so that it can run in lockstep over many lanes whose
-// function values come from one batched evaluation (f50's Brent solver, f50.h; the inverse
-// solvers, inverse.h), as well as in a plain loop (brent_root: T_MPE's general path,
-// exposure.h). f50's bisection works on many points at once and lives in f50.h.
+// function values come from one batched evaluation (f50's Brent solver, f50/solvers.h; the
+// inverse solvers, inverse.h), as well as in a plain loop (brent_root: T_MPE's general path,
+// exposure/point.h). f50's bisection works on many points at once and lives in f50/solvers.h.
 #pragma once
 
 #include <cmath>

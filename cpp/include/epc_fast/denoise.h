@@ -1,49 +1,24 @@
-// The lens's wavefront error and denoising (docs/model.md, "System MTF" and "Exposure: T_MPE"):
-// Shannon's aberration transfer function on the diffraction MTF, and a Gaussian filter on the
-// output image, its noise gain and its transfer. Same names as python/epc_fast/reference/optics.py.
+// Denoising (docs/model.md, "System MTF" and "Exposure: T_MPE"): a Gaussian filter on the
+// output image, its noise gain and its transfer. The term's pieces: its formulas (the names of
+// python/epc_fast/reference/optics.py), its per-lane inputs (denoise_lanes, from start_f50), its
+// factor of the system MTF with the log-slopes Newton and Halley need (apply_denoise,
+// f50/system_mtf.h), whether a start can be certified with it, and its share's log and
+// log-slopes (denoise_log_factor, sensitivity.h); its noise gain enters the exposure
+// (exposure/sensor.h noise_gain_roots). A block whose sigma is a broadcast 0 never comes here:
+// its solve is the one without the term, bit for bit.
 #pragma once
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 
+#include "block.h"
 #include "constants.h"
+#include "parallel.h"
+#include "params.h"
 #include "polynomials.h"
 
 namespace epc_fast {
-
-// waves: the rms wavefront error at which Shannon's ATF reaches 0 at nu = 1/2.
-constexpr double shannon_w0 = 0.18;
-
-// 1: a = (W / 0.18)^2, the ATF's depth at nu = 1/2.
-inline double aberration_depth(double wavefront_rms_waves) {
-    const double r = wavefront_rms_waves / shannon_w0;
-    return r * r;
-}
-
-// 1: Shannon's ATF at nu (held at 1 past the cut-off, where the diffraction MTF is 0):
-// 1 - a (1 - 4 (nu - 1/2)^2) (R. R. Shannon, "The Art and Science of Optical Design", 1997).
-template <class T>
-EPC_FAST_INLINE T mtf_aberration(T nu, T depth) {
-    const T v = nu < T(1) ? nu : T(1);
-    const T c = v - T(0.5);
-    return T(1) - depth * (T(1) - T(4) * (c * c));
-}
-
-// The ATF's derivatives in nu: -4 a (1 - 2 nu)... written as 8 a (nu - 1/2), and 8 a; 0 past
-// the cut-off, where nu is held.
-template <class T>
-struct AberrationSlopes {
-    T value, d1, d2;
-};
-
-template <class T>
-EPC_FAST_INLINE AberrationSlopes<T> aberration_slopes(T nu, T depth) {
-    const bool below = nu < T(1);
-    const T v = below ? nu : T(1);
-    const T c = v - T(0.5);
-    return {T(1) - depth * (T(1) - T(4) * (c * c)), below ? T(8) * depth * c : T(0),
-            below ? T(8) * depth : T(0)};
-}
 
 // Denoising: a separable Gaussian of sigma output pixels, sampled on the integers
 // |i| <= R = ceil(4 sigma), e_i = exp(-i^2 / (2 sigma^2)), normalised to sum 1 (h_i = e_i / Z,
@@ -171,4 +146,139 @@ inline DenoiseLogFactor denoise_log_factor(double f_cyc_per_mm, double denoise_s
     return {std::log(t.value), f_cyc_per_mm * t.d1 / t.value, sigma_slope / t.value};
 }
 
+// Whether a lane's start can be certified (f50/start.h): only without the term, which the
+// starts do not know.
+EPC_FAST_INLINE bool denoise_certifiable(double denoise_sigma_px) {
+    return denoise_sigma_px == 0.0;
+}
+
+namespace detail {
+
+// The filter's inputs in T for the lanes to solve, and `denoise`: whether any of them has the
+// term. A lane not solved, or without denoising, gets R = 0 (no tap), so that the block's
+// largest R is its lanes to solve's.
+//
+// A denoised lane's start (b.at) is moved towards the filter's: H is near the Gaussian
+// exp(-2 pi^2 (sigma p)^2 f^2), whose threshold crossing f_c = sqrt(ln(1/c) / (2 pi^2)) / (sigma p)
+// joins the start f0 of the other factors as Gaussians' widths add, f = (f0^-2 + f_c^-2)^-1/2
+// (a start only: the solvers keep to the bracket, which the filter does not narrow).
+template <class T>
+void denoise_lanes(Block<T>& b, const T* ln_inverse_c) {
+    const auto& x = b.x;
+    const LaneFlag<T>* __restrict solve = b.solve;
+    const double* __restrict sigma = x[denoise_sigma_px];
+    const double* __restrict pitch = x[pixel_pitch_um];
+    const double* __restrict k = x[binning];
+    // a broadcast sigma's norm once for the block (a sum over its taps)
+    const bool same = b.is_broadcast(denoise_sigma_px);
+    const double same_norm = same ? denoise_norm(b.broadcast[denoise_sigma_px]) : 1.0;
+    int taps = 0;
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const bool on = (solve[i] != 0) & (sigma[i] > 0.0);
+        const double reach = on ? denoise_reach(sigma[i]) : 0.0;
+        b.denoise_reach[i] = static_cast<T>(reach);
+        b.denoise_scale[i] = static_cast<T>(on ? denoise_exponent_scale(sigma[i]) : 0.0);
+        b.denoise_inverse_norm[i] = static_cast<T>(on ? 1.0 / (same ? same_norm : denoise_norm(sigma[i])) : 1.0);
+        b.output_pitch_mm[i] = static_cast<T>(pitch[i] * k[i] * um_to_mm);
+        taps = reach > taps ? static_cast<int>(reach) : taps;
+    }
+    b.denoise_taps = taps;
+    b.denoise = taps > 0;
+    if (!b.denoise) return;
+    T* __restrict at = b.at;
+    const T* __restrict hi = b.hi;
+    for (std::size_t i = 0; i < block_size; ++i) {
+        if (!(b.denoise_reach[i] > T(0))) continue;  // (a denoised lane is never settled)
+        const double width_mm = sigma[i] * static_cast<double>(b.output_pitch_mm[i]);
+        const double f_c = std::sqrt(static_cast<double>(ln_inverse_c[i]) / (2.0 * pi * pi)) / width_mm;
+        const double f0 = static_cast<double>(at[i]);
+        const double joined = 1.0 / std::sqrt(1.0 / (f0 * f0) + 1.0 / (f_c * f_c));
+        const T start = static_cast<T>(joined);
+        at[i] = (start > T(0)) & (start < hi[i]) ? start : at[i];
+    }
+}
+
+// The filter's transfer H at b.at into b.denoise_value and, with Slopes, its first and second
+// derivatives in f into b.denoise_d1, b.denoise_d2 (denoise_transfer, lane by lane):
+// a pass over the lanes per tap, up to the block's largest R; a lane past its own R adds 0.
+template <bool Slopes, class T>
+void denoise_factor(Block<T>& b) {
+    constexpr std::size_t n = block_size;
+    const T* __restrict at = b.at;
+    const T* __restrict pitch = b.output_pitch_mm;
+    const T* __restrict scale = b.denoise_scale;
+    const T* __restrict inverse_norm = b.denoise_inverse_norm;
+    const T* __restrict reach = b.denoise_reach;
+    T* __restrict xs = b.denoise_x;
+    T* __restrict value = b.denoise_value;
+    T* __restrict d1 = b.denoise_d1;
+    T* __restrict d2 = b.denoise_d2;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const T fp = at[i] * pitch[i];
+        xs[i] = fp < T(0.5) ? fp : T(0.5);
+        value[i] = inverse_norm[i];
+        d1[i] = T(0);
+        d2[i] = T(0);
+    }
+    for (int tap = 1; tap <= b.denoise_taps; ++tap) {
+        const T t = static_cast<T>(tap);
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const T e = exp_poly(-(t * t) * scale[i]);
+            const T h = t <= reach[i] ? e * inverse_norm[i] : T(0);
+            const SinCos<T> sc = sincospi(T(2) * xs[i] * t);
+            value[i] += T(2) * h * sc.c;
+            if (Slopes) {
+                const T w = T(2.0 * pi) * t * pitch[i];
+                d1[i] -= T(2) * h * w * sc.s;
+                d2[i] -= T(2) * h * (w * w) * sc.c;
+            }
+        }
+    }
+    if (Slopes) {
+        EPC_FAST_SIMD
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool held = at[i] * pitch[i] >= T(0.5);
+            d1[i] = held ? T(0) : d1[i];
+            d2[i] = held ? T(0) : d2[i];
+        }
+    }
+}
+
+// b.mtf times the filter's H at b.at (values only: bisection and Brent).
+template <class T>
+void apply_denoise(Block<T>& b) {
+    denoise_factor<false>(b);
+    T* __restrict mtf = b.mtf;
+    const T* __restrict value = b.denoise_value;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) mtf[i] *= value[i];
+}
+
+// b.mtf, b.slope and b.curvature with the filter's factor: M H, R + H'/H, S + H''/H - (H'/H)^2.
+template <bool Curvature, class T>
+void apply_denoise_slopes(Block<T>& b) {
+    denoise_factor<true>(b);
+    T* __restrict mtf = b.mtf;
+    T* __restrict slope = b.slope;
+    T* __restrict curvature = b.curvature;
+    const T* __restrict value = b.denoise_value;
+    const T* __restrict d1 = b.denoise_d1;
+    const T* __restrict d2 = b.denoise_d2;
+    // Where H is below 2^-20 its sum of cosines has lost the digits its slopes need (a rounding
+    // of its largest terms, ~1e-16, against H): the lane's slope is NaN there, which makes the
+    // solver take a bisection step (f50/solvers.h, `usable`) instead of a step it cannot trust.
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const T inverse = T(1) / value[i];
+        const T r = d1[i] * inverse;
+        const bool reliable = value[i] >= T(0x1p-20);
+        mtf[i] *= value[i];
+        slope[i] = reliable ? slope[i] + r : std::numeric_limits<T>::quiet_NaN();
+        if (Curvature) curvature[i] += d2[i] * inverse - r * r;
+    }
+}
+
+}  // namespace detail
 }  // namespace epc_fast

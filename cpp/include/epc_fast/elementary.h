@@ -1,13 +1,12 @@
 // exp and log for any float64 argument as straight-line code, so that a lane loop calling them
 // vectorises (glibc's scalar exp and log stop it; its vector variants couple lanes:
-// polynomials.h). For a scan's draws (draws.h) and its log-binned reductions.
+// polynomials.h). For a scan's draws (scan/draws.h) and its log-binned reductions.
 //
 // exp: Cody-Waite reduction x = k ln 2 + r, |r| <= ln(2)/2, Taylor polynomial (polynomials.h's
 // exp_poly), 2^k applied in two halves: within 2 ulp, underflowing gradually below -708, +inf
-// above 709.78. log: x = 2^e m with m in [sqrt(1/2), sqrt(2)), log m = 2 atanh(s),
-// s = (m - 1)/(m + 1), by its odd series; within 2 ulp for positive normal and subnormal x,
-// -inf at 0, NaN below 0 or for NaN, +inf at +inf. tests/scan/test_core_plan.py measures both
-// against mpmath.
+// above 709.78. log: x = 2^e m with m in [sqrt(1/2), sqrt(2)), log m = 2 atanh(s), s = (m - 1)/(m +
+// 1), by its odd series; within 2 ulp for positive normal and subnormal x, -inf at 0, NaN below 0
+// or for NaN, +inf at +inf. tests/scan/running/test_core_plan.py measures both against mpmath.
 #pragma once
 
 #include <cmath>
@@ -33,7 +32,7 @@ constexpr double exp_normal_bound = 700.0;
 // exp(x) for |x| <= exp_normal_bound: exp_poly's reduction (exp_reduced), scaled by 2^k in
 // one step, which is exact for a normal result: the same bits as exp_any, without the clamps
 // and the two-step scaling that exp_any needs for the rest of the line. For a scan's draws,
-// whose arguments are bounded (draws.h).
+// whose arguments are bounded (scan/draws.h).
 EPC_FAST_INLINE double exp_normal(double x) {
     double k;
     const double e = exp_reduced(x, k);

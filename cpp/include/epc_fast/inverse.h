@@ -14,10 +14,10 @@
 #include <cstddef>
 #include <limits>
 
+#include "brent.h"
 #include "kernel.h"
 #include "parallel.h"
 #include "params.h"
-#include "solvers.h"
 #include "status.h"
 
 namespace epc_fast {

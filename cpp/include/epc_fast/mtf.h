@@ -1,5 +1,5 @@
-// The MTF factors (MODEL.md section 5), each 1 at f = 0. Same names as in
-// python/epc_fast/reference.py; here each takes the lengths it multiplies f by, precomputed
+// The MTF factors (docs/model.md, "System MTF"), each 1 at f = 0. Same names as in
+// python/epc_fast/reference/mtf.py; here each takes the lengths it multiplies f by, precomputed
 // per point, because the bisection calls them many times for the same point.
 #pragma once
 
@@ -12,8 +12,8 @@
 namespace epc_fast {
 
 // Every formula is a template over the lanes' type T: float64, or float32 for f50's solve in the
-// float32 precision mode (f50.h). Constants are rounded to T, so a float32 lane loop stays in
-// float32 throughout.
+// float32 precision mode (f50/solvers.h). Constants are rounded to T, so a float32 lane loop
+// stays in float32 throughout.
 
 // 1: sin(pi x) / (pi x), 1 at x = 0. Written as a select, not a branch, so that lane loops
 // vectorise; sinpi's exact argument reduction keeps its digits near the zeros at integers.
@@ -201,7 +201,7 @@ EPC_FAST_INLINE SlopesShared<T> sinc_slopes(T y1, T y2, T other) {
 // a spectrum adds them up first): D' = -(4/pi) sqrt(1 - nu^2), D'' = (4/pi) nu / sqrt(1 - nu^2)
 // below the cut-off, and D = D' = D'' = 0 past it (nu >= 1). A spectrum's longer wavelengths
 // pass their cut-off inside f50's bracket (set by the shortest): there D'' is 0, not the
-// 1/0 = inf of the formula at nu = 1, which made Halley's step vanish (f50.h).
+// 1/0 = inf of the formula at nu = 1, which made Halley's step vanish (f50/solvers.h).
 template <class T>
 struct DiffractionSlopes {
     T value, d1, d2;
@@ -239,12 +239,18 @@ EPC_FAST_INLINE DiffractionParts<T> diffraction_log_slope_parts(T nu) {
     return {value, T(-(4.0 / pi)) * root_squared, T(4.0 / pi) * v, root * value};
 }
 
+// 1: nu dD/dnu = -(4/pi) nu sqrt(1 - nu^2) below the cut-off, 0 past it.
+EPC_FAST_INLINE double diffraction_log_slope_numerator(double nu) {
+    const double v = nu < 1.0 ? nu : 1.0;
+    return -(4.0 / pi) * v * std::sqrt((1.0 - v) * (1.0 + v));
+}
+
 // cycles/mm: f_hi, the smallest first zero of the factors (diffraction 1/(lambda_min F),
 // pixel 1/(sqrt(a) p), motion 1/b) and, with jitter, jitter's own threshold crossing
 // sqrt(ln(1/c) / (2 pi^2)) / sigma_j (ln(1/c) is the caller's: the C library's log has no
 // place in a lane loop). MTF_sys decreases strictly on [0, f_hi] and is <= threshold at f_hi
-// (MODEL.md section 6). Selects, not branches, so that lane loops vectorise. Takes the lengths
-// (mm) the frequency multiplies, as the solvers do.
+// (docs/model.md, "The cut-off frequency f50"). Selects, not branches, so that lane loops
+// vectorise. Takes the lengths (mm) the frequency multiplies, as the solvers do.
 //
 // The first zeros are one division: min(1/x, 1/y) is 1/max(x, y) bit for bit, as division
 // rounds monotonically. `Jitter` = false, when the caller knows that no lane has jitter, skips

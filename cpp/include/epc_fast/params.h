@@ -10,7 +10,7 @@
 #include <memory>
 #include <vector>
 
-#include "mtf_table.h"
+#include "tabulated.h"
 
 namespace epc_fast {
 
@@ -77,7 +77,7 @@ struct Column {
     double operator[](std::size_t i) const { return data[static_cast<std::ptrdiff_t>(i) * stride]; }
 };
 
-// The f50 start fitted to one spectrum (f50_start.h; spectrum_start.h fits it).
+// The f50 start fitted to one spectrum (f50/guesses.h; f50/spectrum_fit.h fits it).
 struct SpectrumStart;
 
 // A spectrum shared by every point: weights sum to 1. Empty means monochromatic at each
@@ -85,7 +85,7 @@ struct SpectrumStart;
 struct Spectrum {
     std::vector<double> wavelengths_nm;
     std::vector<double> weights;
-    // f50's start fitted to this spectrum (spectrum_start.h), or null: its lanes then take the
+    // f50's start fitted to this spectrum (f50/spectrum_fit.h), or null: its lanes then take the
     // cubic start (the same f50 to f50_rtol, in more steps)
     std::shared_ptr<const SpectrumStart> start;
 
@@ -114,18 +114,18 @@ struct Inputs {
     std::array<Domain, n_params> domains;
     bool size_is_pixel_count = false;
     Spectrum spectrum;
-    // the call's lens tables (mtf_table.h): point i's optics MTF is table lens[i]'s, in place
+    // the call's lens tables (tabulated.h): point i's optics MTF is table lens[i]'s, in place
     // of diffraction; none: diffraction (and the spectrum) for every point
     std::vector<MtfTable> lens_tables;
-    // a colour sensor's demosaicker's luminance MTF in cycles per output pixel (mtf_table.h),
+    // a colour sensor's demosaicker's luminance MTF in cycles per output pixel (tabulated.h),
     // at f p_out for every point; no knots: none
     MtfTable demosaic;
 };
 
 enum class TMpeSolver { closed_form, brent };
 
-// f50's root finder (f50.h). Each keeps every iterate inside the bisection bracket of MODEL.md
-// section 6.
+// f50's root finder (f50/solvers.h). Each keeps every iterate inside the bisection bracket of
+// docs/model.md, "The cut-off frequency f50".
 enum class F50Solver { halley, newton, brent, bisection };
 
 // The floating-point type f50 is solved in (kernel.h); the rest of the model is float64.
@@ -134,7 +134,7 @@ enum class Precision { float64, float32 };
 struct Options {
     Precision precision = Precision::float64;
     F50Solver f50_solver = F50Solver::halley;
-    double f50_rtol = 1e-14;   // relative tolerance on f50 (f50.h says how each solver meets it)
+    double f50_rtol = 1e-14;   // relative tolerance on f50 (f50/solvers.h: how each solver meets it)
     TMpeSolver t_mpe_solver = TMpeSolver::closed_form;
     double t_mpe_rtol = 1e-15;  // Brent's tolerance on the electrons needed
     // binning's read noise: k^2 reads of sigma_r (false, "digital") or one ("charge": the k x k
@@ -174,7 +174,7 @@ struct SensitivityOutputs {
 // Output columns, contiguous. Point i of a call to evaluate_block is written at index i: the
 // caller offsets the pointers to the block (Outputs::at). A null pointer: that output is not
 // computed (and without f50 and EPC, f50 is not solved). No output may share memory with an
-// input column: the kernel reads full blocks of contiguous columns in place (kernel.h gather)
+// input column: the kernel reads full blocks of contiguous columns in place (gather.h)
 // while it writes outputs (the Python API copies such a column first).
 struct Outputs {
     double* electron_rate_e_per_s;
@@ -203,7 +203,7 @@ struct Outputs {
     }
 
     // Whether the exposure's per-lane values are read after its stage: the rate, electrons,
-    // T_MPE, blur or cause as outputs, or by the sensitivities (exposure_stage.h decide_lanes).
+    // T_MPE, blur or cause as outputs, or by the sensitivities (exposure/stage.h decide_lanes).
     bool exposure_values_read() const {
         return electron_rate_e_per_s != nullptr || electrons != nullptr || t_mpe_s != nullptr ||
                blur_mm != nullptr || cause != nullptr || sensitivity.any();

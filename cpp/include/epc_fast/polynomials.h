@@ -74,7 +74,7 @@ constexpr double exp_coefficients[] = {
 
 // Horner's scheme in the lanes' type T (float64 or float32) over c[Offset .. Offset + Length),
 // the coefficients of t^0 .. t^(Length - 1), each rounded to T (at compile time for a constexpr
-// table; a spectrum's fitted start, spectrum_start.h, passes its own row).
+// table; a spectrum's fitted start, f50/spectrum_fit.h, passes its own row).
 template <int Offset, int Length, class T, int N>
 EPC_FAST_INLINE T horner_part(const double (&c)[N], T t) {
     static_assert(Offset >= 0 && Length >= 1 && Offset + Length <= N, "a slice of c");

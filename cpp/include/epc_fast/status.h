@@ -1,4 +1,4 @@
-// Per-point status codes (MODEL.md section 8). The values are shared with
+// Per-point status codes (docs/model.md, "Per-point status"). The values are shared with
 // python/epc_fast/status.py: keep the two in step.
 #pragma once
 

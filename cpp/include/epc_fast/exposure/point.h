@@ -1,13 +1,14 @@
-// Photometry, T_MPE and blur (MODEL.md sections 3 and 4). Each function is the formula of the
-// same name in python/epc_fast/reference.py, for one point.
+// Photometry, T_MPE and blur (docs/model.md, "Photometry: from lux to electrons" and
+// "Exposure: T_MPE"). Each function is the formula of the same name in
+// python/epc_fast/reference/model.py, for one point.
 #pragma once
 
 #include <cmath>
 #include <cstddef>
 #include <limits>
 
-#include "constants.h"
-#include "solvers.h"
+#include "../brent.h"
+#include "../constants.h"
 
 namespace epc_fast {
 

@@ -3,7 +3,7 @@
 // multiply-add spelled out (multiply_add): the same inputs give the same bits on every run and
 // in the x86-64-v3 and -v4 modules alike (left to the compiler, a sum of products is fused in
 // the scalar loop and not where the vectoriser splits it, and the two modules split different
-// loops). For the run-time fits (spectrum_start.h), small problems (hundreds of rows, tens of
+// loops). For the run-time fits (spectrum_fit.h), small problems (hundreds of rows, tens of
 // columns), solved once per distinct input.
 #pragma once
 
@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "constants.h"
+#include "../constants.h"
 
 namespace epc_fast {
 

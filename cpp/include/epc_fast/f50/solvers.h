@@ -1,27 +1,25 @@
-// f50 (MODEL.md section 6) for every lane of a block: the first frequency where the system MTF
-// falls to the threshold c, found inside the bracket [0, f_hi] on which MTF_sys decreases
-// strictly from 1 to <= c.
+// f50's solvers (docs/model.md, "The cut-off frequency f50") for every lane of a block: the
+// first frequency where the system MTF falls to the threshold c, found inside the bracket
+// [0, f_hi] on which MTF_sys decreases strictly from 1 to <= c.
 //
 // Four solvers, all safe by construction: every iterate lies strictly inside the lane's current
 // bracket, and the bracket shrinks around the root with every evaluation.
 // - halley (default): Halley's method on h(f) = MTF_sys(f) - c with analytic slopes and
-//   curvatures of every factor (mtf.h), from a starting guess (f50_start.h; in the common
-//   scene accurate enough that one step converges). A step that would leave the bracket is replaced by a bisection step. Cubic
+//   curvatures of every factor (system_mtf.h), from a starting guess (start.h; in the common
+//   scene accurate enough that one step converges). A step that would leave the bracket is
+//   replaced by a bisection step. Cubic
 //   convergence: it stops once the last step was below rtol^(1/2) relative, when the error left
 //   is of order (step)^3 (far below rtol); or when the bracket is narrower than rtol.
 // - newton: the same with Newton steps (quadratic: stops once the step is below rtol / 8 ...
 //   precisely: once step^2 <= rtol / 16 relative, or the bracket is narrower than rtol).
 //   Halley and Newton take no step at all where the start is certified within rtol
-//   (f50_start.h, certified_start_error: MTF50 without jitter from rtol 1e-7, and float32's
+//   (guesses.h, certified_start_error: MTF50 without jitter from rtol 1e-7, and float32's
 //   floor of 2^-21): that start is f50 to the tolerance asked.
-// - brent: Brent's method (solvers.h) per lane, on the bracket, to rtol.
+// - brent: Brent's method (brent.h) per lane, on the bracket, to rtol.
 // - bisection: halves the bracket until hi - lo <= rtol lo (or adjacent doubles).
 //
 // Every lane advances in lockstep with the others but stops on its own criterion, so a point's
 // result never depends on its neighbours, the block size or the thread count.
-//
-// The solvers are templates over the terms a block uses: motion and jitter are compiled out of
-// blocks that have none, and a monochromatic call never loops over a spectrum.
 #pragma once
 
 #include <cmath>
@@ -30,14 +28,11 @@
 #include <limits>
 #include <type_traits>
 
-#include "block.h"
-#include "f50_start.h"
-#include "mtf.h"
-#include "optics_stage.h"
-#include "parallel.h"
-#include "params.h"
-#include "solvers.h"
-#include "status.h"
+#include "../block.h"
+#include "../brent.h"
+#include "../parallel.h"
+#include "../params.h"
+#include "system_mtf.h"
 
 namespace epc_fast {
 
@@ -45,193 +40,8 @@ namespace epc_fast {
 constexpr int max_bisection_steps = 2200;
 // After this many derivative steps a lane that has not converged takes bisection steps only.
 constexpr int max_derivative_steps = 64;
-// float32 mode: the smallest relative tolerance f50 is solved to (4 float32 ulps; f50.h).
-constexpr double f50_rtol_floor_float32 = 4.76837158203125e-07;  // 2^-21
 
 namespace detail {
-
-// b.mtf = MTF_sys(b.at) for every lane (threshold and solve masks are the caller's).
-template <bool Motion, bool Jitter, bool Binning, bool Poly, class T>
-void system_mtf(const Spectrum& spectrum, Block<T>& b) {
-    constexpr std::size_t n = block_size;
-    const T* __restrict at = b.at;
-    const T* __restrict f_num = b.f_number;
-    T* __restrict mtf = b.mtf;
-    if (Poly) {
-        for (std::size_t i = 0; i < n; ++i) mtf[i] = T(0);
-        for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
-            const T lambda_mm = static_cast<T>(spectrum.wavelengths_nm[k] * nm_to_mm);
-            const T w = static_cast<T>(spectrum.weights[k]);
-            if (b.aberration) {  // each wavelength's D times its ATF
-                const T* __restrict depth = b.atf_depth;
-                EPC_FAST_SIMD
-                for (std::size_t i = 0; i < n; ++i) {
-                    const T nu = at[i] * lambda_mm * f_num[i];
-                    mtf[i] += w * (mtf_diffraction(nu) * mtf_aberration(nu, depth[i]));
-                }
-                continue;
-            }
-            EPC_FAST_SIMD
-            for (std::size_t i = 0; i < n; ++i) mtf[i] += w * mtf_diffraction(at[i] * lambda_mm * f_num[i]);
-        }
-    } else if (b.lens_tables != nullptr) {
-        lens_values(b);
-    } else {
-        const T* __restrict lambda_f = b.lambda_f_mm;
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) mtf[i] = mtf_diffraction(at[i] * lambda_f[i]);
-    }
-    const T* __restrict aperture = b.aperture_mm;
-    const T* __restrict blur = b.blur_mm;
-    const T* __restrict jitter = b.jitter_mm;
-    const T* __restrict bin_pitch = b.bin_pitch_mm;
-    const T* __restrict bin_k = b.bin_k;
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        const T f = at[i];
-        T m = mtf[i] * (Binning ? mtf_binned_pixel(f, aperture[i], bin_pitch[i], bin_k[i])
-                                : mtf_pixel(f, aperture[i]));
-        if (Motion) m *= mtf_motion(f, blur[i]);
-        if (Jitter) m *= mtf_jitter(f, jitter[i]);
-        mtf[i] = m;
-    }
-    if (b.aberration && !Poly) apply_aberration(b);
-    if (b.denoise) apply_denoise(b);
-    if (b.demosaic_table != nullptr) apply_demosaic(b);
-}
-
-// Monochromatic diffraction at b.at: its value into b.mtf, its log-slopes' numerators, in f,
-// into b.slope and b.curvature and their denominator into b.denominator
-// (diffraction_log_slope_parts; system_mtf_slopes divides).
-template <bool High, bool Curvature, class T>
-void diffraction_factor(Block<T>& b) {
-    const T* __restrict at = b.at;
-    const T* __restrict lambda_f = b.lambda_f_mm;
-    T* __restrict mtf = b.mtf;
-    T* __restrict slope = b.slope;
-    T* __restrict curvature = b.curvature;
-    T* __restrict denominator = b.denominator;
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < block_size; ++i) {
-        const T lf = lambda_f[i];
-        const DiffractionParts<T> d = diffraction_log_slope_parts<High>(at[i] * lf);
-        mtf[i] = d.value;
-        slope[i] = lf * d.slope_numerator;
-        if (Curvature) curvature[i] = (lf * lf) * d.curvature_numerator;
-        denominator[i] = d.denominator;
-    }
-}
-
-// b.mtf, b.slope = M'/M and b.curvature = sum_i (M_i''/M_i - (M_i'/M_i)^2) at b.at, so that
-// M''/M = slope^2 + curvature (M the product of the factors M_i). Newton skips the curvature.
-template <bool Motion, bool Jitter, bool Binning, bool Poly, bool Curvature, class T>
-void system_mtf_slopes(const Spectrum& spectrum, Block<T>& b) {
-    constexpr std::size_t n = block_size;
-    const T* __restrict at = b.at;
-    const T* __restrict f_num = b.f_number;
-    T* __restrict mtf = b.mtf;
-    T* __restrict slope = b.slope;
-    T* __restrict curvature = b.curvature;
-    if (Poly) {  // D = sum_k w_k D_k, D' and D'' likewise; divided by D afterwards
-        for (std::size_t i = 0; i < n; ++i) mtf[i] = slope[i] = curvature[i] = T(0);
-        for (std::size_t k = 0; k < spectrum.wavelengths_nm.size(); ++k) {
-            const T lambda_mm = static_cast<T>(spectrum.wavelengths_nm[k] * nm_to_mm);
-            const T w = static_cast<T>(spectrum.weights[k]);
-            if (b.aberration) {  // (D A)' = D'A + D A', (D A)'' = D''A + 2 D'A' + D A''
-                const T* __restrict depth = b.atf_depth;
-                EPC_FAST_SIMD
-                for (std::size_t i = 0; i < n; ++i) {
-                    const T lf = lambda_mm * f_num[i];
-                    const T nu = at[i] * lf;
-                    const DiffractionSlopes<T> d = diffraction_slopes(nu);
-                    const AberrationSlopes<T> a = aberration_slopes(nu, depth[i]);
-                    mtf[i] += w * (d.value * a.value);
-                    slope[i] += (w * lf) * (d.d1 * a.value + d.value * a.d1);
-                    if (Curvature)
-                        curvature[i] += (w * (lf * lf)) *
-                                        (d.d2 * a.value + T(2) * (d.d1 * a.d1) + d.value * a.d2);
-                }
-                continue;
-            }
-            EPC_FAST_SIMD
-            for (std::size_t i = 0; i < n; ++i) {
-                const T lf = lambda_mm * f_num[i];
-                const DiffractionSlopes<T> d = diffraction_slopes(at[i] * lf);
-                mtf[i] += w * d.value;
-                slope[i] += (w * lf) * d.d1;
-                if (Curvature) curvature[i] += (w * (lf * lf)) * d.d2;
-            }
-        }
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            const T r = slope[i] / mtf[i];
-            slope[i] = r;
-            if (Curvature) curvature[i] = curvature[i] / mtf[i] - r * r;
-        }
-    } else if (b.lens_tables != nullptr) {
-        lens_factor<Curvature>(b);
-    } else {
-        const T* __restrict lambda_f = b.lambda_f_mm;
-        T nu_max = T(0);
-        EPC_FAST_SIMD_REDUCTION(max : nu_max)
-        for (std::size_t i = 0; i < n; ++i) {
-            const T nu = at[i] * lambda_f[i];
-            nu_max = nu > nu_max ? nu : nu_max;
-        }
-        if (nu_max > T(0.5)) diffraction_factor<true, Curvature>(b);
-        else diffraction_factor<false, Curvature>(b);
-    }
-    const T* __restrict aperture = b.aperture_mm;
-    const T* __restrict blur = b.blur_mm;
-    const T* __restrict jitter = b.jitter_mm;
-    const T* __restrict bin_pitch = b.bin_pitch_mm;
-    const T* __restrict bin_k = b.bin_k;
-    const T* __restrict denominator = b.denominator;
-    EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        const T f = at[i];
-        T m = mtf[i], r = slope[i], s = Curvature ? curvature[i] : T(0);
-        // pixel aperture and motion: one division between them, and monochromatic
-        // diffraction's too (its slopes are still to be divided: diffraction_factor; a
-        // spectrum's were divided above)
-        const T a = aperture[i], l = Motion ? blur[i] : T(0);
-        const SlopesShared<T> shared = sinc_slopes<Motion>(a * f, l * f, Poly ? T(1) : denominator[i]);
-        if (!Poly) {
-            r *= shared.inverse_other;
-            if (Curvature) s = s * shared.inverse_other - r * r;
-        }
-        const Slopes<T> p = shared.sincs.first, q = shared.sincs.second;
-        m *= p.value;
-        r += a * p.r;
-        if (Curvature) s += (a * a) * p.dr;
-        if (Motion) {
-            m *= q.value;
-            r += l * q.r;
-            if (Curvature) s += (l * l) * q.dr;
-        }
-        if (Binning) {  // the array factor sinc(k p f) / sinc(p f): its log-slopes subtract
-            const T lp = bin_pitch[i], lk = bin_k[i] * lp;
-            const SlopesShared<T> g = sinc_slopes<true>(lk * f, lp * f, T(1));
-            const Slopes<T> whole = g.sincs.first, one = g.sincs.second;
-            m *= whole.value / one.value;
-            r += lk * whole.r - lp * one.r;
-            if (Curvature) s += (lk * lk) * whole.dr - (lp * lp) * one.dr;
-        }
-        if (Jitter) {  // J = exp(-k f^2), k = 2 pi^2 sigma^2: J'/J = -2 k f, (J''/J - (J'/J)^2) = -2 k
-            const T sigma = jitter[i];
-            const T two_k = T(4.0 * pi * pi) * (sigma * sigma);
-            m *= mtf_jitter(f, sigma);
-            r += -two_k * f;
-            if (Curvature) s += -two_k;
-        }
-        mtf[i] = m;
-        slope[i] = r;
-        if (Curvature) curvature[i] = s;
-    }
-    if (b.aberration && !Poly) apply_aberration_slopes<Curvature>(b);
-    if (b.denoise) apply_denoise_slopes<Curvature>(b);
-    if (b.demosaic_table != nullptr) apply_demosaic_slopes<Curvature>(b);
-}
 
 // Bisection: lo, hi hold the bracket; the answer is written to b.f50.
 template <bool Motion, bool Jitter, bool Binning, bool Poly, class T>
@@ -298,7 +108,7 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     const T* __restrict curvature = b.curvature;
     const T* __restrict threshold = b.threshold;
     int n_to_solve = 0;
-    if (b.n_settled > 0) {  // settled lanes (f50_start.h): their start is f50, no step
+    if (b.n_settled > 0) {  // settled lanes (settle.h): their start is f50, no step
         const LaneFlag<T>* __restrict settled = b.settled;
         EPC_FAST_SIMD_REDUCTION(+ : n_to_solve)
         for (std::size_t i = 0; i < n; ++i) {
@@ -315,7 +125,7 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
     // One round: a step for every active lane. The first round, First, needs no division for
     // its stop test: d <= step_rtol x there implies d^3 / p^2 <= step_rtol^3 x (Halley's
     // rtol / 10; Newton's is smaller still), as the first step is measured against the whole
-    // bracket [0, f_hi], wider than x (f50_start.h). Returns the lanes still active.
+    // bracket [0, f_hi], wider than x (start.h). Returns the lanes still active.
     auto take_steps = [&](auto first, bool derivative) EPC_FAST_LAMBDA_INLINE {
         constexpr bool First = decltype(first)::value;
         int n_active = 0;
@@ -419,78 +229,6 @@ void brent(const Spectrum& spectrum, T rtol, Block<T>& b) {
         for (std::size_t i = 0; i < n; ++i)
             if (b.active[i]) state[i].accept(past_root_below(double{b.mtf[i]} - double{b.threshold[i]}));
     }
-}
-
-// The tolerance f50 is solved to in T: float32 cannot resolve a relative tolerance much below its
-// epsilon (1.2e-7), so there it is at least f50_rtol_floor_float32.
-template <class T>
-T effective_rtol(double rtol) {
-    if (sizeof(T) == sizeof(double)) return static_cast<T>(rtol);
-    return static_cast<T>(rtol > f50_rtol_floor_float32 ? rtol : f50_rtol_floor_float32);
-}
-
-template <bool Motion, bool Jitter, bool Binning, bool Poly, class T>
-void solve_f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
-    const T rtol = effective_rtol<T>(opt.f50_rtol);
-    switch (opt.f50_solver) {
-        case F50Solver::halley: polish<Motion, Jitter, Binning, Poly, true>(spectrum, rtol, b); break;
-        case F50Solver::newton: polish<Motion, Jitter, Binning, Poly, false>(spectrum, rtol, b); break;
-        case F50Solver::brent: brent<Motion, Jitter, Binning, Poly>(spectrum, rtol, b); break;
-        case F50Solver::bisection: bisect<Motion, Jitter, Binning, Poly>(spectrum, rtol, b); break;
-    }
-}
-
-// The tolerance within which a certified start is taken as f50 (start_f50): Halley's and
-// Newton's effective f50_rtol; -1 (never) for Brent and bisection, which take no start.
-template <class T>
-double settle_rtol(const Options& opt) {
-    const bool steps = opt.f50_solver == F50Solver::halley || opt.f50_solver == F50Solver::newton;
-    return steps ? static_cast<double>(effective_rtol<T>(opt.f50_rtol)) : -1.0;
-}
-
-// A lens table that ends while the system MTF is still above the threshold holds no f50: the
-// lanes to solve whose MTF at their bracket's end f_hi (the table's end where that is the
-// nearest) exceeds c get Status::beyond_table and are not solved (scatter writes NaN).
-template <bool Motion, bool Jitter, bool Binning, class T>
-void beyond_tables(const Spectrum& spectrum, Block<T>& b) {
-    T* __restrict at = b.at;
-    T* __restrict start = b.previous_step;  // free until the solver sets it
-    for (std::size_t i = 0; i < block_size; ++i) {
-        start[i] = at[i];
-        at[i] = b.hi[i];
-    }
-    system_mtf<Motion, Jitter, Binning, false>(spectrum, b);
-    for (std::size_t i = 0; i < block_size; ++i) {
-        const bool beyond = (b.solve[i] != 0) & (b.mtf[i] > b.threshold[i]);
-        b.status[i] = beyond ? static_cast<unsigned char>(Status::beyond_table) : b.status[i];
-        b.solve[i] = beyond ? 0 : b.solve[i];
-        at[i] = start[i];
-    }
-}
-
-// f50 for every lane to solve, into b.f50.
-template <class T>
-void f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
-    const int terms = start_f50(spectrum, settle_rtol<T>(opt), b);
-    // One instantiation per combination of the terms a block uses.
-    auto with = [&](auto motion, auto jitter, auto binning) {
-        constexpr bool M = decltype(motion)::value, J = decltype(jitter)::value,
-                       B = decltype(binning)::value;
-        if (b.lens_tables != nullptr) beyond_tables<M, J, B>(spectrum, b);
-        if (spectrum.polychromatic()) solve_f50<M, J, B, true>(spectrum, opt, b);
-        else solve_f50<M, J, B, false>(spectrum, opt, b);
-    };
-    using yes = std::true_type;
-    using no = std::false_type;
-    auto with_binning = [&](auto motion, auto jitter) {
-        if (terms & 4) with(motion, jitter, yes{});
-        else with(motion, jitter, no{});
-    };
-    const bool motion = terms & 1, jitter = terms & 2;
-    if (motion && jitter) with_binning(yes{}, yes{});
-    else if (motion) with_binning(yes{}, no{});
-    else if (jitter) with_binning(no{}, yes{});
-    else with_binning(no{}, no{});
 }
 
 }  // namespace detail

@@ -1,4 +1,4 @@
-// The accurate f50 start fitted to a call's spectrum (SpectrumStart, f50_start.h), so that a
+// The accurate f50 start fitted to a call's spectrum (SpectrumStart, guesses.h), so that a
 // polychromatic lane, like a monochromatic one, converges after one evaluation of its MTF (a
 // sum over every wavelength) instead of two.
 //
@@ -6,7 +6,7 @@
 // f lambda_mean F, and f50 sqrt(S) = P(a, z) in the accurate start's coordinates as for one
 // wavelength; only P differs. For each threshold of accurate_start_thresholds, P's 36
 // coefficients are fitted by least squares on the relative error (least_squares.h) to f50
-// solved to 1e-15 by the kernel's own Halley iteration (f50.h, from the cubic start) on a grid
+// solved to 1e-15 by the kernel's own Halley iteration (solvers.h, from the cubic start) on a grid
 // of spectrum_start_nodes^2 Chebyshev nodes over the whole (v_d, w) domain: a few milliseconds,
 // once per distinct spectrum (spectrum_start_of keeps the last few). The fit is a fixed sequence
 // of operations on the spectrum's values: the same spectrum gets the same coefficients, bit for
@@ -26,11 +26,11 @@
 #include <utility>
 #include <vector>
 
-#include "block.h"
-#include "f50.h"
-#include "f50_start.h"
+#include "../block.h"
+#include "../params.h"
+#include "guesses.h"
 #include "least_squares.h"
-#include "params.h"
+#include "stage.h"
 
 namespace epc_fast {
 

@@ -1,9 +1,9 @@
-// A scan's random values from its uniforms (philox.h): the inverse of each distribution's CDF,
-// as docs/scan.md's draw contract writes it and python/epc_fast/scan/streams.py computes it.
+// A scan's random values from its uniforms (philox.h): the inverse of each distribution's CDF, as
+// docs/scan.md's draw contract writes it and python/epc_fast/scan/sampling/streams.py computes it.
 //
-// Python builds each distribution's spec (scan/distributions.py stream_spec): which transform,
-// its constants, and for a truncated normal or log-normal the CDF's values at the bounds, so
-// that the core needs only the inverse normal CDF (ndtri) and exp.
+// Python builds each distribution's spec (scan/sampling/distributions.py stream_spec): which
+// transform, its constants, and for a truncated normal or log-normal the CDF's values at the
+// bounds, so that the core needs only the inverse normal CDF (ndtri) and exp.
 #pragma once
 
 #include <cmath>
@@ -15,10 +15,10 @@
 #include <immintrin.h>
 #endif
 
-#include "block.h"
-#include "constants.h"
-#include "elementary.h"
-#include "parallel.h"
+#include "../block.h"
+#include "../constants.h"
+#include "../elementary.h"
+#include "../parallel.h"
 
 namespace epc_fast {
 

@@ -1,6 +1,6 @@
-// A scan's group keys (python/epc_fast/scan/groups.py): which group each point of a block
-// belongs to, from its discrete axes' indices and its parameters, for the per-group reductions
-// (scan_reductions.h). A key whose parts are all grid axes repeats with the grid: its groups
+// A scan's group keys (python/epc_fast/scan/reductions/groups.py): which group each point of a
+// block belongs to, from its discrete axes' indices and its parameters, for the per-group
+// reductions (reductions.h). A key whose parts are all grid axes repeats with the grid: its groups
 // are computed once, for one cycle of points (set_cycle).
 #pragma once
 
@@ -10,13 +10,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "block.h"
-#include "scan_space.h"
+#include "../block.h"
+#include "space.h"
 
 namespace epc_fast {
 
-// One part of a group key (python/epc_fast/scan/groups.py): a discrete axis's index, a value
-// index looked up from the design index, or a parameter's bin (edges searched, or equal steps
+// One part of a group key (python/epc_fast/scan/reductions/groups.py): a discrete axis's index, a
+// value index looked up from the design index, or a parameter's bin (edges searched, or equal steps
 // in log10 found arithmetically).
 struct KeyPart {
     enum Kind { axis, lookup, binned, binned_log };
@@ -33,7 +33,7 @@ struct KeyPart {
 //
 // A key whose parts are all grid axes (or lookups of them) repeats with the grid: point i's
 // group is cycle[i mod cycle.size()] (set_cycle). Its reductions then accumulate per position
-// in the cycle with plain vector loops (scan_reductions.h CycleSums) and fold the positions
+// in the cycle with plain vector loops (states.h CycleSums) and fold the positions
 // into their groups once per scan block. Empty: the key has no cycle of at most max_cycle
 // points.
 struct GroupKey {

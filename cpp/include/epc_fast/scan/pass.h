@@ -1,6 +1,6 @@
-// The fused scan pass: for each block of points, form their parameters (scan_space.h),
-// evaluate the model (kernel.h), find their groups (scan_groups.h) and fold the outputs into the
-// reductions (scan_reductions.h), all while the block is in cache. Nothing per point is stored.
+// The fused scan pass: for each block of points, form their parameters (space.h), evaluate the
+// model (kernel.h), find their groups (groups.h) and fold the outputs into the reductions
+// (reductions.h), all while the block is in cache. Nothing per point is stored.
 //
 // Threads share a chunk's scan blocks (scan_block_points each); a scan block is folded by one
 // thread in point order, and each thread keeps its own reduction states, added together after
@@ -14,11 +14,11 @@
 #include <memory>
 #include <vector>
 
-#include "kernel.h"
-#include "parallel.h"
-#include "scan_groups.h"
-#include "scan_reductions.h"
-#include "scan_space.h"
+#include "../kernel.h"
+#include "../parallel.h"
+#include "groups.h"
+#include "reductions.h"
+#include "space.h"
 
 namespace epc_fast {
 

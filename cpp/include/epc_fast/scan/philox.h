@@ -1,9 +1,9 @@
 // Counter-based random numbers for scans: Philox4x32-10 (Salmon, Moraes, Dror and Shaw,
 // "Parallel random numbers: as easy as 1, 2, 3", SC'11), and the scan's uniforms in (0, 1).
 //
-// A uniform is a pure function of (seed, stream, point index): the draw contract of
-// docs/scan.md, which python/epc_fast/scan/streams.py reproduces bit for bit. No state carries
-// from one point to the next, so any chunking, thread count or machine gives the same draws.
+// A uniform is a pure function of (seed, stream, point index): the draw contract of docs/scan.md,
+// which python/epc_fast/scan/sampling/streams.py reproduces bit for bit. No state carries from one
+// point to the next, so any chunking, thread count or machine gives the same draws.
 #pragma once
 
 #include <cstddef>
@@ -14,9 +14,9 @@
 #include <immintrin.h>
 #endif
 
-#include "block.h"
-#include "constants.h"
-#include "parallel.h"
+#include "../block.h"
+#include "../constants.h"
+#include "../parallel.h"
 
 namespace epc_fast {
 

@@ -1,4 +1,4 @@
-// Scrambled Sobol' uniforms of a scan's points (python/epc_fast/scan/qmc.py states the
+// Scrambled Sobol' uniforms of a scan's points (python/epc_fast/scan/sampling/qmc.py states the
 // contract and gives the direction numbers and the scrambling keys; this matches it bit for
 // bit): point k of a dimension in Gray-code order, its 32 bits scrambled by B. Burley's hash of
 // the reversed bits ("Practical hash-based Owen scrambling", JCGT 9(4), 2020), 20 hashed low
@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "block.h"
-#include "constants.h"
+#include "../block.h"
+#include "../constants.h"
 #include "philox.h"
 
 namespace epc_fast {

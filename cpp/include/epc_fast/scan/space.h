@@ -3,8 +3,8 @@
 // axis visited in mixed radix, a random choice, or the design axis with its table of
 // parameters).
 //
-// python/epc_fast/scan/core_plan.py builds a ScanSpace from a Space; docs/scan.md states the
-// draw contract. A point's parameters depend only on the seed and its index.
+// python/epc_fast/scan/running/core_plan.py builds a ScanSpace from a Space; docs/scan.md states
+// the draw contract. A point's parameters depend only on the seed and its index.
 #pragma once
 
 #include <array>
@@ -13,9 +13,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "block.h"
+#include "../block.h"
+#include "../params.h"
 #include "draws.h"
-#include "params.h"
 #include "philox.h"
 #include "sobol_points.h"
 
@@ -63,7 +63,7 @@ struct ScanSpace {
     std::uint64_t grid_cells = 1;
     std::uint64_t cycle = 0;  // the grid's cycle, 0 above max_cycle (set_cycles)
     // Sobol' sampling (off: Monte Carlo): the replicate is the digit of the grid axis
-    // `replicate_axis` (the slowest, python/epc_fast/scan/qmc.py), -1 for one replicate
+    // `replicate_axis` (the slowest, python/epc_fast/scan/sampling/qmc.py), -1 for one replicate
     SobolSampling sobol;
     int replicate_axis = -1;
 
