@@ -118,7 +118,7 @@ def test_streamed_quantiles_bound_the_exact_ones_within_their_stated_error(backe
     # 1000 bins a decade asked (0.23%): 2^9 an octave, 0.195%, the least power of 2 as fine
     resolution = quantiles.relative_resolution
     assert resolution == 2.0 ** -9
-    bins = reduction._bins
+    bins = reduction.bin_layout
     edges = np.concatenate(([-np.inf], bins.edges, [np.inf]))
     for g in DESIGNS:
         values = np.sort(_finite_epc_of(full, g))

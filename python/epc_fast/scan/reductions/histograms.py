@@ -418,11 +418,11 @@ def finish_with_order_statistics(reduction: "Quantiles", state: dict, key: Group
         lower = upper = estimate
     else:
         n = state["counts"].sum(axis=1)
-        every, lower, upper = _histogram_quantiles(reduction._bins, state,
+        every, lower, upper = _histogram_quantiles(reduction.bin_layout, state,
                                                    _order_statistic_q(q, n))
         estimate, lower, upper = every[:, :nq], lower[:, :nq], upper[:, :nq]
     error = np.where(n[:, None] > 1, 0.5 * (every[:, 2 * nq:] - every[:, nq:2 * nq]), np.nan)
-    bins = reduction._bins
+    bins = reduction.bin_layout
     return QuantilesResult(reduction.of, key.columns, q, estimate, lower, upper,
                            bool(state["exact"]),
                            0.0 if state["exact"] else bins.relative_resolution, error)
