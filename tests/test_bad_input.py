@@ -34,7 +34,7 @@ DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8, focal_le
               snr_db=30.0, shake_deg_per_s=4.39, stabilization=2.0, jitter_um=0.5,
               wavelength_nm=550.0, mtf_threshold=0.5, binning=2.0, frames=4.0,
               alignment_error_um=0.5, wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0,
-              cfa_transmittance=0.6, color_noise_gain=1.2)
+              cfa_transmittance=0.6, color_noise_gain=1.2, binning_readout=1.0)
 # (the wavefront error, denoising and lens tables are off: the core refuses them until it has them;
 # tests/reference/test_optics.py holds their bad input in the reference)
 TABLE = {p.name: p for p in params.PARAMETERS}
@@ -149,7 +149,10 @@ NOT_NUMBERS = [
 @pytest.mark.parametrize("keyword", KEYWORDS)
 def test_a_value_that_is_not_a_real_number_raises_type_error_naming_the_argument(keyword, value,
                                                                                 backend):
-    with pytest.raises(TypeError, match=rf"^{keyword}\b"):
+    # binning_readout takes names: a string that is none of them is a ValueError naming it
+    error = (ValueError if keyword == "binning_readout" and isinstance(value, (str, bytes))
+             else TypeError)
+    with pytest.raises(error, match=rf"^{keyword}\b"):
         epc_fast.evaluate(**design_with(keyword, value), backend=backend)
 
 
@@ -348,17 +351,25 @@ def test_the_core_refuses_spectrum_weights_that_do_not_sum_to_one(weights, shown
                        1, 1 << 18)
 
 
-@pytest.mark.parametrize("value", [np.array(["charge", "digital"]), np.array(["charge"]),
-                                   ["charge"], b"charge", 1])
-def test_binning_readout_that_is_not_one_name_raises_value_error_naming_it(value):
-    # An array of names gave NumPy's "The truth value of an array ... is ambiguous".
-    with pytest.raises(ValueError, match=r"^binning_readout must be one of 'digital', 'charge'; "
-                                         r"got " + re.escape(" ".join(repr(value).split())[:20])):
-        epc_fast.evaluate(**DESIGN, binning_readout=value)
+@pytest.mark.parametrize("value, shown", [
+    ("analog", "'analog'"), (b"charge", "b'charge'"), (np.array(["charge", "analog"]), "'analog'"),
+    (["digital", "Charge"], "'Charge'"), (np.array([b"charge"]), "b'charge'")])
+def test_binning_readout_that_is_not_a_name_raises_value_error_naming_it(value, shown):
+    with pytest.raises(ValueError, match=r"^binning_readout must be one of 'digital', 'charge'.*; "
+                                         r"got " + re.escape(shown)):
+        epc_fast.evaluate(**{**DESIGN, "binning_readout": value})
     unread = {k: v for k, v in DESIGN.items()
-              if k not in ("binning", "frames", "alignment_error_um")}
+              if k not in ("binning", "frames", "alignment_error_um", "binning_readout")}
     with pytest.raises(ValueError, match="binning_readout must be one of"):
         epc_fast.evaluate(**unread, modes=[{"binning": 1}, {"binning_readout": value}])
+
+
+@pytest.mark.parametrize("code", [0.5, 2.0, -1.0, np.nan])
+def test_a_binning_readout_code_outside_0_and_1_makes_the_point_invalid(code):
+    result = epc_fast.evaluate(**{**DESIGN, "binning_readout": np.array([code, 1.0])})
+    assert list(result.status) == [Status.INVALID, Status.OK]
+    with pytest.raises(ValueError, match=r"binning_readout="):
+        epc_fast.evaluate(**{**DESIGN, "binning_readout": code}, invalid="raise")
 
 
 @pytest.mark.parametrize("value", [np.array(["charge"]), ["charge", "digital"]])

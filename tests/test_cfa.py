@@ -51,7 +51,7 @@ def test_the_defaults_are_what_the_script_derives_from_the_nikon_d5100():
     assert d["fit_rms_y"] < 0.01
 
 
-def test_the_colour_noise_gain_of_equal_channels_averaged_equally_is_a_third():
+def test_the_color_noise_gain_of_equal_channels_averaged_equally_is_a_third():
     # t = 0.5, g = 0.5 * 3 * (1/9) / 0.5 = 1/3: three independent channels averaged.
     assert cfa.color_noise_gain((0.5, 0.5, 0.5), (1 / 3, 1 / 3, 1 / 3)) == pytest.approx(1 / 3,
                                                                                        rel=1e-12)
@@ -109,7 +109,7 @@ def test_the_names_are_the_issues():
     assert cfa.DEMOSAICS == ("bilinear", "malvar2004", "menon2007")
 
 
-def test_cfa_and_the_simulator_import_neither_colour_science_nor_colour_demosaicing():
+def test_cfa_and_the_simulator_import_neither_color_science_nor_color_demosaicing():
     code = ("import sys, epc_fast.cfa as c, epc_fast.simulate\n"
             "c.demosaic_mtf_table('menon2007')\n"
             "print(sorted(m for m in sys.modules if m.split('.')[0] in "

@@ -223,7 +223,7 @@ FULL_DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8,
                    snr_db=30.0, shake_deg_per_s=4.39, stabilization=2.0, jitter_um=0.5,
                    wavelength_nm=550.0, mtf_threshold=0.5, binning=2.0, frames=4.0,
                    alignment_error_um=0.5, wavefront_rms_waves=0.0, denoise_sigma_px=0.0,
-                   lens=0.0, cfa_transmittance=0.6, color_noise_gain=1.2)
+                   lens=0.0, cfa_transmittance=0.6, color_noise_gain=1.2, binning_readout=1.0)
 
 EXTREME_CASES = [
     pytest.param(keyword, value, id=f"{keyword}={value!r}")

@@ -133,30 +133,39 @@ def test_a_spectrum_on_one_wavelength_is_the_monochromatic_model_at_it():
     assert float(_column(spread, "wavelength_nm")) == 550.0
 
 
-def test_the_colour_sensor_gives_its_transmittance_and_noise_gain_columns():
+def test_the_color_sensor_gives_its_transmittance_and_noise_gain_columns():
     mono = resolve(100.0, **PHONE, sensor_area_mm2=12.0)
     assert (float(_column(mono, "cfa_transmittance")), float(_column(mono, "color_noise_gain"))
-            ) == (1.0, 1.0) and mono.colour.demosaic_table is None
+            ) == (1.0, 1.0) and mono.color.demosaic_table is None
     behind_a_filter = resolve(100.0, **PHONE, sensor_area_mm2=12.0, cfa_transmittance=0.5)
     assert float(_column(behind_a_filter, "cfa_transmittance")) == 0.5
     bayer = resolve(100.0, **PHONE, sensor_area_mm2=12.0, cfa="bayer", demosaic="bilinear")
     assert float(_column(bayer, "cfa_transmittance")) == cfa.DEFAULT_CFA_TRANSMITTANCE
     assert float(_column(bayer, "color_noise_gain")) == pytest.approx(
         cfa.DEFAULT_COLOR_NOISE_GAIN * cfa.DEMOSAIC_NOISE_GAIN["bilinear"], rel=1e-15)
-    assert bayer.colour.demosaic_table is not None
+    assert bayer.color.demosaic_table is not None
 
 
-def test_charge_binning_is_read_noise_over_k_read_digitally():
+def test_binning_readout_is_a_column_of_its_codes_per_point():
     design = dict(PHONE, sensor_area_mm2=12.0, read_noise_e=3.0, binning=[1.0, 2.0, 4.0])
     charge = resolve(100.0, **design, binning_readout="charge")
-    digital = resolve(100.0, **design)
-    index = params.PARAMETER_NAMES.index("read_noise_e")
-    np.testing.assert_array_equal(charge.arrays_read_digitally()[index], [3.0, 1.5, 0.75])
-    assert digital.arrays_read_digitally() is digital.arrays
-    # the model agrees: one read of sigma for k x k pixels is k^2 reads of sigma / k
-    by_charge = epc_fast.evaluate(30.0, **design, binning_readout="charge")
-    by_reads = epc_fast.evaluate(30.0, **{**design, "read_noise_e": [3.0, 1.5, 0.75]})
-    np.testing.assert_allclose(by_charge.epc, by_reads.epc, rtol=1e-12)
+    assert float(_column(charge, "binning_readout")) == params.READOUT_CODES["charge"] == 1.0
+    assert float(_column(resolve(100.0, **design), "binning_readout")) == 0.0
+    mixed = resolve(100.0, **design, binning_readout=["charge", "digital", "charge"])
+    np.testing.assert_array_equal(_column(mixed, "binning_readout"), [1.0, 0.0, 1.0])
+    # one read of sigma for k x k pixels is k^2 reads of sigma / k, on both backends
+    for backend in ("core", "reference"):
+        by_charge = epc_fast.evaluate(30.0, **design, binning_readout="charge", backend=backend)
+        by_reads = epc_fast.evaluate(30.0, **{**design, "read_noise_e": [3.0, 1.5, 0.75]},
+                                     backend=backend)
+        np.testing.assert_allclose(by_charge.epc, by_reads.epc, rtol=1e-12)
+        # per point as one call per readout gives it, bit for bit
+        per_point = epc_fast.evaluate(30.0, **design, binning_readout=["charge", "digital",
+                                                                       "charge"],
+                                      backend=backend)
+        digital = epc_fast.evaluate(30.0, **design, backend=backend)
+        np.testing.assert_array_equal(per_point.epc, [by_charge.epc[0], digital.epc[1],
+                                                      by_charge.epc[2]])
 
 
 def test_a_lens_table_is_checked_and_picked_by_lens():

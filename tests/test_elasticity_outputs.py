@@ -159,7 +159,7 @@ def test_the_core_takes_every_elasticity_in_one_array_or_single_ones_not_both():
                  shake_deg_per_s=4.39, stabilization=1.0, jitter_um=0.0, wavelength_nm=550.0,
                  mtf_threshold=0.5, binning=1.0, frames=1.0, alignment_error_um=0.0,
                  wavefront_rms_waves=0.0, denoise_sigma_px=0.0, lens=0.0,
-                 cfa_transmittance=0.6, color_noise_gain=1.2)
+                 cfa_transmittance=0.6, color_noise_gain=1.2, binning_readout=1.0)
     columns = [np.array([point[name]]) for name in params.PARAMETER_NAMES]
     domains = params.domain_table()
     names = _core.parameter_names

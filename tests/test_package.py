@@ -42,6 +42,9 @@ def test_parameter_table_defaults_match_the_signature():
     for p in params.PARAMETERS:
         if p.name in params.CFA_PARAMETERS:  # None: 1 (the table's) or the Bayer CFA's
             assert sig.parameters[p.name].default is None and p.default == 1.0, p.name
+        elif p.name == "binning_readout":  # its name in the signature, its code in the table
+            default = sig.parameters[p.name].default
+            assert params.READOUT_CODES[default] == p.default == 0.0
         elif p.default is not None:
             assert sig.parameters[p.name].default == p.default, p.name
 

@@ -337,10 +337,10 @@ def test_scalar_input_gives_floats_and_arrays_broadcast():
 WHOLE_NUMBERS = {p.name for p in params.PARAMETERS if p.integer}
 
 
-def test_binning_frames_and_lens_have_no_elasticity():
+def test_binning_frames_lens_and_the_binning_readout_have_no_elasticity():
     e = epc_fast.evaluate(300.0, **BASE, binning=2.0, frames=4.0, alignment_error_um=1.0,
-                          outputs="elasticities").elasticities
-    assert WHOLE_NUMBERS == {"binning", "frames", "lens"}
+                          binning_readout="charge", outputs="elasticities").elasticities
+    assert WHOLE_NUMBERS == {"binning", "frames", "lens", "binning_readout"}
     assert all(math.isnan(e[name]) for name in WHOLE_NUMBERS)
     assert all(math.isfinite(v) for name, v in e.items() if name not in WHOLE_NUMBERS)
 

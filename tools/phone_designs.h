@@ -20,8 +20,8 @@ struct PhoneDesigns {
     // the API's defaults, in params.h's order (K: D50 with a rectangular QE)
     double defaults[epc_fast::n_params] = {0, 0, 0, 0, 0, 0.4, 1.0, 0.0, 1.0, 2557705539053827.5,
                                            0, 0, 0, INFINITY, 30, 4.39, 1, 0, 550, 0.5,
-                                           1, 1, 0, 0, 0, 0, 1, 1};
-    static_assert(epc_fast::n_params == 28, "a default for every parameter");
+                                           1, 1, 0, 0, 0, 0, 1, 1, 0};
+    static_assert(epc_fast::n_params == 29, "a default for every parameter");
 
     PhoneDesigns(std::size_t n, double jitter_um_) : jitter_value_um(jitter_um_) {
         std::mt19937_64 rng(1);

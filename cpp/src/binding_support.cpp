@@ -197,7 +197,7 @@ void set_lens_tables(Inputs& in, const py::object& tables) {
 
 Options options_of(const std::string& f50_solver, double f50_rtol,
                    const std::string& t_mpe_solver, double t_mpe_rtol,
-                   const std::string& precision, const std::string& binning_readout) {
+                   const std::string& precision) {
     if (!(f50_rtol >= 0.0) || !(t_mpe_rtol >= 0.0))
         throw std::invalid_argument("tolerances must be >= 0");
     Options opt;
@@ -206,10 +206,6 @@ Options options_of(const std::string& f50_solver, double f50_rtol,
     opt.t_mpe_solver = solver_of(t_mpe_solver);
     opt.t_mpe_rtol = t_mpe_rtol;
     opt.precision = precision_of(precision);
-    if (binning_readout != "digital" && binning_readout != "charge")
-        throw std::invalid_argument("binning_readout must be 'digital' or 'charge', got '" +
-                                    binning_readout + "'");
-    opt.charge_binning = binning_readout == "charge";
     return opt;
 }
 

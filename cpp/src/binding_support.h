@@ -74,8 +74,7 @@ void set_demosaic_table(Inputs& in, const py::object& table);
 // The solvers, tolerances and precision of a call, by their Python names.
 Options options_of(const std::string& f50_solver, double f50_rtol,
                    const std::string& t_mpe_solver, double t_mpe_rtol,
-                   const std::string& precision = "float64",
-                   const std::string& binning_readout = "digital");
+                   const std::string& precision = "float64");
 
 // Quantiles' octave bins (histograms.py _OctaveBins), checked: keys below 2^52
 // (octave_slot_of), the last bin's among them.

@@ -140,13 +140,11 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
                      const std::string& t_mpe_solver, double t_mpe_rtol,
                      const std::string& precision, int threads, py::ssize_t chunk_points,
                      const py::object& out, const py::object& allocate,
-                     const std::string& binning_readout, const py::object& lens_tables,
-                     const py::object& demosaic_table) {
+                     const py::object& lens_tables, const py::object& demosaic_table) {
     Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
     set_lens_tables(in, lens_tables);
     set_demosaic_table(in, demosaic_table);
-    const Options opt =
-        options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision, binning_readout);
+    const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
     py::dict fresh;
     py::dict result = outputs_of(out, allocate, n, fresh);
     // A large call's outputs are written with streaming stores (stream.h)
@@ -222,7 +220,7 @@ void register_evaluate(py::module_& m) {
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
           py::arg("precision"), py::arg("threads"),
           py::arg("chunk_points"), py::arg("out") = py::none(), py::arg("allocate") = py::none(),
-          py::arg("binning_readout") = "digital", py::arg("lens_tables") = py::none(),
+          py::arg("lens_tables") = py::none(),
           py::arg("demosaic_table") = py::none(),
           "Evaluates the model into the arrays of `out` (a dict of output arrays, or None) and "
           "new arrays for the outputs named in `allocate` (None: all of them when out is None, "

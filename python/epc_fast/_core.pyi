@@ -37,7 +37,6 @@ def evaluate(
     chunk_points: int,
     out: dict[str, np.ndarray] | None = None,
     allocate: Sequence[str] | None = None,
-    binning_readout: str = "digital",
     lens_tables: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
     demosaic_table: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
 ) -> dict[str, np.ndarray]:

@@ -60,7 +60,6 @@ def _compute(design: ResolvedDesign, options: CallOptions, threads, given) -> di
                         design.spectrum, options.f50_solver,
                         options.f50_rtol, options.t_mpe_solver, options.t_mpe_rtol, threads,
                         out=flat, precision=options.precision,
-                        binning_readout=options.binning_readout,
                         allocate=options.computed if given is None else
                         [k for k in options.computed
                          if k not in flat and k != elasticity_outputs.ALL],
@@ -71,8 +70,8 @@ def _compute(design: ResolvedDesign, options: CallOptions, threads, given) -> di
     from .reference.call import run_reference  # the NumPy reference, loaded only when asked
 
     result = run_reference(design.arrays, design.shape, design.sensor.is_pixel_count,
-                           design.spectrum, options.computed, options.binning_readout,
-                           options.lens_tables, options.demosaic_table)
+                           design.spectrum, options.computed, options.lens_tables,
+                           options.demosaic_table)
     if given is not None:  # the caller's arrays: every elasticity in one, or one row each
         rows = dict(zip(elasticity_outputs.ROWS, result.get(elasticity_outputs.ALL, ())))
         for name, array in given.items():
@@ -184,10 +183,11 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     color_noise_gain : 1, the colour correction's noise variance gain to luminance, in
         [0.01, 100] (times the demosaicker's, at least 0.6);
         default :data:`epc_fast.cfa.DEFAULT_COLOR_NOISE_GAIN` with ``cfa="bayer"``.
-    binning_readout : {"digital", "charge"}
-        How a binned pixel is read, for the whole call: k^2 reads summed digitally (read noise
+    binning_readout : {"digital", "charge"} or array_like of them
+        How a binned pixel is read, per point: k^2 reads summed digitally (read noise
         variance k^2 sigma_r^2, the default), or the k x k pixels' charge summed before one
-        read (sigma_r^2).
+        read (sigma_r^2). Broadcast like the parameters (as 0 and 1, its codes in
+        :data:`epc_fast.params.READOUT_CODES`, which it also takes).
     spectrum : Spectrum or (wavelengths_nm, weights), optional
         Polychromatic diffraction, D(f) = sum_i w_i D_i(f), shared by every point (weights
         normalised to sum 1); see :func:`epc_fast.spectra.diffraction_spectrum`. Replaces
@@ -284,8 +284,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         demosaic=demosaic, cfa_transmittance=cfa_transmittance,
         color_noise_gain=color_noise_gain, binning_readout=binning_readout, spectrum=spectrum)
     options = options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                         precision, outputs, design.sensor.is_pixel_count, binning_readout,
-                         design.lens_tables, design.colour.demosaic_table)
+                         precision, outputs, design.sensor.is_pixel_count,
+                         design.lens_tables, design.color.demosaic_table)
     given = (None if out is None
              else out_arrays(out, design.shape, options.selected, design.sensor.is_pixel_count,
                              core=options.backend == "core"))

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 from ._validation import choice, tolerance
 from .outputs import selected_outputs
+from .params import READOUT_CODES
 
 __all__ = ["BACKENDS", "T_MPE_SOLVERS", "F50_SOLVERS", "PRECISIONS", "INVALID_POLICIES",
            "BINNING_READOUTS", "CallOptions", "options_of"]
@@ -19,8 +20,9 @@ F50_SOLVERS = ("halley", "newton", "brent", "bisection")
 #: The floating-point types f50 can be solved in (``precision=``).
 PRECISIONS = ("float64", "float32")
 INVALID_POLICIES = ("status", "raise")
-#: How a binned pixel's k x k pixels are read (``binning_readout=``): k^2 reads, or one.
-BINNING_READOUTS = ("digital", "charge")
+#: How a binned pixel's k x k pixels are read (``binning_readout=``, a per-point column):
+#: k^2 reads, or one.
+BINNING_READOUTS = tuple(READOUT_CODES)
 
 
 @dataclass(frozen=True)
@@ -35,7 +37,6 @@ class CallOptions:
     t_mpe_rtol: float
     precision: str
     selected: tuple
-    binning_readout: str = "digital"
     #: the checked lens_mtf tables (a tuple of MtfTable), None without lens_mtf
     lens_tables: tuple | None = None
     #: a colour sensor's demosaicker's table (epc_fast.cfa), None for the monochrome sensor
@@ -54,12 +55,12 @@ class CallOptions:
 
 
 def options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
-               outputs, is_pixel_count=False, binning_readout="digital",
-               lens_tables=None, demosaic_table=None) -> CallOptions:
+               outputs, is_pixel_count=False, lens_tables=None,
+               demosaic_table=None) -> CallOptions:
     """The checked options of a call (errors name the argument); those without tables, and
     with a hashable ``outputs``, are kept for the next call that gives the same."""
     args = (backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
-            outputs, is_pixel_count, binning_readout)
+            outputs, is_pixel_count)
     if lens_tables is None and demosaic_table is None:
         try:
             return _kept_options(*args)
@@ -74,16 +75,14 @@ def _kept_options(*args) -> CallOptions:
 
 
 def _checked_options(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
-                     precision, outputs, is_pixel_count=False, binning_readout="digital",
-                     lens_tables=None, demosaic_table=None) -> CallOptions:
+                     precision, outputs, is_pixel_count=False, lens_tables=None,
+                     demosaic_table=None) -> CallOptions:
     choice("backend", backend, BACKENDS)
-    choice("binning_readout", binning_readout, BINNING_READOUTS)
     choice("invalid", invalid, INVALID_POLICIES)
     choice("t_mpe_solver", t_mpe_solver, T_MPE_SOLVERS)
     choice("f50_solver", f50_solver, F50_SOLVERS)
     choice("precision", precision, PRECISIONS)
     return CallOptions(backend, invalid, f50_solver, tolerance("f50_rtol", f50_rtol),
                        t_mpe_solver, tolerance("t_mpe_rtol", t_mpe_rtol), precision,
-                       selected_outputs(outputs, is_pixel_count), binning_readout, lens_tables,
-                       demosaic_table)
+                       selected_outputs(outputs, is_pixel_count), lens_tables, demosaic_table)
 

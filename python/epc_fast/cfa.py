@@ -25,7 +25,7 @@ from .mtf_table import MtfTable, mtf_table
 __all__ = ["CFAS", "DEMOSAICS", "DEFAULT_CFA_TRANSMITTANCE", "DEFAULT_COLOR_NOISE_GAIN",
            "DEFAULT_CHANNEL_TRANSMITTANCES", "DEFAULT_LUMINANCE_WEIGHTS", "DEMOSAIC_NOISE_GAIN",
            "DEMOSAIC_MTF_PATH", "check_cfa", "check_demosaic", "color_noise_gain",
-           "demosaic_mtf_table", "SensorColour", "sensor_colour"]
+           "demosaic_mtf_table", "SensorColor", "sensor_color"]
 
 #: The colour filter arrays: none (the monochrome sensor) and Bayer's RGGB cell.
 CFAS = ("none", "bayer")
@@ -124,7 +124,7 @@ def demosaic_mtf_table(algorithm) -> MtfTable:
 
 
 @dataclass(frozen=True)
-class SensorColour:
+class SensorColor:
     """A call's colour sensor as the model takes it: the ``cfa_transmittance`` t and
     ``color_noise_gain`` columns (for a Bayer sensor g_c g_d, the colour correction's gain
     times the demosaicker's) and the demosaicker's table (None for the monochrome sensor)."""
@@ -135,12 +135,12 @@ class SensorColour:
 
 
 #: The monochrome sensor with no filter: t = 1, g_c = 1, no demosaicker.
-_MONOCHROME = SensorColour(1.0, 1.0, None)
+_MONOCHROME = SensorColor(1.0, 1.0, None)
 
 
-def sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorColour:
+def sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorColor:
     """evaluate's ``cfa``, ``demosaic``, ``cfa_transmittance`` and ``color_noise_gain`` as
-    :class:`SensorColour`. The transmittance t and the colour noise gain g_c are model
+    :class:`SensorColor`. The transmittance t and the colour noise gain g_c are model
     parameters either way (a monochrome sensor behind a filter has a t too); None takes 1 for
     ``cfa="none"`` and the defaults (:data:`DEFAULT_CFA_TRANSMITTANCE`,
     :data:`DEFAULT_COLOR_NOISE_GAIN`) for ``"bayer"``, whose demosaicker adds its noise gain
@@ -155,8 +155,8 @@ def sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorC
     g_c = (DEFAULT_COLOR_NOISE_GAIN if bayer else 1.0) if color_noise_gain is None \
         else color_noise_gain
     if not bayer:
-        return SensorColour(t, g_c, None)
+        return SensorColor(t, g_c, None)
     from ._validation import as_float_array
 
     gain = as_float_array("color_noise_gain", g_c) * DEMOSAIC_NOISE_GAIN[demosaic]
-    return SensorColour(t, gain if gain.ndim else float(gain), demosaic_mtf_table(demosaic))
+    return SensorColor(t, gain if gain.ndim else float(gain), demosaic_mtf_table(demosaic))

@@ -29,7 +29,7 @@ def core_tables(lens_tables) -> list | None:
 
 def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
              t_mpe_rtol, threads, out=None, precision="float64", allocate=None,
-             binning_readout="digital", lens_tables=None, demosaic_table=None,
+             lens_tables=None, demosaic_table=None,
              chunk_points=1 << 18, columns_ready=False):
     """The core's flat outputs for the model parameters ``arrays`` (PARAMETERS' order) over
     the broadcast ``shape``: ``out``'s arrays (name -> flat array) written and those named in
@@ -54,5 +54,5 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
     demosaic = None if demosaic_table is None else core_tables((demosaic_table,))[0]
     return compiled_core().evaluate(columns, size_is_pixel_count, domains, wavelengths, weights,
                                     n, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
-                                    threads, chunk_points, out, allocate, binning_readout,
+                                    threads, chunk_points, out, allocate,
                                     core_tables(lens_tables), demosaic)

@@ -24,9 +24,8 @@ from typing import NamedTuple
 import numpy as np
 
 from . import params
-from ._validation import as_float_array, choice, float_arrays, short
-from .call_options import BINNING_READOUTS
-from .cfa import SensorColour, sensor_colour
+from ._validation import float_arrays, short
+from .cfa import SensorColor, sensor_color
 from .mtf_table import lens_tables_of
 from .sensor import (SizeSlot, check_snr_at, physical_pixel_count, sensor_shape,
                      size_and_field_angle, snr_at_text)
@@ -329,8 +328,6 @@ def one_wavelength(spec: Spectrum | None):
 
 
 _WAVELENGTH = params.PARAMETER_NAMES.index("wavelength_nm")
-_READ_NOISE = params.PARAMETER_NAMES.index("read_noise_e")
-_BINNING = params.PARAMETER_NAMES.index("binning")
 
 
 class ResolvedDesign(NamedTuple):
@@ -351,11 +348,10 @@ class ResolvedDesign(NamedTuple):
     spectrum : the :class:`~epc_fast.spectra.Spectrum` the model runs, None for the
         monochromatic model (a spectrum on one wavelength included).
     given_spectrum : the caller's spectrum as a Spectrum (its zero weights kept), or None.
-    colour : :class:`~epc_fast.cfa.SensorColour`, the colour sensor: transmittance, noise gain
+    color : :class:`~epc_fast.cfa.SensorColor`, the colour sensor: transmittance, noise gain
         and demosaicker's table.
     lens_tables : the checked ``lens_mtf`` tables (:class:`~epc_fast.mtf_table.MtfTable`),
         or None.
-    binning_readout : "digital" or "charge", for the whole call.
     """
 
     names: tuple
@@ -366,9 +362,8 @@ class ResolvedDesign(NamedTuple):
     field_angle_deg: object
     spectrum: Spectrum | None
     given_spectrum: Spectrum | None
-    colour: SensorColour
+    color: SensorColor
     lens_tables: tuple | None
-    binning_readout: str
 
     def parameter(self, name: str) -> np.ndarray:
         """The float64 array of the parameter ``name`` (:data:`epc_fast.params.PARAMETERS`)."""
@@ -388,17 +383,6 @@ class ResolvedDesign(NamedTuple):
             return None
         return self.lens_tables[int(self.parameter("lens"))]
 
-    def arrays_read_digitally(self) -> list:
-        """The arrays with a charge-binned read noise as digital reads: one read of sigma_r for
-        the k x k pixels is k^2 reads of sigma_r / k (docs/model.md: only the read noise's
-        variance, n k^2 sigma_r^2 or n sigma_r^2, differs), for a model that reads every
-        binned pixel digitally (the inverse solvers' core)."""
-        if self.binning_readout != "charge":
-            return self.arrays
-        arrays = list(self.arrays)
-        arrays[_READ_NOISE] = as_float_array("read_noise_e",
-                                             arrays[_READ_NOISE] / arrays[_BINNING])
-        return arrays
 
 
 @functools.lru_cache(maxsize=None)
@@ -452,7 +436,7 @@ def resolve(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         aspect, snr_at, field_angle_deg, focal_length_mm)
     if electrons_per_lux_s_m2 is None:
         electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
-    colour = sensor_colour(cfa, demosaic, cfa_transmittance, color_noise_gain)
+    color = sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain)
     values = {
         "illuminance_lux": illuminance_lux, "pixel_pitch_um": pixel_pitch_um,
         "f_number": f_number, "focal_length_mm": focal_length_mm, "size": sensor.value,
@@ -464,8 +448,9 @@ def resolve(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
         "binning": binning, "frames": frames, "alignment_error_um": alignment_error_um,
         "wavefront_rms_waves": wavefront_rms_waves, "denoise_sigma_px": denoise_sigma_px,
-        "lens": lens, "cfa_transmittance": colour.transmittance,
-        "color_noise_gain": colour.noise_gain,
+        "lens": lens, "cfa_transmittance": color.transmittance,
+        "color_noise_gain": color.noise_gain,
+        "binning_readout": params.readout_codes(binning_readout),
     }
     names, arrays, shape, ready = _broadcast_inputs(values, sensor.name)
     given = spectrum_of(spectrum, wavelength_nm)
@@ -475,9 +460,8 @@ def resolve(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         arrays[_WAVELENGTH] = wavelength
         model_spectrum = None
     tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
-    choice("binning_readout", binning_readout, BINNING_READOUTS)
     return ResolvedDesign(names, arrays, shape, ready, sensor, field_angle_deg,
-                          model_spectrum, given, colour, tables, binning_readout)
+                          model_spectrum, given, color, tables)
 
 
 #: The keywords :func:`resolve` takes: a design's, evaluate's without its options.

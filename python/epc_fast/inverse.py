@@ -75,8 +75,8 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
     design : dict
         Keyword arguments of :func:`epc_fast.evaluate` except ``illuminance_lux`` (e.g.
         ``presets.Design.evaluate_kwargs()``); values broadcast against each other and against
-        ``target_epc``. ``binning``, ``frames`` and ``alignment_error_um`` are per point as in
-        evaluate, ``binning_readout`` one for the call; ``modes`` is not taken (solve for
+        ``target_epc``. ``binning``, ``binning_readout``, ``frames`` and
+        ``alignment_error_um`` are per point as in evaluate; ``modes`` is not taken (solve for
         each mode), nor ``lens_mtf`` (a design's EPC past its table's end is undefined:
         evaluate it over a grid of illuminances); ``cfa``, ``demosaic`` and the colour terms
         are evaluate's.
@@ -222,8 +222,7 @@ _DESIGN_KEYWORDS = frozenset(DESIGN_KEYWORDS) - {"illuminance_lux", "lens", "len
 
 @dataclass(frozen=True)
 class ModelInputs:
-    """A design's model parameters as float64 arrays in :data:`params.PARAMETERS` order, a
-    charge-binned read noise as digital reads (:meth:`ResolvedDesign.arrays_read_digitally`).
+    """A design's model parameters as float64 arrays in :data:`params.PARAMETERS` order.
 
     The illuminance slot holds a placeholder 0 (the solvers choose the illuminance).
     """
@@ -283,9 +282,9 @@ def model_inputs(design: dict) -> ModelInputs:
         raise TypeError(f"a design holds evaluate()'s model keywords except illuminance_lux; "
                         f"got {', '.join(unknown)}")
     resolved = resolve(0.0, **design)
-    return ModelInputs(tuple(resolved.arrays_read_digitally()), resolved.shape,
+    return ModelInputs(tuple(resolved.arrays), resolved.shape,
                        resolved.sensor.is_pixel_count, resolved.spectrum,
-                       resolved.colour.demosaic_table)
+                       resolved.color.demosaic_table)
 
 
 # --- The NumPy reference --------------------------------------------------------------------

@@ -14,6 +14,7 @@ import numpy as np
 
 from ._validation import short
 from .outputs import SHARE_OUTPUTS, Result, selected_outputs
+from .params import READOUT_CODES, readout_codes
 from .status import Cause, Status
 
 __all__ = ["MODE_KEYS", "MODE_DEFAULTS", "NO_MODE", "check_modes", "evaluate_modes"]
@@ -113,5 +114,5 @@ def _is_default(key, value) -> bool:
     if value is None:
         return True
     if key == "binning_readout":
-        return value == MODE_DEFAULTS[key]
+        return bool(np.all(np.asarray(readout_codes(value)) == READOUT_CODES["digital"]))
     return bool(np.all(np.asarray(value, dtype=float) == MODE_DEFAULTS[key]))

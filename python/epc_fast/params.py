@@ -31,7 +31,8 @@ __all__ = ["Param", "ParameterTable", "PARAMETERS", "PARAMETER_NAMES", "SIZE_PAR
            "SIZE_KEYWORDS", "in_domain", "BIG", "TINY", "SNR_DB_MIN", "SNR_DB_MAX",
            "WAVEFRONT_RMS_WAVES_MAX", "DENOISE_SIGMA_PX_MAX", "domain_table", "parameters",
            "LENS_INDEX", "CFA_PARAMETERS", "COLOR_NOISE_GAIN_MIN",
-           "COLOR_NOISE_GAIN_MAX"]
+           "COLOR_NOISE_GAIN_MAX", "READOUT_CODES",
+           "readout_codes"]
 
 INF = math.inf
 #: The largest magnitude of a parameter that physics leaves unbounded (see the module docstring).
@@ -184,9 +185,40 @@ PARAMETERS: tuple[Param, ...] = ParameterTable((
        "1: the colour filters' mean transmittance against a monochrome pixel (1: none)"),
     _p("color_noise_gain", 1.0, COLOR_NOISE_GAIN_MIN, COLOR_NOISE_GAIN_MAX, True, True,
        "1: the noise variance gain of colour correction to luminance (1: none)"),
+    # evaluate takes it as "digital" (0) or "charge" (1), or an array of them (READOUT_CODES)
+    _p("binning_readout", 0.0, 0, 1, True, True,
+       "1: how a binned pixel is read: 0 digital (k^2 reads of sigma_r), 1 charge (one read)",
+       integer=True),
 ))
 
 PARAMETER_NAMES: tuple[str, ...] = tuple(p.name for p in PARAMETERS)
+#: ``binning_readout``'s names and their codes in its column.
+READOUT_CODES = {"digital": 0.0, "charge": 1.0}
+
+
+def readout_codes(binning_readout):
+    """The ``binning_readout`` column: 0.0 for ``"digital"``, 1.0 for ``"charge"``, a float64
+    array of them for an array of names; numbers are returned as they are (0 and 1 lie in its
+    domain, other numbers make their points INVALID). A ValueError names a name that is
+    neither."""
+    if isinstance(binning_readout, str):
+        if binning_readout not in READOUT_CODES:
+            raise ValueError(f"binning_readout must be one of 'digital', 'charge'; got "
+                             f"{str(binning_readout)!r}")
+        return READOUT_CODES[binning_readout]
+    names = np.asarray(binning_readout)
+    if names.dtype.kind not in "US" and not (
+            names.dtype.kind == "O" and names.size
+            and all(isinstance(v, (str, bytes)) for v in names.reshape(-1))):
+        return binning_readout  # numbers, or what the parameters' check refuses by type
+    codes = np.full(names.shape, np.nan)
+    for name, code in READOUT_CODES.items():
+        codes[names == name] = code
+    bad = np.flatnonzero(np.isnan(codes.reshape(-1)))
+    if bad.size:
+        raise ValueError(f"binning_readout must be one of 'digital', 'charge' at every point; "
+                         f"got {names.reshape(-1)[bad[0]].item()!r} at flat index {int(bad[0])}")
+    return codes
 #: The colour sensor's parameters, whose default in evaluate's signature is None: 1 for the
 #: monochrome sensor (their default here), epc_fast.cfa's with cfa="bayer".
 CFA_PARAMETERS = ("cfa_transmittance", "color_noise_gain")

@@ -18,9 +18,9 @@ from .params import PARAMETERS
 
 __all__ = ["default_values", "designs_terms", "readout_terms", "terms_on"]
 
-#: Parameters that are no term: the SNR target's (said on its own line) and the lens table's
-#: index (said with the tables).
-NOT_TERMS = ("snr_db", "field_angle_deg", "lens")
+#: Parameters that are no term: the SNR target's (said on its own line), the lens table's
+#: index (said with the tables) and the binning readout (said with the readout modes).
+NOT_TERMS = ("snr_db", "field_angle_deg", "lens", "binning_readout")
 #: The demosaicker evaluate takes when a colour filter is given without one.
 DEFAULT_DEMOSAIC = "malvar2004"
 

@@ -115,7 +115,7 @@ def test_a_non_empty_out_is_refused_unless_overwrite(tmp_path, capsys):
     # ended in exit code 1 ("designs read differently" raised by the Problem)
     (("pixel_pitch_um = [0.8, 4.0]", "pixel_pitch_um = [0.8, 4.0]\nbinning = [1, 4]"),
      "[optimize.bounds]: binning = [1, 4]: binning takes whole numbers only"),
-    (("focal_length_mm = 5.6\n", 'focal_length_mm = 5.6\nbinning_readout = "charge"\n\n'
+    (("focal_length_mm = 5.6\n", 'focal_length_mm = 5.6\nmodes = [{binning = 1}, {binning = 2}]\n\n'
       '[[design.custom]]\nname = "B"\nsensor_width_mm = 4.57\nsensor_height_mm = 3.43\n'
       'f_number = 2.8\nfocal_length_mm = 5.6\n'),
      "[design]: the optimiser reads every design one way"),

@@ -46,7 +46,7 @@ def test_the_bayer_shares_and_elasticities_agree_with_the_reference(precision):
                                    atol=rtol, err_msg=name)
     for name in core.elasticities:
         a, b = core.elasticities[name][ok], ref.elasticities[name][ok]
-        if name in ("binning", "frames", "lens"):
+        if name in ("binning", "frames", "lens", "binning_readout"):  # whole numbers: NaN
             continue
         assert np.all(np.abs(a - b) <= rtol * np.maximum(np.abs(b), 1e-3)), name
 

@@ -87,7 +87,7 @@ def mp_model(inputs, spectrum=None, lens_mtf=None, demosaic=None):
     test share one evaluation.
     """
     inputs = dict(inputs)
-    charge = inputs.pop("binning_readout", "digital") == "charge"
+    charge = inputs.pop("binning_readout", "digital") in ("charge", 1.0)  # its name or code
     if demosaic is not None:
         inputs = {**BAYER_DEFAULTS, **inputs}
     items = tuple(sorted((name, value if isinstance(value, mp.mpf) else float(value))

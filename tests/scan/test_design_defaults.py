@@ -30,7 +30,7 @@ def _alone(design, lux, options):
 
 
 @pytest.mark.parametrize("options", [BAYER, {}], ids=["bayer", "monochrome"])
-def test_a_design_that_leaves_out_its_colour_terms_takes_its_own_colour_filters(options):
+def test_a_design_that_leaves_out_its_color_terms_takes_its_own_color_filters(options):
     space = scan.Space(design=[A, B], illuminance_lux=100.0, evaluate_options=options)
     own = OWN[options.get("cfa", "none")]
     assert list(space.design_table["cfa_transmittance"]) == [0.3, own[0]]
@@ -79,7 +79,7 @@ def test_the_printed_space_says_the_bayer_values_the_design_takes():
     assert "cfa_transmittance" not in space.defaults()
 
 
-def test_a_bayer_design_with_its_own_colour_noise_gain_beside_one_without_simulates():
+def test_a_bayer_design_with_its_own_color_noise_gain_beside_one_without_simulates():
     from epc_fast.simulate.config import parse_simulate_config
 
     design = ("[[design.custom]]\nname = {name!r}\npixel_pitch_um = 1.4\nf_number = 2.8\n"
@@ -90,7 +90,7 @@ def test_a_bayer_design_with_its_own_colour_noise_gain_beside_one_without_simula
     assert designs["B"]["color_noise_gain"] == DEFAULT_COLOR_NOISE_GAIN
 
 
-def test_the_optimiser_evaluates_each_design_with_its_own_colour_filters_defaults():
+def test_the_optimiser_evaluates_each_design_with_its_own_color_filters_defaults():
     from epc_fast import optimize
 
     space = scan.Space(design=[A, B], illuminance_lux=30.0, evaluate_options=BAYER)

@@ -87,7 +87,7 @@ def test_a_denoised_camera_overtakes_an_unfiltered_one_below_a_crossover():
 
 
 @pytest.mark.parametrize("backend", ["core", "reference"])
-def test_a_colour_sensor_scans_as_evaluate_gives_it_on_the_same_draws(backend):
+def test_a_color_sensor_scans_as_evaluate_gives_it_on_the_same_draws(backend):
     space = scan.Space(design=HIGH_TIER, illuminance_lux=LogUniform(1, 1e5), read_noise_e=2.0,
                        cfa_transmittance=Uniform(0.25, 0.45),
                        evaluate_options={"cfa": "bayer", "demosaic": "bilinear"})
@@ -108,7 +108,7 @@ def test_a_colour_sensor_scans_as_evaluate_gives_it_on_the_same_draws(backend):
     assert np.all(expected.epc[both] < mono.epc[both])
 
 
-def test_a_scan_config_takes_the_colour_sensor(tmp_path):
+def test_a_scan_config_takes_the_color_sensor(tmp_path):
     from epc_fast.scan.config import load_config
 
     path = tmp_path / "bayer.toml"
@@ -123,7 +123,7 @@ def test_a_scan_config_takes_the_colour_sensor(tmp_path):
         load_config(path)
 
 
-def test_sobol_and_the_optimiser_take_lens_tables_and_a_colour_sensor():
+def test_sobol_and_the_optimiser_take_lens_tables_and_a_color_sensor():
     from epc_fast.reference import mtf_diffraction
 
     f = np.linspace(0.0, 1.0 / (550e-6 * 2.0), 20)

@@ -213,7 +213,7 @@ def test_a_bad_cfa_argument_is_refused_naming_it(kwargs, message):
         simulate.capture(simulate.flat(16), illuminance_lux=100.0, **kwargs, **DESIGN)
 
 
-def test_without_colour_demosaicing_a_bayer_capture_says_which_extra_to_install(monkeypatch):
+def test_without_color_demosaicing_a_bayer_capture_says_which_extra_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "colour_demosaicing", None)  # an import of it fails
     with pytest.raises(ImportError, match=r"pip install 'epc-fast\[simulate\]'"):
         simulate.capture(simulate.flat(16), illuminance_lux=100.0, cfa="bayer", **DESIGN)
@@ -232,7 +232,7 @@ def test_a_monochrome_sensor_behind_a_filter_collects_t_of_the_light_and_meets_t
 
 
 @pytest.mark.parametrize("sensor, gain, own", [("bayer", 1.5, "0.9198"), ("none", 0.8, "1")])
-def test_a_colour_noise_gain_the_capture_does_not_have_is_refused_naming_it(sensor, gain, own):
+def test_a_color_noise_gain_the_capture_does_not_have_is_refused_naming_it(sensor, gain, own):
     with pytest.raises(ValueError, match=rf"^color_noise_gain: {gain} .*the capture's own, {own}"):
         simulate.capture(simulate.flat(16), illuminance_lux=100.0, cfa=sensor,
                          color_noise_gain=gain, **DESIGN)
@@ -240,7 +240,7 @@ def test_a_colour_noise_gain_the_capture_does_not_have_is_refused_naming_it(sens
 
 @pytest.mark.parametrize("sensor, gain", [("bayer", cfa.DEFAULT_COLOR_NOISE_GAIN),
                                           ("none", 1.0)])
-def test_a_colour_noise_gain_equal_to_the_captures_own_is_taken(sensor, gain):
+def test_a_color_noise_gain_equal_to_the_captures_own_is_taken(sensor, gain):
     c = simulate.capture(simulate.flat(16), illuminance_lux=100.0, seed=1, cfa=sensor,
                          color_noise_gain=gain, **DESIGN)
     assert c.image_e.shape == (16, 16)

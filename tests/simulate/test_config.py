@@ -93,7 +93,7 @@ def test_the_phone_example_is_a_bayer_sensor_behind_a_lens_table_with_two_modes(
     assert kwargs["binning_readout"] == "charge"
 
 
-def test_a_colour_noise_gain_no_capture_has_is_refused_naming_the_design():
+def test_a_color_noise_gain_no_capture_has_is_refused_naming_the_design():
     text = PHONE.replace('name = "phone"\n', 'name = "phone"\ncolor_noise_gain = 1.5\n')
     with pytest.raises(ConfigError, match=r"\[design\] 'phone': color_noise_gain = 1.5: "
                                           r"expected the capture's own, 0.9198"):

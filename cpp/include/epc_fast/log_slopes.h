@@ -282,6 +282,7 @@ EPC_FAST_INLINE void elasticities_of_lane(double slope_diffraction, double slope
     out[binning][i] = nan;
     out[frames][i] = nan;
     out[lens][i] = nan;
+    out[binning_readout][i] = nan;
     // a colour sensor's transmittance is the rate's; its noise gain the target's s g
     out[cfa_transmittance][i] = via_rate * two_over_a;
     out[color_noise_gain][i] = mu * t.target * two_over_a;

@@ -43,6 +43,7 @@ enum Param : int {
     lens,                 // index of the point's lens table (Inputs::lens_tables), a whole number
     cfa_transmittance,    // a colour sensor's mean filter transmittance (1: monochrome)
     color_noise_gain,     // its colour correction's and demosaicker's noise gain (1: monochrome)
+    binning_readout,      // how a binned pixel is read: 0 digital (k^2 reads), 1 charge (one)
     n_params
 };
 
@@ -53,7 +54,7 @@ constexpr const char* param_names[n_params] = {
     "read_noise_e", "dark_current_e_per_s", "prnu", "full_well_e", "snr_db", "shake_deg_per_s",
     "stabilization", "jitter_um", "wavelength_nm", "mtf_threshold", "binning", "frames",
     "alignment_error_um", "wavefront_rms_waves", "denoise_sigma_px", "lens", "cfa_transmittance",
-    "color_noise_gain"};
+    "color_noise_gain", "binning_readout"};
 
 // A value lies in [lo, hi] with each end open or closed, and is a whole number where `integer`
 // (binning, frames); NaN lies in no domain.
@@ -137,9 +138,6 @@ struct Options {
     double f50_rtol = 1e-14;   // relative tolerance on f50 (f50/solvers.h: how each solver meets it)
     TMpeSolver t_mpe_solver = TMpeSolver::closed_form;
     double t_mpe_rtol = 1e-15;  // Brent's tolerance on the electrons needed
-    // binning's read noise: k^2 reads of sigma_r (false, "digital") or one ("charge": the k x k
-    // pixels' charge summed before the read)
-    bool charge_binning = false;
 };
 
 // The MTF factors of the share outputs (sensitivity.h), in their order.

@@ -302,7 +302,7 @@ def design_readout(space, names) -> tuple[dict, frozenset]:
     parameters do not set."""
     from ..scan.running.readout_modes import readout_groups, readout_kwargs
 
-    if not space.has_readouts:
+    if not space.has_modes:
         return {}, frozenset()
     groups = readout_groups(space)
     if len(groups) > 1:

@@ -14,8 +14,8 @@ from ..outputs import SHARE_OUTPUTS
 __all__ = ["run_reference"]
 
 
-def run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
-                  binning_readout="digital", lens_tables=None, demosaic_table=None) -> dict:
+def run_reference(arrays, shape, size_is_pixel_count, spec, computed=(), lens_tables=None,
+                  demosaic_table=None) -> dict:
     """The reference's flat outputs for the model parameters ``arrays`` (PARAMETERS' order)
     over the broadcast ``shape``: every model output, and the shares and elasticity rows named
     in ``computed``. ``spec``: the Spectrum, or None for monochromatic; ``lens_tables``: the
@@ -32,17 +32,14 @@ def run_reference(arrays, shape, size_is_pixel_count, spec, computed=(),
     wavelengths = weights = None
     if spec is not None:
         wavelengths, weights = spec.wavelengths_nm, spec.weights
-    charge = binning_readout == "charge"
     result = model.evaluate_points(p, size_is_pixel_count, wavelengths, weights, valid,
-                                   charge_binning=charge, lens_tables=lens_tables,
-                                   demosaic_table=demosaic_table)
+                                   lens_tables=lens_tables, demosaic_table=demosaic_table)
     shares = any(name in computed for name in SHARE_OUTPUTS)
     rows = elasticity_outputs.rows_in(computed)
     if shares or rows:
         result.update(sensitivity.sensitivity_points(
             p, size_is_pixel_count, wavelengths, weights, result, shares=shares,
-            elasticities=bool(rows), charge_binning=charge, lens_tables=lens_tables,
-            demosaic_table=demosaic_table))
+            elasticities=bool(rows), lens_tables=lens_tables, demosaic_table=demosaic_table))
     if rows and elasticity_outputs.ALL not in computed:  # the rows asked for, one output each
         every = dict(zip(elasticity_outputs.ROWS, result.pop(elasticity_outputs.ALL)))
         result.update({row: every[row] for row in rows})

@@ -143,10 +143,11 @@ def binned_pixels(binning):
     return binning * binning
 
 
-def burst_read_noise_e(read_noise_e, binning, frames, charge_binning=False):
+def burst_read_noise_e(read_noise_e, binning, frames, binning_readout=0.0):
     """e- rms: the read noise of one output pixel of a burst of n frames, n reads of k^2 pixels
-    each (digital binning, sigma_r sqrt(n k^2)) or of one (charge binning, sigma_r sqrt(n))."""
-    reads = frames * (1.0 if charge_binning else binned_pixels(binning))
+    each (``binning_readout`` 0, digital: sigma_r sqrt(n k^2)) or of one (1, charge: the k x k
+    pixels' charge summed before the read, sigma_r sqrt(n))."""
+    reads = frames * np.where(np.asarray(binning_readout) == 1.0, 1.0, binned_pixels(binning))
     return read_noise_e * np.sqrt(reads)
 
 
@@ -322,7 +323,7 @@ def effective_pixel_count(sensor_area_mm2, f50_cyc_per_mm):
 
 
 def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
-                    charge_binning=False, lens_tables=None, demosaic_table=None):
+                    lens_tables=None, demosaic_table=None):
     """Evaluate the model on 1-D arrays of equal length.
 
     Parameters
@@ -335,8 +336,6 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
         A spectrum shared by every point (weights sum to 1), or None for ``p["wavelength_nm"]``.
     valid : ndarray of bool
         Which points have every input inside its domain (:func:`epc_fast.params.in_domain`).
-    charge_binning : bool
-        Binning's read-out: one read of the k x k pixels' charge (True), or k^2 reads.
     lens_tables : list of MtfTable, optional
         The call's lens tables (``lens_mtf``): point i's optics MTF is table ``p["lens"][i]``'s
         in place of diffraction (:func:`mtf_system`).
@@ -358,17 +357,17 @@ def evaluate_points(p, size_is_pixel_count, wavelengths_nm, weights, valid,
          for name, v in p.items()}
     with np.errstate(all="ignore"):  # extreme but valid points may overflow; statuses tell
         return _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid,
-                               charge_binning, lens_tables, demosaic_table)
+                               lens_tables, demosaic_table)
 
 
-def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, charge_binning,
-                    lens_tables=None, demosaic_table=None):
+def _evaluate_valid(q, size_is_pixel_count, wavelengths_nm, weights, valid, lens_tables=None,
+                    demosaic_table=None):
     k, n = q["binning"], q["frames"]
     pixels = binned_pixels(k)
     rate = electron_rate(q["illuminance_lux"], q["reflectance"], q["lens_transmittance"],
                          q["field_angle_deg"], q["f_number"], q["electrons_per_lux_s_m2"],
                          q["fill_factor"], q["pixel_pitch_um"]) * q["cfa_transmittance"] * pixels
-    read_noise = burst_read_noise_e(q["read_noise_e"], k, n, charge_binning)
+    read_noise = burst_read_noise_e(q["read_noise_e"], k, n, q["binning_readout"])
     prnu = q["prnu"] / k
     # denoising, and a colour sensor's colour correction and demosaicking: every noise
     # variance times g, met after them

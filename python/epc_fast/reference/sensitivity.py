@@ -36,8 +36,8 @@ Every one is a ratio of sums of positive terms. With binning and bursts, T_MPE i
 output pixel of the burst (epc_fast.reference.model.binned_pixels): its rate k^2 r, dark
 current k^2 D, read noise sigma_r sqrt(n k^2) or sigma_r sqrt(n), PRNU u / k, each proportional
 to its input, so the same log-slopes hold with these values; the blur angle is divided by n as
-by the stabilisation. binning, frames and lens are whole numbers: they have no elasticity
-(NaN).
+by the stabilisation. binning, frames, lens and binning_readout are whole numbers: they have
+no elasticity (NaN).
 
 With a lens table, L(f) takes the place of D(f) D_W(f)/D(f): its log-slope f L'/L is the
 optics' slope in A, and the f-number and the wavelength no longer reach the MTF (L is the
@@ -307,8 +307,7 @@ def field_angle_rate_log_slope(field_angle_deg):
 
 
 def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s, blur_mm,
-                     wavelengths_nm, weights, charge_binning=False, lens_tables=None,
-                     demosaic_table=None):
+                     wavelengths_nm, weights, lens_tables=None, demosaic_table=None):
     """1: d ln EPC / d ln theta for every parameter of :data:`ELASTICITY_PARAMETERS`, a dict
     of arrays, at points whose status is OK (f50 > 0); ``q`` holds the parameters by name (as
     :func:`epc_fast.reference.evaluate_points` does), the rest are the model's outputs there.
@@ -341,7 +340,8 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
     a_slope = -(g_d + g_ab + g_p + g_h + g_dm + g_m + 2.0 * (log_j + log_a))
     # T_MPE of the output pixel of the burst (its inputs each proportional to the parameter's)
     t = t_mpe_log_slopes(electrons, t_mpe_s,
-                         burst_read_noise_e(q["read_noise_e"], binning, frames, charge_binning),
+                         burst_read_noise_e(q["read_noise_e"], binning, frames,
+                                            q["binning_readout"]),
                          q["dark_current_e_per_s"] * binned_pixels(binning), q["prnu"] / binning)
     # d ln MTF / d ln alpha: the motion factor's slope through the blur angle (T/n a frame)
     mu = g_m * blur_angle_log_slope(blur_mm, q["focal_length_mm"], q["shake_deg_per_s"],
@@ -384,6 +384,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
         # the CFA's transmittance is the rate's, its noise gain the target's s g
         "cfa_transmittance": via_rate,
         "color_noise_gain": mu * t["target"],
+        "binning_readout": zero + np.nan,
     }
     area = {"size": 1.0, "pixel_pitch_um": 2.0 if size_is_pixel_count else 0.0}
     return {name: area.get(name, 0.0) + 2.0 * mtf_slopes[name] / a_slope
@@ -391,8 +392,7 @@ def epc_elasticities(q, size_is_pixel_count, f50_cyc_per_mm, electrons, t_mpe_s,
 
 
 def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, shares=True,
-                       elasticities=True, charge_binning=False, lens_tables=None,
-                       demosaic_table=None):
+                       elasticities=True, lens_tables=None, demosaic_table=None):
     """The shares and elasticities of 1-D points, from their :func:`epc_fast.reference.
     evaluate_points` ``result``: one ``share_<name>`` per
     :data:`epc_fast.outputs.SHARE_NAMES` entry (each 1-D) and ``elasticities`` (one row per
@@ -400,7 +400,7 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
 
     Only OK points have them; elsewhere they are NaN, but where the blur is unbounded (f50 = 0,
     EPC = 0: motion takes all of the loss) motion's share is 1 and the others 0. ``p``,
-    ``wavelengths_nm``, ``weights``, ``charge_binning``, ``lens_tables`` and ``demosaic_table`` as
+    ``wavelengths_nm``, ``weights``, ``lens_tables`` and ``demosaic_table`` as
     :func:`epc_fast.reference.evaluate_points` takes them.
     """
     status = result["status"]
@@ -431,8 +431,8 @@ def sensitivity_points(p, size_is_pixel_count, wavelengths_nm, weights, result, 
                 out[f"share_{name}"] = np.where(ok, share, np.where(unbounded, limit, np.nan))
         if elasticities:
             values = epc_elasticities(stand, size_is_pixel_count, f50, electrons, t_mpe, blur,
-                                      wavelengths, spectral_weights, charge_binning,
-                                      lens_tables, demosaic_table)
+                                      wavelengths, spectral_weights, lens_tables,
+                                      demosaic_table)
             out["elasticities"] = np.stack(
                 [np.where(ok, np.broadcast_to(values[name], ok.shape), np.nan)
                  for name in ELASTICITY_PARAMETERS])

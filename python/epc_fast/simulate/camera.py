@@ -288,7 +288,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                         f"got {type(chart).__name__}")
     lux = _scalar("illuminance_lux", illuminance_lux)
     _check_seed(seed)
-    sensor_cfa = _colour_sensor(cfa, demosaic, cfa_transmittance, channel_transmittances,
+    sensor_cfa = _color_sensor(cfa, demosaic, cfa_transmittance, channel_transmittances,
                                 luminance_weights, design.get("color_noise_gain"))
     result, picked = _evaluated(lux, design, _cfa_terms(cfa, demosaic, cfa_transmittance,
                                                         sensor_cfa))
@@ -323,7 +323,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                    denoise_sigma_px=sigma, border_px=border, cfa=cfa, bayer=sensor_cfa)
 
 
-def _colour_sensor(cfa, demosaic, cfa_transmittance, channel_transmittances,
+def _color_sensor(cfa, demosaic, cfa_transmittance, channel_transmittances,
                    luminance_weights, color_noise_gain):
     """The capture's Bayer sensor (:func:`~epc_fast.simulate.bayer.bayer`), or None for
     ``cfa="none"``; a ValueError for a ``color_noise_gain`` other than its own."""
@@ -412,7 +412,7 @@ def _frames_e(chart: Chart, optics: Optics, resolved, exposure_s: float, seed, b
                                     border_px=border)
     # a monochrome sensor behind a filter (cfa="none" with cfa_transmittance) collects t of
     # the light; a Bayer sensor's filters are its mosaic's
-    t_filter = 1.0 if sensor_cfa is not None else float(resolved.colour.transmittance)
+    t_filter = 1.0 if sensor_cfa is not None else float(resolved.color.transmittance)
     p = float(resolved.parameter("pixel_pitch_um"))
     yield_e = (float(resolved.parameter("electrons_per_lux_s_m2")) * (exposure_s / n)
                * float(resolved.parameter("fill_factor")) * (p * 1e-6) ** 2 * t_filter)
@@ -431,7 +431,8 @@ def _readout(resolved) -> dict:
             "prnu": float(resolved.parameter("prnu")),
             "full_well_e": float(resolved.parameter("full_well_e")),
             "binning": int(resolved.parameter("binning")),
-            "binning_readout": resolved.binning_readout}
+            "binning_readout": "charge" if resolved.parameter("binning_readout") == 1.0
+                               else "digital"}
 
 
 def _processed(image, sigma_px: float, border_px: int, sensor_cfa=None) -> np.ndarray:

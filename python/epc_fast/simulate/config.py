@@ -102,7 +102,7 @@ def _check_star(settings: dict, designs) -> None:
                                   f"({pitch:g} um)")
 
 
-def _check_colour(designs) -> None:
+def _check_color(designs) -> None:
     """A ConfigError for a design whose ``color_noise_gain`` is not the capture's own, its
     filters' (1 without a CFA; the default channels' and weights' for a Bayer sensor): no
     capture has it (:func:`epc_fast.simulate.capture`)."""
@@ -122,7 +122,8 @@ def _designs(space) -> list:
     options."""
     designs = []
     for i, name in enumerate(space.design_names):
-        kwargs = {key: float(values[i]) for key, values in space.design_table.items()}
+        kwargs = {key: float(values[i]) for key, values in space.design_table.items()
+                  if key != "binning_readout"}  # by its name, below
         if space.design_readout[i] != "digital":
             kwargs["binning_readout"] = space.design_readout[i]
         if space.design_modes[i]:
@@ -148,7 +149,7 @@ def _simulate_config(text: str, source: str) -> SimulateConfig:
     space = parse_space({"design": document["design"], "evaluate": document.get("evaluate", {}),
                          "parameters": {"illuminance_lux": 1.0}})
     designs = _designs(space)
-    _check_colour(designs)
+    _check_color(designs)
     _check_star(settings, designs)
     return SimulateConfig(designs, list(space.snr_target_text()), settings, source, text,
                           terms_on(space))

@@ -161,7 +161,7 @@ def model_mtf(frequency_cyc_per_mm, kwargs: dict, blur_mm: float) -> np.ndarray:
                       value["jitter_um"], wavelengths, weights, value["binning"],
                       value["alignment_error_um"], value["frames"],
                       value["wavefront_rms_waves"], value["denoise_sigma_px"], 0.0,
-                      None if table is None else [table], d.colour.demosaic_table)
+                      None if table is None else [table], d.color.demosaic_table)
 
 
 def _output_pitch_um(cell, kwargs: dict) -> float:

@@ -56,7 +56,7 @@ def test_the_new_parameters_scan_as_evaluate_gives_them_on_the_same_draws():
 
 def test_a_space_without_modes_or_charge_binning_keeps_the_fused_pass():
     space = scan.Space(design=HIGH_TIER, **_light(binning=Grid([1, 2])))
-    assert not space.has_readouts and not space.has_modes
+    assert not space.has_modes
     plan = (PlanItem("s", Summary(by="design"), group_key(space, "design")),)
     core, arrays = _core_plan(space, plan, 1, 10**6)
     assert core.plan == plan and arrays == ()
@@ -139,15 +139,13 @@ def test_each_design_is_read_its_own_way_in_one_scan():
         if "modes" in entry:
             call.pop("binning", None)
             extra["modes"] = list(entry["modes"])
-        if "binning_readout" in entry:
-            extra["binning_readout"] = entry["binning_readout"]
         alone = epc_fast.evaluate(**call, **extra, outputs=("epc", "status"))
         assert np.array_equal(result.epc[at], alone.epc), entry["name"]
         # a design without modes has one, its own readout: 0, or -1 where it has no EPC
         own = np.where(np.isfinite(alone.epc), 0, -1)
         assert np.array_equal(result.mode[at], alone.mode if "modes" in entry else own)
     # charge binning reads once: never worse than digital at the same binning
-    reads = epc_fast.evaluate(**{**points.parameters, "binning": 2.0})
+    reads = epc_fast.evaluate(**{**points.parameters, "binning": 2.0, "binning_readout": 0.0})
     at = design == 1
     assert np.all(result.epc[at] >= reads.epc[at]) and np.any(result.epc[at] > reads.epc[at])
     summary = run(space, N, seed=7, reductions={"s": Summary(by="design")},
@@ -182,15 +180,49 @@ def test_a_design_object_carries_its_modes_and_readout_into_the_scan():
     assert space.design_modes == (MODES, None)
 
 
-def test_a_space_describes_each_designs_readout_and_refuses_it_as_a_parameter():
+def test_a_space_describes_each_designs_readout_and_refuses_modes_as_a_parameter():
     design = HIGH_TIER[3].with_(binning_readout="charge", modes=MODES)
     text = scan.Space(design=[design, HIGH_TIER[0]], **_light()).describe()
     assert "1.4 um: SNR target 30 dB at corner (27.03 deg, default); charge binning; modes: " \
            "binning=1 | binning=2 | binning=2, frames=4\n" in text
     assert "2.8 um: SNR target 30 dB at corner (27.03 deg, default)\n" in text
     assert "binning=1" in text.split("defaults")[1]  # the 2.8 um design's
-    with pytest.raises(TypeError, match="binning_readout is how a design's sensor is read"):
-        scan.Space(design=HIGH_TIER, **_light(binning_readout="charge"))
+    with pytest.raises(TypeError, match="modes is how a design's sensor is read"):
+        scan.Space(design=HIGH_TIER, **_light(modes=MODES))
+
+
+def test_a_space_of_charge_binned_designs_keeps_the_fused_pass_and_evaluates_as_evaluate():
+    charge = HIGH_TIER[3].with_(name="charge", read_noise_e=2.0, binning=2,
+                                binning_readout="charge")
+    space = scan.Space(design=[charge, HIGH_TIER[3].with_(read_noise_e=2.0, binning=2)],
+                       **_light())
+    assert not space.has_modes
+    np.testing.assert_array_equal(space.design_table["binning_readout"], [1.0, 0.0])
+    plan = (PlanItem("s", Summary(by="design"), group_key(space, "design")),)
+    core, arrays = _core_plan(space, plan, 1, 10**6)
+    assert core.plan == plan and arrays == ()
+    points = space.points(3, 0, N)
+    design = points.indices["design"]
+    expected = epc_fast.evaluate(**points.parameters)
+    alone = epc_fast.evaluate(**{**points.parameters, "binning_readout": np.where(
+        design == 0, "charge", "digital")})
+    np.testing.assert_array_equal(expected.epc, alone.epc)
+    # charge binning reads once: better than digital where the read noise matters
+    assert np.mean(expected.epc[design == 0]) > np.mean(expected.epc[design == 1])
+    summary = run(space, N, seed=3, reductions={"s": Summary(by="design")}, progress=False)["s"]
+    ok = np.isfinite(expected.epc)
+    np.testing.assert_allclose(summary.mean, _by_design(expected.epc[ok], design[ok], 2),
+                               rtol=1e-12)
+
+
+def test_binning_readout_is_a_parameter_of_a_space_by_name():
+    space = scan.Space(design=[HIGH_TIER[3].with_(binning=2)],
+                       **_light(binning_readout=Choice(["digital", "charge"])))
+    assert space.axes["binning_readout"] == Choice((0.0, 1.0))
+    assert scan.Space(design=HIGH_TIER, **_light(binning_readout="charge")).axes[
+        "binning_readout"] == 1.0
+    with pytest.raises(ValueError, match="binning_readout must be one of 'digital', 'charge'"):
+        scan.Space(design=HIGH_TIER, **_light(binning_readout=Grid(["digital", "analog"])))
 
 
 def test_a_bursts_alignment_share_is_summarised_by_the_fused_pass_as_by_numpy():

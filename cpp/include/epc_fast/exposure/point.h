@@ -59,11 +59,12 @@ inline double electron_rate(double illuminance_lux, double reflectance, double l
 // 1: k^2, the pixels read as one output pixel.
 inline double binned_pixels(double binning) { return binning * binning; }
 
-// e- rms: the read noise of one output pixel of the burst, sigma_r sqrt(n k^2) (digital) or
-// sigma_r sqrt(n) (charge).
+// e- rms: the read noise of one output pixel of the burst, sigma_r sqrt(n k^2) (readout 0,
+// digital) or sigma_r sqrt(n) (readout 1, charge: the k x k pixels' charge summed before the
+// read).
 inline double burst_read_noise_e(double read_noise_e, double binning, double frames,
-                                 bool charge_binning) {
-    return read_noise_e * std::sqrt(frames * (charge_binning ? 1.0 : binned_pixels(binning)));
+                                 double readout) {
+    return read_noise_e * std::sqrt(frames * (readout == 1.0 ? 1.0 : binned_pixels(binning)));
 }
 
 // The SNR target as the solvers use it: sqrt(s) = 10^(snr_db/20). s itself is never formed: it

@@ -55,20 +55,20 @@ void noise_gain_roots(Block<T>& b) {
 // The sensor rows of a block that has binning or bursts; x[] points at them for the exposure
 // stage (restore_inputs puts the inputs back). Returns whether the block has them.
 template <class T>
-bool sensor_terms(const Options& opt, Block<T>& b, const double* (&saved)[5]) {
+bool sensor_terms(Block<T>& b, const double* (&saved)[5]) {
     b.sensor = !(b.broadcast_is(binning, 1.0) && b.broadcast_is(frames, 1.0));
     if (!b.sensor) return false;
     constexpr int inputs[5] = {read_noise_e, dark_current_e_per_s, prnu, full_well_e, stabilization};
     for (int r = 0; r < 5; ++r) saved[r] = b.x[inputs[r]];
     const double* __restrict k = b.x[binning];
     const double* __restrict n = b.x[frames];
-    const bool charge = opt.charge_binning;
+    const double* __restrict readout = b.x[binning_readout];
     auto& row = b.sensor_store;
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
         const double pixels = binned_pixels(k[i]);
         row[sensor_pixels][i] = pixels;
-        row[sensor_read][i] = burst_read_noise_e(saved[0][i], k[i], n[i], charge);
+        row[sensor_read][i] = burst_read_noise_e(saved[0][i], k[i], n[i], readout[i]);
         row[sensor_dark][i] = saved[1][i] * pixels;
         row[sensor_prnu][i] = saved[2][i] / k[i];
         row[sensor_well][i] = saved[3][i] * (pixels * n[i]);

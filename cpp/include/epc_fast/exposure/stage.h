@@ -263,7 +263,7 @@ void exposure_of_inputs(const Options& opt, Block<T>& b, bool values) {
 template <class T>
 void exposure(const Options& opt, Block<T>& b, bool values) {
     const double* saved[5];
-    const bool sensor = sensor_terms(opt, b, saved);
+    const bool sensor = sensor_terms(b, saved);
     exposure_of_inputs(opt, b, values);
     if (sensor) restore_inputs(b, saved);
 }

@@ -49,6 +49,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ... import presets
 from ...api import F50_SOLVERS, MAX_THREADS, PRECISIONS, T_MPE_SOLVERS
 from ...jobs.document import MAX_CONFIG_BYTES, read_text, toml_document
@@ -65,7 +67,7 @@ from ...jobs.schema import (MAX_LIST, boolean, check_size, choice, config_of, co
 from .bounds import MAX_CHUNK_POINTS, MAX_GROUPS, MAX_POINTS
 from .samples import read_samples
 from ...mtf_table import lens_tables_of
-from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS
+from ...params import SIZE_KEYWORDS, SIZE_PARAMETERS, readout_codes
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS, design_parameters
 from ..running.readout_modes import READOUT_KEYS
 from ..sampling.space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
@@ -254,8 +256,8 @@ def _custom_design(entry, index: int) -> dict:
             design[key] = number(where, key, value)
     label = f"[{where}]" + (f" {design['name']!r}" if "name" in design else "")
     for key, value in design.items():  # (lens: by the Space, which knows the tables)
-        problem = (domain_problem(key, value) if key in POINT_PARAMETERS and key != "lens"
-                   else None)
+        problem = (domain_problem(key, value)
+                   if key in POINT_PARAMETERS and key not in ("lens", "binning_readout") else None)
         if problem:
             raise ConfigError(f"{config_prefix()} {label}: {key} = {problem}")
     if "modes" in design:
@@ -294,8 +296,22 @@ def _modes(where: str, label: str, design: dict) -> list:
     return list(modes)
 
 
+def _readout_codes(value):
+    """``binning_readout``'s names (a name, or a grid's or choice's) as their codes."""
+    try:
+        if isinstance(value, dict):
+            return {k: ([float(c) for c in np.atleast_1d(readout_codes(v))]
+                        if k in ("grid", "choice") and isinstance(v, list) else v)
+                    for k, v in value.items()}
+        return readout_codes(value) if isinstance(value, str) else value
+    except ValueError as error:
+        raise ConfigError(f"{config_prefix()} [parameters]: {error}") from None
+
+
 def _parameter(name: str, value, base: Path):
     where = f"parameters.{name}"
+    if name == "binning_readout":
+        value = _readout_codes(value)
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         return number("parameters", name, value)
     if not isinstance(value, dict):

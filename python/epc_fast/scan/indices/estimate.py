@@ -158,7 +158,7 @@ def _evaluated_epc(space: Space, design: int, inputs: dict, not_ok: str, threads
     says, and the counts of unreachable and blur-unbounded points."""
     values = {**_design_values(space, design), **inputs}
     readout = {}
-    if space.has_readouts:  # the design's binning_readout, or the best of its modes per point
+    if space.has_modes:  # the best of the design's modes per point
         readout, set_by_modes = readout_kwargs(space.design_readout[design],
                                                space.design_modes[design])
         values = {k: v for k, v in values.items() if k not in set_by_modes}

@@ -1,14 +1,12 @@
-"""A chunk's points evaluated per design's readout: its ``binning_readout`` and its readout
-``modes`` (:mod:`epc_fast.modes`).
+"""A chunk's points evaluated per design's readout ``modes`` (:mod:`epc_fast.modes`).
 
-``binning_readout`` is a per-call option of :func:`epc_fast.evaluate`, and a mode is evaluated
-on every point it could be picked at, so a space whose designs have modes or read their binned
-pixels as charge is evaluated here, design group by design group: every mode of a design on the
-same points (the same draws for every mode), and per point the mode with the highest EPC, as
+A mode is evaluated on every point it could be picked at, so a space whose designs have modes
+is evaluated here, design group by design group: every mode of a design on the same points (the
+same draws for every mode), and per point the mode with the highest EPC, as
 ``evaluate(modes=...)`` picks it. The chunk's :class:`~epc_fast.Result` then holds the picked
 mode's outputs and its index (``mode``; a design without modes has one, its own readout, index
-0; -1 where no mode has an EPC). A space without either never comes here: its chunks are the
-core's fused pass, unchanged.
+0; -1 where no mode has an EPC). A space without modes never comes here: its chunks are the
+core's fused pass, a design's ``binning_readout`` one of its columns.
 """
 
 from __future__ import annotations
@@ -19,6 +17,7 @@ from ..._validation import short
 from ...api import BINNING_READOUTS, evaluate
 from ...modes import MODE_DEFAULTS, check_modes
 from ...outputs import Result
+from ...params import READOUT_CODES
 from ..sampling.domains import domain_problem
 
 # Space and Points (scan/sampling/space.py, which imports this module) are named in annotations
@@ -27,20 +26,24 @@ from ..sampling.domains import domain_problem
 __all__ = ["evaluate_space_points", "readout_groups", "readout_kwargs", "design_readout",
            "READOUT_KEYS"]
 
-#: What a design gives besides evaluate's per-point parameters: how its sensor is read
-#: (``binning_readout``, evaluate's per-call option, so one per design) and its readout
-#: ``modes`` (:mod:`epc_fast.modes`).
+#: How a design's sensor is read: ``binning_readout`` (a name, ``"digital"`` or ``"charge"``,
+#: which the design's column holds as its code) and its readout ``modes``
+#: (:mod:`epc_fast.modes`).
 READOUT_KEYS = ("binning_readout", "modes")
 
 
 def design_readout(entry: dict, overridden: set) -> tuple[str, tuple | None]:
     """A design's ``binning_readout`` and its checked ``modes`` (None: none), popped from its
-    ``entry``; a ValueError or TypeError naming the design and the mode otherwise."""
+    ``entry``, where the readout's code (:data:`epc_fast.params.READOUT_CODES`) is put back as
+    the design's ``binning_readout`` column unless ``overridden``; a ValueError or TypeError
+    naming the design and the mode otherwise."""
     name = entry["name"]
     readout = entry.pop("binning_readout", MODE_DEFAULTS["binning_readout"])
     if not isinstance(readout, str) or readout not in BINNING_READOUTS:
         raise ValueError(f"design {name!r}: binning_readout = {short(readout)}: expected one of "
                          f"{', '.join(map(repr, BINNING_READOUTS))}")
+    if "binning_readout" not in overridden:
+        entry["binning_readout"] = READOUT_CODES[readout]
     modes = entry.pop("modes", None)
     if modes is None:
         return readout, None
@@ -85,12 +88,15 @@ def readout_groups(space: Space) -> list[tuple[tuple, str, tuple]]:
 
 def readout_kwargs(readout: str, modes) -> tuple[dict, frozenset]:
     """(evaluate's keywords for a design read by ``readout`` with ``modes``, the per-point
-    parameters those modes set, which the call must not give)."""
+    parameters those modes set, which the call must not give). Without modes the design's
+    ``binning_readout`` column reads it; when a mode sets ``binning_readout``, the modes that
+    do not read as the design does."""
     if modes is None or modes == ({},):
-        return ({} if readout == "digital" else {"binning_readout": readout}), frozenset()
-    expanded = [m if "binning_readout" in m else {**m, "binning_readout": readout}
-                for m in modes]
-    return {"modes": expanded}, frozenset(k for m in modes for k in m)
+        return {}, frozenset()
+    if any("binning_readout" in m for m in modes):
+        modes = [m if "binning_readout" in m else {**m, "binning_readout": readout}
+                 for m in modes]
+    return {"modes": list(modes)}, frozenset(k for m in modes for k in m)
 
 
 def _subset(value, positions):
@@ -117,7 +123,7 @@ def evaluate_space_points(space: Space, points: Points, **options) -> Result:
                 continue
         extra, set_by_modes = readout_kwargs(readout, modes)
         if "modes" not in extra:  # one mode, the design's own readout: index 0
-            extra = {"modes": [{"binning_readout": readout}]}
+            extra = {"modes": [{}]}
         call = {name: _subset(value, positions) for name, value in points.parameters.items()
                 if name not in set_by_modes}
         result = evaluate(**call, **extra, **options)

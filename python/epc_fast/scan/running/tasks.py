@@ -109,7 +109,7 @@ def reduce_chunk(space: Space, plan: tuple, seed: int, start: int, stop: int, po
 def _evaluate(space: Space, points, **options):
     """:func:`epc_fast.evaluate` at ``points``; per design's readout and modes when the space's
     designs have them (:mod:`epc_fast.scan.running.readout_modes`)."""
-    if space.has_readouts:
+    if space.has_modes:
         return evaluate_space_points(space, points, **options)
     return evaluate(**points.parameters, **options)
 
@@ -134,13 +134,13 @@ def _core_plan(space, plan, seed, points_total) -> tuple:
     if (last is not None and last[0][0] is space and last[0][1] is plan
             and last[0][2:] == (seed, points_total)):
         return last[1]
-    # the fused pass reads every point one way and has no tables: a design's modes or charge
-    # binning (scan/running/readout_modes.py) and a space's lens tables or colour sensor are
-    # evaluated as arrays
+    # the fused pass reads every point one way and has no tables: a design's modes
+    # (scan/running/readout_modes.py) and a space's lens tables or colour sensor are evaluated
+    # as arrays
     tables = (space.evaluate_options.get("lens_mtf") is not None
               or space.evaluate_options.get("cfa", "none") != "none")
     fused = tuple(item for item in plan if not _per_point(item, points_total)
-                  and not space.has_readouts and not tables)
+                  and not space.has_modes and not tables)
     arrays = tuple(item for item in plan if item not in fused)
     entry = ((space, plan, seed, points_total), (CorePlan(space, seed, fused), arrays))
     _last_plan[0] = entry

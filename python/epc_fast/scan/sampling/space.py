@@ -20,7 +20,7 @@ import numpy as np
 
 from ...modes import MODE_DEFAULTS
 from ...mtf_table import lens_tables_of
-from ...params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS
+from ...params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, readout_codes
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS
 from . import qmc, streams
 from ... import terms
@@ -69,6 +69,16 @@ class Points:
 
     def __len__(self) -> int:
         return self.index.size
+
+
+def _readout_axis(axis):
+    """A ``binning_readout`` axis with its names (``"digital"``, ``"charge"``) as their codes
+    (:data:`epc_fast.params.READOUT_CODES`): a name, or a Grid or Choice of them."""
+    if isinstance(axis, Grid):
+        return Grid(tuple(np.atleast_1d(readout_codes(list(axis.values)))))
+    if isinstance(axis, Choice):
+        return Choice(tuple(np.atleast_1d(readout_codes(list(axis.values)))), axis.weights)
+    return readout_codes(axis) if isinstance(axis, str) else axis
 
 
 def _readout_text(readout: str, modes) -> str:
@@ -213,6 +223,8 @@ class Space:
 
     @staticmethod
     def _checked_axis(name, axis):
+        if name == "binning_readout":  # its names, "digital" and "charge", as their codes
+            axis = _readout_axis(axis)
         if isinstance(axis, (Grid, Choice)):
             values = np.asarray(axis.values)
             if values.dtype.kind not in "iuf":
@@ -273,16 +285,11 @@ class Space:
                     raise ValueError(f"design {design!r}: {name} = {problem}")
 
     @property
-    def has_readouts(self) -> bool:
-        """Whether a design has readout modes or reads its binned pixels as charge: then
-        each chunk's points are evaluated per design's readout
-        (:mod:`epc_fast.scan.running.readout_modes`), not by the core's fused pass."""
-        return any(m is not None for m in self.design_modes) or any(
-            r != MODE_DEFAULTS["binning_readout"] for r in self.design_readout)
-
-    @property
     def has_modes(self) -> bool:
-        """Whether a design lists readout modes (the scan then keeps each point's mode)."""
+        """Whether a design lists readout modes: then each chunk's points are evaluated per
+        design's modes (:mod:`epc_fast.scan.running.readout_modes`), not by the core's fused
+        pass, and the scan keeps each point's mode (a design's ``binning_readout`` is one of
+        its columns)."""
         return any(m is not None for m in self.design_modes)
 
     @property
