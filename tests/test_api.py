@@ -24,7 +24,8 @@ FLOAT_FIELDS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50
                 "epc")
 ALL_FIELDS = FLOAT_FIELDS + ("status", "cause")
 
-# The 1/3.2" 1.4 um design of the paper (MODEL.md section 9), on axis: an OK point.
+# The 1/3.2" 1.4 um design of the paper (docs/model.md, "The paper's systems"), on axis: an OK
+# point.
 DESIGN = dict(illuminance_lux=1000.0, pixel_pitch_um=1.4, f_number=2.8, focal_length_mm=5.6,
               sensor_area_mm2=15.6751)
 

@@ -1,4 +1,5 @@
-"""The C++ core against the NumPy reference (MODEL.md), on random designs over the whole domain.
+"""The C++ core against the NumPy reference (docs/model.md), on random designs over the whole
+domain.
 
 The reference is the model written out as the spec reads; the core is the same model, vectorised
 and threaded. Both use the closed-form T_MPE, so they agree to rounding wherever the answer is not

@@ -1,5 +1,5 @@
 """The golden set (tests/data/golden_public.json, mpmath at 50 digits) and a few more cases from an
-independent mpmath model of MODEL.md (tests/helpers/mp_model.py), each run through
+independent mpmath model of docs/model.md (tests/helpers/mp_model.py), each run through
 epc_fast.evaluate on the core (closed-form and Brent T_MPE) and on the NumPy reference."""
 
 import functools

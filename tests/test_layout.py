@@ -317,6 +317,34 @@ def test_the_map_in_docs_internals_names_every_room_of_the_package():
     assert unnamed == []
 
 
+def test_the_map_in_docs_internals_names_every_module_of_the_package():
+    # a module by its name in backticks (`noise`, `noise.py`) or its path from the package
+    text = INTERNALS.read_text()
+    unnamed = [str(path.relative_to(PACKAGE)) for path in sorted(PACKAGE.rglob("*.py"))
+               if path.stem != "__init__" and not path.stem.startswith("_core_")
+               and not re.search(rf"`(?:[\w/]+/)?{re.escape(path.stem)}(?:\.py)?`", text)]
+    assert unnamed == []
+
+
+def _stale_files(text: str, files) -> list:
+    """The files ``text`` names in backticks (``x.py``, ``scan/pass.h``) that none of
+    ``files`` (paths from the repository's root) is or ends with."""
+    named = set(re.findall(r"`([\w./-]+\.(?:py|pyi|h|cpp|md|toml|csv|json))`", text))
+    return sorted(n for n in named if not any(f == n or f.endswith("/" + n) for f in files))
+
+
+def test_every_file_the_map_in_docs_internals_names_exists():
+    files = [str(p.relative_to(ROOT)) for p in ROOT.rglob("*")
+             if p.is_file() and ".git" not in p.parts and "build" not in p.parts]
+    assert _stale_files(INTERNALS.read_text(), files) == []
+
+
+def test_the_stale_file_check_finds_a_file_that_is_gone():
+    files = ["cpp/include/epc_fast/scan/pass.h", "python/epc_fast/api.py"]
+    assert _stale_files("`scan/pass.h`, `api.py` and `sensitivity.h`", files) == \
+        ["sensitivity.h"]
+
+
 def test_no_name_a_subpackage_exports_hides_one_of_its_modules():
     # `from .measurements import measure` in tradeoff/__init__ is fine; a module named measure
     # would be hidden behind the function, and epc_fast.tradeoff.measure would not be it

@@ -1,4 +1,4 @@
-"""The paper's designs as data (MODEL.md section 9)."""
+"""The paper's designs as data (docs/model.md, "The paper's systems")."""
 
 import json
 from pathlib import Path
@@ -27,7 +27,7 @@ def test_corner_field_angle_matches_the_golden_inputs(design, point_id):
 
 
 def test_paper_half_diagonal_field_of_view_is_54_and_19_3_degrees():
-    # MODEL.md section 9: "54 deg normal, 19.3 deg zoom" (the paper's Table 1, full diagonal).
+    # docs/model.md, "The paper's systems": "54 deg normal, 19.3 deg zoom" (the paper's Table 1, full diagonal).
     assert 2 * HIGH_TIER[0].field_angle_deg == pytest.approx(54.0, abs=0.1)
     assert 2 * ZOOM_3X.field_angle_deg == pytest.approx(19.3, abs=0.05)
 

@@ -276,7 +276,7 @@ def _f50_without(result, design, factor):
 @SETTINGS
 @given(design=designs())
 def test_f50_stays_in_its_bracket_and_below_the_f50_with_any_factor_left_out(design):
-    # MODEL.md section 6: f50 <= f_hi, the smallest first zero (or jitter's own crossing); and
+    # docs/model.md, "The cut-off frequency f50": f50 <= f_hi, the smallest first zero (or jitter's own crossing); and
     # every factor is <= 1, so leaving one out can only raise the crossing.
     point = {k: np.array([v]) for k, v in design.items()}
     for options in ENGINES:

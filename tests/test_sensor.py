@@ -93,7 +93,7 @@ def test_sensor_lengths_outside_their_domain_are_invalid_points_or_a_named_error
 
 def test_the_corner_of_the_papers_1_3_2_inch_designs_is_27_03_degrees():
     # atan(hypot(4.57, 3.43) / 2 / 5.6) = atan(0.51015...) = 27.0297 degrees; the zoom's
-    # 16.8 mm focal length gives 9.667 degrees (MODEL.md section 9: 54 and 19.3 degree fields).
+    # 16.8 mm focal length gives 9.667 degrees (docs/model.md, "The paper's systems": 54 and 19.3 degree fields).
     assert corner_field_angle_deg(4.57, 3.43, 5.6) == pytest.approx(
         math.degrees(math.atan(math.hypot(4.57, 3.43) / 11.2)), rel=1e-15)
     assert round(corner_field_angle_deg(4.57, 3.43, 5.6), 2) == 27.03

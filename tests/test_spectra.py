@@ -1,4 +1,4 @@
-"""Tests for epc_fast.spectra: lux to electrons (MODEL.md section 2) and diffraction weights."""
+"""Tests for epc_fast.spectra: lux to electrons (docs/model.md, "Photometry: from lux to electrons") and diffraction weights."""
 
 import subprocess
 import sys

@@ -1,8 +1,8 @@
 """The strongest pure-Python peer: the same model in Numba, ``parallel=True``.
 
-Closed-form T_MPE (MODEL.md section 3), written in the reference's order of operations, and
-f50 by a safeguarded Halley iteration on g(f) = MTF(f) - c with analytic first and second
-derivatives, inside the bisection bracket [0, f_hi] of MODEL.md section 6:
+Closed-form T_MPE (docs/model.md, "Exposure: T_MPE"), written in the reference's order of
+operations, and f50 by a safeguarded Halley iteration on g(f) = MTF(f) - c with analytic first and second
+derivatives, inside the bisection bracket [0, f_hi] of docs/model.md, "The cut-off frequency f50":
 
 - the start is a good guess: ln MTF(f) ~ -alpha f - beta f^2 (diffraction falls about
   linearly in f, alpha proportional to lambda F; each sinc about as a Gaussian, beta

@@ -19,8 +19,8 @@ implemented here in Numba:
   exp(log median + sigma ndtri(u)), ndtri by Wichura's AS 241 (PPND16, Applied Statistics 37,
   1988, 477-484; relative error about 1e-16).
 
-The model is ``peers/numba_peer.py``'s: closed-form T_MPE (MODEL.md section 3, here with the
-designs' cos^4 corner falloff, which that peer's benchmark scene does not have), the blur of
+The model is ``peers/numba_peer.py``'s: closed-form T_MPE (docs/model.md, "Exposure: T_MPE",
+here with the designs' cos^4 corner falloff, which that peer's benchmark scene does not have), the blur of
 section 4, and f50 by that peer's safeguarded Halley iteration (``_f50_halley``, rtol 1e-14) or,
 with ``same_algorithm=True``, by the core's own algorithm (``_f50_core_algorithm``).
 
@@ -256,7 +256,8 @@ class Scene:
     ----------
     design_names : tuple of str.
     light : e-/s per lux, R K cos^4(theta) (p 1e-6 m)^2 / (4 F^2): the electron rate is
-        illuminance x light (MODEL.md section 3; lens transmittance and fill factor are 1).
+        illuminance x light (docs/model.md, "Exposure: T_MPE"; lens transmittance and fill
+        factor are 1).
     electrons : e-, the photo-electrons T_MPE needs: sqrt(s)/2 (sqrt(s) + hypot(sqrt(s),
         2 sigma_r)), s = 10^(snr_db/10) (no dark current or PRNU).
     focal_length_mm, stabilization : mm, 1.

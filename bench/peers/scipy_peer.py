@@ -1,8 +1,9 @@
 """The textbook peer: per point, in plain Python, f50 by ``scipy.optimize.brentq``.
 
-What one would write first: closed-form T_MPE (MODEL.md section 3, in the reference's order of
-operations) and f50 by Brent's method on g(f) = MTF(f) - c over the bracket [0, f_hi] of
-MODEL.md section 6, one ``brentq`` call per point, the MTF from the ``math`` module. Tolerances:
+What one would write first: closed-form T_MPE (docs/model.md, "Exposure: T_MPE", in the
+reference's order of operations) and f50 by Brent's method on g(f) = MTF(f) - c over the bracket [0, f_hi] of
+docs/model.md, "The cut-off frequency f50", one ``brentq`` call per point, the MTF from the
+``math`` module. Tolerances:
 ``rtol=1e-14`` (the core's default f50_rtol) and ``xtol=1e-15 f_hi`` (f50 >= 0.2 f_hi in these
 scenes, so the absolute term stays below 5e-15 relative).
 

@@ -10,7 +10,7 @@ from . import elasticity_outputs, params
 from ._limits import MAX_THREADS
 from ._validation import threads_of
 from .core_call import run_core
-from .design import ResolvedDesign, resolve
+from .design import ResolvedDesign, resolved_from
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .footprint import check_memory
 from .modes import evaluate_modes
@@ -268,21 +268,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
                                         sensor_height_mm, sensor_diagonal_mm, aspect, snr_at,
                                         field_angle_deg, focal_length_mm)
         return attach_snr_target(result, snr_db, snr_at, angle)
-    design = resolve(
-        illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, pixel_count=pixel_count,
-        sensor_area_mm2=sensor_area_mm2, sensor_width_mm=sensor_width_mm,
-        sensor_height_mm=sensor_height_mm, sensor_diagonal_mm=sensor_diagonal_mm,
-        aspect=aspect, snr_at=snr_at, reflectance=reflectance,
-        lens_transmittance=lens_transmittance, field_angle_deg=field_angle_deg,
-        fill_factor=fill_factor, electrons_per_lux_s_m2=electrons_per_lux_s_m2,
-        read_noise_e=read_noise_e, dark_current_e_per_s=dark_current_e_per_s, prnu=prnu,
-        full_well_e=full_well_e, snr_db=snr_db, shake_deg_per_s=shake_deg_per_s,
-        stabilization=stabilization, jitter_um=jitter_um, wavelength_nm=wavelength_nm,
-        mtf_threshold=mtf_threshold, binning=binning, frames=frames,
-        alignment_error_um=alignment_error_um, wavefront_rms_waves=wavefront_rms_waves,
-        denoise_sigma_px=denoise_sigma_px, lens=lens, lens_mtf=lens_mtf, cfa=cfa,
-        demosaic=demosaic, cfa_transmittance=cfa_transmittance,
-        color_noise_gain=color_noise_gain, binning_readout=binning_readout, spectrum=spectrum)
+    design = resolved_from(locals())  # the keywords as one dict (design.resolve's)
     options = options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
                          precision, outputs, design.sensor.is_pixel_count,
                          design.lens_tables, design.color.demosaic_table)

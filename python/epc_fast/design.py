@@ -34,7 +34,7 @@ from .spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2, Spectrum
 
 __all__ = ["Reading", "READINGS", "PRESET_READING", "IS_FACTOR", "Design",
            "corner_field_angle_deg", "DESIGN_KEYWORDS", "ResolvedDesign", "resolve",
-           "spectrum_of", "one_wavelength"]
+           "resolved_from", "spectrum_of", "one_wavelength"]
 
 #: How a Design can be given its sensor, for error messages.
 SIZE_WAYS_OF_DESIGN = ("sensor_width_mm and sensor_height_mm, or sensor_diagonal_mm and "
@@ -431,35 +431,35 @@ def resolve(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     wavelength with a spectrum, a bad colour sensor, lens table or ``binning_readout``; every
     message names the argument and its value.
     """
+    return resolved_from(locals())
+
+
+def resolved_from(keywords: Mapping) -> ResolvedDesign:
+    """:func:`resolve` of a mapping that holds every keyword of :func:`resolve` by name
+    (evaluate's locals, which hold its options too): one dict, not forty keyword arguments,
+    on the way in."""
     sensor, field_angle_deg = size_and_field_angle(
-        pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm, sensor_diagonal_mm,
-        aspect, snr_at, field_angle_deg, focal_length_mm)
-    if electrons_per_lux_s_m2 is None:
-        electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
-    color = sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain)
-    values = {
-        "illuminance_lux": illuminance_lux, "pixel_pitch_um": pixel_pitch_um,
-        "f_number": f_number, "focal_length_mm": focal_length_mm, "size": sensor.value,
-        "reflectance": reflectance, "lens_transmittance": lens_transmittance,
-        "field_angle_deg": field_angle_deg, "fill_factor": fill_factor,
-        "electrons_per_lux_s_m2": electrons_per_lux_s_m2, "read_noise_e": read_noise_e,
-        "dark_current_e_per_s": dark_current_e_per_s, "prnu": prnu, "full_well_e": full_well_e,
-        "snr_db": snr_db, "shake_deg_per_s": shake_deg_per_s, "stabilization": stabilization,
-        "jitter_um": jitter_um, "wavelength_nm": wavelength_nm, "mtf_threshold": mtf_threshold,
-        "binning": binning, "frames": frames, "alignment_error_um": alignment_error_um,
-        "wavefront_rms_waves": wavefront_rms_waves, "denoise_sigma_px": denoise_sigma_px,
-        "lens": lens, "cfa_transmittance": color.transmittance,
-        "color_noise_gain": color.noise_gain,
-        "binning_readout": params.readout_codes(binning_readout),
-    }
+        keywords["pixel_count"], keywords["sensor_area_mm2"], keywords["sensor_width_mm"],
+        keywords["sensor_height_mm"], keywords["sensor_diagonal_mm"], keywords["aspect"],
+        keywords["snr_at"], keywords["field_angle_deg"], keywords["focal_length_mm"])
+    color = sensor_color(keywords["cfa"], keywords["demosaic"], keywords["cfa_transmittance"],
+                         keywords["color_noise_gain"])
+    values = dict(keywords)  # the model's parameters by name, those resolved here replaced
+    values.update(size=sensor.value, field_angle_deg=field_angle_deg,
+                  cfa_transmittance=color.transmittance, color_noise_gain=color.noise_gain,
+                  binning_readout=params.readout_codes(keywords["binning_readout"]))
+    if values["electrons_per_lux_s_m2"] is None:
+        values["electrons_per_lux_s_m2"] = DEFAULT_ELECTRONS_PER_LUX_S_M2
     names, arrays, shape, ready = _broadcast_inputs(values, sensor.name)
-    given = spectrum_of(spectrum, wavelength_nm)
+    given = spectrum_of(keywords["spectrum"], keywords["wavelength_nm"])
     model_spectrum, wavelength = given, one_wavelength(given)
     if wavelength is not None:  # the monochromatic model at it
         arrays = list(arrays)
         arrays[_WAVELENGTH] = wavelength
         model_spectrum = None
-    tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
+    lens_mtf = keywords["lens_mtf"]
+    tables = (None if lens_mtf is None
+              else lens_tables_of(lens_mtf, keywords["wavefront_rms_waves"]))
     return ResolvedDesign(names, arrays, shape, ready, sensor, field_angle_deg,
                           model_spectrum, given, color, tables)
 

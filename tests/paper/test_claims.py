@@ -1,4 +1,4 @@
-"""The paper's statements (MODEL.md section 9) held against the preset.
+"""The paper's statements (docs/model.md, "The paper's systems") held against the preset.
 
 Each statement is computed once per backend through epc_fast.paper (the inverse solvers for
 crossings and light levels, epc_fast.evaluate for kept fractions; the ``table`` fixture of
@@ -55,8 +55,8 @@ def test_the_crossings_found_are_where_the_two_designs_have_equal_epc(table):
 
 @pytest.mark.parametrize("reading", ["on_axis_30db_value", "on_axis_33db_value"])
 def test_the_literal_readings_miss_every_crossover_by_about_30_percent(table, reading):
-    # MODEL.md section 9: "every crossover comes out about 30% off" (30 dB on axis: ~35% low,
-    # 33 dB: ~30% high). 25-40% is "about 30%".
+    # docs/model.md, "The paper's systems": "every crossover comes out about 30% off" (30 dB on
+    # axis: ~35% low, 33 dB: ~30% high). 25-40% is "about 30%".
     for statement_id in CROSSOVERS:
         deviation = getattr(table[statement_id], reading) / table[statement_id].paper_value - 1
         assert 0.25 <= abs(deviation) <= 0.40, (statement_id, deviation)

@@ -35,7 +35,7 @@ The format, section by section (every value in the unit of the parameter it sets
                                  #   log_y = true: the bands plots' output on a log axis
     [sobol]                      # points, seed, of = "epc" | "log_epc" | [...], confidence,
                                  #   resamples, not_ok = "raise" | "zero": Sobol' indices of
-                                 #   the space (config_sobol.py)
+                                 #   the space (config/indices.py)
 
 Every key is checked before any work (its type, its range, and every size it controls, against
 the bounds in :mod:`epc_fast.jobs.schema`); a mistake raises

@@ -18,7 +18,7 @@ from .summaries import check_output
 
 __all__ = ["TopK", "TopKResult", "MAX_K"]
 
-#: The most points a TopK keeps: the core's bound (scan_reductions.h, cpp/src/register_scan.cpp).
+#: The most points a TopK keeps: the core's bound (scan/reductions.h, cpp/src/register_scan.cpp).
 MAX_K = 1 << 20
 
 

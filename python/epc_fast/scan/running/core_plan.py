@@ -1,6 +1,6 @@
 """A scan as the core's fused pass reads it: the space, the group keys and the reductions as
 plain dicts and lists (``cpp/include/epc_fast/scan_space.h``, ``scan_groups.h``,
-``scan_reductions.h``), and the core's partial results turned into each reduction's own partial,
+``scan/reductions.h``), and the core's partial results turned into each reduction's own partial,
 which its ``merge`` and ``finish`` then take exactly as they take the NumPy path's.
 
 The core forms every point's parameters itself from this description (docs/scan.md, the draw
