@@ -190,3 +190,34 @@ def test_a_lens_table_is_checked_and_picked_by_lens():
 def test_a_bad_design_is_an_error_naming_the_argument_and_its_value(change, error, match):
     with pytest.raises(error, match=match):
         resolve(100.0, **{**PHONE, "sensor_area_mm2": 12.0, **change})
+
+
+def _tuples_named(path, function):
+    """The names of each tuple of plain names in ``function`` of the module at ``path`` (an
+    argument, an assignment's value or target), in order, as lists."""
+    import ast
+
+    tree = ast.parse(path.read_text())
+    body = next(n for n in ast.walk(tree) if isinstance(n, ast.FunctionDef) and n.name == function)
+    found = []
+    for node in ast.walk(body):
+        if isinstance(node, ast.Tuple) and len(node.elts) > 20:
+            found.append([ast.unparse(e) for e in node.elts])
+    return found
+
+
+def test_the_keywords_reach_resolved_from_in_design_keywords_order():
+    # evaluate and resolve hand resolved_from a tuple, which it unpacks: one order for all three
+    from pathlib import Path
+
+    from epc_fast.design import DESIGN_KEYWORDS
+
+    package = Path(epc_fast.__file__).parent
+    keywords = list(DESIGN_KEYWORDS)
+    assert _tuples_named(package / "api.py", "evaluate") == [keywords]
+    assert _tuples_named(package / "design.py", "resolve") == [keywords]
+    unpacked, values = _tuples_named(package / "design.py", "resolved_from")
+    assert unpacked == keywords
+    slots = {"sensor.value": "size", "color.transmittance": "cfa_transmittance",
+             "color.noise_gain": "color_noise_gain", "readout": "binning_readout"}
+    assert [slots.get(v, v) for v in values] == list(params.PARAMETER_NAMES)

@@ -268,7 +268,14 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
                                         sensor_height_mm, sensor_diagonal_mm, aspect, snr_at,
                                         field_angle_deg, focal_length_mm)
         return attach_snr_target(result, snr_db, snr_at, angle)
-    design = resolved_from(locals())  # the keywords as one dict (design.resolve's)
+    design = resolved_from((  # design.resolve's keywords, in its order
+        illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, pixel_count, sensor_area_mm2,
+        sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect, snr_at, reflectance,
+        lens_transmittance, field_angle_deg, fill_factor, electrons_per_lux_s_m2, read_noise_e,
+        dark_current_e_per_s, prnu, full_well_e, snr_db, shake_deg_per_s, stabilization, jitter_um,
+        wavelength_nm, mtf_threshold, binning, frames, alignment_error_um, wavefront_rms_waves,
+        denoise_sigma_px, lens, lens_mtf, cfa, demosaic, cfa_transmittance, color_noise_gain,
+        binning_readout, spectrum))
     options = options_of(backend, invalid, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol,
                          precision, outputs, design.sensor.is_pixel_count,
                          design.lens_tables, design.color.demosaic_table)

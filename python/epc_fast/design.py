@@ -16,7 +16,6 @@ import functools
 import inspect
 import math
 import numbers
-import operator
 from collections.abc import Mapping
 from dataclasses import InitVar, asdict, dataclass, replace
 from typing import NamedTuple
@@ -392,15 +391,11 @@ def _argument_names(size_name: str) -> tuple:
     return tuple(size_name if n == "size" else n for n in params.PARAMETER_NAMES)
 
 
-#: The model parameters of a dict by name, as a tuple in the core's order.
-_in_core_order = operator.itemgetter(*params.PARAMETER_NAMES)
-
-
-def _broadcast_inputs(values: dict, size_name: str) -> tuple:
+def _broadcast_inputs(values: tuple, size_name: str) -> tuple:
     """(names, float64 arrays, broadcast shape, whether the arrays are the core's columns as
-    they are) of the model parameters held by name in ``values``."""
+    they are) of the model parameters' ``values`` in the core's order."""
     names = _argument_names(size_name)
-    arrays, shapes, contiguous = float_arrays(names, _in_core_order(values))
+    arrays, shapes, contiguous = float_arrays(names, values)
     ready = contiguous and len(shapes) <= 1
     try:  # most calls: a few arrays of one shape, and scalars
         shape = (shapes.pop() if len(shapes) == 1 else
@@ -431,35 +426,52 @@ def resolve(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     wavelength with a spectrum, a bad colour sensor, lens table or ``binning_readout``; every
     message names the argument and its value.
     """
-    return resolved_from(locals())
+    return resolved_from((
+        illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, pixel_count, sensor_area_mm2,
+        sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect, snr_at, reflectance,
+        lens_transmittance, field_angle_deg, fill_factor, electrons_per_lux_s_m2, read_noise_e,
+        dark_current_e_per_s, prnu, full_well_e, snr_db, shake_deg_per_s, stabilization, jitter_um,
+        wavelength_nm, mtf_threshold, binning, frames, alignment_error_um, wavefront_rms_waves,
+        denoise_sigma_px, lens, lens_mtf, cfa, demosaic, cfa_transmittance, color_noise_gain,
+        binning_readout, spectrum))
 
 
-def resolved_from(keywords: Mapping) -> ResolvedDesign:
-    """:func:`resolve` of a mapping that holds every keyword of :func:`resolve` by name
-    (evaluate's locals, which hold its options too): one dict, not forty keyword arguments,
-    on the way in."""
+def resolved_from(keywords: tuple) -> ResolvedDesign:
+    """:func:`resolve` of its keywords' values as one tuple, in :data:`DESIGN_KEYWORDS`' order:
+    :func:`epc_fast.evaluate` hands them over so, which costs a tenth of passing forty keyword
+    arguments or a dict of them."""
+    (
+        illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, pixel_count, sensor_area_mm2,
+        sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect, snr_at, reflectance,
+        lens_transmittance, field_angle_deg, fill_factor, electrons_per_lux_s_m2, read_noise_e,
+        dark_current_e_per_s, prnu, full_well_e, snr_db, shake_deg_per_s, stabilization, jitter_um,
+        wavelength_nm, mtf_threshold, binning, frames, alignment_error_um, wavefront_rms_waves,
+        denoise_sigma_px, lens, lens_mtf, cfa, demosaic, cfa_transmittance, color_noise_gain,
+        binning_readout, spectrum) = keywords
     sensor, field_angle_deg = size_and_field_angle(
-        keywords["pixel_count"], keywords["sensor_area_mm2"], keywords["sensor_width_mm"],
-        keywords["sensor_height_mm"], keywords["sensor_diagonal_mm"], keywords["aspect"],
-        keywords["snr_at"], keywords["field_angle_deg"], keywords["focal_length_mm"])
-    color = sensor_color(keywords["cfa"], keywords["demosaic"], keywords["cfa_transmittance"],
-                         keywords["color_noise_gain"])
-    values = dict(keywords)  # the model's parameters by name, those resolved here replaced
-    values.update(size=sensor.value, field_angle_deg=field_angle_deg,
-                  cfa_transmittance=color.transmittance, color_noise_gain=color.noise_gain,
-                  binning_readout=params.readout_codes(keywords["binning_readout"]))
-    if values["electrons_per_lux_s_m2"] is None:
-        values["electrons_per_lux_s_m2"] = DEFAULT_ELECTRONS_PER_LUX_S_M2
+        pixel_count, sensor_area_mm2, sensor_width_mm, sensor_height_mm, sensor_diagonal_mm,
+        aspect, snr_at, field_angle_deg, focal_length_mm)
+    if electrons_per_lux_s_m2 is None:
+        electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
+    color = sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain)
+    readout = (params.READOUT_CODES[binning_readout] if type(binning_readout) is str
+               and binning_readout in params.READOUT_CODES
+               else params.readout_codes(binning_readout))
+    values = (  # the model's parameters in params.PARAMETER_NAMES' order
+        illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, sensor.value, reflectance,
+        lens_transmittance, field_angle_deg, fill_factor, electrons_per_lux_s_m2,
+        read_noise_e, dark_current_e_per_s, prnu, full_well_e, snr_db, shake_deg_per_s,
+        stabilization, jitter_um, wavelength_nm, mtf_threshold, binning, frames,
+        alignment_error_um, wavefront_rms_waves, denoise_sigma_px, lens, color.transmittance,
+        color.noise_gain, readout)
     names, arrays, shape, ready = _broadcast_inputs(values, sensor.name)
-    given = spectrum_of(keywords["spectrum"], keywords["wavelength_nm"])
+    given = spectrum_of(spectrum, wavelength_nm)
     model_spectrum, wavelength = given, one_wavelength(given)
     if wavelength is not None:  # the monochromatic model at it
         arrays = list(arrays)
         arrays[_WAVELENGTH] = wavelength
         model_spectrum = None
-    lens_mtf = keywords["lens_mtf"]
-    tables = (None if lens_mtf is None
-              else lens_tables_of(lens_mtf, keywords["wavefront_rms_waves"]))
+    tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
     return ResolvedDesign(names, arrays, shape, ready, sensor, field_angle_deg,
                           model_spectrum, given, color, tables)
 
