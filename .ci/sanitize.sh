@@ -33,8 +33,8 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q -n 0 \
     tests/test_extremes.py tests/test_bad_input.py tests/test_concurrency.py \
     tests/core/test_spectrum_start.py tests/test_memory.py tests/core/test_f50_start.py \
-    tests/core/test_precision.py tests/core/test_stream.py tests/scan/test_core_plan.py \
-    tests/scan/test_qmc.py tests/test_sensitivity.py tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
+    tests/core/test_precision.py tests/core/test_stream.py tests/scan/running/test_core_plan.py \
+    tests/scan/sampling/test_qmc.py tests/test_sensitivity.py tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
     "$@"
 
 levels="$(python -c 'import epc_fast._core as c
@@ -46,8 +46,8 @@ for level in x86-64-v3 x86-64-v4; do
     fi
     echo "sanitize.sh: $level"
     EPC_FAST_ISA="$level" LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q -n 0 \
-        tests/core/test_stream.py tests/scan/test_core_plan.py tests/scan/test_streams.py \
-        tests/scan/test_qmc.py \
-        tests/scan/test_reductions.py tests/scan/test_runner.py tests/test_sensitivity.py \
+        tests/core/test_stream.py tests/scan/running/test_core_plan.py tests/scan/sampling/test_streams.py \
+        tests/scan/sampling/test_qmc.py \
+        tests/scan/test_reductions.py tests/scan/running/test_runner.py tests/test_sensitivity.py \
         tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py "$@"
 done

@@ -345,6 +345,16 @@ def test_the_stale_file_check_finds_a_file_that_is_gone():
         ["sensitivity.h"]
 
 
+def test_every_test_file_the_ci_scripts_and_docs_name_exists():
+    # the sanitizer's run names test files one by one: a moved test would leave it failing
+    texts = [p for p in (ROOT / ".ci").iterdir() if p.is_file()]
+    texts += [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    missing = [f"{p.name}: {name}" for p in texts
+               for name in re.findall(r"\b(tests/[\w/]+\.py)", p.read_text())
+               if not (ROOT / name).exists()]
+    assert missing == []
+
+
 def test_no_name_a_subpackage_exports_hides_one_of_its_modules():
     # `from .measurements import measure` in tradeoff/__init__ is fine; a module named measure
     # would be hidden behind the function, and epc_fast.tradeoff.measure would not be it
