@@ -157,7 +157,7 @@ def check_against_numpy(got: dict, expected: dict, points: int) -> None:
     # Quantiles: read from the counts (equal above) by the rule of the package's streamed
     # Quantiles (its own function gives the same bits), and the exact sample quantile lies
     # within the bounds they state.
-    bins = Quantiles()._bins  # the peer counts on the package's default bins
+    bins = Quantiles().bin_layout  # the peer counts on the package's default bins
     assert (bins.first_key, bins.bins, bins.shift) == (peer.FINE_FIRST_KEY, peer.FINE_BINS,
                                                         52 - peer.FINE_K)
     state = {"counts": got["quantile_counts"], "min": got["min"], "max": got["max"]}

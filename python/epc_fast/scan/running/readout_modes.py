@@ -34,15 +34,15 @@ READOUT_KEYS = ("binning_readout", "modes")
 
 def design_readout(entry: dict, overridden: set) -> tuple[str, tuple | None]:
     """A design's ``binning_readout`` and its checked ``modes`` (None: none), popped from its
-    ``entry``, where the readout's code (:data:`epc_fast.params.READOUT_CODES`) is put back as
-    the design's ``binning_readout`` column unless ``overridden``; a ValueError or TypeError
-    naming the design and the mode otherwise."""
+    ``entry``, where a charge readout's code (:data:`epc_fast.params.READOUT_CODES`) is put
+    back as the design's ``binning_readout`` column unless ``overridden`` (a digital one is the
+    column's default); a ValueError or TypeError naming the design and the mode otherwise."""
     name = entry["name"]
     readout = entry.pop("binning_readout", MODE_DEFAULTS["binning_readout"])
     if not isinstance(readout, str) or readout not in BINNING_READOUTS:
         raise ValueError(f"design {name!r}: binning_readout = {short(readout)}: expected one of "
                          f"{', '.join(map(repr, BINNING_READOUTS))}")
-    if "binning_readout" not in overridden:
+    if readout != MODE_DEFAULTS["binning_readout"] and "binning_readout" not in overridden:
         entry["binning_readout"] = READOUT_CODES[readout]
     modes = entry.pop("modes", None)
     if modes is None:
