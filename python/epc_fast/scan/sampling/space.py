@@ -20,7 +20,7 @@ import numpy as np
 
 from ...modes import MODE_DEFAULTS
 from ...mtf_table import lens_tables_of
-from ...params import PARAMETER_NAMES, PARAMETERS, SIZE_PARAMETERS, readout_codes
+from ...params import PARAMETER_NAMES, PARAMETERS, READOUT_CODES, SIZE_PARAMETERS, readout_codes
 from ...sensor import SHAPE_KEYWORDS, SIZE_AND_SNR_AT, SIZE_WAYS
 from . import qmc, streams
 from ... import terms
@@ -469,7 +469,9 @@ class Space:
         if on:
             lines.append(textwrap.fill(f"terms on: {on}", DESCRIBE_WIDTH,
                                        subsequent_indent="  ", break_on_hyphens=False))
-        defaults = [f"{name}={value:g}" for name, value in self.defaults().items()]
+        names = {code: name for name, code in READOUT_CODES.items()}  # binning_readout's
+        defaults = [f"{name}={names[value]}" if name == "binning_readout" else f"{name}={value:g}"
+                    for name, value in self.defaults().items()]
         if "electrons_per_lux_s_m2" not in self.axes and \
                 "electrons_per_lux_s_m2" not in self.design_table:
             defaults.append("electrons_per_lux_s_m2=(D50, QE 0.7 on 480-580 nm)")
