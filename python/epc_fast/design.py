@@ -454,9 +454,7 @@ def resolved_from(keywords: tuple) -> ResolvedDesign:
     if electrons_per_lux_s_m2 is None:
         electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
     color = sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain)
-    readout = (params.READOUT_CODES[binning_readout] if type(binning_readout) is str
-               and binning_readout in params.READOUT_CODES
-               else params.readout_codes(binning_readout))
+    readout = params.readout_codes(binning_readout)
     values = (  # the model's parameters in params.PARAMETER_NAMES' order
         illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, sensor.value, reflectance,
         lens_transmittance, field_angle_deg, fill_factor, electrons_per_lux_s_m2,

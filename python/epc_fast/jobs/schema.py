@@ -125,7 +125,7 @@ def number_list(where: str, key: str, value, low: float | None = None,
                 high: float | None = None, min_length: int = 1) -> tuple:
     """A list of finite numbers (at least ``min_length``, at most :data:`MAX_LIST`)."""
     if not isinstance(value, list):
-        _fail(where, key, value, f"a list of finite numbers, e.g. [1, 2]")
+        _fail(where, key, value, "a list of finite numbers, e.g. [1, 2]")
     if not min_length <= len(value) <= MAX_LIST:
         _fail(where, key, value, f"a list of {min_length:,} to {MAX_LIST:,} numbers",
               TooLargeError if len(value) > MAX_LIST else ConfigError)
