@@ -5,6 +5,7 @@ not, on both backends, and share_lens and the lens elasticity without tables (0 
 """
 
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -158,8 +159,8 @@ MP_LENS_CASES = {
     "fifteen_points_to_the_cut_off": (MP_DESIGN, SOFT, SOFT),
     "starting_above_zero": (dict(MP_DESIGN, f_number=2.0), (SOFT[0][1:9], SOFT[1][1:9]),
                             (SOFT[0][1:9], SOFT[1][1:9])),
-    "two_points": (MP_DESIGN, (np.array([0.0, 900.0]), np.array([1.0, 0.1])),
-                   (np.array([0.0, 900.0]), np.array([1.0, 0.1]))),
+    "two_points": (MP_DESIGN, (np.array([0.0, 600.0]), np.array([1.0, 0.02])),
+                   (np.array([0.0, 600.0]), np.array([1.0, 0.02]))),
     "beyond_its_end": (dict(MP_DESIGN, illuminance_lux=1e5), (SOFT[0][:4], SOFT[1][:4]),
                        (SOFT[0][:4], SOFT[1][:4])),
     "picked_by_lens_1_with_denoising_and_a_burst": (
@@ -183,3 +184,112 @@ def test_a_lens_table_matches_the_mpmath_model(case, backend):
     # their float64 accuracy (measured <= 2e-15) owes 1e-12, the suite's target, with 500x room,
     # and other knot slopes (centred differences, measured) move f50 by 1e-6 and more.
     assert_matches_model(result, model, rtol=1e-12, label=case)
+
+
+# --- Tables no lens can have: above diffraction, or in cycles/pixel ------------------------------
+
+def _diffraction(f_cyc_per_mm, wavelength_nm, f_number):
+    """The aberration-free circular pupil's MTF, (2/pi)(acos nu - nu sqrt(1 - nu^2)), nu = f
+    lambda N, written out here (not the package's mtf_diffraction) for the tests to hold."""
+    nu = min(f_cyc_per_mm * wavelength_nm * 1e-6 * f_number, 1.0)
+    return (2.0 / np.pi) * (np.arccos(nu) - nu * np.sqrt(1.0 - nu * nu))
+
+
+#: cycles/mm: knots of a table up to f/2.8's cut-off at 550 nm (649.35 cycles/mm).
+KNOTS = np.array([0.0, 100.0, 200.0, 300.0, 400.0, 500.0, 600.0])
+
+
+def _diffraction_table(wavelength_nm=550.0, f_number=2.8, frequencies=KNOTS):
+    return frequencies, np.array([_diffraction(f, wavelength_nm, f_number) for f in frequencies])
+
+
+def test_a_table_above_diffraction_is_refused_naming_the_frequency_its_mtf_and_the_limit():
+    f, m = _diffraction_table()
+    ok = epc_fast.evaluate(**DESIGN, lens_mtf=(f, m), backend="reference")  # f/2.4: room above
+    assert np.all(ok.status == Status.OK)
+    # the same lens's table with its frequencies in lines/mm (2 lines a cycle) read as cycles/mm
+    lines = dict(DESIGN, f_number=2.8)
+    with pytest.raises(ValueError) as error:
+        epc_fast.evaluate(**lines, lens_mtf=(2.0 * f, m))
+    text = str(error.value)
+    assert "\n" not in text
+    # the largest excess, at 600 cycles/mm: the table's MTF there is D(300) = 0.4334 at f/2.8
+    # and 550 nm, diffraction's D(600) = 0.02486 (the cut-off is 649 cycles/mm)
+    assert text.startswith(
+        "lens_mtf lies above diffraction: its MTF at 600 cycles/mm is 0.4334, the diffraction "
+        "MTF there at f/2.8 and 550 nm (the smallest f-number times wavelength among its points) "
+        "is 0.02486, and no lens exceeds it by more than 0.02: are its frequencies in "
+        "lines/mm?"), text
+    assert (round(m[3], 4), round(_diffraction(600.0, 550.0, 2.8), 5)) == (0.4334, 0.02486)
+
+
+@pytest.mark.parametrize("excess, refused", [(0.019, False), (0.021, True)])
+def test_a_table_may_lie_above_diffraction_by_the_tolerance_of_a_measurement(excess, refused):
+    # 0.02 of MTF (epc_fast.mtf_table.DIFFRACTION_TOLERANCE) at 300 cycles/mm, where the
+    # neighbours are 0.1 away (the table still falls)
+    f, m = _diffraction_table()
+    m = m.copy()
+    m[3] += excess
+    design = dict(DESIGN, f_number=2.8)
+    if not refused:
+        assert np.all(epc_fast.evaluate(**design, lens_mtf=(f, m)).status == Status.OK)
+        return
+    limit = _diffraction(300.0, 550.0, 2.8)
+    message = (f"its MTF at 300 cycles/mm is {m[3]:.4g}, the diffraction MTF there at f/2.8 "
+               f"and 550 nm (the smallest f-number times wavelength among its points) is "
+               f"{limit:.4g}")
+    with pytest.raises(ValueError, match=re.escape(message)):
+        epc_fast.evaluate(**design, lens_mtf=(f, m))
+
+
+def test_the_limit_is_the_smallest_f_number_among_the_points_using_the_table():
+    f28 = _diffraction_table(f_number=2.8)
+    design = {k: v for k, v in DESIGN.items() if k != "f_number"}
+    design["illuminance_lux"] = 300.0
+    # f/2.8's table under f/2.8 and f/4 points: the f/2.8 point allows it
+    r = epc_fast.evaluate(**design, f_number=np.array([4.0, 2.8]), lens_mtf=f28)
+    assert np.all(r.status == Status.OK)
+    with pytest.raises(ValueError, match=re.escape("lens_mtf lies above diffraction: its MTF "
+                                                   "at 400 cycles/mm is 0.2686, the diffraction "
+                                                   "MTF there at f/4 and 550 nm")):
+        epc_fast.evaluate(**design, f_number=np.array([4.0, 5.6]), lens_mtf=f28)
+    # two tables: each against its own points; a point with an invalid lens index uses none
+    two = [f28, _diffraction_table(f_number=5.6)]
+    r = epc_fast.evaluate(**design, f_number=np.array([2.8, 5.6, 2.0]), lens=[0.0, 1.0, 7.0],
+                          lens_mtf=two)
+    assert r.status.tolist() == [Status.OK, Status.OK, Status.INVALID]
+    with pytest.raises(ValueError, match=re.escape("lens_mtf[0] lies above diffraction")):
+        epc_fast.evaluate(**design, f_number=np.array([5.6, 2.8]), lens=[0.0, 1.0],
+                          lens_mtf=two)
+    # a point's wavelength counts with its f-number: f/2.8 at 600 nm is not f/2.8 at 550 nm
+    with pytest.raises(ValueError, match=re.escape("at f/2.8 and 600 nm")):
+        epc_fast.evaluate(**design, f_number=np.array([2.8, 4.0]),
+                          wavelength_nm=np.array([600.0, 450.0]), lens_mtf=f28)
+
+
+def test_under_a_spectrum_the_limit_is_at_its_shortest_wavelength_of_positive_weight():
+    table = _diffraction_table(wavelength_nm=450.0)
+    design = dict(DESIGN, illuminance_lux=300.0, f_number=2.8)
+    r = epc_fast.evaluate(**design, spectrum=([450.0, 650.0], [0.5, 0.5]), lens_mtf=table)
+    assert np.all(r.status == Status.OK)
+    for spectrum in (([500.0, 650.0], [0.5, 0.5]), ([450.0, 500.0, 650.0], [0.0, 0.5, 0.5])):
+        with pytest.raises(ValueError, match=re.escape("at f/2.8 and 500 nm")):
+            epc_fast.evaluate(**design, spectrum=spectrum, lens_mtf=table)
+
+
+def test_a_table_ending_below_a_hundredth_of_nyquist_is_warned_of_naming_the_unit():
+    # a demosaicker-like table in cycles/pixel: it ends at 0.5, the pixels' Nyquist frequency
+    # is 1/(2 * 0.0014 mm) = 357.14 cycles/mm at the smallest pitch
+    per_pixel = (np.array([0.0, 0.25, 0.5]), np.array([1.0, 0.6, 0.2]))
+    design = dict(DESIGN, pixel_pitch_um=np.array([2.0, 1.4, 3.0]))
+    with pytest.warns(UserWarning) as record:
+        epc_fast.evaluate(**design, lens_mtf=per_pixel)
+    assert [str(w.message) for w in record] == [
+        "lens_mtf ends at 0.5 cycles/mm, below 1/100 of the pixels' Nyquist frequency 357.143 "
+        "cycles/mm: are its frequencies in cycles/pixel? they must be cycles/mm"]
+    assert record[0].filename == __file__  # the warning points at the caller's line
+    # a table in cycles/mm that ends at 3.6 cycles/mm or more, and a call without one: silent
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        epc_fast.evaluate(**design, lens_mtf=(per_pixel[0] * 7.2, per_pixel[1]))
+        epc_fast.evaluate(**design)

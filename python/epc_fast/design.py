@@ -25,7 +25,7 @@ import numpy as np
 from . import params
 from ._validation import float_arrays, short
 from .cfa import SensorColor, sensor_color
-from .mtf_table import lens_tables_of
+from .mtf_table import check_lens_tables, lens_tables_of
 from .sensor import (SizeSlot, check_snr_at, physical_pixel_count, sensor_shape,
                      size_and_field_angle, snr_at_text)
 from .sensor import corner_field_angle_deg as _corner_angle
@@ -327,6 +327,8 @@ def one_wavelength(spec: Spectrum | None):
 
 
 _WAVELENGTH = params.PARAMETER_NAMES.index("wavelength_nm")
+_F_NUMBER, _PITCH, _LENS = (params.PARAMETER_NAMES.index(n)
+                             for n in ("f_number", "pixel_pitch_um", "lens"))
 
 
 class ResolvedDesign(NamedTuple):
@@ -470,6 +472,10 @@ def resolved_from(keywords: tuple) -> ResolvedDesign:
         arrays[_WAVELENGTH] = wavelength
         model_spectrum = None
     tables = None if lens_mtf is None else lens_tables_of(lens_mtf, wavefront_rms_waves)
+    if tables is not None:  # against diffraction at the points' f-numbers and wavelengths
+        shortest = (arrays[_WAVELENGTH] if given is None
+                    else np.min(given.wavelengths_nm[given.weights > 0.0]))
+        check_lens_tables(tables, arrays[_F_NUMBER], shortest, arrays[_PITCH], arrays[_LENS])
     return ResolvedDesign(names, arrays, shape, ready, sensor, field_angle_deg,
                           model_spectrum, given, color, tables)
 

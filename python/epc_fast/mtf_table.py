@@ -17,11 +17,21 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import warnings
+
 import numpy as np
 
 from ._validation import short
 
-__all__ = ["MtfTable", "mtf_table", "lens_tables_of", "pchip_slopes", "mtf_tabulated"]
+__all__ = ["MtfTable", "mtf_table", "lens_tables_of", "check_lens_tables",
+           "DIFFRACTION_TOLERANCE", "pchip_slopes", "mtf_tabulated"]
+
+#: 1 (absolute MTF): how far a lens table may lie above the diffraction MTF before it is
+#: refused. A lens bench's MTF carries an error of about 0.01-0.02 (its calibration, the
+#: target's and the relay's residual MTF, noise), and a sharp lens's measured MTF lies on
+#: diffraction within it; a table read in lines/mm as cycles/mm lies far above (twice the
+#: frequency for each value).
+DIFFRACTION_TOLERANCE = 0.02
 
 
 def pchip_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -166,6 +176,51 @@ def lens_tables_of(lens_mtf, wavefront_rms_waves=0.0) -> tuple:
     if not tables:
         raise ValueError("lens_mtf is an empty list; give at least one table")
     return tuple(mtf_table(f"lens_mtf[{i}]", t) for i, t in enumerate(tables))
+
+
+def check_lens_tables(tables, f_number, wavelength_nm, pixel_pitch_um, lens) -> None:
+    """Each lens table against the points that use it (``lens`` == its index; a point whose
+    f-number, wavelength or pitch is not finite and positive is left out: it is INVALID).
+
+    A ValueError of one line when a table's MTF at one of its frequencies lies above the
+    aberration-free diffraction MTF by more than :data:`DIFFRACTION_TOLERANCE`: no lens can
+    have it. The diffraction limit is the most permissive among the points: the smallest
+    product of f-number and wavelength (nm; ``wavelength_nm`` each point's, or a spectrum's
+    shortest). A UserWarning when a table's last frequency is below 1/100 of the pixels'
+    Nyquist frequency 1/(2p) (the smallest pitch ``pixel_pitch_um`` among its points, before
+    binning): its frequencies look like cycles/pixel. The arrays broadcast against each other.
+    """
+    from .reference.mtf import mtf_diffraction  # the reference imports this module
+
+    n, wavelength, pitch, index = np.broadcast_arrays(
+        *(np.asarray(a, dtype=np.float64) for a in (f_number, wavelength_nm, pixel_pitch_um,
+                                                    lens)))
+    product = n * wavelength
+    valid = ((product > 0.0) & np.isfinite(product) & (pitch > 0.0) & np.isfinite(pitch))
+    for i, table in enumerate(tables):
+        used = valid & (index == i)
+        if not used.any():
+            continue
+        name = "lens_mtf" if len(tables) == 1 else f"lens_mtf[{i}]"
+        at = np.flatnonzero(used.reshape(-1))[np.argmin(product[used])]
+        n_min, wavelength_min = float(n.reshape(-1)[at]), float(wavelength.reshape(-1)[at])
+        limit = mtf_diffraction(table.frequencies, wavelength_min, n_min)
+        excess = table.values - limit
+        k = int(np.argmax(excess))
+        if excess[k] > DIFFRACTION_TOLERANCE:
+            raise ValueError(
+                f"{name} lies above diffraction: its MTF at {table.frequencies[k]:.6g} "
+                f"cycles/mm is {table.values[k]:.4g}, the diffraction MTF there at f/"
+                f"{n_min:.4g} and {wavelength_min:.4g} nm (the smallest f-number times "
+                f"wavelength among its points) is {limit[k]:.4g}, and no lens exceeds it by "
+                f"more than {DIFFRACTION_TOLERANCE:g}: are its frequencies in lines/mm? they "
+                "must be cycles/mm (line pairs/mm)")
+        nyquist = 500.0 / float(np.min(pitch[used]))  # 1/(2p), p in mm
+        if table.last_frequency < nyquist / 100.0:
+            warnings.warn(
+                f"{name} ends at {table.last_frequency:.6g} cycles/mm, below 1/100 of the "
+                f"pixels' Nyquist frequency {nyquist:.6g} cycles/mm: are its frequencies in "
+                "cycles/pixel? they must be cycles/mm", UserWarning, stacklevel=4)
 
 
 def _is_pair(value) -> bool:

@@ -41,7 +41,7 @@ PHONE = """\
 [evaluate]
 cfa = "bayer"
 demosaic = "bilinear"
-lens_mtf = [[0.0, 200.0, 400.0, 800.0], [1.0, 0.8, 0.5, 0.0]]
+lens_mtf = [[0.0, 200.0, 400.0, 800.0], [1.0, 0.7, 0.45, 0.0]]
 
 [[design.custom]]
 name = "phone"
@@ -70,7 +70,7 @@ def test_the_evaluate_table_and_a_designs_readout_and_modes_reach_its_keywords()
     typed = evaluate([10.0, 1e5], pixel_pitch_um=0.8, sensor_area_mm2=6.4 * 4.8, f_number=1.8,
                      focal_length_mm=5.0, field_angle_deg=corner_field_angle_deg(6.4, 4.8, 5.0),
                      cfa="bayer", demosaic="bilinear", binning_readout="charge",
-                     lens_mtf=([0.0, 200.0, 400.0, 800.0], [1.0, 0.8, 0.5, 0.0]),
+                     lens_mtf=([0.0, 200.0, 400.0, 800.0], [1.0, 0.7, 0.45, 0.0]),
                      modes=[{"binning": 1}, {"binning": 2}])
     got = evaluate([10.0, 1e5], **kwargs)
     np.testing.assert_array_equal(got.epc, typed.epc)
