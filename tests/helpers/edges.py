@@ -83,9 +83,12 @@ def pixel_mtf(angle_deg, sigma, f):
 # the 2-D grid cannot afford.
 
 def edge_spread(d_mm, *, angle_deg, f_number, wavelength_nm, pitch_um, fill_factor=1.0,
-                jitter_mm=0.0, motion=None, period_mm=40.0, spacing_mm=5e-5):
+                jitter_mm=0.0, motion=None, motion_angle_deg=0.0, period_mm=40.0,
+                spacing_mm=5e-5):
     """The ESF (0 to 1) at normal distances ``d_mm`` of the simulator's own transfers on the
-    normal of an edge ``angle_deg`` from the vertical; ``motion`` = (T, f_L, omega) or None."""
+    normal of an edge ``angle_deg`` from the vertical; ``motion`` = (T, f_L, omega) or None,
+    along ``motion_angle_deg`` from the rows (the normal, (cos a, -sin a), sees the motion
+    times cos(a + motion angle))."""
     n = int(period_mm / spacing_mm)
     n += n % 2
     f_all = np.fft.rfftfreq(n, spacing_mm)
@@ -99,7 +102,7 @@ def edge_spread(d_mm, *, angle_deg, f_number, wavelength_nm, pitch_um, fill_fact
     h *= blur.jitter_transfer(f * math.cos(a), jitter_mm)
     h *= blur.jitter_transfer(f * math.sin(a), jitter_mm)
     if motion is not None:
-        h *= blur.motion_transfer(f * math.cos(a), *motion)[0]
+        h *= blur.motion_transfer(f * math.cos(a + math.radians(motion_angle_deg)), *motion)[0]
     h = np.concatenate([h, np.zeros(f_all.size - f.size)])
     lsf = np.roll(np.fft.irfft(h, n), n // 2)  # the line spread times the spacing, centred
     x = (np.arange(n) - n // 2 + 0.5) * spacing_mm  # the right edge of each sample's cell

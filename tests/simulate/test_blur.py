@@ -60,3 +60,19 @@ def test_a_long_turn_is_the_time_average_of_the_moving_image(t_s):
 def test_no_turn_no_motion():
     h, extent, mean = blur.motion_transfer(F, 0.0, 5.6, 0.1)
     assert np.all(h == 1.0) and extent == 0.0 and mean == 0.0
+
+
+@pytest.mark.parametrize("angle_deg", [0.0, 5.0, -30.0, 90.0])
+def test_a_motion_in_any_direction_is_the_motion_at_the_frequency_along_it(angle_deg):
+    # On the grid (fy, fx) the image moving along (cos a, sin a) has the factor of the 1-D
+    # motion at u = fx cos a + fy sin a: the matrix product of rows' and columns' phases
+    # against motion_transfer summed point by point, to rounding (a 3 s turn: a long path).
+    fy, fx = np.linspace(-400.0, 400.0, 33), np.linspace(0.0, 500.0, 21)
+    a = math.radians(angle_deg)
+    got = blur.motion_transfer_2d(fy, fx, 3.0, 5.6, math.radians(4.39), a, start_s=0.5)
+    u = fx[None, :] * math.cos(a) + fy[:, None] * math.sin(a)
+    want = blur.motion_transfer(u, 3.0, 5.6, math.radians(4.39), start_s=0.5)[0]
+    assert got.shape == (33, 21)
+    assert np.max(np.abs(got - want)) < 1e-12
+    assert np.max(np.abs(got)) > 0.99 and np.min(np.abs(got)) < 0.05  # it blurs, not all
+    assert np.all(blur.motion_transfer_2d(fy, fx, 0.0, 5.6, 0.1, a) == 1.0)

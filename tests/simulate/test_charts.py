@@ -25,6 +25,28 @@ def test_a_slanted_edge_is_dark_left_light_right_through_the_centre():
     assert list(side) == [0.1, 0.4]
 
 
+@pytest.mark.parametrize("angle_deg", [60.0, 75.0, 85.0, 89.0, -60.0, -85.0, -89.0])
+def test_a_near_horizontal_edge_runs_through_the_centre_dark_below_for_a_positive_angle(
+        angle_deg):
+    chart = simulate.slanted_edge((80, 64), angle_deg, low=0.1, high=0.4)
+    r = chart.reflectance()
+    assert chart.angle_deg == angle_deg
+    # 60 to 89 degrees from the vertical is 30 to 1 from the horizontal: the rows far above
+    # and below the centre lie wholly on one side (64 columns span 32 tan(30 deg) = 18.5 rows
+    # either side of the centre row at most)
+    dark, light = (slice(-15, None), slice(None, 15)) if angle_deg > 0 else (
+        slice(None, 15), slice(-15, None))
+    assert np.all(r[dark] == 0.1) and np.all(r[light] == 0.4)
+    # the edge's line: 10 columns right of the centre it lies 10 / tan(angle) rows lower, a
+    # hundredth of a pixel either side of it is light (above, for a positive angle) or dark
+    cy, cx = 39.5, 31.5
+    a = math.radians(angle_deg)
+    y = cy + 10.0 / math.tan(a) + np.array([-0.01, 0.01])
+    side = chart.reflectance_at(y, np.full(2, cx + 10.0), pitch_um=1.0,
+                                band_cyc_per_mm=math.inf)
+    assert list(side) == ([0.4, 0.1] if angle_deg > 0 else [0.1, 0.4])
+
+
 def test_the_band_limited_edge_is_the_step_through_an_ideal_low_pass():
     chart = simulate.slanted_edge(32, 5.0, low=0.0, high=1.0)
     x = np.linspace(-5, 5, 11) + 15.5
@@ -55,6 +77,10 @@ def test_a_flat_patch_and_a_picture_carry_on_beyond_the_chart():
     (lambda: simulate.slanted_edge((1, 2, 3)), "rows, columns"),
     (lambda: simulate.slanted_edge(32, 0.0), "angle_deg"),
     (lambda: simulate.slanted_edge(32, 45.0), "angle_deg"),
+    (lambda: simulate.slanted_edge(32, 30.5), "angle_deg"),
+    (lambda: simulate.slanted_edge(32, -59.5), "angle_deg"),
+    (lambda: simulate.slanted_edge(32, 89.5), "angle_deg"),
+    (lambda: simulate.slanted_edge(32, 90.0), "angle_deg"),
     (lambda: simulate.slanted_edge(32, math.nan), "angle_deg"),
     (lambda: simulate.slanted_edge(32, low=0.5, high=0.4), "high"),
     (lambda: simulate.slanted_edge(32, high=1.5), "high"),

@@ -15,7 +15,8 @@ import math
 
 import numpy as np
 
-__all__ = ["motion_path_mm", "motion_transfer", "jitter_transfer", "aperture_transfer"]
+__all__ = ["motion_path_mm", "motion_transfer", "motion_transfer_2d", "jitter_transfer",
+           "aperture_transfer"]
 
 _NODES = 8  # Gauss-Legendre nodes a segment: exact for polynomials to degree 15
 
@@ -49,13 +50,28 @@ def motion_transfer(frequency_cyc_per_mm, exposure_s: float, focal_length_mm: fl
     f = np.asarray(frequency_cyc_per_mm, dtype=float)
     if exposure_s == 0.0 or shake_rad_per_s == 0.0:
         return np.ones(f.shape, dtype=complex), 0.0, 0.0
+    f_max = float(np.max(np.abs(f))) if f.size else 0.0
+    weights, shift, extent, mean = _motion_nodes(exposure_s, focal_length_mm, shake_rad_per_s,
+                                                 start_s, f_max)
+    transfer = np.zeros(f.shape, dtype=complex)
+    flat = f.ravel()
+    out = transfer.ravel()
+    step = max(1, 2_000_000 // max(1, flat.size))  # time nodes a block, to bound memory
+    for start in range(0, shift.size, step):
+        s = shift[start:start + step]
+        out += np.exp(-2j * math.pi * np.multiply.outer(flat, s)) @ weights[start:start + step]
+    return out.reshape(f.shape), extent, mean
+
+
+def _motion_nodes(exposure_s, focal_length_mm, shake_rad_per_s, start_s, f_max):
+    """(weights, shifts about the mean in mm, extent in mm, mean in mm) of the time nodes of
+    :func:`motion_transfer`'s quadrature for frequencies up to ``f_max`` cycles/mm."""
     end = start_s + exposure_s
     ends = motion_path_mm(np.array([start_s, end]), focal_length_mm, shake_rad_per_s)
     extent = float(ends[1] - ends[0])
     # The path is fastest at its end: sec^2 of the angle there against its mean speed.
     peak_over_mean = (shake_rad_per_s * exposure_s * focal_length_mm
                       / (math.cos(shake_rad_per_s * end) ** 2 * extent))
-    f_max = float(np.max(np.abs(f))) if f.size else 0.0
     segments = max(1, math.ceil(f_max * extent * peak_over_mean))
     x, w = _legendre(_NODES)
     edges = np.linspace(start_s, end, segments + 1)
@@ -63,15 +79,39 @@ def motion_transfer(frequency_cyc_per_mm, exposure_s: float, focal_length_mm: fl
     weights = np.tile(w, segments) / segments
     path = motion_path_mm(times, focal_length_mm, shake_rad_per_s)
     mean = float(np.dot(weights, path))
-    shift = path - mean
-    transfer = np.zeros(f.shape, dtype=complex)
-    flat = f.ravel()
-    out = transfer.ravel()
-    step = max(1, 2_000_000 // max(1, flat.size))  # time nodes a block, to bound memory
-    for start in range(0, times.size, step):
+    return weights, path - mean, extent, mean
+
+
+def motion_transfer_2d(fy_cyc_per_mm, fx_cyc_per_mm, exposure_s: float,
+                       focal_length_mm: float, shake_rad_per_s: float, direction_rad: float,
+                       start_s: float = 0.0) -> np.ndarray:
+    """The spectrum's factor, on the grid (fy[i], fx[j]), from the image moving along the
+    direction ``direction_rad`` from the rows (towards larger rows for a positive angle)
+    during an exposure: :func:`motion_transfer`'s time average at the frequency along the
+    motion, u = fx cos(angle) + fy sin(angle), shape (fy.size, fx.size).
+
+    Each time node's phase exp(-2 pi i u s) is the product of a row's factor
+    exp(-2 pi i fy sin(angle) s) and a column's exp(-2 pi i fx cos(angle) s), so the average
+    over the nodes is a matrix product of the two (fy x nodes) @ (nodes x fx): exact as the
+    quadrature is, at a cost of fy.size fx.size multiply-adds a node.
+    """
+    fy = np.asarray(fy_cyc_per_mm, dtype=float).ravel()
+    fx = np.asarray(fx_cyc_per_mm, dtype=float).ravel()
+    if exposure_s == 0.0 or shake_rad_per_s == 0.0:
+        return np.ones((fy.size, fx.size), dtype=complex)
+    sy, sx = math.sin(direction_rad), math.cos(direction_rad)
+    f_max = ((float(np.max(np.abs(fy))) if fy.size else 0.0) * abs(sy)
+             + (float(np.max(np.abs(fx))) if fx.size else 0.0) * abs(sx))
+    weights, shift, _, _ = _motion_nodes(exposure_s, focal_length_mm, shake_rad_per_s, start_s,
+                                         f_max)
+    out = np.zeros((fy.size, fx.size), dtype=complex)
+    step = max(1, 4_000_000 // max(1, fy.size + fx.size))  # time nodes a block
+    for start in range(0, shift.size, step):
         s = shift[start:start + step]
-        out += np.exp(-2j * math.pi * np.multiply.outer(flat, s)) @ weights[start:start + step]
-    return out.reshape(f.shape), extent, mean
+        rows = np.exp(-2j * math.pi * sy * np.multiply.outer(fy, s))
+        cols = np.exp(-2j * math.pi * sx * np.multiply.outer(s, fx))
+        out += (rows * weights[start:start + step]) @ cols
+    return out
 
 
 def jitter_transfer(frequency_cyc_per_mm, jitter_mm: float, nodes: int = 48) -> np.ndarray:

@@ -15,12 +15,16 @@ import numpy as np
 
 from .._validation import short
 
-__all__ = ["Chart", "slanted_edge", "flat", "image", "MIN_EDGE_PX", "band_limited_step",
-           "STEP_TOLERANCE"]
+__all__ = ["Chart", "slanted_edge", "flat", "image", "MIN_EDGE_PX", "EDGE_ANGLES_DEG",
+           "band_limited_step", "STEP_TOLERANCE"]
 
 #: Pixels, the fewest rows and columns of a slanted-edge chart: the e-SFR needs rows enough to
 #: fit the edge's line and columns enough for its spread on either side.
 MIN_EDGE_PX = 16
+#: Degrees, the slanted edge's angles from the vertical (either sign): a near-vertical edge,
+#: measured across the columns, or a near-horizontal one, measured across the rows (the
+#: e-SFR's 1 to 30 degrees from the horizontal, 89 to 60 from the vertical).
+EDGE_ANGLES_DEG = ((1.0, 30.0), (60.0, 89.0))
 
 
 @dataclass(frozen=True, eq=False)
@@ -33,7 +37,8 @@ class Chart:
     shape : (rows, columns), output pixels.
     low, high : 1, the edge's dark and light reflectances (``slanted_edge``); ``high`` is the
         patch's reflectance for ``flat``.
-    angle_deg : degrees, the edge's angle from the vertical (``slanted_edge``).
+    angle_deg : degrees, the edge's angle from the vertical (``slanted_edge``): near the
+        vertical (1 to 30 either way) or near the horizontal (60 to 89 either way).
     values : the reflectance of each output pixel (``image``), read-only float64.
     """
 
@@ -216,22 +221,29 @@ def checked_reflectance(value, name: str) -> float:
 
 def slanted_edge(size_px=256, angle_deg: float = 5.0, *, low: float = 0.1,
                  high: float = 0.4) -> Chart:
-    """A slanted edge as ISO 12233 uses it: dark on the left, light on the right, through the
-    chart's centre at ``angle_deg`` from the vertical.
+    """A slanted edge as ISO 12233 uses it: through the chart's centre at ``angle_deg`` from
+    the vertical, running to larger columns down the rows for a positive angle; the upright
+    edge turned by that angle from dark on the left and light on the right (a
+    near-horizontal edge is dark below at a positive angle, dark above at a negative one).
 
     Parameters
     ----------
     size_px : int or (rows, columns)
         Output pixels, at least :data:`MIN_EDGE_PX` a side. Motion blur runs along the rows,
-        so a long blur wants many columns (the e-SFR needs the blur well inside them).
-    angle_deg : degrees, in [1, 30] in magnitude (the e-SFR needs a slant: about 5 is ISO's).
+        so a long blur across a near-vertical edge wants many columns (the e-SFR needs the
+        blur well inside them); a near-horizontal edge wants rows for its spread.
+    angle_deg : degrees, in [1, 30] or [60, 89] in magnitude (:data:`EDGE_ANGLES_DEG`): a
+        near-vertical edge, whose e-SFR is the MTF along the rows (about 5 is ISO's slant),
+        or a near-horizontal one, whose e-SFR is the MTF along the columns (about 85).
     low, high : 1, the reflectances either side (default 4:1, ISO 12233:2017's contrast,
         with the light side at the model's default target reflectance, 0.4).
     """
     rows, cols = _size(size_px, MIN_EDGE_PX, "a slanted edge (the e-SFR)")
-    if not is_real(angle_deg) or not 1.0 <= abs(float(angle_deg)) <= 30.0:
-        raise ValueError(f"angle_deg: the edge's slant from the vertical, 1 to 30 degrees "
-                         f"either way, got {short(angle_deg)}")
+    if not is_real(angle_deg) or not any(low <= abs(float(angle_deg)) <= high
+                                         for low, high in EDGE_ANGLES_DEG):
+        raise ValueError(f"angle_deg: the edge's angle from the vertical, 1 to 30 degrees "
+                         f"(near vertical) or 60 to 89 (near horizontal) either way, got "
+                         f"{short(angle_deg)}")
     low, high = checked_reflectance(low, "low"), checked_reflectance(high, "high")
     if not high > low:
         raise ValueError(f"high: must exceed low for an edge, got low={low!r}, high={high!r}")

@@ -16,10 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .blur import aperture_transfer, jitter_transfer, motion_transfer
+from .._validation import short
+from .blur import aperture_transfer, jitter_transfer, motion_transfer, motion_transfer_2d
 from .pupil import cutoff_cyc_per_mm, diffraction_transfer, table_cutoff_cyc_per_mm, table_transfer
 
-__all__ = ["Optics", "frame_irradiance", "BYTES_PER_SAMPLE", "MARGIN_PX", "PSF_REACH"]
+__all__ = ["Optics", "frame_irradiance", "motion_angle_rad", "BYTES_PER_SAMPLE", "MARGIN_PX", "PSF_REACH"]
 
 #: Bytes a fine-grid sample costs at the peak (the reflectance, its spectrum, the transfer and
 #: the image at once, in float64 and complex128).
@@ -48,7 +49,8 @@ class Optics:
     aberration : the lens's wavefront error, waves rms of a Zernike defocus or spherical
     aberration (:data:`~epc_fast.simulate.pupil.ABERRATIONS`); lens_table : an
     :class:`epc_fast.mtf_table.MtfTable`, the lens's MTF in place of its pupil's (None: the
-    pupil's).
+    pupil's); motion_angle_rad : the direction the image moves in, from the rows (towards
+    larger rows for a positive angle; 0, along the rows).
     """
 
     pitch_mm: float
@@ -65,6 +67,7 @@ class Optics:
     wavefront_rms_waves: float = 0.0
     aberration: str = "defocus"
     lens_table: object = None
+    motion_angle_rad: float = 0.0
 
     @property
     def cutoff(self) -> float:
@@ -106,8 +109,9 @@ def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offs
              + float(np.max(np.abs(offsets), initial=0.0)))
     b = int(border_px)
     rows, cols = (chart.shape[0] + 2 * b) * k, (chart.shape[1] + 2 * b) * k  # sensor pixels
-    margin_y = MARGIN_PX + math.ceil(reach / o.pitch_mm)
-    margin_x = MARGIN_PX + math.ceil((reach + blur) / o.pitch_mm)
+    angle = o.motion_angle_rad
+    margin_y = MARGIN_PX + math.ceil((reach + blur * abs(math.sin(angle))) / o.pitch_mm)
+    margin_x = MARGIN_PX + math.ceil((reach + blur * abs(math.cos(angle))) / o.pitch_mm)
     ny = fft.next_fast_len(q * (rows + 2 * margin_y), real=True)
     nx = fft.next_fast_len(q * (cols + 2 * margin_x), real=True)
     _check_memory(ny * nx, chart)
@@ -136,11 +140,17 @@ def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offs
     images = []
     t_frame = exposure_s / frames
     for j in range(frames):
-        moving, _, _ = motion_transfer(fxk, t_frame, o.focal_mm, o.shake_rad_per_s,
-                                       start_s=j * t_frame)
         dy, dxj = offsets[j]
-        shift = (np.exp(-2j * math.pi * fyk * dy)[:, None]
-                 * (moving * np.exp(-2j * math.pi * fxk * dxj))[None, :])
+        if angle == 0.0:  # along the rows: the motion's factor is a function of fx alone
+            moving, _, _ = motion_transfer(fxk, t_frame, o.focal_mm, o.shake_rad_per_s,
+                                           start_s=j * t_frame)
+            shift = (np.exp(-2j * math.pi * fyk * dy)[:, None]
+                     * (moving * np.exp(-2j * math.pi * fxk * dxj))[None, :])
+        else:
+            shift = motion_transfer_2d(fyk, fxk, t_frame, o.focal_mm, o.shake_rad_per_s,
+                                       angle, start_s=j * t_frame)
+            shift *= np.exp(-2j * math.pi * fyk * dy)[:, None]
+            shift *= np.exp(-2j * math.pi * fxk * dxj)[None, :]
         filtered = np.zeros((ny, nx // 2 + 1), dtype=complex)
         filtered[np.ix_(iy, ix)] = common * shift
         image = fft.irfft2(filtered, s=(ny, nx), workers=threads)
@@ -148,6 +158,20 @@ def frame_irradiance(chart, optics: Optics, exposure_s: float, frames: int, offs
         pixels = image[start_y:start_y + q * rows:q, start_x:start_x + q * cols:q]
         images.append(np.ascontiguousarray(pixels) * o.irradiance_lux)
     return images, blur
+
+
+def motion_angle_rad(motion_angle_deg) -> float:
+    """Radians: a capture's ``motion_angle_deg`` (the motion's direction from the rows), or a
+    ValueError naming it unless a real number in [-90, 90]."""
+    try:
+        angle = float(motion_angle_deg)
+    except (TypeError, ValueError):
+        angle = math.nan
+    if (isinstance(motion_angle_deg, (bool, np.bool_, str, bytes))
+            or np.ndim(motion_angle_deg) != 0 or not -90.0 <= angle <= 90.0):
+        raise ValueError(f"motion_angle_deg: the motion's direction from the rows, -90 to 90 "
+                         f"degrees, got {short(motion_angle_deg)}")
+    return math.radians(angle)
 
 
 def _check_memory(samples: int, chart) -> None:
