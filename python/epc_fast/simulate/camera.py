@@ -28,7 +28,7 @@ from ..cfa import check_cfa, check_demosaic
 from ..cfa import color_noise_gain as cfa_color_noise_gain
 from ..status import Status
 from .charts import Chart
-from .focal_plane import Optics, frame_irradiance
+from .focal_plane import Optics, frame_irradiance, motion_angle_rad
 from .pupil import cutoff_cyc_per_mm, table_cutoff_cyc_per_mm
 from .processing import denoise, kernel_reach_px
 from . import bayer as _bayer
@@ -223,8 +223,9 @@ def _exposure(exposure_s, result, shake_rad_per_s) -> float:
 
 
 def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversample=None,
-            aberration="defocus", cfa="none", demosaic="malvar2004", cfa_transmittance=None,
-            channel_transmittances=None, luminance_weights=None, **design) -> Capture:
+            aberration="defocus", motion_angle_deg=0.0, cfa="none", demosaic="malvar2004",
+            cfa_transmittance=None, channel_transmittances=None, luminance_weights=None,
+            **design) -> Capture:
     """Simulate ``chart`` captured by one design at ``illuminance_lux``.
 
     Parameters
@@ -245,6 +246,12 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
         A design with ``lens_mtf`` (and ``backend="reference"``, which computes it) images
         through its table's MTF instead of a pupil: the table's interpolant at the radial
         frequency, 0 past the table's end.
+    motion_angle_deg : degrees in [-90, 90], the direction the image moves in during the
+        exposure, from the rows (towards larger rows for a positive angle). 0, the default,
+        moves it along the rows: a near-vertical edge's normal then sees the motion (times the
+        cosine of its slant). An edge parallel to the motion sees none of it: a
+        near-horizontal :func:`slanted_edge` at ``angle_deg`` a > 0 from the vertical with
+        the motion at 90 - a (-90 - a for a < 0) gives the MTF across the motion.
     cfa : {"none", "bayer"}
         "bayer": each pixel sits under a filter of the RGGB cell (with binning k, each output
         pixel's k x k sensor pixels under one), its expected electrons times the filter's
@@ -294,7 +301,8 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
                                                         sensor_cfa))
     resolved = resolve(lux, **{k: v for k, v in picked.items() if k in DESIGN_KEYWORDS})
     t = _exposure(exposure_s, result, _shake_rad_per_s(resolved))
-    optics = _optics(resolved, lux, aberration, oversample)
+    optics = dataclasses.replace(_optics(resolved, lux, aberration, oversample),
+                                 motion_angle_rad=motion_angle_rad(motion_angle_deg))
     sigma = float(resolved.parameter("denoise_sigma_px"))
     border = _border_px(sigma, sensor_cfa)
     frames_e, blur = _frames_e(chart, optics, resolved, t, seed, border, sensor_cfa,
@@ -309,7 +317,8 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
         def recapture(new_seed):  # the frames' alignment errors are drawn from the seed too
             return capture(chart, illuminance_lux=illuminance_lux, seed=new_seed,
                            exposure_s=exposure_s, oversample=oversample,
-                           aberration=aberration, cfa=cfa, demosaic=demosaic,
+                           aberration=aberration, motion_angle_deg=motion_angle_deg,
+                           cfa=cfa, demosaic=demosaic,
                            cfa_transmittance=cfa_transmittance,
                            channel_transmittances=channel_transmittances,
                            luminance_weights=luminance_weights, **design)
