@@ -105,7 +105,8 @@ def test_a_bad_name_is_refused_naming_the_argument(call, bad, argument):
 
 
 def test_the_names_are_the_issues():
-    assert cfa.CFAS == ("none", "bayer")
+    assert cfa.CFAS == ("none", "bayer", "quad_bayer")
+    assert cfa.QUAD_BAYER_BINNINGS == (1, 2)
     assert cfa.DEMOSAICS == ("bilinear", "malvar2004", "menon2007")
 
 
@@ -165,3 +166,94 @@ def test_a_bayer_sensor_matches_the_mpmath_model(case, demosaic, backend):
     # these well-conditioned points): the suite's 1e-12 leaves 1000x room, and a noise gain
     # or transmittance left out moves T_MPE by 0.4% or more.
     assert_matches_model(result, model, rtol=1e-12, label=f"{case}, {demosaic}")
+
+
+# --- The quad Bayer sensor: binned 2 x 2 a Bayer sensor, full size remosaicked -----------------
+
+#: The 50 MP 1.0 um quad Bayer phone camera of issue 54 (8.16 x 6.12 mm, f/1.9, 5.6 mm).
+QUAD = dict(pixel_pitch_um=1.0, f_number=1.9, focal_length_mm=5.6, sensor_width_mm=8.16,
+            sensor_height_mm=6.12, read_noise_e=1.5)
+LUX = np.array([1.0, 10.0, 100.0, 1e3, 1e4])
+#: Outputs that carry every term: the exposure, the MTF, the shares and the elasticities.
+ALL = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm", "epc",
+       "status", "share_pixel", "share_demosaic", "elasticities")
+
+
+def _same_table(a, b) -> bool:
+    return (np.array_equal(a.frequencies, b.frequencies) and np.array_equal(a.values, b.values)
+            and np.array_equal(a.coefficients, b.coefficients))
+
+
+@pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
+def test_a_quad_sensor_takes_the_bayer_terms_binned_and_the_remosaics_full_size(demosaic):
+    binned = cfa.sensor_color("quad_bayer", demosaic, None, None, 2.0)
+    bayer = cfa.sensor_color("bayer", demosaic, None, None, 2.0)
+    assert (binned.transmittance, binned.noise_gain) == (bayer.transmittance, bayer.noise_gain)
+    assert _same_table(binned.demosaic_table, bayer.demosaic_table)
+    full = cfa.sensor_color("quad_bayer", demosaic, None, None, 1.0)
+    assert full.transmittance == cfa.DEFAULT_CFA_TRANSMITTANCE
+    assert full.noise_gain == cfa.DEFAULT_COLOR_NOISE_GAIN * cfa.REMOSAIC_NOISE_GAIN[demosaic]
+    assert _same_table(full.demosaic_table, cfa.remosaic_mtf_table(demosaic))
+    assert not _same_table(full.demosaic_table, bayer.demosaic_table)
+    # the remosaic averages five pixels in eight: less variance, and never a higher MTF
+    assert cfa.REMOSAIC_NOISE_GAIN[demosaic] < cfa.DEMOSAIC_NOISE_GAIN[demosaic]
+    # a Bayer sensor's terms do not depend on the binning
+    assert _same_table(cfa.sensor_color("bayer", demosaic, None, None, 3.0).demosaic_table,
+                       bayer.demosaic_table)
+
+
+@pytest.mark.parametrize("backend", ["core", "reference"])
+def test_binned_2x2_a_quad_sensor_is_the_bayer_sensor_bit_for_bit(backend):
+    import epc_fast
+
+    quad = epc_fast.evaluate(LUX, **QUAD, binning=2, cfa="quad_bayer", outputs=ALL,
+                             backend=backend)
+    bayer = epc_fast.evaluate(LUX, **QUAD, binning=2, cfa="bayer", outputs=ALL,
+                              backend=backend)
+    for name in ALL[:-1]:
+        np.testing.assert_array_equal(getattr(quad, name), getattr(bayer, name), err_msg=name)
+    assert quad.elasticities.keys() == bayer.elasticities.keys()
+    for name, value in quad.elasticities.items():
+        np.testing.assert_array_equal(value, bayer.elasticities[name], err_msg=name)
+
+
+@pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
+def test_full_size_both_backends_agree_and_the_remosaic_table_sets_f50(demosaic):
+    import epc_fast
+
+    core = epc_fast.evaluate(LUX, **QUAD, cfa="quad_bayer", demosaic=demosaic)
+    reference = epc_fast.evaluate(LUX, **QUAD, cfa="quad_bayer", demosaic=demosaic,
+                                  backend="reference")
+    np.testing.assert_allclose(core.epc, reference.epc, rtol=1e-9)  # the backends' agreement
+    # the quad sensor is the Bayer sensor with the remosaic's noise gain and table: given
+    # those as a Bayer sensor's colour noise gain, only the table differs, and the remosaic's
+    # lies at or below the Bayer one, so that at the same exposure f50 is no higher
+    g = cfa.REMOSAIC_NOISE_GAIN[demosaic] / cfa.DEMOSAIC_NOISE_GAIN[demosaic]
+    bayer = epc_fast.evaluate(LUX, **QUAD, cfa="bayer", demosaic=demosaic,
+                              color_noise_gain=cfa.DEFAULT_COLOR_NOISE_GAIN * g)
+    np.testing.assert_array_equal(core.t_mpe_s, bayer.t_mpe_s)
+    assert np.all(core.epc <= bayer.epc)
+
+
+@pytest.mark.parametrize("binning, message", [
+    (3, r"^cfa='quad_bayer': binning must be 1 \(full size, remosaicked\) or 2 .*got binning 3"),
+    ([1, 4], r"^cfa='quad_bayer': binning must be 1 .*got binning 4"),
+    ([1.0, 2.0, 1.0], r"^cfa='quad_bayer': binning takes one value per call .*modes=\[\{'binning'"
+                      r": 1\}, \{'binning': 2\}\]"),
+])
+@pytest.mark.parametrize("backend", ["core", "reference"])
+def test_a_quad_sensor_at_another_or_at_both_binnings_is_refused_naming_it(binning, message,
+                                                                           backend):
+    import epc_fast
+
+    with pytest.raises(ValueError, match=message):
+        epc_fast.evaluate(100.0, **QUAD, cfa="quad_bayer", binning=binning, backend=backend)
+
+
+def test_a_quad_sensors_binning_that_is_no_number_leaves_its_point_invalid():
+    import epc_fast
+
+    r = epc_fast.evaluate(100.0, **QUAD, cfa="quad_bayer", binning=[2.0, np.nan])
+    one = epc_fast.evaluate(100.0, **QUAD, cfa="quad_bayer", binning=2.0)
+    assert r.epc[0] == one.epc and np.isnan(r.epc[1])
+    assert int(r.status[1]) == int(epc_fast.Status.INVALID)

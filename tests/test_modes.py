@@ -81,3 +81,19 @@ def test_a_bad_value_in_a_mode_is_the_points_status_as_any_bad_value():
     assert r.mode == 1
     with pytest.raises(ValueError, match="binning"):
         epc_fast.evaluate(100.0, **SENSOR, modes=[{"binning": 2.5}], invalid="raise")
+
+
+def test_a_quad_bayer_sensors_modes_read_one_layout_each():
+    # full size is remosaicked, binned 2 x 2 is the Bayer sensor of twice the pitch: each mode
+    # is its own call with its binning, and the pick is the better of the two per point
+    quad = dict(pixel_pitch_um=1.0, f_number=1.9, focal_length_mm=5.6, sensor_width_mm=8.16,
+                sensor_height_mm=6.12, read_noise_e=1.5, cfa="quad_bayer")
+    lux = np.array([1.0, 10.0, 100.0, 1e3, 1e4])
+    modes = [{"binning": 1}, {"binning": 2}]
+    r = epc_fast.evaluate(lux, **quad, modes=modes)
+    full = epc_fast.evaluate(lux, **quad, binning=1)
+    binned = epc_fast.evaluate(lux, **{**quad, "cfa": "bayer"}, binning=2)
+    best = np.where(full.epc >= binned.epc, full.epc, binned.epc)
+    np.testing.assert_array_equal(r.epc, best)
+    np.testing.assert_array_equal(r.mode, np.where(full.epc >= binned.epc, 0, 1))
+    assert set(np.asarray(r.mode).tolist()) == {0, 1}  # dim light binned, daylight full size

@@ -50,29 +50,35 @@ FLAT_PX = 192
 SEEDS = tuple(range(16))
 
 
-def edge_transfer(design, angle_deg, width_px, rows_px=ROWS_PX, knots=KNOTS) -> dict:
-    """{demosaicker: the Bayer e-SFR over the monochrome one at ``knots``} for one edge."""
+def edge_transfer(design, angle_deg, width_px, rows_px=ROWS_PX, knots=KNOTS,
+                  sensor="bayer") -> dict:
+    """{demosaicker: the e-SFR of the colour capture (``sensor``, a ``cfa`` of
+    epc_fast.cfa.CFAS) over the monochrome one at ``knots``} for one edge."""
     chart = simulate.slanted_edge((rows_px, width_px), angle_deg)
     kw = {"illuminance_lux": LUX, "exposure_s": EXPOSURE_S, **design}
     mono = simulate.capture(chart, **kw)
     f_mm = knots / (mono.pitch_um * 1e-3)
-    reference = simulate.esfr(mono.expected_e, mono.pitch_um).mtf_at(f_mm)
+    # the e-SFR with bin-width correction, as the table was measured: the bins' sinc(f D) is
+    # the same factor in both e-SFRs (one pitch, one oversampling) and cancels in the ratio
+    reference = simulate.esfr(mono.expected_e, mono.pitch_um, bin_correction=True).mtf_at(f_mm)
     out = {}
     for name in cfa.DEMOSAICS:
-        c = simulate.capture(chart, cfa="bayer", demosaic=name, **kw)
-        out[name] = simulate.esfr(c.expected_e, c.pitch_um).mtf_at(f_mm) / reference
+        c = simulate.capture(chart, cfa=sensor, demosaic=name, **kw)
+        out[name] = (simulate.esfr(c.expected_e, c.pitch_um, bin_correction=True).mtf_at(f_mm)
+                     / reference)
     return out
 
 
 def measure_mtf(designs=DESIGNS, angles=ANGLES_DEG, widths=WIDTHS_PX, rows_px=ROWS_PX,
-                knots=KNOTS) -> dict:
+                knots=KNOTS, sensor="bayer") -> dict:
     """{demosaicker: array (captures, knots)} of the transfers over every design, angle and
     width."""
     runs = {name: [] for name in cfa.DEMOSAICS}
     for design in designs:
         for angle in angles:
             for width in widths:
-                for name, ratio in edge_transfer(design, angle, width, rows_px, knots).items():
+                for name, ratio in edge_transfer(design, angle, width, rows_px, knots,
+                                                 sensor).items():
                     runs[name].append(ratio)
     return {name: np.array(r) for name, r in runs.items()}
 
@@ -99,12 +105,12 @@ def table(runs: dict) -> dict:
     return out
 
 
-def noise_gain(name, seeds=SEEDS, side_px=FLAT_PX, design=DESIGNS[0]) -> tuple:
+def noise_gain(name, seeds=SEEDS, side_px=FLAT_PX, design=DESIGNS[0], sensor="bayer") -> tuple:
     """(g_d, its standard error over the seeds) of demosaicker ``name`` on flat captures with
     shot noise only."""
     shot_only = {**design, "read_noise_e": 0.0, "dark_current_e_per_s": 0.0, "prnu": 0.0}
     chart = simulate.flat(side_px)
-    c = simulate.capture(chart, illuminance_lux=LUX, exposure_s=EXPOSURE_S, cfa="bayer",
+    c = simulate.capture(chart, illuminance_lux=LUX, exposure_s=EXPOSURE_S, cfa=sensor,
                          demosaic=name, seed=seeds[0], **shot_only)
     gains = []
     for seed in seeds:

@@ -5,7 +5,8 @@ tests/simulate/test_agreement.py), each compared by :func:`epc_fast.simulate.agr
     python tools/simulate_agreement.py [--seeds 16] [--random 6]
 
 Columns: the model's f50 (along the rows) and the f50 the e-SFR should see across a 5-degree
-edge; the e-SFR's MTF50 of the noise-free capture and of the seeds' pooled noisy captures
+edge; the MTF50 of the e-SFR with bin-width correction (the camera's own MTF, as the model's;
+simulate.edge_sfr) of the noise-free capture and of the seeds' pooled noisy captures
 (its standard error), each relative to that f50; one noisy capture's scatter; the target SNR
 and the flat patch's measured SNR with its standard error.
 """
@@ -48,6 +49,8 @@ def main(argv=None) -> None:
     parser.add_argument("--seeds", type=int, default=16)
     parser.add_argument("--random", type=int, default=6)
     args = parser.parse_args(argv)
+    print("MTF50: the e-SFR with bin-width correction (ISO 12233's, its bins' average divided "
+          "out: the camera's own MTF)\n")
     print("| design | lux | f50 model (cyc/mm) | f50 across the edge | MTF50 noise-free "
           "| MTF50 pooled ± s.e. | one capture's scatter | SNR target (dB) "
           "| SNR simulated ± s.e. |")

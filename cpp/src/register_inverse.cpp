@@ -30,6 +30,11 @@ InverseOptions inverse_options_of(double lux_lo, double lux_hi, double rtol, int
     return inv;
 }
 
+// A design's f50 across the motion (cycles/mm; one value or n), or a null column for None.
+Column across_of(const py::object& f50_across, py::ssize_t n) {
+    return f50_across.is_none() ? Column{} : column_of(f50_across, -1, n);
+}
+
 struct InverseResult {
     py::array_t<double> illuminance_lux, epc;
     py::array_t<std::uint8_t> status;
@@ -51,16 +56,17 @@ py::dict lux_for_epc_py(const py::list& columns, bool size_is_pixel_count,
                         const double_array& domains, const double_array& wavelengths_nm,
                         const double_array& weights, py::ssize_t n, const py::object& target_epc,
                         double lux_lo, double lux_hi, double rtol, double f50_rtol, int threads,
-                        const py::object& demosaic_table) {
+                        const py::object& demosaic_table, const py::object& f50_across) {
     Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
     set_demosaic_table(in, demosaic_table);
     const Column target = column_of(target_epc, -1, n);
+    const Column across = across_of(f50_across, n);
     const Options opt = options_of("halley", f50_rtol, "closed_form", 0.0);
     const InverseOptions inv = inverse_options_of(lux_lo, lux_hi, rtol, 2);
     InverseResult result(n);
     const InverseOutputs out = result.outputs();
     run_chunked(n, 1 << 14, threads, [&](std::size_t start, std::size_t stop) {
-        lux_for_epc(in, target, opt, inv, out, start, stop, threads);
+        lux_for_epc(in, across, target, opt, inv, out, start, stop, threads);
     });
     return result.dict();
 }
@@ -71,17 +77,19 @@ py::dict crossover_lux_py(const py::list& columns_a, const py::list& columns_b,
                           const double_array& weights, py::ssize_t n, double lux_lo,
                           double lux_hi, int grid_points, double rtol, double f50_rtol,
                           int threads, const py::object& demosaic_table_a,
-                          const py::object& demosaic_table_b) {
+                          const py::object& demosaic_table_b, const py::object& f50_across_a,
+                          const py::object& f50_across_b) {
     Inputs a = inputs_of(columns_a, size_is_pixel_count_a, domains, wavelengths_nm, weights, n);
     Inputs b = inputs_of(columns_b, size_is_pixel_count_b, domains, wavelengths_nm, weights, n);
     set_demosaic_table(a, demosaic_table_a);
     set_demosaic_table(b, demosaic_table_b);
+    const Column across_a = across_of(f50_across_a, n), across_b = across_of(f50_across_b, n);
     const Options opt = options_of("halley", f50_rtol, "closed_form", 0.0);
     const InverseOptions inv = inverse_options_of(lux_lo, lux_hi, rtol, grid_points);
     InverseResult result(n);
     const InverseOutputs out = result.outputs();
     run_chunked(n, 1 << 12, threads, [&](std::size_t start, std::size_t stop) {
-        crossover_lux(a, b, opt, inv, out, start, stop, threads);
+        crossover_lux(a, across_a, b, across_b, opt, inv, out, start, stop, threads);
     });
     return result.dict();
 }
@@ -93,13 +101,15 @@ void register_inverse(py::module_& m) {
           py::arg("domains"), py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"),
           py::arg("target_epc"), py::arg("lux_lo"), py::arg("lux_hi"), py::arg("rtol"),
           py::arg("f50_rtol"), py::arg("threads"), py::arg("demosaic_table") = py::none(),
+          py::arg("f50_across") = py::none(),
           "Illuminance at which each design reaches target_epc (Brent on ln L).");
     m.def("crossover_lux", &crossover_lux_py, py::arg("columns_a"), py::arg("columns_b"),
           py::arg("size_is_pixel_count_a"), py::arg("size_is_pixel_count_b"), py::arg("domains"),
           py::arg("wavelengths_nm"), py::arg("weights"), py::arg("n"), py::arg("lux_lo"),
           py::arg("lux_hi"), py::arg("grid_points"), py::arg("rtol"), py::arg("f50_rtol"),
           py::arg("threads"), py::arg("demosaic_table_a") = py::none(),
-          py::arg("demosaic_table_b") = py::none(),
+          py::arg("demosaic_table_b") = py::none(), py::arg("f50_across_a") = py::none(),
+          py::arg("f50_across_b") = py::none(),
           "Highest illuminance in [lux_lo, lux_hi] where designs a and b have equal EPC.");
 }
 

@@ -24,11 +24,18 @@ from .mtf_table import MtfTable, mtf_table
 
 __all__ = ["CFAS", "DEMOSAICS", "DEFAULT_CFA_TRANSMITTANCE", "DEFAULT_COLOR_NOISE_GAIN",
            "DEFAULT_CHANNEL_TRANSMITTANCES", "DEFAULT_LUMINANCE_WEIGHTS", "DEMOSAIC_NOISE_GAIN",
-           "DEMOSAIC_MTF_PATH", "check_cfa", "check_demosaic", "color_noise_gain",
-           "demosaic_mtf_table", "SensorColor", "sensor_color"]
+           "DEMOSAIC_MTF_PATH", "REMOSAIC_NOISE_GAIN", "REMOSAIC_MTF_PATH", "QUAD_BAYER_BINNINGS",
+           "check_cfa", "check_demosaic", "color_noise_gain", "demosaic_mtf_table",
+           "remosaic_mtf_table", "quad_bayer_binning", "SensorColor", "sensor_color"]
 
-#: The colour filter arrays: none (the monochrome sensor) and Bayer's RGGB cell.
-CFAS = ("none", "bayer")
+#: The colour filter arrays: none (the monochrome sensor), Bayer's RGGB cell, and the quad
+#: Bayer sensor (2 x 2 pixels under one filter, those blocks in the RGGB arrangement): read
+#: full size (binning 1) it is remosaicked to RGGB and demosaicked, binned 2 x 2 it is the
+#: Bayer sensor of twice the pitch.
+CFAS = ("none", "bayer", "quad_bayer")
+#: The binnings a quad Bayer sensor is read at: 1 (full size, remosaicked) and 2 (its 2 x 2
+#: blocks binned: a Bayer sensor).
+QUAD_BAYER_BINNINGS = (1, 2)
 #: The demosaickers, those of the colour-demosaicing package: bilinear interpolation,
 #: Malvar, He and Cutler (2004) and Menon, Andriani and Calvagno (2007).
 DEMOSAICS = ("bilinear", "malvar2004", "menon2007")
@@ -78,6 +85,20 @@ DEMOSAIC_NOISE_GAIN = {"bilinear": 0.616, "malvar2004": 0.833, "menon2007": 0.99
 DEMOSAIC_MTF_PATH = Path(__file__).resolve().parent / "data" / "demosaic_mtf.csv"
 
 
+#: {demosaicker: g_d}, the variance gain on the luminance of a quad Bayer sensor read full
+#: size, remosaicked (:mod:`epc_fast.simulate.remosaic`) and demosaicked, measured as
+#: :data:`DEMOSAIC_NOISE_GAIN` by tools/remosaic_mtf.py: over 16 seeds of a 192 x 192 flat
+#: patch, 0.5012, 0.6592 and 0.7388, each +- 0.0018 at most (one standard error). The
+#: remosaic replaces five pixels in eight by interpolations of their neighbours, which
+#: average their noise: a pixel's variance falls below the Bayer sensor's, the noise spread
+#: to lower frequencies (the model counts the variance, as it does the demosaicker's).
+REMOSAIC_NOISE_GAIN = {"bilinear": 0.501, "malvar2004": 0.659, "menon2007": 0.739}
+
+#: The shipped table of the remosaic and each demosaicker's luminance MTF against f p_out
+#: (cycles/pixel), written by tools/remosaic_mtf.py.
+REMOSAIC_MTF_PATH = Path(__file__).resolve().parent / "data" / "remosaic_mtf.csv"
+
+
 def check_cfa(cfa) -> str:
     """``cfa`` itself when it is one of :data:`CFAS`, else a ValueError naming it."""
     if not isinstance(cfa, str) or cfa not in CFAS:
@@ -105,9 +126,9 @@ def color_noise_gain(channel_transmittances=DEFAULT_CHANNEL_TRANSMITTANCES,
 
 
 @functools.lru_cache(maxsize=None)
-def _table_columns() -> dict:
-    """{column name: values} of the shipped CSV (comment lines start with '#')."""
-    lines = [line for line in DEMOSAIC_MTF_PATH.read_text().splitlines()
+def _table_columns(path: Path = DEMOSAIC_MTF_PATH) -> dict:
+    """{column name: values} of a shipped CSV (comment lines start with '#')."""
+    lines = [line for line in path.read_text().splitlines()
              if line.strip() and not line.startswith("#")]
     names = [name.strip() for name in lines[0].split(",")]
     values = np.array([[float(v) for v in line.split(",")] for line in lines[1:]])
@@ -121,6 +142,15 @@ def demosaic_mtf_table(algorithm) -> MtfTable:
     columns = _table_columns()
     name = check_demosaic(algorithm)
     return mtf_table(f"demosaic_mtf[{name!r}]", (columns["f_cyc_per_px"], columns[name]))
+
+
+def remosaic_mtf_table(algorithm) -> MtfTable:
+    """The luminance MTF against f p_out, cycles/pixel, of a quad Bayer sensor read full size,
+    remosaicked and demosaicked by ``algorithm``, an :class:`~epc_fast.mtf_table.MtfTable`,
+    from :data:`REMOSAIC_MTF_PATH`."""
+    columns = _table_columns(REMOSAIC_MTF_PATH)
+    name = check_demosaic(algorithm)
+    return mtf_table(f"remosaic_mtf[{name!r}]", (columns["f_cyc_per_px"], columns[name]))
 
 
 @dataclass(frozen=True)
@@ -138,18 +168,22 @@ class SensorColor:
 _MONOCHROME = SensorColor(1.0, 1.0, None)
 
 
-def sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorColor:
+def sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain,
+                 binning=1.0) -> SensorColor:
     """evaluate's ``cfa``, ``demosaic``, ``cfa_transmittance`` and ``color_noise_gain`` as
     :class:`SensorColor`. The transmittance t and the colour noise gain g_c are model
     parameters either way (a monochrome sensor behind a filter has a t too); None takes 1 for
     ``cfa="none"`` and the defaults (:data:`DEFAULT_CFA_TRANSMITTANCE`,
-    :data:`DEFAULT_COLOR_NOISE_GAIN`) for ``"bayer"``, whose demosaicker adds its noise gain
-    g_d to g_c and its table."""
+    :data:`DEFAULT_COLOR_NOISE_GAIN`) for ``"bayer"`` and ``"quad_bayer"``, whose demosaicker
+    adds its noise gain g_d to g_c and its table. A quad Bayer sensor takes them by its
+    ``binning`` (:func:`quad_bayer_binning`): at 2 the Bayer sensor's (:data:`DEMOSAIC_NOISE_GAIN`,
+    :func:`demosaic_mtf_table`), at 1 the remosaic's (:data:`REMOSAIC_NOISE_GAIN`,
+    :func:`remosaic_mtf_table`)."""
     check_cfa(cfa)
     check_demosaic(demosaic)
     if cfa == "none" and cfa_transmittance is None and color_noise_gain is None:
         return _MONOCHROME  # most calls: made once (a frozen dataclass costs a call 0.4 us)
-    bayer = cfa == "bayer"
+    bayer = cfa != "none"
     t = (DEFAULT_CFA_TRANSMITTANCE if bayer else 1.0) if cfa_transmittance is None \
         else cfa_transmittance
     g_c = (DEFAULT_COLOR_NOISE_GAIN if bayer else 1.0) if color_noise_gain is None \
@@ -158,5 +192,30 @@ def sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain) -> SensorCo
         return SensorColor(t, g_c, None)
     from ._validation import as_float_array
 
-    gain = as_float_array("color_noise_gain", g_c) * DEMOSAIC_NOISE_GAIN[demosaic]
-    return SensorColor(t, gain if gain.ndim else float(gain), demosaic_mtf_table(demosaic))
+    full_size = cfa == "quad_bayer" and quad_bayer_binning(binning) == 1
+    g_d = (REMOSAIC_NOISE_GAIN if full_size else DEMOSAIC_NOISE_GAIN)[demosaic]
+    table = remosaic_mtf_table(demosaic) if full_size else demosaic_mtf_table(demosaic)
+    gain = as_float_array("color_noise_gain", g_c) * g_d
+    return SensorColor(t, gain if gain.ndim else float(gain), table)
+
+
+def quad_bayer_binning(binning) -> int:
+    """The one binning of :data:`QUAD_BAYER_BINNINGS` a call's quad Bayer sensor is read at;
+    a ValueError naming ``cfa``, ``binning`` and the value for any other, or for both at once
+    (one call reads one layout: evaluate's ``modes`` evaluates each binning as its own call).
+    Points whose binning is not a number are left to the parameters' check (INVALID)."""
+    values = np.asarray(binning)
+    if values.dtype.kind not in "iuf":
+        return 1
+    finite = np.unique(values[np.isfinite(values)]) if values.ndim else (
+        np.array([float(values)]) if np.isfinite(values) else np.array([]))
+    other = [v for v in finite if v not in QUAD_BAYER_BINNINGS]
+    if other:
+        raise ValueError(f"cfa='quad_bayer': binning must be 1 (full size, remosaicked) or 2 "
+                         f"(binned 2 x 2: a Bayer sensor), got binning {short(float(other[0]))}")
+    if finite.size > 1:
+        raise ValueError("cfa='quad_bayer': binning takes one value per call (1 full size or "
+                         "2 binned: two layouts), got both; evaluate them as modes: "
+                         "modes=[{'binning': 1}, {'binning': 2}]")
+    return int(finite[0]) if finite.size else 1
+

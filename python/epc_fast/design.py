@@ -455,7 +455,7 @@ def resolved_from(keywords: tuple) -> ResolvedDesign:
         aspect, snr_at, field_angle_deg, focal_length_mm)
     if electrons_per_lux_s_m2 is None:
         electrons_per_lux_s_m2 = DEFAULT_ELECTRONS_PER_LUX_S_M2
-    color = sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain)
+    color = sensor_color(cfa, demosaic, cfa_transmittance, color_noise_gain, binning)
     readout = params.readout_codes(binning_readout)
     values = (  # the model's parameters in params.PARAMETER_NAMES' order
         illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, sensor.value, reflectance,

@@ -7,9 +7,11 @@ whole-array NumPy over the reference model (``backend="reference"``, the readabl
 
 Conventions shared by both backends:
 
-- The forward EPC counts a point whose SNR target is unreachable (``Status.UNREACHABLE``) as 0:
-  no image. ``Status.BLUR_UNBOUNDED`` is EPC 0 already. An input outside its domain makes the
-  inverse :attr:`InverseStatus.INVALID`.
+- The forward EPC is evaluate's under ``epc_axes``: the paper's 4 S f50^2 (``"motion"``, the
+  default) or 4 S f50 f50_across (``"both"``; f50_across does not depend on the illuminance
+  and is solved once, at the range's top). It counts a point whose SNR target is unreachable
+  (``Status.UNREACHABLE``) as 0: no image. ``Status.BLUR_UNBOUNDED`` is EPC 0 already. An
+  input outside its domain makes the inverse :attr:`InverseStatus.INVALID`.
 - :func:`lux_for_epc` solves g(u) = EPC(e^u) - target on [ln lo, ln hi]. Where g(lo) >= 0 (the
   target is met already at the lowest illuminance) or g(hi) < 0 (never met), the answer is
   :attr:`InverseStatus.NO_SOLUTION`.
@@ -29,6 +31,7 @@ import numpy as np
 
 from . import params
 from ._validation import as_float_array, choice, column, integer, short, threads_of, tolerance
+from .axes import check_epc_axes
 from .call_options import BACKENDS
 from .design import DESIGN_KEYWORDS, resolve
 from .status import Status
@@ -67,7 +70,7 @@ class InverseResult:
 
 
 def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backend="core",
-                threads=None, rtol=1e-13, f50_rtol=1e-14) -> InverseResult:
+                threads=None, rtol=1e-13, f50_rtol=1e-14, epc_axes="motion") -> InverseResult:
     """lux: the illuminance at which a design's EPC reaches ``target_epc``.
 
     Parameters
@@ -93,6 +96,8 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
         1, Brent's tolerance on ln L, i.e. relative on L.
     f50_rtol : float
         1, relative tolerance of every forward f50 bisection.
+    epc_axes : {"motion", "both"}
+        The EPC solved for, as :func:`epc_fast.evaluate` counts it.
 
     Returns
     -------
@@ -109,6 +114,7 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
     columns = inputs.columns(shape)
     targets = column(target, shape)
     n = math.prod(shape)
+    across = _f50_across(design, epc_axes, shape, lux_hi, backend, threads, f50_rtol)
     if backend == "core":
         from . import _core
 
@@ -116,17 +122,17 @@ def lux_for_epc(design: dict, target_epc, *, lux_range=DEFAULT_LUX_RANGE, backen
         out = _core.lux_for_epc(core_columns, inputs.size_is_pixel_count, domains,
                                 *inputs.spectrum_arrays(), n, targets, lux_lo, lux_hi, rtol,
                                 f50_rtol, threads_of(threads),
-                                demosaic_table=inputs.demosaic_argument())
+                                demosaic_table=inputs.demosaic_argument(), f50_across=across)
     else:
         _check_threads(threads)
-        out = _reference_lux_for_epc(_Model(inputs, columns), np.broadcast_to(targets, (n,)),
-                                     lux_lo, lux_hi)
+        out = _reference_lux_for_epc(_Model(inputs, columns, across),
+                                     np.broadcast_to(targets, (n,)), lux_lo, lux_hi)
     return _result(out, shape)
 
 
 def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE,
                   grid_points=64, backend="core", threads=None, rtol=1e-13,
-                  f50_rtol=1e-14) -> InverseResult:
+                  f50_rtol=1e-14, epc_axes="motion") -> InverseResult:
     """lux: the highest illuminance in ``lux_range`` at which two designs have equal EPC.
 
     Parameters
@@ -140,7 +146,7 @@ def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE
     grid_points : int
         Log-spaced samples of EPC_a - EPC_b over ``lux_range`` (>= 2) that bracket the crossing:
         two crossings closer than one grid step can hide each other.
-    backend, threads, rtol, f50_rtol
+    backend, threads, rtol, f50_rtol, epc_axes
         As for :func:`lux_for_epc`.
 
     Returns
@@ -160,6 +166,8 @@ def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE
     f50_rtol = tolerance("f50_rtol", f50_rtol)
     columns_a, columns_b = a.columns(shape), b.columns(shape)
     n = math.prod(shape)
+    across_a = _f50_across(design_a, epc_axes, shape, lux_hi, backend, threads, f50_rtol)
+    across_b = _f50_across(design_b, epc_axes, shape, lux_hi, backend, threads, f50_rtol)
     if backend == "core":
         from . import _core
 
@@ -169,15 +177,30 @@ def crossover_lux(design_a: dict, design_b: dict, *, lux_range=DEFAULT_LUX_RANGE
                                   *a.spectrum_arrays(), n, lux_lo, lux_hi, grid_points, rtol,
                                   f50_rtol, threads_of(threads),
                                   demosaic_table_a=a.demosaic_argument(),
-                                  demosaic_table_b=b.demosaic_argument())
+                                  demosaic_table_b=b.demosaic_argument(),
+                                  f50_across_a=across_a, f50_across_b=across_b)
     else:
         _check_threads(threads)
-        out = _reference_crossover_lux(_Model(a, columns_a), _Model(b, columns_b), n, lux_lo,
-                                       lux_hi, grid_points)
+        out = _reference_crossover_lux(_Model(a, columns_a, across_a),
+                                       _Model(b, columns_b, across_b), n, lux_lo, lux_hi,
+                                       grid_points)
     return _result(out, shape)
 
 
 # --- Arguments ------------------------------------------------------------------------------
+
+
+def _f50_across(design: dict, epc_axes, shape, lux, backend, threads, f50_rtol):
+    """cycles/mm, the design's f50 across the motion as a column of ``shape`` (it does not
+    depend on the illuminance: solved at ``lux``) for ``epc_axes="both"``; None for
+    ``"motion"``."""
+    if check_epc_axes(epc_axes) == "motion":
+        return None
+    from .api import evaluate
+
+    f50 = evaluate(lux, **design, outputs=("f50_across_cyc_per_mm",), backend=backend,
+                   threads=threads, f50_rtol=f50_rtol).f50_across_cyc_per_mm
+    return column(np.asarray(f50, dtype=np.float64), shape)
 
 
 def _lux_range(lux_range) -> tuple[float, float]:
@@ -277,6 +300,13 @@ def model_inputs(design: dict) -> ModelInputs:
         raise TypeError("modes: the inverse solvers take one readout a design; solve for "
                         "each mode (a design with that mode's binning, frames, ...) and take "
                         "the lowest illuminance")
+    if "max_exposure_s" in design:
+        raise TypeError("max_exposure_s: the inverse solvers take no frame cap (EPC is NaN over "
+                        "it, status EXPOSURE_LIMIT); solve without it and compare the T_MPE / "
+                        "frames evaluate gives at the illuminance found with the cap")
+    if "max_frames" in design or isinstance(design.get("frames"), str):
+        raise TypeError("frames='auto' and max_frames: the inverse solvers take a whole number "
+                        "of frames (night mode picks one per point); solve for each")
     unknown = sorted(set(design) - _DESIGN_KEYWORDS)
     if unknown:
         raise TypeError(f"a design holds evaluate()'s model keywords except illuminance_lux; "
@@ -296,6 +326,8 @@ class _Model:
 
     inputs: ModelInputs
     columns: list
+    #: cycles/mm, each point's f50 across the motion (epc_axes="both"), or None
+    across: np.ndarray | None = None
 
     def epc(self, lux, repeat=1):
         """pixels: EPC at ``lux``, 0 where the SNR target is unreachable, NaN where invalid.
@@ -307,7 +339,13 @@ class _Model:
         columns = [np.repeat(c, repeat) if c.size > 1 else c for c in self.columns[1:]]
         out = run_reference([lux, *columns], lux.shape, self.inputs.size_is_pixel_count,
                             self.inputs.spectrum, demosaic_table=self.inputs.demosaic_table)
-        return np.where(out["status"] == Status.UNREACHABLE, 0.0, out["epc"])
+        epc = out["epc"]
+        if self.across is not None:  # 4 S f50 f50_across = EPC f50_across / f50
+            across = np.repeat(self.across, repeat) if self.across.size > 1 else self.across
+            with np.errstate(invalid="ignore", divide="ignore"):
+                epc = np.where(out["f50_cyc_per_mm"] > 0.0,
+                               epc * (across / out["f50_cyc_per_mm"]), epc)
+        return np.where(out["status"] == Status.UNREACHABLE, 0.0, epc)
 
 
 def _bisect_log_lux(g, u_lo, u_hi, sign_lo):

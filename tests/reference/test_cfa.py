@@ -58,7 +58,7 @@ def test_a_color_sensor_falls_below_the_monochrome_upper_bound(demosaic):
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    (dict(cfa="rggb"), "cfa: one of 'none', 'bayer', got 'rggb'"),
+    (dict(cfa="rggb"), "cfa: one of 'none', 'bayer', 'quad_bayer', got 'rggb'"),
     (dict(cfa="bayer", demosaic="ahd"), "demosaic: one of 'bilinear', 'malvar2004', 'menon2007'"),
 ])
 def test_bad_cfa_arguments_are_refused_naming_them(kwargs, message):

@@ -197,7 +197,7 @@ def test_a_bayer_edges_mtf50_is_the_monochrome_model_times_the_table(demosaic, p
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    ({"cfa": "xtrans"}, r"^cfa: one of 'none', 'bayer', got 'xtrans'"),
+    ({"cfa": "xtrans"}, r"^cfa: one of 'none', 'bayer', 'quad_bayer', got 'xtrans'"),
     ({"cfa": "bayer", "demosaic": "ahd"}, r"^demosaic: one of .* got 'ahd'"),
     ({"cfa": "none", "demosaic": "ahd"}, r"^demosaic: one of .* got 'ahd'"),
     ({"cfa": "bayer", "cfa_transmittance": 1.5}, r"^cfa_transmittance: a transmittance in"),

@@ -6,7 +6,10 @@
 // trial illuminance, so the forward model keeps its vectorised layout.
 //
 // The forward EPC of a point that is UNREACHABLE counts as 0 (no image; BLUR_UNBOUNDED is 0
-// already); an INVALID point makes its inverse INVALID. python/epc_fast/inverse.py holds the
+// already); an INVALID point makes its inverse INVALID. With a design's f50 across the motion
+// (epc_axes="both": a column independent of the illuminance, solved once by the caller), the
+// forward EPC is 4 S f50 f50_across = EPC f50_across / f50; without it (data null), the
+// paper's 4 S f50^2. python/epc_fast/inverse.py holds the
 // NumPy reference of the same definitions.
 #pragma once
 
@@ -42,8 +45,8 @@ namespace detail {
 // EPC of points [begin, begin + n) at the given illuminances; invalid[i] when the point's
 // inputs are out of their domains. Unreachable points count as EPC 0. `ws` is the calling
 // thread's (its broadcast rows and remembered constants serve every trial of the block).
-inline void epc_at(const Inputs& in, const Options& opt, std::size_t begin, std::size_t n,
-                   const double* lux, double* epc, bool* invalid, Workspace& ws) {
+inline void epc_at(const Inputs& in, const Column& across, const Options& opt, std::size_t begin,
+                   std::size_t n, const double* lux, double* epc, bool* invalid, Workspace& ws) {
     double rate[block_size], electrons[block_size], t_mpe[block_size], blur[block_size];
     double f50[block_size];
     unsigned char status[block_size], cause[block_size];
@@ -52,6 +55,7 @@ inline void epc_at(const Inputs& in, const Options& opt, std::size_t begin, std:
     for (std::size_t i = 0; i < n; ++i) {
         invalid[i] = status[i] == static_cast<unsigned char>(Status::invalid);
         if (status[i] == static_cast<unsigned char>(Status::unreachable)) epc[i] = 0.0;
+        else if (across.data != nullptr && f50[i] > 0.0) epc[i] *= across[begin + i] / f50[i];
     }
 }
 
@@ -79,12 +83,13 @@ void brent_lanes(std::size_t n, BrentState* state, bool* running, int max_iter, 
 }
 
 // Writes each OK lane's root illuminance e^b and the EPC of `in` there; NaN elsewhere.
-inline void write_roots(const Inputs& in, const Options& opt, std::size_t begin, std::size_t n,
+inline void write_roots(const Inputs& in, const Column& across, const Options& opt,
+                        std::size_t begin, std::size_t n,
                         const BrentState* state, const InverseOutputs& out, Workspace& ws) {
     double lux[block_size], epc[block_size];
     bool invalid[block_size];
     for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(state[i].b);
-    epc_at(in, opt, begin, n, lux, epc, invalid, ws);
+    epc_at(in, across, opt, begin, n, lux, epc, invalid, ws);
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     for (std::size_t i = 0; i < n; ++i) {
         const bool ok = out.status[i] == static_cast<unsigned char>(InverseStatus::ok);
@@ -93,7 +98,8 @@ inline void write_roots(const Inputs& in, const Options& opt, std::size_t begin,
     }
 }
 
-inline void lux_for_epc_block(const Inputs& in, const Column& target_epc, const Options& opt,
+inline void lux_for_epc_block(const Inputs& in, const Column& across, const Column& target_epc,
+                              const Options& opt,
                               const InverseOptions& inv, std::size_t begin, std::size_t n,
                               const InverseOutputs& out, Workspace& ws) {
     const double u_lo = std::log(inv.lux_lo), u_hi = std::log(inv.lux_hi);
@@ -101,9 +107,9 @@ inline void lux_for_epc_block(const Inputs& in, const Column& target_epc, const 
     bool invalid_lo[block_size], invalid_hi[block_size], running[block_size];
     BrentState state[block_size];
     for (std::size_t i = 0; i < n; ++i) lux[i] = inv.lux_lo;
-    epc_at(in, opt, begin, n, lux, epc_lo, invalid_lo, ws);
+    epc_at(in, across, opt, begin, n, lux, epc_lo, invalid_lo, ws);
     for (std::size_t i = 0; i < n; ++i) lux[i] = inv.lux_hi;
-    epc_at(in, opt, begin, n, lux, epc_hi, invalid_hi, ws);
+    epc_at(in, across, opt, begin, n, lux, epc_hi, invalid_hi, ws);
     for (std::size_t i = 0; i < n; ++i) {
         target[i] = target_epc[begin + i];
         const bool invalid = invalid_lo[i] || invalid_hi[i] || !(target[i] > 0.0) ||
@@ -118,13 +124,14 @@ inline void lux_for_epc_block(const Inputs& in, const Column& target_epc, const 
     bool invalid[block_size];
     brent_lanes(n, state, running, inv.max_iter, [&](const double* u, double* g) {
         for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(u[i]);
-        epc_at(in, opt, begin, n, lux, g, invalid, ws);
+        epc_at(in, across, opt, begin, n, lux, g, invalid, ws);
         for (std::size_t i = 0; i < n; ++i) g[i] -= target[i];
     });
-    write_roots(in, opt, begin, n, state, out, ws);
+    write_roots(in, across, opt, begin, n, state, out, ws);
 }
 
-inline void crossover_lux_block(const Inputs& a, const Inputs& b, const Options& opt,
+inline void crossover_lux_block(const Inputs& a, const Column& across_a, const Inputs& b,
+                                const Column& across_b, const Options& opt,
                                 const InverseOptions& inv, std::size_t begin, std::size_t n,
                                 const InverseOutputs& out, Workspace& ws) {
     const double u_lo = std::log(inv.lux_lo), u_hi = std::log(inv.lux_hi);
@@ -134,8 +141,8 @@ inline void crossover_lux_block(const Inputs& a, const Inputs& b, const Options&
     double u_prev[block_size], d_prev[block_size], u_bracket[block_size], d_bracket[block_size];
     auto difference = [&](const double* u, double* d) {
         for (std::size_t i = 0; i < n; ++i) lux[i] = std::exp(u[i]);
-        epc_at(a, opt, begin, n, lux, epc_a, invalid_a, ws);
-        epc_at(b, opt, begin, n, lux, epc_b, invalid_b, ws);
+        epc_at(a, across_a, opt, begin, n, lux, epc_a, invalid_a, ws);
+        epc_at(b, across_b, opt, begin, n, lux, epc_b, invalid_b, ws);
         for (std::size_t i = 0; i < n; ++i) {
             d[i] = epc_a[i] - epc_b[i];
             invalid[i] |= invalid_a[i] || invalid_b[i];
@@ -177,7 +184,7 @@ inline void crossover_lux_block(const Inputs& a, const Inputs& b, const Options&
         else state[i].start(u_lo, 0.0, u_hi, 0.0, 0.0, inv.rtol);
     }
     brent_lanes(n, state, running, inv.max_iter, difference);
-    write_roots(a, opt, begin, n, state, out, ws);
+    write_roots(a, across_a, opt, begin, n, state, out, ws);
 }
 
 inline InverseOutputs offset(const InverseOutputs& out, std::size_t first) {
@@ -186,25 +193,28 @@ inline InverseOutputs offset(const InverseOutputs& out, std::size_t first) {
 
 }  // namespace detail
 
-// Points [begin, end): the illuminance where each design reaches target_epc[i]. Never throws.
-inline void lux_for_epc(const Inputs& in, const Column& target_epc, const Options& opt,
+// Points [begin, end): the illuminance where each design reaches target_epc[i]; `across`, each
+// design's f50 across the motion, or a null column for the paper's EPC. Never throws.
+inline void lux_for_epc(const Inputs& in, const Column& across, const Column& target_epc,
+                        const Options& opt,
                         const InverseOptions& inv, const InverseOutputs& out, std::size_t begin,
                         std::size_t end, int threads) noexcept {
     for_each_block<Workspace>(begin, end, block_size, threads,
                               [&](std::size_t first, std::size_t n, Workspace& ws) {
-                                  detail::lux_for_epc_block(in, target_epc, opt, inv, first, n,
+                                  detail::lux_for_epc_block(in, across, target_epc, opt, inv, first, n,
                                                             detail::offset(out, first), ws);
                               });
 }
 
 // Points [begin, end): the highest illuminance in the range where designs a[i] and b[i] have
-// equal EPC. Never throws.
-inline void crossover_lux(const Inputs& a, const Inputs& b, const Options& opt,
+// equal EPC; `across_a`, `across_b` as for lux_for_epc. Never throws.
+inline void crossover_lux(const Inputs& a, const Column& across_a, const Inputs& b,
+                          const Column& across_b, const Options& opt,
                           const InverseOptions& inv, const InverseOutputs& out, std::size_t begin,
                           std::size_t end, int threads) noexcept {
     for_each_block<Workspace>(begin, end, block_size, threads,
                               [&](std::size_t first, std::size_t n, Workspace& ws) {
-                                  detail::crossover_lux_block(a, b, opt, inv, first, n,
+                                  detail::crossover_lux_block(a, across_a, b, across_b, opt, inv, first, n,
                                                               detail::offset(out, first), ws);
                               });
 }

@@ -101,7 +101,7 @@ def _number(value: float, spec: str = ".4g") -> str:
 def markdown(rows, seed) -> str:
     """agreement.md: the model beside one simulated capture a design and light."""
     lines = [f"Model against simulated captures (one capture each, seed {seed}): MTF50 of the "
-             "slanted edge's e-SFR, SNR of the flat patch.", "",
+             "slanted edge's e-SFR with bin-width correction, SNR of the flat patch.", "",
              "| design | lux | EPC model (pixels) | f50 model (cyc/mm) | MTF50 sim (cyc/mm) | "
              "sim / model | SNR target (dB) | SNR sim (dB) | note |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---|"]

@@ -59,19 +59,29 @@ class Bayer:
         out = np.tile(cell, ((rows + 1) // 2, (cols + 1) // 2))[:rows, :cols]
         return np.kron(out, np.ones((binning, binning))) if binning > 1 else out
 
+    @property
+    def border_px(self) -> int:
+        """Output pixels of scene a capture images round its chart for the development."""
+        return BORDER_PX
+
     def luminance(self, raw_e) -> np.ndarray:
         """e- on the cell's scale: each pixel divided by its filter's transmittance (white
         balance, before demosaicking as raw converters do it, so that a grey scene is grey to
-        the demosaicker), the mosaic demosaicked (RGGB), the luminance row applied and the
-        result times t, so that a flat patch of S monochrome electrons gives t S."""
+        the demosaicker), then :meth:`developed`, so that a flat patch of S monochrome
+        electrons gives t S."""
+        raw = np.asarray(raw_e, dtype=float)
+        return self.developed(raw / self.mosaic(raw.shape, 1))
+
+    def developed(self, balanced) -> np.ndarray:
+        """The white-balanced RGGB mosaic ``balanced`` demosaicked, the luminance row applied
+        and the result times t."""
         try:
             import colour_demosaicing
         except ImportError as error:
             raise ImportError("cfa='bayer' demosaicks with the colour-demosaicing package: "
                               "pip install 'epc-fast[simulate]'") from error
-        raw = np.asarray(raw_e, dtype=float)
         demosaicker = getattr(colour_demosaicing, _FUNCTIONS[self.demosaic])
-        rgb = np.asarray(demosaicker(raw / self.mosaic(raw.shape, 1), PATTERN), dtype=float)
+        rgb = np.asarray(demosaicker(balanced, PATTERN), dtype=float)
         return np.ascontiguousarray(rgb @ (np.asarray(self.weights) * self.transmittance))
 
 

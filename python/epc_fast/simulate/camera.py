@@ -32,6 +32,7 @@ from .focal_plane import Optics, frame_irradiance, motion_angle_rad
 from .pupil import cutoff_cyc_per_mm, table_cutoff_cyc_per_mm
 from .processing import denoise, kernel_reach_px
 from . import bayer as _bayer
+from . import remosaic as _remosaic
 from .noise import bin_sum, read_out
 
 __all__ = ["Capture", "capture", "grid_oversample", "picked_mode", "mode_text", "BAND_FACTOR",
@@ -73,8 +74,10 @@ class Capture:
     denoise_sigma_px : output pixels, the sigma of the denoising filter applied (0: none).
     border_px : output pixels of scene imaged round the chart for the filter and the
         demosaicker, cropped after.
-    cfa : "none" or "bayer"; bayer : the :class:`~epc_fast.simulate.bayer.Bayer` sensor and
-        its development for a Bayer capture (None for "none"). A Bayer capture's
+    cfa : "none", "bayer" or "quad_bayer"; bayer : the :class:`~epc_fast.simulate.bayer.Bayer`
+        sensor and its development for a Bayer capture (a
+        :class:`~epc_fast.simulate.remosaic.QuadBayer` for a quad Bayer one read full size;
+        None for "none"). A Bayer capture's
         ``image_e`` and ``expected_e`` are its luminance on the cell's scale (a flat patch of
         S monochrome electrons gives t S).
     """
@@ -252,7 +255,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
         cosine of its slant). An edge parallel to the motion sees none of it: a
         near-horizontal :func:`slanted_edge` at ``angle_deg`` a > 0 from the vertical with
         the motion at 90 - a (-90 - a for a < 0) gives the MTF across the motion.
-    cfa : {"none", "bayer"}
+    cfa : {"none", "bayer", "quad_bayer"}
         "bayer": each pixel sits under a filter of the RGGB cell (with binning k, each output
         pixel's k x k sensor pixels under one), its expected electrons times the filter's
         transmittance, read out as any pixel; the mosaic is demosaicked by ``demosaic`` (the
@@ -260,6 +263,10 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
         the colour correction's luminance row (:mod:`~epc_fast.simulate.bayer`); denoising
         then filters the luminance. The exposure is ``evaluate``'s for that sensor: its
         ``cfa_transmittance`` and the ``color_noise_gain`` of its channels and weights.
+        "quad_bayer": at binning 2 the Bayer capture (each 2 x 2 block under one filter,
+        binned); at binning 1 each pixel under its block's filter, the mosaic white-balanced,
+        remosaicked to RGGB (:mod:`~epc_fast.simulate.remosaic`) and developed as a Bayer
+        capture; other binnings raise ValueError, as ``evaluate`` does.
     demosaic : {"bilinear", "malvar2004", "menon2007"}
     cfa_transmittance : 1, optional, the cell's mean transmittance t relative to the
         monochrome sensor; the channels are scaled by one factor to it. Default: the
@@ -300,6 +307,8 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     result, picked = _evaluated(lux, design, _cfa_terms(cfa, demosaic, cfa_transmittance,
                                                         sensor_cfa))
     resolved = resolve(lux, **{k: v for k, v in picked.items() if k in DESIGN_KEYWORDS})
+    if cfa == "quad_bayer" and int(resolved.parameter("binning")) == 1:  # full size: remosaicked
+        sensor_cfa = _remosaic.quad_bayer(sensor_cfa)
     t = _exposure(exposure_s, result, _shake_rad_per_s(resolved))
     optics = dataclasses.replace(_optics(resolved, lux, aberration, oversample),
                                  motion_angle_rad=motion_angle_rad(motion_angle_deg))
@@ -337,7 +346,7 @@ def _color_sensor(cfa, demosaic, cfa_transmittance, channel_transmittances,
     """The capture's Bayer sensor (:func:`~epc_fast.simulate.bayer.bayer`), or None for
     ``cfa="none"``; a ValueError for a ``color_noise_gain`` other than its own."""
     sensor_cfa = None
-    if check_cfa(cfa) == "bayer":
+    if check_cfa(cfa) != "none":  # a quad Bayer sensor's filters and development are Bayer's
         sensor_cfa = _bayer.bayer(demosaic, cfa_transmittance, channel_transmittances,
                                   luminance_weights)
     else:
@@ -405,7 +414,7 @@ def _border_px(sigma_px: float, sensor_cfa) -> int:
     Bayer sensor's demosaicker's, to a whole cell."""
     border = kernel_reach_px(sigma_px)
     if sensor_cfa is not None:
-        border += _bayer.BORDER_PX + border % 2
+        border += sensor_cfa.border_px + border % 2
     return border
 
 

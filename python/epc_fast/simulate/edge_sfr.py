@@ -22,11 +22,15 @@ sfrmat3/sfrmat4 take them:
    with ``bin_correction`` also the bin's average, sinc(f D); the correction is capped at
    10, as sfrmat caps the derivative's.
 
-The bin correction goes beyond the standard. Averaging the samples that fall in a bin is the
-ESF convolved with a box of width D, whose transfer sinc(f D) the standard leaves in the
-result: with the default 4 bins a pixel it lowers the MTF by 2.5 % at the pixel Nyquist
-frequency and by 10 % at twice it, a bias of the method, not of the camera.
-``bin_correction=False`` gives the standard's e-SFR.
+The default, ``bin_correction=False``, is the standard's e-SFR as test labs compute it
+(ISO 12233:2017 Annex D, Burns' sfrmat3/sfrmat4: the derivative's transfer divided out, the
+bins' left in), so a lab's figure and this one compare. The bin correction goes beyond the
+standard. Averaging the samples that fall in a bin is the ESF convolved with a box of width D,
+whose transfer sinc(f D) the standard leaves in the result: with the default 4 bins a pixel it
+lowers the MTF by 2.5 % at the pixel Nyquist frequency and by 10 % at twice it, a bias of the
+method, not of the camera; MTF50 comes out 0.3 % lower at 0.19 cycles/pixel, 1.0 % at 0.37 and
+2.2 % at 0.6 (Gaussian edges and a sharp edge on square pixels, tests/simulate/test_edge_sfr.py). ``bin_correction=True`` divides it out: the camera's own MTF, which the
+simulator's agreement with the model (:mod:`epc_fast.simulate.agreement`) measures.
 
 :meth:`EdgeSFR.mtf_at` evaluates the windowed LSF's transform at any frequency (the discrete-time
 Fourier transform, a sum over the bins), so :meth:`EdgeSFR.crossing` brackets a level on the
@@ -72,7 +76,8 @@ class EdgeSFR:
         cycles/mm along the edge's normal, from 0 to oversampling / 2 cycles/pixel (twice the
         pixel Nyquist frequency and more for oversampling >= 2), the DFT's grid.
     mtf : ndarray
-        1: the MTF at those frequencies, 1 at f = 0, corrected (see the module).
+        1: the MTF at those frequencies, 1 at f = 0, with the derivative's transfer divided
+        out (and the bins' with ``bin_correction``; see the module).
     edge_angle_deg : float
         degrees: the fitted edge's angle from the vertical, positive when the edge moves to
         larger columns down the rows (of the transposed image for a near-horizontal edge).
@@ -94,12 +99,13 @@ class EdgeSFR:
     pitch_um: float
     lsf: np.ndarray = field(repr=False)
     bin_width_mm: float = field(repr=False)
-    bin_correction: bool = field(repr=False, default=True)
+    bin_correction: bool = field(repr=False, default=False)
     transposed: bool = False
 
     def mtf_at(self, frequency_cyc_per_mm) -> np.ndarray:
-        """1: the corrected MTF at any frequencies (cycles/mm, array_like), from the windowed
-        LSF's transform evaluated directly (not interpolated on the grid)."""
+        """1: the MTF, corrected as :attr:`mtf` is, at any frequencies (cycles/mm,
+        array_like), from the windowed LSF's transform evaluated directly (not interpolated on
+        the grid)."""
         f = as_float_array("frequency_cyc_per_mm", frequency_cyc_per_mm)
         x = np.arange(self.lsf.size) * self.bin_width_mm
         flat = f.reshape(-1)
@@ -140,7 +146,7 @@ class EdgeSFR:
 
 
 def esfr(image, pitch_um, *, roi=None, oversampling=4, window="hamming",
-         bin_correction=True) -> EdgeSFR:
+         bin_correction=False) -> EdgeSFR:
     """The ISO 12233:2017 e-SFR of a slanted edge (see the module for the steps).
 
     Parameters
@@ -160,7 +166,9 @@ def esfr(image, pitch_um, *, roi=None, oversampling=4, window="hamming",
     window : "hamming" or None
         the window on the LSF: the standard's Hamming centred on its centroid, or none.
     bin_correction : bool
-        also divide out the bins' average, sinc(f D) (beyond the standard; see the module).
+        False (the standard's e-SFR, a lab's); True: also divide out the bins' average,
+        sinc(f D) (beyond the standard, the "e-SFR with bin-width correction"; see the
+        module).
 
     Raises
     ------

@@ -223,7 +223,8 @@ def mtf_figure(review, *, conditions_text=None):
     n = len(review.designs)
     cols = 1 if n == 1 else 2
     rows = -(-n // cols)
-    extra = ["Solid: e-SFR (ISO 12233) of the simulated slanted edge without its noise; faint: "
+    extra = ["Solid: e-SFR (ISO 12233) with bin-width correction of the simulated slanted edge "
+             "without its noise; faint: "
              "of the noisy capture, o its MTF50; dashed: the model's system MTF with evaluate's "
              "blur, x its f50"]
     lines = conditions(review, extra) if conditions_text is None else conditions_text
