@@ -86,13 +86,15 @@ def evaluate_axes(evaluate, call: dict) -> Result:
     the motion: a first pass as asked, a second with the shake rate 0 for f50_across and its
     shares; with ``epc_axes="both"``, EPC, status and elasticities counted in both directions."""
     both = check_epc_axes(call.pop("epc_axes")) == "both"
-    if call.get("out") is not None:
-        raise TypeError("out= cannot be given with epc_axes='both' or an output across the "
-                        "motion: the two directions are solved in two passes")
+    out = call.pop("out", None)
     names = _names(call.pop("outputs"), "both" if both else "motion")
     from .outputs import selected_outputs
 
-    selected_outputs(names, call.get("pixel_count") is not None)  # errors name a bad output
+    pixel = call.get("pixel_count") is not None
+    selected = selected_outputs(names, pixel)  # errors name a bad output
+    if out is not None and any(name.startswith("elasticit") for name in selected):
+        raise TypeError("out= cannot take the elasticities with epc_axes='both' or an output "
+                        "across the motion: take them from the Result")
     across = [name for name in names if name in _ACROSS]
     along = [name for name in names if name not in _ACROSS]
     elastic = [name for name in along
@@ -125,7 +127,14 @@ def evaluate_axes(evaluate, call: dict) -> Result:
             fields[name] = fields[name] if scalar else np.array(fields[name])
     if both:
         _count_both(fields, first, second, shaped, scalar, set(along))
-    return new_result(fields)
+    if out is None:
+        return new_result(fields)
+    from .outputs import out_arrays  # the caller's arrays, checked as evaluate checks them
+
+    given = out_arrays(out, shape, selected, pixel)
+    for name, array in given.items():
+        np.copyto(array, np.reshape(fields[name], array.shape), casting="unsafe")
+    return new_result(given)
 
 
 def _count_both(fields: dict, first: Result, second: Result, shaped, scalar: bool,
