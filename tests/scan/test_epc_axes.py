@@ -94,3 +94,20 @@ def test_the_optimiser_maximises_the_epc_its_space_counts():
         assert abs(sigma - sigmas[np.argmax(curve)]) <= 0.02, epc_axes
     # in both directions denoising's lost resolution across the motion is counted: less of it
     assert best["both"] < best["motion"]
+
+
+def test_a_scan_summarises_the_f50_across_the_motion_as_evaluate_gives_it():
+    space = _space("motion")
+    reductions = {"across": Summary(of="f50_across_cyc_per_mm", by="design"),
+                  "along": Summary(of="f50_cyc_per_mm", by="design")}
+    result = run(space, N, seed=7, reductions=reductions, progress=False)
+    points = space.points(7, 0, N)
+    expected = epc_fast.evaluate(**points.parameters,
+                                 outputs=("f50_cyc_per_mm", "f50_across_cyc_per_mm"))
+    design = points.indices["design"]
+    for name, values in (("across", expected.f50_across_cyc_per_mm),
+                         ("along", expected.f50_cyc_per_mm)):
+        ok = np.isfinite(values)
+        means = [values[ok & (design == d)].mean() for d in range(4)]
+        np.testing.assert_allclose(result[name].mean, means, rtol=1e-12)  # the sums' order
+    assert np.all(result["across"].mean > result["along"].mean)

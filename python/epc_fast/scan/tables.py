@@ -16,7 +16,8 @@ __all__ = ["grouped_tables", "grouping_units", "table_groupings", "file_stem", "
 SNR_TARGET_COLUMN = "SNR target"
 #: The unit of each output a reduction may summarise.
 OUTPUT_UNITS = {"electron_rate_e_per_s": "e-/s", "electrons": "e-", "t_mpe_s": "s",
-                "blur_mm": "mm", "f50_cyc_per_mm": "cycles/mm", "epc": "pixels"}
+                "blur_mm": "mm", "f50_cyc_per_mm": "cycles/mm", "epc": "pixels",
+                "f50_across_cyc_per_mm": "cycles/mm"}
 
 #: The column every table of a partial scan ends with: the points done of those asked for.
 PARTIAL_COLUMN = "partial: points done"

@@ -11,9 +11,11 @@ from ..sampling.space import BLOCK_POINTS, Points
 __all__ = ["Chunk", "OUTPUTS"]
 
 #: The outputs a reduction can summarise: the float fields of :class:`epc_fast.Result`.
+#: The core's fused pass reads them by their index here, up to the last share (its
+#: n_scan_outputs); the f50 across the motion is the arrays' alone.
 OUTPUTS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm", "epc",
            "share_diffraction", "share_pixel", "share_motion", "share_jitter",
-           "share_alignment")
+           "share_alignment", "f50_across_cyc_per_mm")
 
 
 class Chunk:
