@@ -32,7 +32,7 @@ DESIGN = {"pixel_pitch_um": 2.8, "f_number": 2.8, "focal_length_mm": 5.6,
           "sensor_area_mm2": 4.57 * 3.43}
 SETTINGS = {"seed": 5, "star_width_um": 67.2, "spokes": 12, "edge_rows": 32, "flat_px": 32,
             "max_edge_columns": 512, "max_blur_px": 1500}
-ALL_FILES = ["agreement.csv", "agreement.md", "contact_sheet.png", "mtf.png"]
+ALL_FILES = ["agreement.csv", "agreement.md", "contact_sheet.png", "mtf.png", "mtf_across.png"]
 
 
 def _simulate(tmp_path, capsys, text=CONFIG, *args, out="out"):
@@ -77,6 +77,18 @@ def test_the_table_holds_the_numbers_of_the_python_api(tmp_path, capsys):
                                                                    rel=1e-9)
         assert float(row["snr_sim_db"]) == pytest.approx(cell.snr_db, rel=1e-9)
         assert float(row["snr_target_db"]) == 30.0 and row["note"] == ""
+        # across the motion: the model's f50_across (the system MTF without the motion's
+        # blur) beside the near-horizontal edge's MTF50
+        assert float(row["f50_across_model_cyc_per_mm"]) == pytest.approx(
+            cell.f50_across_model_cyc_per_mm, rel=1e-12)
+        assert float(row["mtf50_across_sim_cyc_per_mm"]) == pytest.approx(
+            cell.mtf50_across_cyc_per_mm, rel=1e-9)
+        assert float(row["mtf50_across_over_f50_across"]) == pytest.approx(
+            cell.mtf50_across_fraction, rel=1e-9)
+    # the motion costs f50 at 100 lux, not f50_across
+    assert float(rows[0]["f50_model_cyc_per_mm"]) < 0.2 * float(
+        rows[0]["f50_across_model_cyc_per_mm"])
+    assert rows[0]["f50_across_model_cyc_per_mm"] == rows[1]["f50_across_model_cyc_per_mm"]
 
 
 def test_a_full_out_is_refused_unless_overwrite_and_seed_changes_the_captures(tmp_path, capsys):
@@ -97,6 +109,21 @@ def test_no_plots_writes_the_table_alone(tmp_path, capsys):
     code, _, _ = _simulate(tmp_path, capsys, CONFIG, "--no-plots")
     assert code == 0
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ALL_FILES[:2]
+
+
+def test_epc_counted_in_both_directions_is_the_configs_and_said(tmp_path, capsys):
+    # [evaluate] epc_axes = "both" reaches the model: its EPC is 4 S f50 f50_across (S the
+    # sensor's 4.57 x 3.43 mm), and the table's first line says how EPC counts
+    text = CONFIG.replace("[simulate]", '[evaluate]\nepc_axes = "both"\n\n[simulate]')
+    code, out, err = _simulate(tmp_path, capsys, text, "--no-plots")
+    assert code == 0 and err == ""
+    assert 'EPC counts both directions, 4 S f50 f50_across (epc_axes = "both").' in out
+    for row in _rows(tmp_path / "out" / "agreement.csv"):
+        counted = (4 * 4.57 * 3.43 * float(row["f50_model_cyc_per_mm"])
+                   * float(row["f50_across_model_cyc_per_mm"]))
+        assert float(row["epc_model"]) == pytest.approx(counted, rel=1e-9)
+    _, plain, _ = _simulate(tmp_path, capsys, CONFIG, "--no-plots", out="plain")
+    assert "epc_axes" not in plain
 
 
 def test_a_design_without_an_image_is_a_row_that_says_why(tmp_path, capsys):

@@ -50,6 +50,40 @@ def test_an_edges_capture_is_the_exact_image_of_the_edge(extra, lux):
     assert c.oversample == camera.grid_oversample(p, design["f_number"], 550.0)
 
 
+@pytest.mark.parametrize("angle, motion_angle, shape", [
+    (85.0, 5.0, (96, 48)),     # the motion along the edge: its normal sees none of it
+    (-80.0, -10.0, (96, 48)),  # the same, the other way
+    (85.0, 0.0, (96, 48)),     # the motion along the rows: the normal sees cos(85 deg) of it
+    (5.0, 30.0, (48, 96)),     # a near-vertical edge, the motion 30 deg off the rows
+])
+def test_an_edges_capture_is_the_exact_image_whichever_way_the_image_moves(angle, motion_angle,
+                                                                           shape):
+    # 9.5 pixels of motion at 100 lux, in the direction motion_angle_deg from the rows: the
+    # edge's normal (cos a, -sin a) sees cos(a + motion angle) of it (helpers.edges), none
+    # when the motion runs along the edge (motion angle 90 - a). Tolerance as above.
+    chart = simulate.slanted_edge(shape, angle)
+    c = simulate.capture(chart, illuminance_lux=100.0, seed=1, motion_angle_deg=motion_angle,
+                         **DESIGN)
+    rows, cols = chart.shape
+    y, x = np.mgrid[0:rows, 0:cols].astype(float)
+    a = math.radians(angle)
+    p = DESIGN["pixel_pitch_um"]
+    d = ((x - (cols - 1) / 2) * math.cos(a) - (y - (rows - 1) / 2) * math.sin(a)) * p * 1e-3
+    motion = (c.exposure_s, DESIGN["focal_length_mm"], math.radians(4.39))
+    esf = edge_spread(d, angle_deg=angle, f_number=DESIGN["f_number"], wavelength_nm=550.0,
+                      pitch_um=p, motion=motion, motion_angle_deg=motion_angle)
+    got = c.expected_e / per_reflectance(c, DESIGN)
+    assert np.max(np.abs(got - (0.1 + 0.3 * esf))) < 3.3e-4 * 0.3
+    assert c.blur_mm / (p * 1e-3) > 9.0  # the image moves 9.5 pixels
+
+
+@pytest.mark.parametrize("value", [91.0, -90.5, math.nan, "5", None, True, [1.0, 2.0]])
+def test_a_bad_motion_angle_is_refused_naming_it(value):
+    with pytest.raises(ValueError, match="motion_angle_deg"):
+        simulate.capture(simulate.slanted_edge(32), illuminance_lux=1000.0,
+                         motion_angle_deg=value, **DESIGN)
+
+
 def test_a_flat_patch_at_t_mpe_collects_the_electrons_the_target_needs():
     design = {**DESIGN, "read_noise_e": 2.0, "dark_current_e_per_s": 30.0, "prnu": 0.005}
     c = simulate.capture(simulate.flat(64), illuminance_lux=200.0, seed=3, **design)
@@ -209,3 +243,10 @@ def test_frames_whose_images_exceed_the_memory_are_refused_by_name(monkeypatch):
     monkeypatch.setattr(_limits, "memory_limit_bytes", lambda: 2**20)
     with pytest.raises(MemoryError, match=r"^frames: 200 frames of a 32 x 32 chart hold"):
         simulate.capture(simulate.flat(32), illuminance_lux=1000.0, frames=200, **DESIGN)
+
+
+@pytest.mark.parametrize("extra", [{"max_exposure_s": 0.1}, {"frames": "auto", "max_frames": 4},
+                                   {"modes": [{}, {"frames": "auto", "max_frames": 4}]}])
+def test_a_frame_cap_or_night_mode_is_refused_in_one_line(extra):
+    with pytest.raises(TypeError, match=r"capture\(\) takes no frame cap or night mode"):
+        simulate.capture(simulate.flat(16), illuminance_lux=10.0, seed=1, **DESIGN, **extra)

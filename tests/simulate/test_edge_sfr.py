@@ -158,6 +158,41 @@ def test_a_near_horizontal_edge_is_measured_transposed():
     assert steep.edge_angle_deg == pytest.approx(28.0, abs=0.002)
 
 
+#: Pixels: the rms widths of an elliptical Gaussian blur along the rows (x) and the columns
+#: (y): an edge's normal at angle a from the x axis sees sqrt(sx^2 cos^2 a + sy^2 sin^2 a).
+SIGMA_X, SIGMA_Y = 2.0, 0.6
+
+
+def normal_sigma(angle_deg):
+    a = math.radians(angle_deg)
+    return math.hypot(SIGMA_X * math.cos(a), SIGMA_Y * math.sin(a))
+
+
+@pytest.mark.parametrize("angle", [75.0, -75.0, 85.0, -88.0, 5.0])
+def test_an_edge_measures_the_mtf_along_its_normal_near_horizontal_along_the_columns(angle):
+    # An elliptical Gaussian blur, wide along the rows, narrow along the columns: a
+    # near-vertical edge (5 degrees) measures the wide one, a near-horizontal edge (75 to 88
+    # degrees from the vertical, either way) the narrow one, each as its normal projects
+    # the ellipse (the edge's ESF is the blur's projection onto the normal). The closed
+    # form within the tolerances of the upright edges above (the near-horizontal edge is
+    # measured transposed: the same method on the same sampling). The closed form is the
+    # edge's own MTF: the bins' average divided out.
+    sigma = normal_sigma(angle)
+    image = edge_image(gaussian_esf(sigma), 128, 256, angle)
+    result = esfr(image, PITCH_UM, bin_correction=True)
+    assert result.transposed is (abs(angle) > 45)
+    mtf = lambda f: gaussian_mtf(sigma, f)  # noqa: E731
+    assert curve_error(result, mtf, 0.5) < CURVE_TOL
+    assert mtf50_cycles_per_pixel(result) == pytest.approx(true_mtf50(mtf), rel=MTF50_RTOL)
+    if abs(angle) > 45:  # the narrow axis: well above the wide one's MTF50
+        wide = true_mtf50(lambda f: gaussian_mtf(normal_sigma(5.0), f))
+        assert mtf50_cycles_per_pixel(result) > 2.5 * wide
+    # the image transposed is the same edge measured along the other axis: the same MTF
+    turned = esfr(image.T, PITCH_UM, bin_correction=True)
+    assert turned.transposed is not result.transposed
+    np.testing.assert_array_equal(turned.mtf, result.mtf)
+
+
 def test_a_dark_to_bright_and_a_bright_to_dark_edge_give_the_same_mtf():
     image = edge_image(gaussian_esf(1.0), 128, 128, 5.0)
     np.testing.assert_allclose(esfr(image[:, ::-1], PITCH_UM).mtf, esfr(image, PITCH_UM).mtf,

@@ -26,12 +26,17 @@ def curves():
     return mtf_figure(small_review())
 
 
+@pytest.fixture(scope="module")
+def across():
+    return mtf_figure(small_review(), direction="across")
+
+
 def _conditions(figure) -> str:
     return "\n".join(t.get_text() for t in figure.texts)
 
 
-@pytest.mark.parametrize("name", ["sheet", "curves"])
-def test_both_figures_carry_their_conditions(name, request):
+@pytest.mark.parametrize("name", ["sheet", "curves", "across"])
+def test_every_figure_carries_its_conditions(name, request):
     figure = request.getfixturevalue(name)
     text = _conditions(figure)
     assert "Designs: 1/3.2\" 2.8 µm, 1/3.2\" 2.2 µm" in text
@@ -40,7 +45,7 @@ def test_both_figures_carry_their_conditions(name, request):
     assert "seed 11" in text and build_text() in text
 
 
-@pytest.mark.parametrize("name", ["sheet", "curves"])
+@pytest.mark.parametrize("name", ["sheet", "curves", "across"])
 def test_no_text_leaves_the_figure(name, request):
     figure = request.getfixturevalue(name)
     assert boxes_outside(text_boxes(figure), figure) == []
@@ -115,6 +120,45 @@ def test_each_panel_runs_to_twice_nyquist_with_the_edges_and_the_models_curves(c
         legend = [t.get_text() for t in ax.get_legend().get_texts()]
         assert legend[0] == "0.1 lux: no image"
         assert legend[2].startswith(f"1000 lux: MTF50 {cell.mtf50_cyc_per_mm:.3g} (model ")
+
+
+def test_the_across_figure_draws_the_edge_across_the_motion_against_the_unblurred_model(across):
+    review = small_review()
+    text = _conditions(across).replace("\n  ", " ")
+    assert "Across the motion: slanted edge 85 deg from the vertical" in text
+    assert "x its f50_across" in text
+    assert across.get_suptitle().endswith("against the model, across the motion")
+    for i, ax in enumerate(across.axes):
+        cell = review.cells[i][1]  # 100 lux: a long blur along the motion, none across it
+        model = [line for line in ax.lines if line.get_linestyle() == "--"
+                 and line.get_color() == "C1"][0]
+        f = model.get_xdata()
+        np.testing.assert_allclose(model.get_ydata(), model_mtf(f, review.kwargs[i], 0.0))
+        cross = [line for line in ax.lines if line.get_marker() == "x"
+                 and line.get_color() == "C1"][0]
+        assert cross.get_xdata()[0] == cell.f50_across_model_cyc_per_mm
+        circle = [line for line in ax.lines if line.get_marker() == "o"
+                  and line.get_color() == "C1"][0]
+        assert circle.get_xdata()[0] == cell.mtf50_across_cyc_per_mm
+        legend = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert legend[1] == (f"100 lux: MTF50 {cell.mtf50_across_cyc_per_mm:.3g} "
+                             f"(model {cell.f50_across_model_cyc_per_mm:.3g})")
+    with pytest.raises(ValueError, match="direction"):
+        mtf_figure(review, direction="sideways")
+
+
+def test_epc_counted_in_both_directions_is_said_in_the_captions_and_conditions():
+    from dataclasses import replace
+
+    r = _one_column(small_review(), 2)
+    both = replace(r, kwargs=tuple({**k, "epc_axes": "both"} for k in r.kwargs),
+                   cells=tuple((replace(row[0], kwargs={**row[0].kwargs, "epc_axes": "both"}),)
+                               for row in r.cells))
+    figure = contact_sheet_figure(both)
+    assert figure.axes[0].get_xlabel().startswith("EPC ") and "(model, both axes)" in (
+        figure.axes[0].get_xlabel())
+    assert 'epc_axes="both"' in _conditions(figure).replace("\n  ", " ")
+    assert "both" not in _conditions(contact_sheet_figure(r))
 
 
 def test_the_models_mtf_is_the_references_system_mtf():

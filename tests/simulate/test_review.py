@@ -53,6 +53,23 @@ def test_the_measured_mtf50_and_snr_are_near_the_models():
         assert cell.snr_db == pytest.approx(cell.snr_target_db, abs=0.6)
 
 
+def test_the_mtf50_across_the_motion_is_measured_in_every_cell_with_an_image():
+    # The near-horizontal edge, the image moving along it, sees no motion: it is measured even
+    # where the blur is too long for the near-vertical edge (2.2 um at 100 lux), its
+    # noise-free MTF50 within the e-SFR's error (0.6%, tests/simulate/test_agreement.py) of
+    # f50_across at 100 and at 1000 lux alike, one noisy capture's within 20% as above.
+    cells = [c for row in small_review().cells for c in row]
+    measured = [c for c in cells if c.sfr_across is not None]
+    assert [(c.design, c.illuminance_lux) for c in measured] == [
+        (d.name, lux) for d in DESIGNS for lux in LUX[1:]]
+    for cell in measured:
+        f50 = cell.f50_across_model_cyc_per_mm
+        assert cell.sfr_across_noiseless.mtf50_cyc_per_mm == pytest.approx(f50, rel=0.006)
+        assert cell.mtf50_across_fraction == pytest.approx(1.0, abs=0.20)
+        assert f50 > 5 * cell.f50_model_cyc_per_mm or cell.illuminance_lux == 1000.0
+    assert all(c.mtf_across_why == "no image" for c in cells if c.why)
+
+
 def test_the_pictures_white_is_the_stars_lightest_reflectance_without_noise():
     # the star's expected electrons are its reflectance times one scale: its mean reflectance
     # is 0.25 (the mean of 0.1 and 0.4), its lightest pixel about 0.4 (a sharp design)

@@ -4,8 +4,9 @@ Each design of the config captures, at each light level, a Siemens star of one p
 a slanted edge and a flat patch (:mod:`epc_fast.simulate.review`). Everything goes into
 ``--out`` under the scan's output policy (:class:`epc_fast.scan.output.OutputDirectory`:
 checked before the first capture, refused when not empty unless ``--overwrite``, every file
-written atomically): ``contact_sheet.png``, ``mtf.png``, and the model beside the simulation in
-``agreement.csv`` and ``agreement.md``.
+written atomically): ``contact_sheet.png``, ``mtf.png``, ``mtf_across.png``, and the model
+beside the simulation in ``agreement.csv`` and ``agreement.md``: the MTF50 along the motion
+beside the model's f50 and across it beside f50_across.
 """
 
 from __future__ import annotations
@@ -20,19 +21,22 @@ from . import add_output_arguments, duration, whole
 NAME = "simulate"
 HELP = ("simulate captures of designs from a TOML config (see examples/simulate_designs.toml) "
         "at a few light levels: a contact sheet of a Siemens star, the slanted edges' MTF "
-        "against the model's (PNG), and the model's EPC, f50 and SNR target beside the "
-        "measured MTF50 and SNR (CSV, Markdown)")
+        "against the model's (PNG), and the model's EPC, f50, f50_across and SNR target "
+        "beside the measured MTF50 along and across the motion and SNR (CSV, Markdown)")
 #: The files the command writes, and what each holds.
 FILES = {"contact_sheet.png": "the star as each design captures it at each light level",
          "mtf.png": "the simulated edges' MTF against the model's",
+         "mtf_across.png": "the simulated edges' MTF across the motion against the model's",
          "agreement.csv": "the model beside the simulation, one row a design and light",
          "agreement.md": "the same as a table"}
-PLOTS = ("contact_sheet.png", "mtf.png")
+PLOTS = ("contact_sheet.png", "mtf.png", "mtf_across.png")
 #: The most light levels (the contact sheet's columns).
 MAX_LUX = 12
 #: The columns of agreement.csv.
 COLUMNS = ("design", "illuminance_lux", "mode", "status", "epc_model", "f50_model_cyc_per_mm",
-           "mtf50_sim_cyc_per_mm", "mtf50_over_f50", "snr_target_db", "snr_sim_db", "note")
+           "mtf50_sim_cyc_per_mm", "mtf50_over_f50", "f50_across_model_cyc_per_mm",
+           "mtf50_across_sim_cyc_per_mm", "mtf50_across_over_f50_across", "snr_target_db",
+           "snr_sim_db", "note")
 
 
 def _lux(text: str) -> float:
@@ -71,10 +75,21 @@ def _rows(review) -> list[dict]:
                 "mode": cell.mode_text, "status": _status(cell.result),
                 "epc_model": cell.epc, "f50_model_cyc_per_mm": cell.f50_model_cyc_per_mm,
                 "mtf50_sim_cyc_per_mm": cell.mtf50_cyc_per_mm,
-                "mtf50_over_f50": cell.mtf50_fraction, "snr_target_db": cell.snr_target_db,
-                "snr_sim_db": cell.snr_db,
-                "note": f"no image: {cell.why}" if cell.why else cell.mtf_why})
+                "mtf50_over_f50": cell.mtf50_fraction,
+                "f50_across_model_cyc_per_mm": cell.f50_across_model_cyc_per_mm,
+                "mtf50_across_sim_cyc_per_mm": cell.mtf50_across_cyc_per_mm,
+                "mtf50_across_over_f50_across": cell.mtf50_across_fraction,
+                "snr_target_db": cell.snr_target_db, "snr_sim_db": cell.snr_db,
+                "note": _note(cell)})
     return rows
+
+
+def _note(cell) -> str:
+    """Why a cell has no image, or why an MTF50 is not measured ("" when both are)."""
+    if cell.why:
+        return f"no image: {cell.why}"
+    across = f"across: {cell.mtf_across_why}" if cell.mtf_across_why else ""
+    return "; ".join(text for text in (cell.mtf_why, across) if text)
 
 
 def _status(result) -> str:
@@ -98,19 +113,28 @@ def _number(value: float, spec: str = ".4g") -> str:
     return "—" if math.isnan(value) else format(value, spec)
 
 
-def markdown(rows, seed) -> str:
-    """agreement.md: the model beside one simulated capture a design and light."""
+def markdown(rows, seed, epc_axes="motion") -> str:
+    """agreement.md: the model beside one simulated capture a design and light; ``epc_axes``
+    how the designs' EPC counts the resolution ("both": said in the first line)."""
+    counted = (' EPC counts both directions, 4 S f50 f50_across (epc_axes = "both").'
+               if epc_axes == "both" else "")
     lines = [f"Model against simulated captures (one capture each, seed {seed}): MTF50 of the "
-             "slanted edge's e-SFR with bin-width correction, SNR of the flat patch.", "",
+             "slanted edges' e-SFR with bin-width correction along the motion (near vertical) "
+             "and across it (near "
+             f"horizontal), SNR of the flat patch.{counted}", "",
              "| design | lux | EPC model (pixels) | f50 model (cyc/mm) | MTF50 sim (cyc/mm) | "
-             "sim / model | SNR target (dB) | SNR sim (dB) | note |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---|"]
+             "sim / model | f50 across model (cyc/mm) | MTF50 across sim (cyc/mm) | "
+             "sim / model across | SNR target (dB) | SNR sim (dB) | note |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     for r in rows:
         design = f"{r['design']} ({r['mode']})" if r["mode"] else r["design"]
         lines.append(
             f"| {design} | {r['illuminance_lux']:g} | {r['epc_model']:,.0f} "
             f"| {_number(r['f50_model_cyc_per_mm'])} | {_number(r['mtf50_sim_cyc_per_mm'])} | "
-            f"{_number(r['mtf50_over_f50'], '.3f')} | {r['snr_target_db']:g} | "
+            f"{_number(r['mtf50_over_f50'], '.3f')} "
+            f"| {_number(r['f50_across_model_cyc_per_mm'])} "
+            f"| {_number(r['mtf50_across_sim_cyc_per_mm'])} "
+            f"| {_number(r['mtf50_across_over_f50_across'], '.3f')} | {r['snr_target_db']:g} | "
             f"{_number(r['snr_sim_db'])} | {r['note'].replace('|', '/')} |")
     return "\n".join(lines) + "\n"
 
@@ -144,7 +168,7 @@ def run(args) -> int:
               f"{config.source}, seed {config.settings['seed']}: captured in "
               f"{duration(time.perf_counter() - start)}")
         print()
-        text = markdown(rows, config.settings["seed"])
+        text = markdown(rows, config.settings["seed"], result.epc_axes)
         print(text)
         with SignalsHeld() as writing:  # SIGINT and SIGTERM wait for every file
             out.write("agreement.csv", lambda path: _write_csv(path, rows))
@@ -156,6 +180,9 @@ def run(args) -> int:
                 curves = mtf_figure(result)
                 out.write("mtf.png", lambda path: save_figure(curves, path, dpi=110,
                                                               file_format="png"))
+                across = mtf_figure(result, direction="across")
+                out.write("mtf_across.png", lambda path: save_figure(across, path, dpi=110,
+                                                                     file_format="png"))
         for name in out.written:
             print(f"wrote {out.path / name}")
         return writing.exit_code("epc-fast simulate")

@@ -5,7 +5,12 @@ captures, repeated over seeds. The e-SFR here divides out its own bins' average
 the camera's own MTF, which the model's f50 is; a lab's e-SFR (the default) lies 0.3-2 % lower.
 
 The edge chart is sized to the blur: the e-SFR must see the whole line spread, or the
-measurement, not the model, sets the answer. Two MTF50s are measured: the noise-free
+measurement, not the model, sets the answer. Two edges are captured: a near-vertical one
+(:data:`EDGE_ANGLE_DEG`), whose normal the motion along the rows crosses, for the MTF along the
+motion beside evaluate's f50, and a near-horizontal one (:data:`ACROSS_EDGE_ANGLE_DEG`) with
+the motion turned parallel to it (:data:`ACROSS_MOTION_ANGLE_DEG`), so that its normal sees
+none of the motion, for the MTF across the motion beside evaluate's f50_across. Both normals
+lie 5 degrees off the pixel grid, so both see the pixel's aperture alike. Two MTF50s are measured: the noise-free
 capture's, which holds the model's MTF (the physics of the image) to the e-SFR's own accuracy,
 and the noisy captures', which is what a camera test at T_MPE would find: each capture's MTF50
 scatters, and the first crossing of a noisy MTF curve lies early, so the noisy figure is the
@@ -21,15 +26,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import api
+from ..outputs import OUTPUT_DTYPES
 from ..status import Status
 from .camera import capture, picked_mode
 from .charts import flat, slanted_edge
 from .edge_sfr import esfr
 from .flat_patch import snr
 
-__all__ = ["Agreement", "agreement", "edge_chart", "every_term_design", "longest_wavelength_um",
-           "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX", "MIN_EDGE_SPAN", "DIFFRACTION_SPAN",
-           "MAX_EDGE_COLUMNS", "EDGE_ANGLE_DEG"]
+__all__ = ["Agreement", "agreement", "edge_chart", "across_edge_chart", "every_term_design",
+           "longest_wavelength_um", "model_result", "EDGE_ROWS", "LONG_BLUR_ROWS", "FLAT_PX",
+           "MIN_EDGE_SPAN", "DIFFRACTION_SPAN", "MAX_EDGE_COLUMNS", "EDGE_ANGLE_DEG",
+           "ACROSS_EDGE_ANGLE_DEG", "ACROSS_MOTION_ANGLE_DEG"]
 
 #: Rows of the edge chart: at 5 degrees the edge crosses 33 pixels over them, and each of the
 #: e-SFR's quarter-pixel bins averages 96 rows' samples.
@@ -52,6 +59,13 @@ DIFFRACTION_SPAN = 120.0
 MAX_EDGE_COLUMNS = 16384
 #: Degrees, the edge's slant (ISO 12233's about 5).
 EDGE_ANGLE_DEG = 5.0
+#: Degrees from the vertical, the near-horizontal edge that measures the MTF across the
+#: motion: slanted 5 degrees off the horizontal, as the near-vertical edge is off the vertical.
+ACROSS_EDGE_ANGLE_DEG = 90.0 - EDGE_ANGLE_DEG
+#: Degrees from the rows, the motion's direction in the near-horizontal edge's capture:
+#: parallel to that edge (:func:`epc_fast.simulate.capture`'s ``motion_angle_deg``), so the
+#: motion moves the edge along itself and its normal, across the motion, sees none of it.
+ACROSS_MOTION_ANGLE_DEG = 90.0 - ACROSS_EDGE_ANGLE_DEG
 
 
 @dataclass(frozen=True)
@@ -75,7 +89,14 @@ class Agreement:
         standard deviation over the seeds.
     seeds : the number of captures.
     edge_shape : (rows, columns) of the edge chart; window: the e-SFR's window.
-    epc_model : pixels, evaluate's EPC; epc_sim: 4 S f50_sim^2 on the same sensor area.
+    epc_model : pixels, evaluate's EPC (as the design's ``epc_axes`` counts it); epc_sim:
+        the same count of the simulated MTF50s on the same sensor area, 4 S f50_sim^2
+        (``epc_axes="both"``: 4 S f50_sim f50_across_sim).
+    f50_across_model_cyc_per_mm : cycles/mm, evaluate's f50_across (the MTF without the
+        motion blur).
+    f50_across_noiseless_cyc_per_mm, f50_across_sim_cyc_per_mm, f50_across_sim_std : the
+        near-horizontal edge's MTF50s, measured as the near-vertical one's are (noise-free;
+        the seeds' pooled noisy captures; one noisy capture's standard deviation).
     """
 
     illuminance_lux: float
@@ -93,12 +114,21 @@ class Agreement:
     window: str | None
     epc_model: float
     epc_sim: float
+    f50_across_model_cyc_per_mm: float = math.nan
+    f50_across_noiseless_cyc_per_mm: float = math.nan
+    f50_across_sim_cyc_per_mm: float = math.nan
+    f50_across_sim_std: float = math.nan
 
     @property
     def f50_sem(self) -> float:
         """cycles/mm, the standard error of the pooled MTF50: one capture's scatter over
         sqrt(seeds)."""
         return self.f50_sim_std / math.sqrt(self.seeds)
+
+    @property
+    def f50_across_sem(self) -> float:
+        """cycles/mm, the standard error of the pooled MTF50 across the motion."""
+        return self.f50_across_sim_std / math.sqrt(self.seeds)
 
     @property
     def snr_db_sem(self) -> float:
@@ -120,6 +150,29 @@ def edge_chart(blur_mm: float, pitch_um: float, lambda_f_um: float, rows: int | 
     rows = default if rows is None else rows
     columns = int(math.ceil((rows * slope + span) / 2.0)) * 2
     return (rows, columns), window
+
+
+def across_edge_chart(blur_mm: float, pitch_um: float, lambda_f_um: float,
+                      run: int | None = None):
+    """The near-horizontal edge (:data:`ACROSS_EDGE_ANGLE_DEG`) that measures the MTF across
+    the motion, and the window to measure it with: ((rows, columns), window). The motion runs
+    along the edge, so its normal sees only the lens, the pixel and jitter: the rows hold the
+    span :func:`edge_chart` gives a design without motion, its columns are the edge's run,
+    ``run`` (default EDGE_ROWS, or LONG_BLUR_ROWS for a blur :func:`edge_chart` calls long:
+    the capture's grid reaches the blur's length beyond the chart either way)."""
+    blur_px = blur_mm / (pitch_um * 1e-3)
+    least = max(MIN_EDGE_SPAN, DIFFRACTION_SPAN * lambda_f_um / pitch_um)
+    if run is None:
+        run = EDGE_ROWS if 24.0 * blur_px <= least else LONG_BLUR_ROWS
+    slope = math.tan(math.radians(EDGE_ANGLE_DEG))
+    return (int(math.ceil((run * slope + least) / 2.0)) * 2, run), "hamming"
+
+
+def model_result(illuminance_lux, invalid="raise", **design):
+    """evaluate's :class:`~epc_fast.Result` for one design (``invalid`` as evaluate takes it),
+    with f50_across beside its default outputs."""
+    return api.evaluate(illuminance_lux, **design, invalid=invalid,
+                        outputs=(*OUTPUT_DTYPES, "f50_across_cyc_per_mm"))
 
 
 def every_term_design(rng: np.random.Generator, spectrum=None) -> tuple[dict, float]:
@@ -171,29 +224,51 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     """
     if isinstance(seeds, bool) or not isinstance(seeds, (int, np.integer)) or seeds < 2:
         raise ValueError(f"seeds: an integer >= 2 (the scatter needs two), got {seeds!r}")
-    model = api.evaluate(illuminance_lux, **design, invalid="raise")
+    model = model_result(illuminance_lux, **design)
     status = Status(int(np.asarray(model.status)))
     shake = design.get("shake_deg_per_s", 4.39)
     normal = api.evaluate(illuminance_lux, **{
         **design, "shake_deg_per_s": shake * math.cos(math.radians(EDGE_ANGLE_DEG))})
     snr_target = float(design.get("snr_db", 30.0))
     f50_model, epc_model = float(model.f50_cyc_per_mm), float(model.epc)
-    area_mm2 = epc_model / (4.0 * f50_model ** 2) if f50_model > 0 else math.nan
+    f50_across = float(model.f50_across_cyc_per_mm)
+    both = design.get("epc_axes", "motion") == "both"
+    counted = f50_model * (f50_across if both else f50_model)
+    area_mm2 = epc_model / (4.0 * counted) if counted > 0 else math.nan
     shape, window = ((0, 0), None)
     if status == Status.OK:
         read = picked_mode(design, model)  # with modes: the mode the model picks
         output_pitch = float(read["pixel_pitch_um"]) * int(read.get("binning", 1))
-        shape, window = edge_chart(float(model.blur_mm), output_pitch,
-                                   longest_wavelength_um(design) * float(design["f_number"]))
+        lambda_f = longest_wavelength_um(design) * float(design["f_number"])
+        shape, window = edge_chart(float(model.blur_mm), output_pitch, lambda_f)
+        across_shape, across_window = across_edge_chart(float(model.blur_mm), output_pitch,
+                                                        lambda_f)
     if status != Status.OK or shape[1] > MAX_EDGE_COLUMNS:
         nan = math.nan
         return Agreement(float(illuminance_lux), status, f50_model,
                          float(normal.f50_cyc_per_mm), nan, nan, nan, snr_target, nan, nan,
-                         int(seeds), shape, window, epc_model, nan)
+                         int(seeds), shape, window, epc_model, nan, f50_across)
     edge = capture(slanted_edge(shape, EDGE_ANGLE_DEG), illuminance_lux=illuminance_lux,
                    seed=seed, **design)
     patch = capture(flat(FLAT_PX, design.get("reflectance", 0.4)),
                     illuminance_lux=illuminance_lux, seed=seed, **design)
+    noiseless, pooled, std = _measured(edge, seed, seeds, window)
+    across = capture(slanted_edge(across_shape, ACROSS_EDGE_ANGLE_DEG),
+                     illuminance_lux=illuminance_lux, seed=seed,
+                     motion_angle_deg=ACROSS_MOTION_ANGLE_DEG, **design)
+    across_noiseless, across_pooled, across_std = _measured(across, seed, seeds, across_window)
+    snrs = [snr(patch.redraw(seed + i).image_e).snr_db for i in range(seeds)]
+    counted_sim = pooled * (across_pooled if both else pooled)
+    return Agreement(float(illuminance_lux), status, f50_model, float(normal.f50_cyc_per_mm),
+                     noiseless, pooled, std, snr_target,
+                     float(np.mean(snrs)), float(np.std(snrs, ddof=1)), int(seeds), shape,
+                     window, epc_model, 4.0 * area_mm2 * counted_sim, f50_across,
+                     across_noiseless, across_pooled, across_std)
+
+
+def _measured(edge, seed: int, seeds: int, window) -> tuple:
+    """cycles/mm: (the noise-free MTF50, the seeds' pooled noisy captures' MTF50, one noisy
+    capture's standard deviation) of an edge's capture redrawn from seed, seed + 1, ..."""
     pitch = edge.pitch_um
     captures = [edge.redraw(seed + i) for i in range(seeds)]
     each = [esfr(c.image_e, pitch, window=window, bin_correction=True).mtf50_cyc_per_mm
@@ -204,8 +279,4 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     # captures' mean expected image, the expectation over the alignment the model describes.
     expected = np.mean([c.expected_e for c in captures], axis=0)
     noiseless = esfr(expected, pitch, window=window, bin_correction=True).mtf50_cyc_per_mm
-    snrs = [snr(patch.redraw(seed + i).image_e).snr_db for i in range(seeds)]
-    return Agreement(float(illuminance_lux), status, f50_model, float(normal.f50_cyc_per_mm),
-                     float(noiseless), float(pooled), float(np.std(each, ddof=1)), snr_target,
-                     float(np.mean(snrs)), float(np.std(snrs, ddof=1)), int(seeds), shape,
-                     window, epc_model, 4.0 * area_mm2 * float(pooled) ** 2)
+    return float(noiseless), float(pooled), float(np.std(each, ddof=1))

@@ -1,7 +1,7 @@
-"""The design review's two figures of a :class:`~epc_fast.simulate.review.Review`: the contact
+"""The design review's figures of a :class:`~epc_fast.simulate.review.Review`: the contact
 sheet (the Siemens star as each design captures it at each light level, captioned with the
 model's EPC, the edge's measured MTF50 and the flat patch's SNR) and the edges' e-SFR MTF
-against the model's system MTF. Both carry their conditions
+against the model's system MTF, along the motion and across it. Both carry their conditions
 (:func:`epc_fast.plotting.common.add_conditions`); matplotlib is imported only here, inside the
 functions.
 """
@@ -43,6 +43,8 @@ def conditions(review, extra=()) -> list[str]:
     are met, the scene in one line, the seed, the terms the designs turn on, ``extra``, the
     version and the build."""
     terms = [f"Terms on: {'; '.join(review.terms)}"] if review.terms else []
+    if review.epc_axes == "both" and not any("both directions" in t for t in review.terms):
+        terms.append('EPC counted in both directions, 4 S f50 f50_across (epc_axes="both")')
     return conditions_lines(designs=review.designs, snr_target=review.snr_target,
                             scene=review.scene_text(), seed=review.settings["seed"],
                             extra=[*terms, *extra])
@@ -74,8 +76,9 @@ def fitted_lines(figure, lines, fontsize: float) -> list[str]:
 def _caption(cell) -> str:
     if cell.why:
         return "no image" + (f"\nmode {cell.mode_text}" if cell.mode_text else "")
-    epc = (f"EPC {cell.epc / 1e6:.3g} Mpx (model)" if cell.epc >= 1e5
-           else f"EPC {cell.epc:,.0f} pixels (model)")
+    model = "model, both axes" if (cell.kwargs or {}).get("epc_axes") == "both" else "model"
+    epc = (f"EPC {cell.epc / 1e6:.3g} Mpx ({model})" if cell.epc >= 1e5
+           else f"EPC {cell.epc:,.0f} pixels ({model})")
     if math.isnan(cell.mtf50_cyc_per_mm):
         mtf = "MTF50 not measured"
     else:
@@ -172,7 +175,16 @@ def _output_pitch_um(cell, kwargs: dict) -> float:
     return float(kwargs["pixel_pitch_um"]) * float(kwargs.get("binning", 1.0))
 
 
-def _mtf_panel(ax, review, i):
+#: A cell's fields of the MTF along the motion and across it: its e-SFRs, their MTF50, the
+#: model's f50, and whether the model's curve has the motion's blur.
+_DIRECTIONS = {
+    "along": ("sfr", "sfr_noiseless", "mtf50_cyc_per_mm", "f50_model_cyc_per_mm", True),
+    "across": ("sfr_across", "sfr_across_noiseless", "mtf50_across_cyc_per_mm",
+               "f50_across_model_cyc_per_mm", False)}
+
+
+def _mtf_panel(ax, review, i, direction="along"):
+    sfr_name, noiseless_name, mtf50_name, f50_name, blurred = _DIRECTIONS[direction]
     pitches = sorted({_output_pitch_um(c, review.kwargs[i]) for c in review.cells[i]})
     top = 1e3 / pitches[0]  # cycles/mm, twice the finest output pixel's Nyquist
     f = np.linspace(0.0, top, CURVE_POINTS)
@@ -183,19 +195,20 @@ def _mtf_panel(ax, review, i):
             ax.plot([], [], color=color, label=f"{lux}: no image")
             continue
         ax.plot(f, model_mtf(f, review.kwargs[i] if cell.kwargs is None else cell.kwargs,
-                             float(cell.result.blur_mm)), color=color, ls="--", lw=1.5,
-                zorder=4)
-        f50 = cell.f50_model_cyc_per_mm
+                             float(cell.result.blur_mm) if blurred else 0.0),
+                color=color, ls="--", lw=1.5, zorder=4)
+        f50 = getattr(cell, f50_name)
         ax.plot([f50], [0.5], marker="x", color=color, ms=7, mew=1.5, ls="none", zorder=5)
-        if cell.sfr is None:
+        if getattr(cell, sfr_name) is None:
             ax.plot([], [], color=color, label=f"{lux}: MTF50 not measured")
             continue
-        for sfr, style in ((cell.sfr, {"lw": 0.7, "alpha": 0.35, "zorder": 1}),
-                           (cell.sfr_noiseless, {"lw": 1.6, "zorder": 3, "label": (
-                               f"{lux}: MTF50 {cell.mtf50_cyc_per_mm:.3g} (model {f50:.3g})")})):
+        mtf50 = getattr(cell, mtf50_name)
+        for sfr, style in ((getattr(cell, sfr_name), {"lw": 0.7, "alpha": 0.35, "zorder": 1}),
+                           (getattr(cell, noiseless_name), {"lw": 1.6, "zorder": 3, "label": (
+                               f"{lux}: MTF50 {mtf50:.3g} (model {f50:.3g})")})):
             keep = sfr.frequency_cyc_per_mm <= top
             ax.plot(sfr.frequency_cyc_per_mm[keep], sfr.mtf[keep], color=color, **style)
-        ax.plot([cell.mtf50_cyc_per_mm], [0.5], marker="o", color=color, ms=6, mfc="white",
+        ax.plot([mtf50], [0.5], marker="o", color=color, ms=6, mfc="white",
                 mew=1.5, ls="none", zorder=5)
     ax.axhline(0.5, color="0.6", lw=0.8, ls=":")
     for pitch in pitches:  # each output pixel's Nyquist frequency (one, without modes)
@@ -214,12 +227,16 @@ def _mtf_panel(ax, review, i):
     ax.legend(fontsize=6.5, loc="upper right", title="cycles/mm", title_fontsize=6.5)
 
 
-def mtf_figure(review, *, conditions_text=None):
+def mtf_figure(review, *, conditions_text=None, direction="along"):
     """A matplotlib Figure: one panel per design, a colour per light level; solid the e-SFR MTF
     of the simulated slanted edge without its noise, faint that of the noisy capture (its MTF50
     a circle: beyond the blur's first zeros the noise is most of it), dashed the model's
     system MTF with evaluate's blur there (its f50 a cross), from 0 to twice the design's
-    Nyquist frequency."""
+    Nyquist frequency. ``direction="across"``: the same across the motion, the near-horizontal
+    edge's e-SFR against the model's system MTF without the motion's blur (its f50_across a
+    cross)."""
+    if direction not in _DIRECTIONS:
+        raise ValueError(f"direction: 'along' or 'across', got {direction!r}")
     n = len(review.designs)
     cols = 1 if n == 1 else 2
     rows = -(-n // cols)
@@ -227,6 +244,11 @@ def mtf_figure(review, *, conditions_text=None):
              "without its noise; faint: "
              "of the noisy capture, o its MTF50; dashed: the model's system MTF with evaluate's "
              "blur, x its f50"]
+    if direction == "across":
+        extra = [review.across_text(),
+                 "Solid: e-SFR (ISO 12233) with bin-width correction of the simulated edge across "
+                 "the motion without its noise; faint: of the noisy capture, o its MTF50; dashed: the model's system "
+                 "MTF without the motion's blur, x its f50_across"]
     lines = conditions(review, extra) if conditions_text is None else conditions_text
     figure = figure_class()(figsize=(4.6 * cols + 0.4, 3.4 * rows + 0.7), layout="constrained")
     lines = fitted_lines(figure, lines, CONDITIONS_FONTSIZE)
@@ -234,11 +256,11 @@ def mtf_figure(review, *, conditions_text=None):
     axes = figure.subplots(rows, cols, squeeze=False)
     for k, ax in enumerate(axes.flat):
         if k < n:
-            _mtf_panel(ax, review, k)
+            _mtf_panel(ax, review, k, direction)
         else:
             ax.remove()
-    figure.suptitle("MTF of each design: the simulated capture against the model",
-                    fontsize=10)
+    figure.suptitle("MTF of each design: the simulated capture against the model"
+                    + (", across the motion" if direction == "across" else ""), fontsize=10)
     add_conditions(figure, lines)
     freeze_layout(figure)
     return figure
