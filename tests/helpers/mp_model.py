@@ -37,8 +37,8 @@ MODEL_DEFAULTS = dict(reflectance=0.4, lens_transmittance=1.0, field_angle_deg=0
 
 #: A Bayer sensor's (cfa="bayer") defaults of t and g_c, and each demosaicker's noise gain g_d
 #: (docs/model.md, "The colour filter array").
-BAYER_DEFAULTS = dict(cfa_transmittance=0.3543, color_noise_gain=0.9199)
-DEMOSAIC_NOISE_GAIN = {"bilinear": 0.616, "malvar2004": 0.833, "menon2007": 0.996}
+BAYER_DEFAULTS = dict(cfa_transmittance=0.8433, color_noise_gain=0.9146)
+DEMOSAIC_NOISE_GAIN = {"bilinear": 0.617, "malvar2004": 0.836, "menon2007": 1.001}
 
 #: The smallest normal double and the largest double (the engine's conventions at its ends).
 SMALLEST_NORMAL = sys.float_info.min

@@ -63,7 +63,8 @@ def test_cfa_none_is_the_monochrome_capture_bit_for_bit(extra):
 
 
 @pytest.mark.parametrize("demosaic", cfa.DEMOSAICS)
-@pytest.mark.parametrize("transmittance, binning", [(None, 1), (0.5, 1), (None, 2)])
+# 0.95: the green channel at 1.12, above K's sensor (a channel may collect more than it)
+@pytest.mark.parametrize("transmittance, binning", [(None, 1), (0.5, 1), (0.95, 1), (None, 2)])
 def test_a_bayer_flat_patch_collects_t_of_the_monochrome_electrons(demosaic, transmittance,
                                                                    binning):
     design = {**DESIGN, **SHOT_ONLY, "binning": binning}
@@ -77,14 +78,17 @@ def test_a_bayer_flat_patch_collects_t_of_the_monochrome_electrons(demosaic, tra
     np.testing.assert_allclose(c.expected_e, t * mono.expected_e, rtol=2e-4 if
                                transmittance is None else 1e-12)
     # without a given exposure, the model's for this colour sensor: its rate t r and noise
-    # gain g_c g_d (g_c of its channels and weights), longer than the monochrome sensor's
+    # gain G = g_c g_d (g_c of its channels and weights); with shot noise alone
+    # T_MPE = G s / (t r), so G / t times the monochrome sensor's (a demosaicker that averages
+    # more noise than the filters lose light, bilinear's, exposes shorter)
     own = simulate.capture(chart, illuminance_lux=1000.0, cfa="bayer", demosaic=demosaic,
                            cfa_transmittance=transmittance, **design)
+    g_c = cfa.color_noise_gain(own.bayer.channels, own.bayer.weights)
     model = epc_fast.evaluate(1000.0, **design, cfa="bayer", demosaic=demosaic,
-                              cfa_transmittance=own.bayer.transmittance,
-                              color_noise_gain=cfa.color_noise_gain(own.bayer.channels,
-                                                                    own.bayer.weights))
-    assert own.exposure_s == model.t_mpe_s > mono.exposure_s
+                              cfa_transmittance=own.bayer.transmittance, color_noise_gain=g_c)
+    assert own.exposure_s == model.t_mpe_s
+    ratio = g_c * cfa.DEMOSAIC_NOISE_GAIN[demosaic] / own.bayer.transmittance
+    assert own.exposure_s / mono.exposure_s == pytest.approx(ratio, rel=1e-12)  # roundings
 
 
 @functools.lru_cache(maxsize=None)
@@ -114,7 +118,7 @@ def test_bilinear_read_noise_has_its_closed_form_gain_below_the_models_one_gain(
     # Read noise of variance s^2 in every pixel: after white balance channel c has
     # s^2 / t_c^2, bilinear interpolation multiplies it by k_c on average over the cell
     # (k_G = 5/8, k_R = k_B = 9/16), and the luminance on the cell's scale has
-    # t^2 sum_c y_c^2 k_c / t_c^2 s^2: 0.905 of the model's g_c g_d s^2 (docs/model.md).
+    # t^2 sum_c y_c^2 k_c / t_c^2 s^2: 0.898 of the model's g_c g_d s^2 (docs/model.md).
     t_c = np.array(cfa.DEFAULT_CHANNEL_TRANSMITTANCES)
     y2 = np.array(cfa.DEFAULT_LUMINANCE_WEIGHTS) ** 2
     t = cfa.DEFAULT_CFA_TRANSMITTANCE
@@ -126,7 +130,7 @@ def test_bilinear_read_noise_has_its_closed_form_gain_below_the_models_one_gain(
     sem = gains.std(ddof=1) / np.sqrt(gains.size)
     assert abs(gains.mean() - closed_form) < SEMS * sem
     model = cfa.DEFAULT_COLOR_NOISE_GAIN * cfa.DEMOSAIC_NOISE_GAIN["bilinear"]
-    assert gains.mean() / model == pytest.approx(0.905, abs=0.01)
+    assert gains.mean() / model == pytest.approx(0.898, abs=0.01)
 
 
 def test_a_bayer_redraw_is_a_fresh_capture_with_that_seed():
@@ -201,11 +205,10 @@ def test_a_bayer_edges_mtf50_is_the_monochrome_model_times_the_table(demosaic, p
     ({"cfa": "bayer", "demosaic": "ahd"}, r"^demosaic: one of .* got 'ahd'"),
     ({"cfa": "none", "demosaic": "ahd"}, r"^demosaic: one of .* got 'ahd'"),
     ({"cfa": "bayer", "cfa_transmittance": 1.5}, r"^cfa_transmittance: a transmittance in"),
-    ({"cfa": "bayer", "cfa_transmittance": 0.9}, r"^cfa_transmittance: 0.9 puts a channel"),
     ({"cfa": "bayer", "cfa_transmittance": float("nan")}, r"^cfa_transmittance:"),
     ({"cfa": "bayer", "channel_transmittances": (0.3, 0.4)}, r"^channel_transmittances: three"),
     ({"cfa": "bayer", "channel_transmittances": (0.3, 0.0, 0.3)},
-     r"^channel_transmittances: three transmittances in \(0, 1\]"),
+     r"^channel_transmittances: three positive transmittances"),
     ({"cfa": "bayer", "luminance_weights": (0.3, 0.6, 0.3)}, r"^luminance_weights: three weights"),
 ])
 def test_a_bad_cfa_argument_is_refused_naming_it(kwargs, message):
@@ -231,7 +234,7 @@ def test_a_monochrome_sensor_behind_a_filter_collects_t_of_the_light_and_meets_t
     assert simulate.snr(c.image_e).snr_db == pytest.approx(30.0, abs=0.3)
 
 
-@pytest.mark.parametrize("sensor, gain, own", [("bayer", 1.5, "0.9198"), ("none", 0.8, "1")])
+@pytest.mark.parametrize("sensor, gain, own", [("bayer", 1.5, "0.9146"), ("none", 0.8, "1")])
 def test_a_color_noise_gain_the_capture_does_not_have_is_refused_naming_it(sensor, gain, own):
     with pytest.raises(ValueError, match=rf"^color_noise_gain: {gain} .*the capture's own, {own}"):
         simulate.capture(simulate.flat(16), illuminance_lux=100.0, cfa=sensor,

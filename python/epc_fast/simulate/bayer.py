@@ -34,8 +34,9 @@ class Bayer:
     """A Bayer sensor and its development.
 
     demosaic : one of :data:`epc_fast.cfa.DEMOSAICS`.
-    channels : (t_R, t_G, t_B), each filter's transmittance relative to the monochrome
-        sensor, their cell mean (t_R + 2 t_G + t_B) / 4 the cfa_transmittance t.
+    channels : (t_R, t_G, t_B), each channel's electrons over those of the monochrome sensor
+        that K describes (above 1 where a channel collects more), their cell mean
+        (t_R + 2 t_G + t_B) / 4 the cfa_transmittance t.
     weights : (y_R, y_G, y_B), sum 1, the luminance row of the colour correction applied to
         white-balanced RGB.
     """
@@ -95,8 +96,8 @@ def bayer(demosaic="malvar2004", cfa_transmittance=None, channel_transmittances=
     channels = _triple("channel_transmittances",
                        DEFAULT_CHANNEL_TRANSMITTANCES if channel_transmittances is None
                        else channel_transmittances)
-    if np.any(channels <= 0.0) or np.any(channels > 1.0):
-        raise ValueError(f"channel_transmittances: three transmittances in (0, 1], got "
+    if np.any(channels <= 0.0):
+        raise ValueError(f"channel_transmittances: three positive transmittances, got "
                          f"{short(channel_transmittances)}")
     weights = _triple("luminance_weights", DEFAULT_LUMINANCE_WEIGHTS
                       if luminance_weights is None else luminance_weights)
@@ -110,9 +111,6 @@ def bayer(demosaic="malvar2004", cfa_transmittance=None, channel_transmittances=
                              f"{short(cfa_transmittance)}")
         mean = (channels[0] + 2.0 * channels[1] + channels[2]) / 4.0
         channels = channels * (float(t) / mean)
-        if np.any(channels > 1.0):
-            raise ValueError(f"cfa_transmittance: {float(t)!r} puts a channel's transmittance "
-                             f"above 1 ({short(tuple(channels))})")
     return Bayer(demosaic, tuple(float(c) for c in channels), tuple(float(w) for w in weights))
 
 
