@@ -12,11 +12,13 @@ against the paper's model).
 from __future__ import annotations
 
 import argparse
+import functools
+import importlib.util
 from pathlib import Path
 
 import numpy as np
 
-from epc_fast import evaluate
+from epc_fast import evaluate, spectra
 from epc_fast.cfa import DEMOSAICS
 from epc_fast.plotting.common import (add_conditions, conditions_lines, figure_class,
                                       save_figure)
@@ -36,6 +38,18 @@ WHAT = "the figures of docs/beyond.md"
 
 def _kwargs(design):
     return design.evaluate_kwargs()
+
+
+@functools.lru_cache(maxsize=1)
+def bare_silicon_k() -> float:
+    """e-/(lux s m^2): the least K of the Nikon D5100's silicon without its filters, the
+    monochrome sensor of the colour sensor's own silicon (tools/cfa_defaults.py; the Bayer
+    sensor's t is against K's sensor, QE 0.7 on 480..580 nm only)."""
+    path = Path(__file__).resolve().parent / "cfa_defaults.py"
+    spec = importlib.util.spec_from_file_location("cfa_defaults", path)
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    return tool.bare_silicon_at_least() * spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2
 
 
 def designed_lens_table(f_number: float, wavelength_nm: float = 550.0):
@@ -66,6 +80,8 @@ def terms(design):
              {"wavefront_rms_waves": LENS_DEFOCUS_WAVES}),
             (f"designed lens table ({LENS_DEFOCUS_WAVES} waves defocus)", {"lens_mtf": lens}),
             ("denoising sigma 1", {"denoise_sigma_px": 1.0}),
+            ("monochrome, the Bayer sensor's bare silicon",
+             {"electrons_per_lux_s_m2": bare_silicon_k()}),
             *[(f"Bayer, {name}", {"cfa": "bayer", "demosaic": name}) for name in DEMOSAICS]]
 
 
@@ -101,7 +117,10 @@ def bayer_figure(design=HIGH_TIER[3]):
     fig = Figure(figsize=(7.6, 5.4), layout="constrained")
     ax = fig.subplots()
     ax.plot(LUX, evaluate(LUX, **_kwargs(design)).epc / 1e6, color="black", lw=2.0,
-            label="monochrome (the paper's model)")
+            label="monochrome (the paper's model: K's sensor)")
+    ax.plot(LUX, evaluate(LUX, **_kwargs(design), electrons_per_lux_s_m2=bare_silicon_k()).epc
+            / 1e6, color="black", lw=1.3, ls="--",
+            label="monochrome, the Bayer sensor's bare silicon")
     for name, color in zip(DEMOSAICS, ("tab:blue", "tab:orange", "tab:green")):
         ax.plot(LUX, evaluate(LUX, **_kwargs(design), cfa="bayer", demosaic=name).epc / 1e6,
                 color=color, lw=1.3, label=f"Bayer, {name}")
@@ -109,9 +128,11 @@ def bayer_figure(design=HIGH_TIER[3]):
            ylim=(1e-5, 10), title=f"A Bayer sensor against the monochrome {design.name} design")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
+    bare = bare_silicon_k() / spectra.DEFAULT_ELECTRONS_PER_LUX_S_M2
     add_conditions(fig, conditions_lines(
         designs=[design.name], snr_target=[f"30 dB at {design.snr_at_text}, on the luminance"],
-        scene=_scene(design) + "; the Nikon D5100's filters and colour correction (epc_fast.cfa)"))
+        scene=_scene(design) + "; the Nikon D5100's filters and colour correction (epc_fast.cfa), "
+              f"its bare silicon at least {bare:.2f} K"))
     return fig
 
 
