@@ -21,16 +21,18 @@ __all__ = ["default_values", "designs_terms", "readout_terms", "terms_on"]
 #: Parameters that are no term: the SNR target's (said on its own line), the lens table's
 #: index (said with the tables) and the binning readout (said with the readout modes).
 NOT_TERMS = ("snr_db", "field_angle_deg", "lens", "binning_readout")
+#: Each colour filter array's name in printouts.
+CFA_NAMES = {"bayer": "Bayer", "quad_bayer": "quad Bayer (binning 1 remosaicked, 2 Bayer)"}
 #: The demosaicker evaluate takes when a colour filter is given without one.
 DEFAULT_DEMOSAIC = "malvar2004"
 
 
 def default_values(cfa: str = "none") -> dict:
     """{name: value} of every parameter with a default, as a point takes it when nobody sets
-    it: evaluate's default, and with ``cfa="bayer"`` the colour filter's transmittance and
-    colour noise gain (:mod:`epc_fast.cfa`)."""
+    it: evaluate's default, and with a colour filter (``cfa="bayer"`` or ``"quad_bayer"``)
+    its transmittance and colour noise gain (:mod:`epc_fast.cfa`)."""
     values = {p.name: p.default for p in PARAMETERS if p.default is not None}
-    if cfa == "bayer":
+    if cfa != "none":
         values.update(cfa_transmittance=DEFAULT_CFA_TRANSMITTANCE,
                       color_noise_gain=DEFAULT_COLOR_NOISE_GAIN)
     return values
@@ -64,7 +66,7 @@ def terms_on(space) -> list[str]:
     cfa = options.get("cfa", "none")
     terms = []
     if cfa != "none":
-        terms.append(f"colour filter {cfa.capitalize()}, "
+        terms.append(f"colour filter {CFA_NAMES.get(cfa, cfa)}, "
                      f"{options.get('demosaic', DEFAULT_DEMOSAIC)} demosaicking")
     if options.get("lens_mtf") is not None:
         count = space.lens_count

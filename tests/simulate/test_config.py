@@ -86,9 +86,9 @@ def test_a_bad_evaluate_key_is_named_as_the_scan_names_it():
         parse_simulate_config(PHONE.replace('cfa = "bayer"', 'cfa = "foveon"'))
 
 
-def test_the_phone_example_is_a_bayer_sensor_behind_a_lens_table_with_two_modes():
+def test_the_phone_example_is_a_quad_bayer_sensor_behind_a_lens_table_with_two_modes():
     (name, kwargs), = load_simulate_config(ROOT / "examples" / "simulate_phone.toml").designs
-    assert kwargs["cfa"] == "bayer" and len(kwargs["lens_mtf"]) == 1
+    assert kwargs["cfa"] == "quad_bayer" and len(kwargs["lens_mtf"]) == 1
     assert kwargs["modes"] == [{"binning": 1}, {"binning": 2}]
     assert kwargs["binning_readout"] == "charge"
 

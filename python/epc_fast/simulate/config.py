@@ -110,7 +110,7 @@ def _check_color(designs) -> None:
 
     for name, kwargs in designs:
         given = kwargs.get("color_noise_gain")
-        own = color_noise_gain() if kwargs.get("cfa", "none") == "bayer" else 1.0
+        own = color_noise_gain() if kwargs.get("cfa", "none") != "none" else 1.0
         if given is not None and not abs(given - own) <= GAIN_RTOL * own:
             raise ConfigError(f"{config_prefix()} [design] {name!r}: color_noise_gain = {given:g}: "
                               f"expected the capture's own, {own:.4g} (its filters'), or none")

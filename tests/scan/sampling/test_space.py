@@ -264,3 +264,33 @@ def test_a_lens_index_is_checked_against_the_spaces_tables():
         Space(**LENS_SPACE, evaluate_options={"lens_mtf": [LENS_TABLES[0], ([0, 1], [0.5, 0.6])]})
     with pytest.raises(ValueError, match="give lens_mtf or wavefront_rms_waves, not both"):
         Space(**LENS_SPACE, wavefront_rms_waves=0.05, evaluate_options={"lens_mtf": LENS_TABLES})
+
+
+@pytest.mark.parametrize("binning, message", [
+    (Choice((1.0, 2.0)), "binning takes one value per call"),
+    (Grid((2.0, 3.0)), "got binning 3"),
+    (4.0, "got binning 4"),
+])
+def test_a_quad_bayer_space_reads_one_binning_of_1_or_2(binning, message):
+    # one call reads one layout (epc_fast.cfa.quad_bayer_binning): refused before any point
+    with pytest.raises(ValueError, match=rf"^cfa='quad_bayer': .*{message}"):
+        _space(binning=binning, evaluate_options={"cfa": "quad_bayer"})
+    designs = [{**HIGH_TIER[0].evaluate_kwargs(), "name": "A", "binning": 1.0},
+               {**HIGH_TIER[0].evaluate_kwargs(), "name": "B", "binning": 2.0}]
+    with pytest.raises(ValueError, match="binning takes one value per call"):
+        Space(design=designs, illuminance_lux=100.0, evaluate_options={"cfa": "quad_bayer"})
+
+
+def test_a_quad_bayer_design_with_modes_scans_as_evaluate_picks_its_modes():
+    import epc_fast
+    from epc_fast.scan import Summary, run
+
+    modes = [{"binning": 1}, {"binning": 2}]
+    space = Space(design=[{**HIGH_TIER[3].evaluate_kwargs(), "name": "Q", "modes": modes}],
+                  illuminance_lux=LogUniform(1.0, 1e4), evaluate_options={"cfa": "quad_bayer"})
+    summary = run(space, 256, seed=5, reductions={"s": Summary()}).results["s"]
+    points = space.points(5, 0, 256).parameters
+    alone = epc_fast.evaluate(**points, cfa="quad_bayer", modes=modes)
+    assert summary.mean[0] == pytest.approx(np.mean(alone.epc), rel=1e-12)
+    np.testing.assert_array_equal(summary.mode_counts[0][1:], np.bincount(alone.mode, minlength=2))
+    assert np.all(summary.mode_counts[0][1:] > 0)  # dim points binned, bright ones full size

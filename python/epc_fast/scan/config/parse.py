@@ -22,7 +22,8 @@ The format, section by section (every value in the unit of the parameter it sets
     [evaluate]                   # f50_rtol, t_mpe_solver, t_mpe_rtol, spectrum,
                                  #   lens_mtf = [[frequencies_cyc_per_mm], [mtf]] or a list
                                  #   of such tables, which lens = {choice = [0, 1, ...]}
-                                 #   picks per point; cfa = "none" | "bayer",
+                                 #   picks per point; cfa = "none" | "bayer"
+                                 #   | "quad_bayer" (binning 1 or 2, one per call),
                                  #   demosaic = "malvar2004" | "bilinear" | "menon2007"
     [reductions.NAME]            # kind = "summary" | "histogram" | "quantiles"
                                  #   | "fraction_below" | "top_k", their arguments, and

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...cfa import quad_bayer_binning
 from ...modes import MODE_DEFAULTS
 from ...mtf_table import lens_tables_of
 from ...params import PARAMETER_NAMES, PARAMETERS, READOUT_CODES, SIZE_PARAMETERS, readout_codes
@@ -283,6 +284,10 @@ class Space:
                 problem = domain_problem(name, float(value), self.lens_count)
                 if problem:
                     raise ValueError(f"design {design!r}: {name} = {problem}")
+        if self.evaluate_options.get("cfa") == "quad_bayer":  # one layout for every point
+            axis = self.axes.get("binning")
+            quad_bayer_binning(np.array([*self.design_table.get("binning", ()), *getattr(
+                axis, "values", () if axis is None or not isinstance(axis, float) else (axis,))]))
 
     @property
     def has_modes(self) -> bool:
