@@ -96,5 +96,5 @@ def test_the_phone_example_is_a_quad_bayer_sensor_behind_a_lens_table_with_two_m
 def test_a_color_noise_gain_no_capture_has_is_refused_naming_the_design():
     text = PHONE.replace('name = "phone"\n', 'name = "phone"\ncolor_noise_gain = 1.5\n')
     with pytest.raises(ConfigError, match=r"\[design\] 'phone': color_noise_gain = 1.5: "
-                                          r"expected the capture's own, 0.9198"):
+                                          r"expected the capture's own, 0.9146"):
         parse_simulate_config(text)
