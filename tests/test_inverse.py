@@ -394,3 +394,15 @@ def test_the_inverse_solvers_take_one_readout_a_design():
         lux_for_epc(design, 1e6)
     with pytest.raises(ValueError, match="binning_readout must be one of"):
         lux_for_epc({**PRESET_1_4, "binning_readout": "analog"}, 1e6)
+
+
+@pytest.mark.parametrize("extra, match", [
+    ({"max_exposure_s": 0.1}, "max_exposure_s: the inverse solvers take no frame cap"),
+    ({"frames": "auto", "max_frames": 8}, "frames='auto' and max_frames: the inverse solvers"),
+    ({"frames": "auto"}, "frames='auto' and max_frames"),
+])
+def test_the_inverse_solvers_refuse_a_frame_cap_and_night_mode_by_name(extra, match):
+    with pytest.raises(TypeError, match=match):
+        lux_for_epc({**PRESET_1_4, **extra}, 1e6)
+    with pytest.raises(TypeError, match=match):
+        crossover_lux({**PRESET_1_4, **extra}, PRESET_1_4)

@@ -97,3 +97,41 @@ def test_a_quad_bayer_sensors_modes_read_one_layout_each():
     np.testing.assert_array_equal(r.epc, best)
     np.testing.assert_array_equal(r.mode, np.where(full.epc >= binned.epc, 0, 1))
     assert set(np.asarray(r.mode).tolist()) == {0, 1}  # dim light binned, daylight full size
+
+
+#: A 1/10 s frame cap's modes: full size, 2 x 2 binned, and 2 x 2 binned night mode.
+NIGHT_MODES = [{}, {"binning": 2}, {"binning": 2, "frames": "auto", "max_frames": 8}]
+#: The paper's 1/3.2" sensor with a 1.4 um pixel and 2 e- of read noise.
+PHONE = dict(pixel_pitch_um=1.4, f_number=2.0, focal_length_mm=4.0, pixel_count=8e6,
+             read_noise_e=2.0)
+
+
+def test_a_frame_cap_picks_night_mode_in_dim_light_and_no_mode_past_its_frames():
+    lux = np.array([1.0, 10.0, 100.0, 1e4])
+    r = epc_fast.evaluate(lux, **PHONE, max_exposure_s=0.1, modes=NIGHT_MODES)
+    alone = [epc_fast.evaluate(lux, **PHONE, max_exposure_s=0.1, **m) for m in NIGHT_MODES]
+    epc = np.stack([a.epc for a in alone])
+    finite = np.isfinite(epc)
+    pick = np.where(finite.any(axis=0), np.argmax(np.where(finite, epc, -np.inf), axis=0), -1)
+    assert np.array_equal(r.mode, pick)
+    # 1 lux: 2 s of exposure binned, more than 8 frames of 1/10 s: no mode, the first's status;
+    # 10 lux: 0.2 s binned, so three frames (T_MPE(3) / 3 <= 0.1 s, T_MPE(2) / 2 > 0.1 s);
+    # 100 lux: binned frames of 0.02 s, night mode's one frame equals it, the first is taken;
+    # daylight: full size.
+    assert list(r.mode) == [NO_MODE, 2, 1, 0]
+    assert r.status[0] == Status.EXPOSURE_LIMIT and np.isnan(r.epc[0])
+    assert list(r.frames_used) == [1.0, 3.0, 1.0, 1.0]  # each picked mode's frames
+    assert alone[2].frames_used[1] == 3.0 and alone[2].frames_used[0] == 8.0
+    t2, t3 = (epc_fast.evaluate(10.0, **PHONE, binning=2, frames=n).t_mpe_s for n in (2, 3))
+    assert t2 / 2 > 0.1 >= t3 / 3
+
+
+def test_night_modes_are_checked_and_compared_as_modes():
+    with pytest.raises(ValueError, match=r"modes\[1\] repeats modes\[0\]"):
+        check_modes([{"frames": "auto", "max_frames": 8}, {"frames": "auto", "max_frames": 8.0}])
+    with pytest.raises(ValueError, match=r"modes\[0\]: max_frames=8 is given with frames=1.0"):
+        check_modes([{"max_frames": 8}])
+    assert len(check_modes([{"frames": "auto", "max_frames": 8},
+                            {"frames": "auto", "max_frames": 4}, {"frames": 8}])) == 3
+    with pytest.raises(ValueError, match="frames = 'auto' is given to evaluate and in modes"):
+        epc_fast.evaluate(10.0, **PHONE, frames="auto", max_frames=8, modes=[{"frames": 2}])

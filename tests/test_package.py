@@ -51,7 +51,8 @@ def test_parameter_table_defaults_match_the_signature():
 
 def test_status_codes_are_the_documented_names():
     assert [s.name for s in epc_fast.Status] == ["OK", "INVALID", "UNREACHABLE",
-                                                 "BLUR_UNBOUNDED", "BEYOND_TABLE"]
+                                                 "BLUR_UNBOUNDED", "BEYOND_TABLE",
+                                                 "EXPOSURE_LIMIT"]
     assert [c.name for c in epc_fast.Cause] == ["NONE", "NO_LIGHT", "PRNU", "FULL_WELL"]
 
 

@@ -50,3 +50,13 @@ def test_a_figure_of_the_papers_ideal_camera_names_no_term():
 
     space = scan.Space(design=HIGH_TIER, illuminance_lux=scan.LogUniform(10, 1e5))
     assert not any(line.startswith("Terms on") for line in space_conditions(space))
+
+
+def test_the_printed_space_names_the_frame_cap_and_each_designs_night_mode():
+    night = {"name": "C", **DESIGN, "modes": [{}, {"frames": "auto", "max_frames": 6}]}
+    space = scan.Space(design=[{"name": "A", **DESIGN}, night],
+                       illuminance_lux=scan.LogUniform(1, 1e5),
+                       evaluate_options={"max_exposure_s": 0.125})
+    text = " ".join(space.describe().split())
+    assert "frame cap 0.125 s" in text and "night mode up to 6 frames (C)" in text
+    assert "frame cap" not in " ".join(_space(max_exposure_s=float("inf")).describe().split())

@@ -26,6 +26,11 @@ class Status(enum.IntEnum):
     BEYOND_TABLE = 4
     """f50 lies past the last frequency of a tabulated MTF: f50 and EPC NaN; T_MPE, blur and
     the electron counts finite."""
+    EXPOSURE_LIMIT = 5
+    """One frame, T_MPE / frames, would be longer than ``max_exposure_s``, the longest the
+    camera takes (docs/model.md, "Exposure limits and night mode"): T_MPE and the electron
+    counts finite (what the target would need); blur, f50, EPC, the shares and the elasticities
+    NaN. Only ``evaluate``'s Python layer gives it: the core never does."""
 
 
 class Cause(enum.IntEnum):

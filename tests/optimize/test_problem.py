@@ -116,3 +116,16 @@ def test_readout_modes_give_each_candidate_the_best_mode_per_draw():
 def test_a_whole_number_parameter_is_not_searched_as_a_continuous_range(name):
     with pytest.raises(ValueError, match=f"bounds: {name} takes whole numbers only"):
         optimize.Problem(shaky_scene(), {name: (1, 8)}, points=100, seed=1)
+
+
+def test_a_frame_cap_gives_a_draw_over_it_zero_pixels():
+    # 1 to 1000 lux with a 1/20 s frame cap: the dim draws need longer frames (EXPOSURE_LIMIT)
+    space = scan.Space(design=[DESIGN], illuminance_lux=scan.LogUniform(1, 1000),
+                       evaluate_options={"max_exposure_s": 0.05})
+    problem = optimize.Problem(space, PITCH, points=4_000, seed=3)
+    drawn = space.points(3, 0, 4_000).parameters
+    expected = epc_fast.evaluate(**{**drawn, "pixel_pitch_um": 1.5}, max_exposure_s=0.05)
+    capped = expected.status == epc_fast.Status.EXPOSURE_LIMIT
+    assert 0 < capped.sum() < capped.size
+    epc = problem.epc(pixel_pitch_um=1.5)
+    assert np.all(epc[capped] == 0.0) and np.array_equal(epc, np.nan_to_num(expected.epc))

@@ -16,6 +16,7 @@ from epc_fast.jobs import table_formats
 from epc_fast.scan import tables
 from epc_fast.scan.config import DEFAULT_CONFIG, default_config, load_config, parse_config
 from epc_fast.jobs.errors import ConfigError, TooLargeError
+from epc_fast.terms import terms_on
 from helpers.scripts import ROOT
 
 EXAMPLE = ROOT / "examples" / "scan_designs.toml"
@@ -350,3 +351,44 @@ def test_a_config_gives_lens_tables_and_a_lens_per_point():
                          ("[[0], [1]]", "lens_mtf has 1 point"), ("3", "lens_mtf = 3")):
         with pytest.raises(ConfigError, match=re.escape(message)):
             parse_config(LENS_CONFIG % bad).space
+
+
+NIGHT_CONFIG = """
+[scan]
+points = 1000
+[[design.custom]]
+name = "phone"
+pixel_pitch_um = 1.4
+f_number = 2.0
+focal_length_mm = 4.0
+pixel_count = 8e6
+read_noise_e = 2.0
+modes = %s
+[parameters]
+illuminance_lux = {distribution = "log_uniform", low = 1, high = 10000}
+[evaluate]
+max_exposure_s = %s
+"""
+
+
+def test_a_config_gives_a_frame_cap_and_a_night_mode():
+    modes = '[{binning = 1}, {binning = 2, frames = "auto", max_frames = 8}]'
+    space = parse_config(NIGHT_CONFIG % (modes, "0.1")).space
+    assert space.evaluate_options["max_exposure_s"] == 0.1
+    assert space.design_modes[0][1] == {"binning": 2, "frames": "auto", "max_frames": 8}
+    terms = terms_on(space)
+    assert "frame cap 0.1 s" in terms and "night mode up to 8 frames (every design)" in terms
+
+
+@pytest.mark.parametrize("modes, cap, message", [
+    ("[{binning = 1}]", "0", "[evaluate]: max_exposure_s = 0"),
+    ("[{binning = 1}]", '"fast"', "[evaluate]: max_exposure_s = 'fast'"),
+    ('[{frames = "auto"}]', "0.1", "modes[0]: frames='auto' (night mode) needs max_frames"),
+    ("[{max_frames = 8}]", "0.1", "modes[0]: max_frames=8 is given with frames=1.0"),
+    ('[{frames = "night", max_frames = 8}]', "0.1", "modes[0]: frames='night'"),
+    ('[{frames = "auto", max_frames = 0}]', "0.1", "modes[0]: max_frames=0: a whole number"),
+])
+def test_a_bad_frame_cap_or_night_mode_is_a_config_error_naming_it(modes, cap, message):
+    with pytest.raises(ConfigError) as error:
+        parse_config(NIGHT_CONFIG % (modes, cap)).space
+    assert message in str(error.value), str(error.value)

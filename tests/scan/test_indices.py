@@ -28,7 +28,7 @@ import sys
 import numpy as np
 import pytest
 
-from epc_fast import evaluate, scan
+from epc_fast import Status, evaluate, scan
 from epc_fast.presets import HIGH_TIER
 from epc_fast.scan import indices as indices_module
 
@@ -380,3 +380,21 @@ def test_a_design_with_one_readout_mode_is_that_readout():
     plain = scan.sobol_indices(scan.Space(design=[paper_design().with_(read_noise_e=2.0)],
                                           **axes), points=2**6, seed=2, of="log_epc")
     assert not np.array_equal(plain.mean, one.mean)
+
+
+def test_a_frame_the_camera_cannot_take_is_no_image_raised_or_counted_as_zero():
+    # The paper's 1.4 um design over 1 to 1000 lux with a 1/10 s frame cap: the dim draws need
+    # a longer frame (EXPOSURE_LIMIT, EPC NaN), named as the frame cap, or 0 pixels.
+    capped = scan.Space(design=[paper_design()], illuminance_lux=scan.LogUniform(1, 1000),
+                        shake_deg_per_s=scan.LogUniform(2, 8),
+                        evaluate_options={"max_exposure_s": 0.1})
+    with pytest.raises(ValueError, match=r"points cannot meet the SNR target \(the frame "
+                                         r"cap\).*not_ok='zero'"):
+        scan.sobol_indices(capped, points=2**6)
+    result = scan.sobol_indices(capped, points=2**6, not_ok="zero")
+    parameters = indices_module.random_parameters(capped)
+    inputs = indices_module.design_inputs(capped, parameters, indices_module.unit_design(
+        parameters, 2**6, result.seed))
+    status = evaluate(**{**paper_design().evaluate_kwargs(), **inputs},
+                      max_exposure_s=0.1).status
+    assert result.unreachable[0] == np.count_nonzero(status == Status.EXPOSURE_LIMIT) > 0

@@ -98,3 +98,13 @@ def test_a_color_noise_gain_no_capture_has_is_refused_naming_the_design():
     with pytest.raises(ConfigError, match=r"\[design\] 'phone': color_noise_gain = 1.5: "
                                           r"expected the capture's own, 0.9146"):
         parse_simulate_config(text)
+
+
+@pytest.mark.parametrize("old, new", [
+    ('demosaic = "bilinear"', 'demosaic = "bilinear"\nmax_exposure_s = 0.1'),
+    ("{binning = 2}]", '{binning = 2, frames = "auto", max_frames = 4}]'),
+])
+def test_a_frame_cap_or_night_mode_is_refused_naming_the_design(old, new):
+    with pytest.raises(ConfigError, match=r"\[design\] 'phone': the simulator takes no frame "
+                                          r"cap or night mode"):
+        parse_simulate_config(PHONE.replace(old, new))

@@ -12,6 +12,7 @@ enum class Status : std::uint8_t {
     unreachable = 2,     // the SNR target cannot be met (see Cause): T_MPE = +inf
     blur_unbounded = 3,  // shake angle reached pi/2: blur = +inf, f50 = 0, EPC = 0
     beyond_table = 4,    // f50 past a tabulated MTF's end: f50 and EPC NaN, T_MPE finite
+    exposure_limit = 5,  // T_MPE / frames above max_exposure_s (set in Python only): EPC NaN
 };
 
 enum class Cause : std::uint8_t {

@@ -150,7 +150,8 @@ class Problem:
         if not any(isinstance(v, np.ndarray) and v.size == size for v in kwargs.values()):
             # Every parameter fixed: the illuminance repeated gives the outputs one per draw.
             kwargs["illuminance_lux"] = np.full(size, kwargs["illuminance_lux"])
-        if "modes" in self._readout:  # the best mode per draw: evaluate takes no out= then
+        if "modes" in self._readout or "max_exposure_s" in kwargs:
+            # the best mode per draw, or a frame cap's passes: evaluate takes no out= then
             result = evaluate(**kwargs, **self._readout, threads=self.threads,
                               outputs=("epc", "status"), invalid="raise")
             out["epc"][...], out["status"][...] = result.epc, result.status

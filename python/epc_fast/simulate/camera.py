@@ -24,6 +24,7 @@ from .. import _limits
 from .._validation import as_float_array, short, threads_of
 from ..api import evaluate
 from ..design import DESIGN_KEYWORDS, resolve
+from ..exposure_limits import sets_limits
 from ..cfa import check_cfa, check_demosaic
 from ..cfa import color_noise_gain as cfa_color_noise_gain
 from ..status import Status
@@ -130,6 +131,9 @@ def capture_inputs(design: dict) -> dict:
     if unknown:
         raise TypeError(f"capture() got keyword(s) it does not take: {', '.join(unknown)} "
                         "(it takes the design's keywords of epc_fast.evaluate)")
+    if sets_limits(design):
+        raise TypeError("capture() takes no frame cap or night mode (max_exposure_s, frames="
+                        "'auto', max_frames): capture the frames evaluate's frames_used gives")
     values = {k: p.default for k, p in _EVALUATE.items()
               if p.default is not inspect.Parameter.empty}
     values.update(design)

@@ -236,3 +236,50 @@ def test_a_bursts_alignment_share_is_summarised_by_the_fused_pass_as_by_numpy():
         np.testing.assert_allclose(core[name].mean, numpy[name].mean, rtol=1e-12)
         assert np.array_equal(core[name].count, numpy[name].count)
     assert np.all(core["align"].mean > 0.0) and np.all(core["align"].max < 1.0)
+
+
+NIGHT = ({"binning": 1}, {"binning": 2}, {"binning": 2, "frames": "auto", "max_frames": 4})
+
+
+@pytest.mark.parametrize("backend", ["core", "numpy"])
+def test_a_frame_cap_and_night_mode_scan_as_evaluate_counts_them(backend):
+    space = scan.Space(design=[{**PHONE, "modes": list(NIGHT)}], **_light(),
+                       evaluate_options={"max_exposure_s": 0.1})
+    plan = (PlanItem("s", Summary(by="design"), group_key(space, "design")),)
+    assert _core_plan(space, plan, 1, 10**6)[0].plan == ()  # arrays, not the fused pass
+    result = run(space, N, seed=3, reductions={"s": Summary(by="design")}, progress=False,
+                 backend=backend)
+    points = space.points(3, 0, N)
+    expected = epc_fast.evaluate(**points.parameters, modes=list(NIGHT), max_exposure_s=0.1)
+    counts = np.bincount(expected.status, minlength=len(epc_fast.Status))
+    summary = result["s"]
+    assert np.array_equal(summary.status_counts[0], counts)
+    assert counts[epc_fast.Status.EXPOSURE_LIMIT] > 0  # the dimmest draws, 1 lux and so
+    assert summary.columns()["exposure limit"][0] == counts[epc_fast.Status.EXPOSURE_LIMIT]
+    assert np.array_equal(summary.mode_counts[0], np.bincount(expected.mode + 1, minlength=4))
+    assert summary.mode_counts[0][3] > 0  # night mode is picked somewhere
+    np.testing.assert_allclose(summary.mean[0], np.nanmean(expected.epc), rtol=1e-12)
+
+
+def test_a_frame_cap_without_modes_leaves_the_fused_pass_and_counts_exposure_limit():
+    space = scan.Space(design=HIGH_TIER, **_light(), evaluate_options={"max_exposure_s": 0.05})
+    plan = (PlanItem("s", Summary(by="design"), group_key(space, "design")),)
+    assert _core_plan(space, plan, 1, 10**6)[0].plan == ()
+    summary = run(space, N, seed=6, reductions={"s": Summary(by="design")},
+                  progress=False)["s"]
+    points = space.points(6, 0, N)
+    expected = epc_fast.evaluate(**points.parameters, max_exposure_s=0.05)
+    design = points.indices["design"]
+    for status in epc_fast.Status:
+        assert np.array_equal(summary.status_counts[:, status],
+                              np.bincount(design[expected.status == status], minlength=4))
+    assert summary.status_counts[:, epc_fast.Status.EXPOSURE_LIMIT].sum() > 0
+    uncapped = run(scan.Space(design=HIGH_TIER, **_light()), N, seed=6,
+                   reductions={"s": Summary(by="design")}, progress=False)["s"]
+    assert "exposure limit" not in uncapped.columns()
+
+
+@pytest.mark.parametrize("cap", [0.0, -1.0, float("nan"), "fast", [0.1, 0.2], True])
+def test_a_scans_frame_cap_is_one_positive_value(cap):
+    with pytest.raises(ValueError, match="max_exposure_s = .*one value a scan"):
+        scan.Space(design=HIGH_TIER, **_light(), evaluate_options={"max_exposure_s": cap})

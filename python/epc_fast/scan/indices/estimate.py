@@ -168,11 +168,13 @@ def _evaluated_epc(space: Space, design: int, inputs: dict, not_ok: str, threads
     status = np.asarray(result.status)
     if (status == Status.INVALID).any():
         raise ValueError(f"Sobol' indices{label}: {_outside_domain(values)}")
-    unreachable = status == Status.UNREACHABLE
+    # a frame the camera cannot take (a frame cap, EXPOSURE_LIMIT, cause NONE) is no image too
+    unreachable = (status == Status.UNREACHABLE) | (status == Status.EXPOSURE_LIMIT)
     count = int(unreachable.sum())
     if count and not_ok == "raise":
         causes = np.unique(np.asarray(result.cause)[unreachable])
-        names = ", ".join(Cause(c).name.lower().replace("_", " ") for c in causes)
+        names = ", ".join(Cause(c).name.lower().replace("_", " ") if c else "the frame cap"
+                          for c in causes)
         raise ValueError(f"Sobol' indices{label}: {count:,} of {epc.size:,} points cannot meet "
                          f"the SNR target ({names}), where EPC is NaN; narrow the space (e.g. "
                          "truncate the distribution that reaches them) or pass not_ok='zero' "

@@ -35,7 +35,8 @@ class SobolResult:
     mean, std : float arrays of shape (outputs, designs): the output's mean and standard
         deviation over the evaluated points, in its unit (pixels, ln pixels).
     unreachable : int array of shape (designs,): evaluated points that cannot meet the SNR
-        target, counted as 0 pixels (``not_ok="zero"``; 0 otherwise, as such points raise).
+        target, or only with a frame longer than ``max_exposure_s`` (EXPOSURE_LIMIT), counted
+        as 0 pixels (``not_ok="zero"``; 0 otherwise, as such points raise).
     blur_unbounded : int array of shape (designs,): evaluated points whose blur is unbounded
         (EPC 0 pixels in the model).
     """

@@ -25,6 +25,8 @@ __all__ = ["Summary", "SummaryResult", "FractionBelow", "FractionBelowResult", "
            "check_output"]
 
 STATUS_COUNT = len(Status)
+#: The statuses a summary's table shows only where some point has them.
+_WHERE_GIVEN = (Status.BEYOND_TABLE, Status.EXPOSURE_LIMIT)
 
 
 def check_output(of: str) -> None:
@@ -79,10 +81,11 @@ class SummaryResult:
 
     def columns(self) -> dict:
         """Table columns, one row per group."""
-        # BEYOND_TABLE only where a point has it: a scan without tabulated MTFs has none
+        # BEYOND_TABLE and EXPOSURE_LIMIT only where a point has them: a scan without
+        # tabulated MTFs or a frame cap has none
         statuses = {s.name.lower().replace("_", " "): self.status_counts[:, s]
                     for s in Status
-                    if s != Status.BEYOND_TABLE or self.status_counts[:, s].any()}
+                    if s not in _WHERE_GIVEN or self.status_counts[:, s].any()}
         # a group with no finite value has no extremes: NaN, not the empty min's +inf
         empty = ~np.isfinite(self.mean)
         columns = {**self.labels, "points": self.points, **statuses, "mean": self.mean}

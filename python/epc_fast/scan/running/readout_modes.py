@@ -15,6 +15,7 @@ import numpy as np
 
 from ..._validation import short
 from ...api import BINNING_READOUTS, evaluate
+from ...exposure_limits import NIGHT_MODE
 from ...modes import MODE_DEFAULTS, check_modes
 from ...outputs import Result
 from ...params import READOUT_CODES
@@ -65,6 +66,8 @@ def design_readout(entry: dict, overridden: set) -> tuple[str, tuple | None]:
             if key in entry and float(entry[key]) != MODE_DEFAULTS[key]:
                 raise ValueError(f"{where}: the design sets {key} = {entry[key]:g} too: "
                                  "give it in each mode")
+            if key == "max_frames" or value == NIGHT_MODE:
+                continue  # night mode's, checked with the modes
             try:
                 number = float(value)
             except (TypeError, ValueError):

@@ -1,0 +1,249 @@
+"""Exposure limits and night mode (docs/model.md, "Exposure limits and night mode").
+
+A camera caps one frame's exposure: a phone held in the hand takes frames of at most about
+1/15 to 1/4 s, a tripod longer ones. ``evaluate(..., max_exposure_s=c)`` gives a point whose
+frame T_MPE / frames is longer than c the status :attr:`~epc_fast.Status.EXPOSURE_LIMIT`:
+its T_MPE and electron counts are what the target would need, its blur, f50 and EPC NaN.
+
+A burst fills the gap: ``frames="auto"`` with ``max_frames=N`` takes at each point the least n
+in 1 .. N with T_MPE(n) / n <= c (T_MPE depends on n through each frame's read noise), as a
+phone's night mode picks it; where no n does, N, and the point's status is EXPOSURE_LIMIT. The
+n taken is the output ``frames_used``. The candidate counts are evaluated in one call along a
+leading axis of n (T_MPE and the status alone), then the picked counts as any ``frames`` array.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from ._validation import short
+from .axes import check_epc_axes, default_outputs
+from .outputs import ACROSS_OUTPUTS, LIMIT_OUTPUTS, SHARE_OUTPUTS, Result, new_result
+from .params import PARAMETER_NAMES, SIZE_KEYWORDS
+from .status import Cause, Status
+
+__all__ = ["NIGHT_MODE", "MAX_FRAMES", "asks_frames_used", "asks_limits", "sets_limits",
+           "check_max_exposure", "check_max_frames", "check_scan_cap", "least_frames",
+           "evaluate_limits"]
+
+#: ``frames`` for night mode: the least frames up to ``max_frames`` that keep each frame within
+#: ``max_exposure_s``.
+NIGHT_MODE = "auto"
+#: The largest ``max_frames``: its candidate counts are evaluated at once, one pass of the
+#: points each.
+MAX_FRAMES = 1024
+
+#: evaluate's keywords that are per-point arrays (they set the broadcast shape).
+_POINT_KEYS = tuple(name for name in PARAMETER_NAMES if name != "size") + tuple(
+    name for name in SIZE_KEYWORDS if name != "aspect")
+#: The statuses whose T_MPE is finite: the cap applies to them.
+_TIMED = np.array([Status.OK, Status.BLUR_UNBOUNDED, Status.BEYOND_TABLE], np.uint8)
+#: The outputs a point over the cap keeps: what the target would need.
+_KEPT = frozenset(("electron_rate_e_per_s", "electrons", "t_mpe_s", "status", "cause",
+                   "frames_used"))
+_FLOATS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_per_mm", "epc",
+           *ACROSS_OUTPUTS, *SHARE_OUTPUTS, *LIMIT_OUTPUTS)
+
+
+def asks_frames_used(outputs) -> bool:
+    """Whether ``outputs=`` names ``frames_used``."""
+    if outputs is None:
+        return False
+    names = (outputs,) if isinstance(outputs, str) else outputs
+    try:
+        return any(isinstance(name, str) and name in LIMIT_OUTPUTS for name in names)
+    except TypeError:  # not iterable: evaluate's own check names it
+        return False
+
+
+def asks_limits(call: dict) -> bool:
+    """Whether evaluate's keywords ``call`` set an exposure limit, night mode or ask for
+    ``frames_used``."""
+    return (call["max_exposure_s"] is not math.inf or call["max_frames"] is not None
+            or isinstance(call["frames"], str) or asks_frames_used(call["outputs"]))
+
+
+def sets_limits(keywords: dict) -> bool:
+    """Whether evaluate's keywords (a design's) set a frame cap or night mode, themselves or in
+    one of their ``modes``."""
+    return bool({"max_exposure_s", "max_frames"} & set(keywords)
+                or isinstance(keywords.get("frames"), str)
+                or any(isinstance(m.get("frames"), str) for m in keywords.get("modes") or ()))
+
+
+def check_max_exposure(max_exposure_s) -> np.ndarray:
+    """``max_exposure_s`` (s) as a float64 array, or a TypeError naming it; its values are
+    checked per point (NaN or <= 0: status INVALID)."""
+    if isinstance(max_exposure_s, (str, bytes, bool)):
+        raise TypeError(f"max_exposure_s: s, the longest single frame the camera takes, a "
+                        f"number or an array of them; got {short(max_exposure_s)}")
+    try:
+        return np.asarray(max_exposure_s, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"max_exposure_s: s, the longest single frame the camera takes, a "
+                        f"number or an array of them; got {short(max_exposure_s)}") from None
+
+
+def check_max_frames(frames, max_frames) -> int | None:
+    """The most frames night mode takes (None without it), or a ValueError naming ``frames``
+    and ``max_frames``: ``max_frames`` goes with ``frames="auto"`` and only with it."""
+    auto = isinstance(frames, str)
+    if auto and frames != NIGHT_MODE:
+        raise ValueError(f"frames={frames!r}: a whole number >= 1, or {NIGHT_MODE!r} with "
+                         "max_frames (night mode)")
+    if max_frames is None:
+        if auto:
+            raise ValueError(f"frames={NIGHT_MODE!r} (night mode) needs max_frames, the most "
+                             "frames a burst takes, e.g. max_frames=8")
+        return None
+    if not auto:
+        raise ValueError(f"max_frames={short(max_frames)} is given with frames="
+                         f"{short(frames)}: max_frames only with frames={NIGHT_MODE!r}")
+    if (isinstance(max_frames, bool) or not isinstance(max_frames, numbers.Real)
+            or not 1 <= max_frames <= MAX_FRAMES or max_frames != int(max_frames)):
+        raise ValueError(f"max_frames={short(max_frames)}: a whole number in 1 .. "
+                         f"{MAX_FRAMES}, the most frames night mode takes")
+    return int(max_frames)
+
+
+def check_scan_cap(max_exposure_s) -> float:
+    """A scan's ``max_exposure_s`` (one value for every point, s in (0, inf]) as a float, or a
+    ValueError naming it."""
+    if (isinstance(max_exposure_s, bool) or not isinstance(max_exposure_s, numbers.Real)
+            or not max_exposure_s > 0):
+        raise ValueError(f"max_exposure_s = {short(max_exposure_s)}: one value a scan, s in "
+                         "(0, inf], the longest single frame the camera takes")
+    return float(max_exposure_s)
+
+
+def least_frames(t_mpe_s, frames, max_exposure_s) -> np.ndarray:
+    """Per point, the least of the candidate ``frames`` (a leading axis, ascending) whose frame
+    ``t_mpe_s`` / n (s, T_MPE at that n, the same leading axis) is within ``max_exposure_s``
+    (s), the last candidate where none is (float64, the points' shape)."""
+    fits = np.asarray(t_mpe_s, dtype=np.float64) / frames <= max_exposure_s  # NaN: False
+    fits = np.broadcast_to(fits, np.broadcast_shapes(fits.shape, np.shape(frames)))
+    first = np.argmax(fits, axis=0)
+    candidates = np.asarray(frames, dtype=np.float64).reshape(-1)
+    return np.where(fits.any(axis=0), candidates[first], candidates[-1])
+
+
+def _points_shape(call: dict, cap: np.ndarray):
+    """The broadcast shape of the points and the cap, or None where they do not broadcast
+    (evaluate then names the argument)."""
+    try:
+        return np.broadcast_shapes(cap.shape, *(np.shape(call[key]) for key in _POINT_KEYS
+                                                if call.get(key) is not None))
+    except ValueError:
+        return None
+
+
+def _outputs(call: dict, auto: bool) -> list:
+    outputs = call["outputs"]
+    if outputs is None:
+        extra = list(LIMIT_OUTPUTS) if auto else []
+        return list(default_outputs(check_epc_axes(call.get("epc_axes", "motion")))) + extra
+    return [outputs] if isinstance(outputs, str) else list(outputs)
+
+
+def evaluate_limits(evaluate, call: dict) -> Result:
+    """``evaluate``'s Result over ``call``'s keywords (evaluate's own) with the frame cap
+    ``max_exposure_s`` and night mode (``frames="auto"``, ``max_frames``) applied, and
+    ``frames_used`` where asked (by default with night mode)."""
+    max_frames = check_max_frames(call["frames"], call.pop("max_frames"))
+    cap = check_max_exposure(call.pop("max_exposure_s"))
+    if call.get("out") is not None:
+        raise TypeError("out= cannot be given with max_exposure_s, frames='auto' or the output "
+                        "frames_used: the frames are picked, then evaluated")
+    names = _outputs(call, max_frames is not None)
+    inner = [name for name in names if name not in LIMIT_OUTPUTS]
+    limited = bool(np.any(cap != np.inf))
+    base = {**call, "max_exposure_s": math.inf, "max_frames": None}
+    shape = _points_shape(call, cap)
+    if max_frames is not None:
+        if shape is None:  # evaluate names what does not broadcast
+            evaluate(**{**base, "frames": 1.0, "outputs": ("status",)})
+            raise ValueError(f"max_exposure_s of shape {cap.shape} does not broadcast with "
+                             "the points")
+        candidates = np.arange(1.0, max_frames + 1.0).reshape((max_frames,) + (1,) * len(shape))
+        trial = evaluate(**{**base, "frames": candidates, "epc_axes": "motion",
+                            "invalid": "status", "outputs": ("t_mpe_s",)})
+        base["frames"] = least_frames(trial.t_mpe_s, candidates, cap)
+    elif cap.ndim and shape is not None:  # the cap's axes are the points' too
+        try:
+            base["frames"] = np.broadcast_to(np.asarray(call["frames"], dtype=np.float64),
+                                             shape)
+        except (TypeError, ValueError):
+            pass  # evaluate names frames
+    needed = ["status"] + (["t_mpe_s"] if limited else [])
+    result = evaluate(**{**base, "outputs": tuple(dict.fromkeys(inner + needed))})
+    fields = {name: getattr(result, name) for name in Result.__dataclass_fields__
+              if getattr(result, name) is not None}
+    scalar = not isinstance(result.status, np.ndarray)
+    status = np.asarray(result.status, dtype=np.uint8)
+    frames = np.broadcast_to(np.asarray(base["frames"], dtype=np.float64), status.shape)
+    if limited or max_frames is not None:
+        bad = np.broadcast_to(~(cap > 0.0), status.shape)
+        if call["invalid"] == "raise" and bad.any():
+            _raise_bad_cap(cap, bad)
+        if limited:
+            t_mpe = np.asarray(result.t_mpe_s, dtype=np.float64)
+            over = np.isin(status, _TIMED) & (t_mpe / frames > cap) & ~bad
+            _limit(fields, over, bad, status)
+            status = np.asarray(fields["status"], dtype=np.uint8)
+    if LIMIT_OUTPUTS[0] in names:
+        used = (np.where(status == Status.INVALID, np.nan, frames) if max_frames is not None
+                else np.array(frames))
+        fields["frames_used"] = used
+    for name in needed:
+        if name not in inner:
+            fields.pop(name, None)
+    return new_result(_scalars(fields) if scalar else fields)
+
+
+def _raise_bad_cap(cap: np.ndarray, bad: np.ndarray):
+    """The ValueError ``invalid="raise"`` asks for at the first point whose cap is NaN or not
+    positive."""
+    index = np.unravel_index(int(np.argmax(bad)), bad.shape) if bad.ndim else ()
+    value = float(np.broadcast_to(cap, bad.shape)[index])
+    where = f" at index {tuple(int(i) for i in index)}" if bad.ndim else ""
+    raise ValueError(f"max_exposure_s={value!r}{where} is outside its domain (0, inf] (s, the "
+                     "longest single frame the camera takes)")
+
+
+def _limit(fields: dict, over: np.ndarray, bad: np.ndarray, status: np.ndarray) -> None:
+    """``fields`` with the points ``over`` the cap EXPOSURE_LIMIT (NaN but for what the target
+    would need) and those whose cap is ``bad`` INVALID (NaN, cause NONE)."""
+    if not (over.any() or bad.any()):
+        return
+    for name, value in list(fields.items()):
+        if name in _FLOATS and name != "frames_used":
+            nan = bad if name in _KEPT else over | bad
+            fields[name] = np.where(nan, np.nan, np.asarray(value, dtype=np.float64))
+    if fields.get("elasticities") is not None:
+        fields["elasticities"] = {key: np.where(over | bad, np.nan, np.asarray(value))
+                                  for key, value in fields["elasticities"].items()}
+    status = np.where(over, np.uint8(Status.EXPOSURE_LIMIT), status)
+    fields["status"] = np.where(bad, np.uint8(Status.INVALID), status).astype(np.uint8)
+    if fields.get("cause") is not None:
+        cause = np.asarray(fields["cause"], dtype=np.uint8)
+        fields["cause"] = np.where(bad, np.uint8(Cause.NONE), cause).astype(np.uint8)
+
+
+def _scalars(fields: dict) -> dict:
+    """The fields of a call on scalars as evaluate gives them: floats, Status and Cause."""
+    out = {}
+    for name, value in fields.items():
+        if name == "status":
+            out[name] = Status(int(value))
+        elif name == "cause":
+            out[name] = Cause(int(value))
+        elif name == "elasticities":
+            out[name] = {key: float(v) for key, v in value.items()}
+        elif name in _FLOATS:
+            out[name] = float(value)
+        else:
+            out[name] = value
+    return out
