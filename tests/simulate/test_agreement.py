@@ -104,6 +104,25 @@ def test_the_edge_chart_holds_the_blur_and_the_diffraction():
     assert window is None and cols - rows * math.tan(math.radians(5)) >= 2 * 100 + 120 * 3 / 0.88
 
 
+def test_without_the_edge_across_the_motion_the_rest_is_the_same_unless_epc_counts_both():
+    kwargs = presets.HIGH_TIER[0].evaluate_kwargs()
+    full = agreement(1000.0, seeds=2, **kwargs)
+    along = agreement(1000.0, seeds=2, across=False, **kwargs)
+    assert math.isnan(along.f50_across_sim_cyc_per_mm)
+    assert math.isnan(along.f50_across_noiseless_cyc_per_mm)
+    assert along.f50_across_model_cyc_per_mm == full.f50_across_model_cyc_per_mm
+    assert (along.f50_sim_cyc_per_mm, along.epc_sim, along.snr_db_sim) == (
+        full.f50_sim_cyc_per_mm, full.epc_sim, full.snr_db_sim)
+    # EPC counted in both directions needs the edge across: measured, and in epc_sim
+    both = agreement(1000.0, seeds=2, across=False, epc_axes="both", **kwargs)
+    assert both.f50_across_sim_cyc_per_mm == full.f50_across_sim_cyc_per_mm
+    area = both.epc_model / (4 * both.f50_model_cyc_per_mm * both.f50_across_model_cyc_per_mm)
+    assert both.epc_sim == pytest.approx(
+        4 * area * both.f50_sim_cyc_per_mm * both.f50_across_sim_cyc_per_mm, rel=1e-12)
+    with pytest.raises(TypeError, match="across"):
+        agreement(1000.0, seeds=2, across="no", **kwargs)
+
+
 def test_seeds_must_give_a_scatter():
     with pytest.raises(ValueError, match="seeds"):
         agreement(100.0, seeds=1, **presets.HIGH_TIER[0].evaluate_kwargs())

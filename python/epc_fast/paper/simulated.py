@@ -56,7 +56,9 @@ class _SimulatedEPC:
 
         key = (design, float(lux))
         if key not in self._cache:
-            a = agreement(float(lux), seeds=self.seeds, **design.evaluate_kwargs())
+            # the paper's EPC counts the MTF along the motion alone: no edge across it
+            a = agreement(float(lux), seeds=self.seeds, across=False,
+                          **design.evaluate_kwargs())
             self._cache[key] = a.epc_sim
         return self._cache[key]
 

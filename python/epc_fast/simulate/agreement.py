@@ -204,7 +204,8 @@ def longest_wavelength_um(design) -> float:
     return float(np.max(spectrum[0] if wavelengths is None else wavelengths)) * 1e-3
 
 
-def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **design) -> Agreement:
+def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, across: bool = True,
+              **design) -> Agreement:
     """Compare the model with simulated captures of one design at one light level.
 
     Parameters
@@ -213,6 +214,9 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     seeds : int, >= 2: the noisy captures (the noise drawn anew each time, the expected image
         computed once).
     seed : int, the first seed; the captures use seed, seed + 1, ...
+    across : bool, whether to capture and measure the edge across the motion too (its
+        figures NaN without it); a design with ``epc_axes="both"`` always does, its
+        ``epc_sim`` counts it.
     **design : the design's keywords of :func:`epc_fast.evaluate` (scalars). A design with
         ``modes`` is captured, and its edge sized and measured, in the mode the model picks.
 
@@ -224,6 +228,8 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     """
     if isinstance(seeds, bool) or not isinstance(seeds, (int, np.integer)) or seeds < 2:
         raise ValueError(f"seeds: an integer >= 2 (the scatter needs two), got {seeds!r}")
+    if not isinstance(across, (bool, np.bool_)):
+        raise TypeError(f"across: True or False, got {across!r}")
     model = model_result(illuminance_lux, **design)
     status = Status(int(np.asarray(model.status)))
     shake = design.get("shake_deg_per_s", 4.39)
@@ -253,10 +259,13 @@ def agreement(illuminance_lux: float, *, seeds: int = 16, seed: int = 0, **desig
     patch = capture(flat(FLAT_PX, design.get("reflectance", 0.4)),
                     illuminance_lux=illuminance_lux, seed=seed, **design)
     noiseless, pooled, std = _measured(edge, seed, seeds, window)
-    across = capture(slanted_edge(across_shape, ACROSS_EDGE_ANGLE_DEG),
-                     illuminance_lux=illuminance_lux, seed=seed,
-                     motion_angle_deg=ACROSS_MOTION_ANGLE_DEG, **design)
-    across_noiseless, across_pooled, across_std = _measured(across, seed, seeds, across_window)
+    across_noiseless = across_pooled = across_std = math.nan
+    if across or both:
+        edge_across = capture(slanted_edge(across_shape, ACROSS_EDGE_ANGLE_DEG),
+                              illuminance_lux=illuminance_lux, seed=seed,
+                              motion_angle_deg=ACROSS_MOTION_ANGLE_DEG, **design)
+        across_noiseless, across_pooled, across_std = _measured(edge_across, seed, seeds,
+                                                                across_window)
     snrs = [snr(patch.redraw(seed + i).image_e).snr_db for i in range(seeds)]
     counted_sim = pooled * (across_pooled if both else pooled)
     return Agreement(float(illuminance_lux), status, f50_model, float(normal.f50_cyc_per_mm),
