@@ -13,6 +13,8 @@ from .core_call import run_core
 from .design import ResolvedDesign, resolved_from
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .footprint import check_memory
+from .axes import asks_across, evaluate_axes
+from .exposure_limits import asks_frames_used, asks_limits, evaluate_limits
 from .modes import evaluate_modes
 from .call_options import (BACKENDS, BINNING_READOUTS, F50_SOLVERS,  # noqa: F401 (api's names)
                            INVALID_POLICIES, PRECISIONS, T_MPE_SOLVERS, CallOptions, options_of)
@@ -24,6 +26,8 @@ from .status import Status
 __all__ = ["evaluate", "Result", "MAX_THREADS", "ELASTICITY_PARAMETERS", "OUTPUT_DTYPES",
            "ALL_OUTPUT_DTYPES", "SHARE_OUTPUTS", "SENSITIVITY_OUTPUTS"]
 
+#: max_exposure_s's default, no frame cap: a call tells it by identity, its cheapest test.
+_NO_CAP = math.inf
 #: Points per call into the core between two checks for Ctrl-C (the GIL is released inside).
 CHUNK_POINTS = 1 << 18
 
@@ -113,7 +117,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
              color_noise_gain=None, binning_readout="digital", spectrum=None, threads=None,
              backend="core", invalid="status", f50_solver="halley", f50_rtol=1e-14,
              t_mpe_solver="closed_form",
-             t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None, modes=None) -> Result:
+             t_mpe_rtol=1e-15, precision="float64", out=None, outputs=None, modes=None,
+             epc_axes="motion", max_exposure_s=_NO_CAP, max_frames=None) -> Result:
     """Effective pixel count and its intermediates for camera designs (docs/model.md).
 
     Every model parameter is a float or an array_like of floats; all of them broadcast against
@@ -159,7 +164,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
     binning : 1, pixel binning k, a whole number >= 1: k x k pixels read as one output pixel
         (1: off; docs/model.md, "Exposure: T_MPE" and "System MTF").
     frames : 1, burst capture n, a whole number >= 1: the exposure split into n frames,
-        aligned and summed (1: off).
+        aligned and summed (1: off); or ``"auto"``, night mode (``max_frames``).
     alignment_error_um : um, rms alignment error of each frame of a burst (0: off).
     wavefront_rms_waves : waves, rms wavefront error at every wavelength (0: off; <= 0.16).
     denoise_sigma_px : output pixels, sigma of a Gaussian denoising filter (0: off; <= 100).
@@ -243,6 +248,20 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         Readout modes (:mod:`epc_fast.modes`), e.g. ``[{"binning": 1}, {"binning": 4}]``:
         each point gets the outputs of the mode with the highest EPC, its index in
         :attr:`Result.mode`.
+    epc_axes : {"motion", "both"}
+        How EPC counts the resolution (docs/model.md, "Resolution in both directions"):
+        ``"motion"`` (the default), the paper's 4 S f50^2 with f50 along the motion; ``"both"``,
+        4 S f50 f50_across, each direction once (f50_across, the system MTF's f50 without the
+        motion blur, then a default output). The modes' pick, the elasticities and everything
+        else that reads EPC read it. ``"both"`` solves f50 a second time.
+    max_exposure_s : s, the longest single frame the camera takes, in (0, inf], per point
+        (broadcast like the parameters; inf, the default: no cap). A point whose frame
+        T_MPE / frames is longer has status EXPOSURE_LIMIT: T_MPE and the electron counts
+        finite, blur, f50 and EPC NaN (docs/model.md, "Exposure limits and night mode").
+    max_frames : whole number in 1 .. 1024, with ``frames="auto"`` only (night mode): each
+        point takes the least n <= max_frames whose frame T_MPE(n) / n is within
+        ``max_exposure_s`` (max_frames, and EXPOSURE_LIMIT, where none is); the n taken is the
+        output ``frames_used``, then a default output.
 
     Returns
     -------
@@ -262,8 +281,15 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         Before anything is allocated, when the call would need more memory than the machine
         (or its container) has: evaluate such a grid in pieces.
     """
-    if modes is not None:  # evaluate's own keywords, modes among them, to each mode
-        result = evaluate_modes(evaluate, dict(locals()))
+    if (modes is not None or epc_axes != "motion" or max_exposure_s is not _NO_CAP
+            or max_frames is not None
+            or (outputs is not None and (asks_across(outputs) or asks_frames_used(outputs)))):
+        # evaluate's own keywords to each mode, to the frame cap's passes, or to the passes
+        # along and across the motion
+        call = dict(locals())
+        result = (evaluate_modes(evaluate, call) if modes is not None
+                  else evaluate_limits(evaluate, call) if asks_limits(call)
+                  else evaluate_axes(evaluate, call))
         _, angle = size_and_field_angle(pixel_count, sensor_area_mm2, sensor_width_mm,
                                         sensor_height_mm, sensor_diagonal_mm, aspect, snr_at,
                                         field_angle_deg, focal_length_mm)

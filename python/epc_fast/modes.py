@@ -3,7 +3,9 @@ picks, shot by shot, the way that gives the most effective pixels.
 
 ``evaluate(..., modes=[{"binning": 1}, {"binning": 4}, {"binning": 4, "frames": 8}])``
 evaluates every mode at every point and returns, per point, the outputs of the mode with the
-highest EPC and that mode's index (:attr:`Result.mode`).
+highest EPC and that mode's index (:attr:`Result.mode`). A mode may be a night mode,
+``{"frames": "auto", "max_frames": 8}``: with ``max_exposure_s`` its burst takes the least
+frames that keep each frame within the cap (:mod:`epc_fast.exposure_limits`).
 """
 
 from __future__ import annotations
@@ -13,7 +15,9 @@ from collections.abc import Mapping
 import numpy as np
 
 from ._validation import short
-from .outputs import SHARE_OUTPUTS, Result, selected_outputs
+from .axes import check_epc_axes, default_outputs
+from .exposure_limits import check_max_frames
+from .outputs import ACROSS_OUTPUTS, LIMIT_OUTPUTS, SHARE_OUTPUTS, Result, selected_outputs
 from .params import READOUT_CODES, readout_codes
 from .status import Cause, Status
 
@@ -21,7 +25,7 @@ __all__ = ["MODE_KEYS", "MODE_DEFAULTS", "NO_MODE", "check_modes", "evaluate_mod
 
 #: The keywords a readout mode sets, and their defaults (evaluate's).
 MODE_DEFAULTS = {"binning": 1.0, "binning_readout": "digital", "frames": 1.0,
-                 "alignment_error_um": 0.0}
+                 "alignment_error_um": 0.0, "max_frames": None}
 MODE_KEYS = tuple(MODE_DEFAULTS)
 #: The mode index of a point where no mode has an EPC (every mode INVALID or UNREACHABLE): its
 #: outputs are the first mode's, whose status says why.
@@ -51,8 +55,13 @@ def check_modes(modes) -> tuple:
             if key != "binning_readout" and np.ndim(value) != 0:
                 raise ValueError(f"modes[{i}]: {key} = {short(value)}: one value a mode")
         full = {**MODE_DEFAULTS, **mode}
-        signature = tuple(str(full[k]) if k == "binning_readout" else float(full[k])
-                          for k in MODE_KEYS)
+        try:  # night mode: frames="auto" with max_frames, and max_frames only with it
+            check_max_frames(full["frames"], full["max_frames"])
+        except ValueError as error:
+            raise ValueError(f"modes[{i}]: {error}") from None
+        signature = tuple(str(full[k]) if k == "binning_readout"
+                          else full[k] if full[k] is None or isinstance(full[k], str)
+                          else float(full[k]) for k in MODE_KEYS)
         if signature in seen:
             raise ValueError(f"modes[{i}] repeats modes[{seen[signature]}] "
                              f"({short(dict(mode))}): each mode once")
@@ -63,7 +72,7 @@ def check_modes(modes) -> tuple:
 
 def evaluate_modes(evaluate, call: dict) -> Result:
     """``evaluate``'s Result over ``call``'s keywords (evaluate's own) for each of its
-    ``modes``, per point the mode with the highest EPC, with :attr:`Result.mode` its index
+    ``modes``, per point the mode with the highest EPC (as ``epc_axes`` counts it), with :attr:`Result.mode` its index
     (the first of equal ones; :data:`NO_MODE` where no mode has an EPC)."""
     modes = check_modes(call.pop("modes"))
     if call.get("out") is not None:
@@ -74,8 +83,12 @@ def evaluate_modes(evaluate, call: dict) -> Result:
             if not _is_default(key, call.get(key)):
                 raise ValueError(f"{key} = {short(call[key])} is given to evaluate and in "
                                  f"modes[{i}]: give it in each mode")
-    wanted = selected_outputs(call.get("outputs"))
-    asked = tuple(dict.fromkeys((*wanted, "epc")))
+    epc_axes = check_epc_axes(call.get("epc_axes", "motion"))
+    wanted = (default_outputs(epc_axes) if call.get("outputs") is None
+              else selected_outputs(call.get("outputs")))
+    night = [LIMIT_OUTPUTS[0]] if call.get("outputs") is None and any(
+        isinstance(mode.get("frames"), str) for mode in modes) else []
+    asked = tuple(dict.fromkeys((*wanted, *night, "epc")))
     results = [evaluate(**{**call, **mode, "outputs": asked}) for mode in modes]
     epc = np.stack([np.asarray(r.epc, dtype=np.float64) for r in results])
     finite = np.isfinite(epc)
@@ -104,7 +117,8 @@ def evaluate_modes(evaluate, call: dict) -> Result:
             if fields[name] is not None:
                 fields[name] = kind(int(fields[name]))
         for name in ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm",
-                     "f50_cyc_per_mm", "epc", *SHARE_OUTPUTS):
+                     "f50_cyc_per_mm", "epc", *SHARE_OUTPUTS, *ACROSS_OUTPUTS,
+                     *LIMIT_OUTPUTS):
             if fields.get(name) is not None:
                 fields[name] = float(fields[name])
     return Result(**fields, mode=int(mode) if scalar else mode)
@@ -113,6 +127,8 @@ def evaluate_modes(evaluate, call: dict) -> Result:
 def _is_default(key, value) -> bool:
     if value is None:
         return True
+    if isinstance(value, str) and key != "binning_readout":
+        return False  # frames="auto"
     if key == "binning_readout":
         return bool(np.all(np.asarray(readout_codes(value)) == READOUT_CODES["digital"]))
     return bool(np.all(np.asarray(value, dtype=float) == MODE_DEFAULTS[key]))

@@ -15,7 +15,8 @@ from ._validation import short
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .status import Cause, Status
 
-__all__ = ["Result", "SHARE_NAMES", "SHARE_OUTPUTS", "SENSITIVITY_OUTPUTS", "OUTPUT_DTYPES",
+__all__ = ["Result", "SHARE_NAMES", "SHARE_OUTPUTS", "SHARE_ACROSS_OUTPUTS", "ACROSS_OUTPUTS",
+           "LIMIT_OUTPUTS", "SENSITIVITY_OUTPUTS", "OUTPUT_DTYPES",
            "ALL_OUTPUT_DTYPES", "DTYPES", "selected_outputs", "out_arrays", "result_arrays",
            "output_shape", "output_bytes", "result_of", "new_result", "attach_snr_target"]
 
@@ -33,10 +34,21 @@ class Result:
         PRNU makes the target unreachable, the electrons needed where the full well does.
     t_mpe_s : s, minimum photometric exposure; +inf where the target is unreachable.
     blur_mm : mm, blur length on the sensor; +inf where the blur is unbounded.
-    f50_cyc_per_mm : cycles/mm, where the system MTF falls to ``mtf_threshold``.
-    epc : pixels, effective pixel count 4 S f50^2.
+    f50_cyc_per_mm : cycles/mm, where the system MTF falls to ``mtf_threshold``, along the
+        motion.
+    epc : pixels, effective pixel count: 4 S f50^2 (``epc_axes="motion"``, the default), or
+        4 S f50 f50_across (``epc_axes="both"``; docs/model.md, "Resolution in both directions").
     status : :class:`Status` codes (uint8 array).
     cause : :class:`Cause` codes (uint8 array), why a point is unreachable.
+    f50_across_cyc_per_mm : cycles/mm, where the system MTF without the motion blur falls to
+        ``mtf_threshold`` (every other factor, jitter and a burst's alignment included): the
+        f50 across the motion. NaN where f50 is (but finite where the blur is unbounded); with
+        ``epc_axes="both"`` a default output, else computed only when ``outputs=`` names it.
+    frames_used : 1, the frames each point's burst takes: with ``frames="auto"`` (night mode,
+        a default output then) the least n up to ``max_frames`` whose frame T_MPE / n is within
+        ``max_exposure_s`` (``max_frames`` where none is; NaN where the status is INVALID);
+        else the broadcast ``frames``, computed only when ``outputs=`` names it
+        (:mod:`epc_fast.exposure_limits`).
     share_diffraction, share_pixel, share_motion, share_jitter, share_alignment,
     share_aberration, share_denoise, share_lens, share_demosaic : 1, each MTF factor's share
         ln MTF_i(f50) / ln MTF_sys(f50) of the loss at f50 (the denominator is ln c at the
@@ -46,6 +58,9 @@ class Result:
         demosaicker have their own (0 without them). NaN
         where the status is not OK, except where the blur is unbounded: motion's is 1, the
         others 0. Computed only when ``outputs=`` names them.
+    share_diffraction_across ... share_demosaic_across : 1, the same shares at
+        f50_across_cyc_per_mm, of the system MTF across the motion (motion's is 0). Computed
+        only when ``outputs=`` names them.
     elasticities : dict of parameter name to 1, the elasticity d ln EPC / d ln theta of every
         model parameter (:data:`ELASTICITY_PARAMETERS`; the sensor's size under the keyword
         that gave it, ``sensor_area_mm2`` for a width and a height or a diagonal), each the
@@ -70,6 +85,8 @@ class Result:
     epc: np.ndarray | float | None
     status: np.ndarray | Status | None
     cause: np.ndarray | Cause | None
+    f50_across_cyc_per_mm: np.ndarray | float | None = None
+    frames_used: np.ndarray | float | None = None
     share_diffraction: np.ndarray | float | None = None
     share_pixel: np.ndarray | float | None = None
     share_motion: np.ndarray | float | None = None
@@ -79,6 +96,15 @@ class Result:
     share_denoise: np.ndarray | float | None = None
     share_lens: np.ndarray | float | None = None
     share_demosaic: np.ndarray | float | None = None
+    share_diffraction_across: np.ndarray | float | None = None
+    share_pixel_across: np.ndarray | float | None = None
+    share_motion_across: np.ndarray | float | None = None
+    share_jitter_across: np.ndarray | float | None = None
+    share_alignment_across: np.ndarray | float | None = None
+    share_aberration_across: np.ndarray | float | None = None
+    share_denoise_across: np.ndarray | float | None = None
+    share_lens_across: np.ndarray | float | None = None
+    share_demosaic_across: np.ndarray | float | None = None
     elasticities: dict | None = None
     mode: np.ndarray | int | None = None
 
@@ -147,13 +173,22 @@ SHARE_OUTPUTS = tuple(f"share_{name}" for name in SHARE_NAMES)
 SENSITIVITY_OUTPUTS = SHARE_OUTPUTS + ("elasticities",)
 #: The fields a call with ``modes=`` adds (:mod:`epc_fast.modes`).
 MODE_OUTPUTS = ("mode",)
+#: The shares of the loss at f50_across_cyc_per_mm, one output each.
+SHARE_ACROSS_OUTPUTS = tuple(f"share_{name}_across" for name in SHARE_NAMES)
+#: The outputs across the motion (:mod:`epc_fast.axes`): the system MTF without the motion
+#: blur, solved by a second pass of the backend.
+ACROSS_OUTPUTS = ("f50_across_cyc_per_mm",) + SHARE_ACROSS_OUTPUTS
+#: The outputs of a call's exposure limits (:mod:`epc_fast.exposure_limits`): the frames a
+#: burst takes.
+LIMIT_OUTPUTS = ("frames_used",)
 #: Each default output's dtype, in Result's field order.
 OUTPUT_DTYPES = {f.name: np.dtype(np.uint8 if f.name in ("status", "cause") else np.float64)
                  for f in fields(Result)
-                 if f.name not in SENSITIVITY_OUTPUTS + MODE_OUTPUTS}
+                 if f.name not in SENSITIVITY_OUTPUTS + MODE_OUTPUTS + ACROSS_OUTPUTS
+                 + LIMIT_OUTPUTS}
 #: Every output's dtype (the elasticities: float64 rows), in Result's field order.
-ALL_OUTPUT_DTYPES = {**OUTPUT_DTYPES, **{name: np.dtype(np.float64)
-                                         for name in SENSITIVITY_OUTPUTS}}
+ALL_OUTPUT_DTYPES = {name: np.dtype(np.uint8 if name in ("status", "cause") else np.float64)
+                     for name in (f.name for f in fields(Result)) if name not in MODE_OUTPUTS}
 #: Every output's dtype by its name inside: the Result fields', and each single elasticity's.
 DTYPES = {**ALL_OUTPUT_DTYPES, **dict.fromkeys(elasticity_outputs.ROWS, np.dtype(np.float64))}
 
@@ -287,11 +322,11 @@ def new_result(values: dict) -> Result:
     """The Result of ``values`` (field name -> value; the fields it lacks None), made as the
     dataclass's __init__ would make it, without its per-field frozen __setattr__ (a call's
     fixed cost)."""
-    unknown = values.keys() - _NO_FIELDS.keys()
-    if unknown:
+    if not _NO_FIELDS.keys() >= values.keys():  # a lookup per value, not per field
+        unknown = values.keys() - _NO_FIELDS.keys()
         raise TypeError(f"Result has no field(s) {sorted(unknown)}")
     result = object.__new__(Result)
-    state = result.__dict__
-    state.update(_NO_FIELDS)
+    state = _NO_FIELDS.copy()  # a copy of a dict of the same keys: one block copied
     state.update(values)
+    object.__setattr__(result, "__dict__", state)
     return result

@@ -5,11 +5,14 @@ parameter, and one phrase per term that is on beside the axes (the printed space
 
 A term is on where a parameter with a default differs from the default the points take
 (``stabilization`` 4, ``read_noise_e`` 2), or where an evaluate option adds a factor: a colour
-filter (``cfa``), lens MTF tables (``lens_mtf``), a spectrum, a design's charge binning or
-readout modes. The SNR target and where it is met have a line of their own.
+filter (``cfa``), lens MTF tables (``lens_mtf``), a spectrum, a frame cap
+(``max_exposure_s``), a design's charge binning, readout modes or night mode. The SNR target
+and where it is met have a line of their own.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -60,8 +63,9 @@ def designs_terms(names, table: dict, cfa: str = "none", skip=()) -> list[str]:
 
 def terms_on(space) -> list[str]:
     """One phrase per term ``space`` (:class:`epc_fast.scan.Space`) turns on that is not one of
-    its axes: the colour filter and its demosaicker, the lens tables, a spectrum, the designs'
-    parameters that differ from their defaults, charge binning and readout modes."""
+    its axes: the colour filter and its demosaicker, the lens tables, a spectrum, EPC counted in
+    both directions, the frame cap (``"frame cap 0.1 s"``), the designs' parameters that
+    differ from their defaults, charge binning, readout modes and night mode."""
     options = space.evaluate_options
     cfa = options.get("cfa", "none")
     terms = []
@@ -74,6 +78,10 @@ def terms_on(space) -> list[str]:
                      else f"lens MTF tables ({count}), picked by lens")
     if options.get("spectrum") is not None:
         terms.append("diffraction over a spectrum")
+    if options.get("epc_axes", "motion") != "motion":
+        terms.append("EPC in both directions (4 S f50 f50_across)")
+    if options.get("max_exposure_s", math.inf) != math.inf:
+        terms.append(f"frame cap {options['max_exposure_s']:g} s")
     terms += designs_terms(space.design_names, space.design_table, cfa, skip=space.axes)
     return terms + readout_terms(space.design_names, space.design_readout, space.design_modes)
 
@@ -81,7 +89,9 @@ def terms_on(space) -> list[str]:
 def readout_terms(names, readouts, modes) -> list[str]:
     """``"charge binning (A)"`` and ``"readout modes (A: 3)"`` for the designs of ``names``
     that read their binned pixels as charge or pick among modes (``readouts``: each design's
-    ``binning_readout``; ``modes``: each design's modes or None); "every design" when all do."""
+    ``binning_readout``; ``modes``: each design's modes or None), and ``"night mode up to 8
+    frames (A)"`` for those with a night mode (``frames="auto"``); "every design" when all
+    do."""
     terms = []
     charge = [name for name, readout in zip(names, readouts) if readout == "charge"]
     if charge:
@@ -90,4 +100,13 @@ def readout_terms(names, readouts, modes) -> list[str]:
     picked = [f"{name}: {len(m)}" for name, m in zip(names, modes) if m]
     if picked:
         terms.append(f"readout modes ({'; '.join(picked)})")
+    night: dict = {}  # the most frames of each design's night modes -> the designs
+    for name, design_modes in zip(names, modes):
+        most = max((m["max_frames"] for m in design_modes or () if m.get("frames") == "auto"),
+                   default=None)
+        if most is not None:
+            night.setdefault(most, []).append(name)
+    for most, designs in night.items():
+        which = "every design" if len(designs) == len(names) else ", ".join(designs)
+        terms.append(f"night mode up to {most:g} frames ({which})")
     return terms

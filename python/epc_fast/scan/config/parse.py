@@ -24,7 +24,9 @@ The format, section by section (every value in the unit of the parameter it sets
                                  #   of such tables, which lens = {choice = [0, 1, ...]}
                                  #   picks per point; cfa = "none" | "bayer"
                                  #   | "quad_bayer" (binning 1 or 2, one per call),
-                                 #   demosaic = "malvar2004" | "bilinear" | "menon2007"
+                                 #   demosaic = "malvar2004" | "bilinear" | "menon2007",
+                                 #   epc_axes = "motion" | "both" (docs/model.md),
+                                 #   max_exposure_s = 0.1 (s, the longest frame)
     [reductions.NAME]            # kind = "summary" | "histogram" | "quantiles"
                                  #   | "fraction_below" | "top_k", their arguments, and
                                  #   by = "design" | [part, ...] where a part is a name or
@@ -74,7 +76,8 @@ from ..running.readout_modes import READOUT_KEYS
 from ..sampling.space import BLOCK_POINTS, POINT_PARAMETERS, Space, domain_problem
 from ...api import BINNING_READOUTS
 from ...cfa import CFAS, DEMOSAICS
-from ...modes import MODE_DEFAULTS, check_modes
+from ...axes import EPC_AXES
+from .modes import design_modes
 
 __all__ = ["ScanConfig", "load_config", "parse_config", "default_config", "DEFAULT_CONFIG",
            "toml_document", "parse_space"]
@@ -130,7 +133,8 @@ DISTRIBUTION_KEYS = {"uniform": (("low", None, False), ("high", None, False)),
                      "lognormal": (("median", 0.0, True), ("sigma", 0.0, True))}
 #: The keys of [evaluate] and their checks.
 EVALUATE_CHOICES = {"f50_solver": F50_SOLVERS, "t_mpe_solver": T_MPE_SOLVERS,
-                    "precision": PRECISIONS, "cfa": CFAS, "demosaic": DEMOSAICS}
+                    "precision": PRECISIONS, "cfa": CFAS, "demosaic": DEMOSAICS,
+                    "epc_axes": EPC_AXES}
 EVALUATE_TOLERANCES = ("f50_rtol", "t_mpe_rtol")
 
 
@@ -262,39 +266,13 @@ def _custom_design(entry, index: int) -> dict:
         if problem:
             raise ConfigError(f"{config_prefix()} {label}: {key} = {problem}")
     if "modes" in design:
-        design["modes"] = _modes(where, label, design)
+        design["modes"] = design_modes(where, label, design)
     try:
         design_parameters({k: v for k, v in design.items()
                            if k != "name" and k not in READOUT_KEYS})
     except (TypeError, ValueError) as error:
         raise ConfigError(f"{config_prefix()} {label}: {error}") from None
     return design
-
-
-def _modes(where: str, label: str, design: dict) -> list:
-    """A design's ``modes = [{binning = 1}, {binning = 4, frames = 8}, ...]``, checked with
-    :func:`epc_fast.modes.check_modes` and every value against its domain."""
-    value = design["modes"]
-    if not isinstance(value, list) or len(value) > MAX_LIST:
-        raise ConfigError(f"{config_prefix()} {label}: modes = {short(value)}: expected a list of "
-                          "readout modes, e.g. [{binning = 1}, {binning = 4}]")
-    try:
-        modes = check_modes(value)
-    except (TypeError, ValueError) as error:
-        raise ConfigError(f"{config_prefix()} {label}: {error}") from None
-    for index, mode in enumerate(modes):
-        for key, item in mode.items():
-            if key == "binning_readout":
-                choice(f"{where}.modes[{index}]", key, item, BINNING_READOUTS)
-                continue
-            number(f"{where}.modes[{index}]", key, item)
-            problem = domain_problem(key, item)
-            if problem:
-                raise ConfigError(f"{config_prefix()} {label}: modes[{index}]: {key} = {problem}")
-            if key in design and design[key] != MODE_DEFAULTS[key]:
-                raise ConfigError(f"{config_prefix()} {label}: modes[{index}]: {key} is set by the "
-                                  f"design too ({key} = {design[key]:g}): give it in each mode")
-    return list(modes)
 
 
 def _readout_codes(value):
@@ -358,9 +336,8 @@ def _parameter(name: str, value, base: Path):
 
 
 def _evaluate_options(table) -> dict:
-    table = take(table_of("evaluate", table), "evaluate",
-                 optional=tuple(EVALUATE_CHOICES) + EVALUATE_TOLERANCES + ("spectrum",
-                                                                          "lens_mtf"))
+    table = take(table_of("evaluate", table), "evaluate", optional=(
+        *EVALUATE_CHOICES, *EVALUATE_TOLERANCES, "spectrum", "lens_mtf", "max_exposure_s"))
     options = {}
     for key, value in table.items():
         if key in EVALUATE_CHOICES:
@@ -369,6 +346,8 @@ def _evaluate_options(table) -> dict:
             options[key] = number("evaluate", key, value, 0.0, 1.0, high_open=True)
         elif key == "lens_mtf":
             options[key] = _lens_tables(value)
+        elif key == "max_exposure_s":  # s, the frame cap (docs/model.md)
+            options[key] = number("evaluate", key, value, 0.0, low_open=True)
         else:
             if not (isinstance(value, list) and len(value) == 2):
                 raise ConfigError(f"{config_prefix()} [evaluate]: spectrum = {short(value)}: "

@@ -13,6 +13,7 @@ writes every point: for those the core forms and evaluates the chunk's points as
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass
 
@@ -77,8 +78,11 @@ def chunk_outputs(plan: tuple, parquet: bool) -> tuple:
 
 
 def _per_point(item: PlanItem, points_total: int) -> bool:
-    """Whether a reduction needs the chunk's values as arrays (exact quantiles keep them)."""
-    return isinstance(item.reduction, Quantiles) and points_total <= item.reduction.exact_up_to
+    """Whether a reduction needs the chunk's values as arrays: exact quantiles keep them, and
+    the fused pass has no f50 across the motion."""
+    return ((isinstance(item.reduction, Quantiles)
+             and points_total <= item.reduction.exact_up_to)
+            or item.reduction.of == "f50_across_cyc_per_mm")
 
 
 def reduce_chunk(space: Space, plan: tuple, seed: int, start: int, stop: int, points_total: int,
@@ -115,11 +119,12 @@ def _evaluate(space: Space, points, **options):
 
 
 def _options(space: Space, backend: str) -> dict:
-    """The space's evaluate options; the reference backend takes the spectrum, the lens tables
-    and the colour sensor only."""
+    """The space's evaluate options; the reference backend takes the spectrum, the lens tables,
+    the colour sensor, how EPC counts the resolution and the frame cap only."""
     if backend == "reference":
         return {k: v for k, v in space.evaluate_options.items()
-                if k in ("spectrum", "lens_mtf", "cfa", "demosaic")}
+                if k in ("spectrum", "lens_mtf", "cfa", "demosaic", "epc_axes",
+                         "max_exposure_s")}
     return space.evaluate_options
 
 
@@ -134,11 +139,14 @@ def _core_plan(space, plan, seed, points_total) -> tuple:
     if (last is not None and last[0][0] is space and last[0][1] is plan
             and last[0][2:] == (seed, points_total)):
         return last[1]
-    # the fused pass reads every point one way and has no tables: a design's modes
-    # (scan/running/readout_modes.py) and a space's lens tables or colour sensor are evaluated
-    # as arrays
+    # the fused pass reads every point one way, has no tables and counts EPC along the motion:
+    # a design's modes (scan/running/readout_modes.py), a space's lens tables or colour sensor
+    # and EPC in both directions are evaluated as arrays, and so is a frame cap (the core
+    # gives no EXPOSURE_LIMIT); a night mode is a design's mode
     tables = (space.evaluate_options.get("lens_mtf") is not None
-              or space.evaluate_options.get("cfa", "none") != "none")
+              or space.evaluate_options.get("cfa", "none") != "none"
+              or space.evaluate_options.get("epc_axes", "motion") != "motion"
+              or space.evaluate_options.get("max_exposure_s", math.inf) != math.inf)
     fused = tuple(item for item in plan if not _per_point(item, points_total)
                   and not space.has_modes and not tables)
     arrays = tuple(item for item in plan if item not in fused)

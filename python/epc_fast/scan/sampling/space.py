@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...cfa import quad_bayer_binning
+from ...exposure_limits import check_scan_cap
 from ...modes import MODE_DEFAULTS
 from ...mtf_table import lens_tables_of
 from ...params import PARAMETER_NAMES, PARAMETERS, READOUT_CODES, SIZE_PARAMETERS, readout_codes
@@ -46,7 +47,7 @@ MIN_REPORTED_SHARE = 1e-6
 DESCRIBE_WIDTH = 100
 #: Keyword options of :func:`epc_fast.evaluate` that a space may fix for every point.
 EVALUATE_OPTIONS = ("spectrum", "f50_solver", "f50_rtol", "t_mpe_solver", "t_mpe_rtol",
-                    "precision", "lens_mtf", "cfa", "demosaic")
+                    "precision", "lens_mtf", "cfa", "demosaic", "epc_axes", "max_exposure_s")
 
 
 @dataclass
@@ -108,7 +109,9 @@ class Space:
     evaluate_options : mapping, optional
         Options of :func:`epc_fast.evaluate` shared by every point: ``spectrum``, ``f50_rtol``,
         ``t_mpe_solver``, ``t_mpe_rtol``, ``lens_mtf`` (a lens table or a list of them, which
-        ``lens`` picks per point), ``cfa`` and ``demosaic`` (a colour sensor).
+        ``lens`` picks per point), ``cfa`` and ``demosaic`` (a colour sensor), ``epc_axes``
+        (how EPC counts the resolution: ``"both"`` is evaluated as arrays, not in the core's
+        fused pass), ``max_exposure_s`` (a frame cap, one value: EXPOSURE_LIMIT counted).
     **parameters : float, Grid, Choice or a distribution
         Any per-point parameter of :func:`epc_fast.evaluate`, in its unit: a number (fixed), a
         :class:`Grid`, a :class:`Choice` or a distribution (:class:`Uniform`,
@@ -156,6 +159,9 @@ class Space:
                             f"{', '.join(EVALUATE_OPTIONS)}")
         if self.evaluate_options.get("lens_mtf") is not None:
             self.evaluate_options["lens_mtf"] = self._lens_tables()
+        if "max_exposure_s" in self.evaluate_options:  # a frame cap: one value a scan
+            self.evaluate_options["max_exposure_s"] = check_scan_cap(
+                self.evaluate_options["max_exposure_s"])
         self._check_required()
         self._check_domains()
         self.grid_axes = tuple(n for n, a in self.axes.items() if isinstance(a, Grid))
