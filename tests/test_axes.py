@@ -155,12 +155,27 @@ def test_shapes_broadcast_as_the_pass_along_the_motion():
 
 @pytest.mark.parametrize("kwargs, error, match", [
     ({"epc_axes": "across"}, ValueError, "epc_axes"),
-    ({"epc_axes": "both", "out": {}}, TypeError, "out= cannot be given with epc_axes"),
+    ({"epc_axes": "both", "out": {}, "outputs": "elasticities"}, TypeError,
+     "out= cannot take the elasticities with epc_axes"),
+    ({"epc_axes": "both", "out": {"epc": np.empty(2)}, "outputs": "epc"}, ValueError,
+     r"out\['epc'\] has shape \(2,\), expected the broadcast shape \(\)"),
     ({"outputs": ("f50_across_cyc_per_mm", "nonsense")}, ValueError, "nonsense"),
 ])
 def test_bad_epc_axes_and_its_refusals_name_the_argument(kwargs, error, match):
     with pytest.raises(error, match=match):
         evaluate(10.0, **DESIGN, **kwargs)
+
+
+def test_out_takes_the_outputs_in_both_directions_and_the_result_holds_its_arrays():
+    lux = np.geomspace(1.0, 1e4, 5)
+    out = {"epc": np.empty(5), "status": np.empty(5, np.uint8),
+           "f50_across_cyc_per_mm": np.empty(5)}
+    result = evaluate(lux, **DESIGN, epc_axes="both", out=out,
+                      outputs=("epc", "status", "f50_across_cyc_per_mm"))
+    plain = evaluate(lux, **DESIGN, epc_axes="both")
+    for name, array in out.items():
+        assert getattr(result, name) is array
+        np.testing.assert_array_equal(array, getattr(plain, name))
 
 
 @pytest.mark.parametrize("backend", ["core", "reference"])
