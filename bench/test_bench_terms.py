@@ -69,7 +69,7 @@ SCENES = {
     "denoise 3.0": {"denoise_sigma_px": 3.0},
     # a lens's MTF table in place of diffraction, one of 20 points and two picked per point
     "lens table 20": {"lens_mtf": _lens_table(20)},
-    "lens tables 2 x 20": {"lens_mtf": [_lens_table(20), _lens_table(20, 2.4)],
+    "lens tables 2 x 20": {"lens_mtf": [_lens_table(20), _lens_table(20, 3.2)],
                            "lens": np.arange(N) % 2},
     # a colour sensor: its transmittance, noise gain and the demosaicker's table
     "bayer malvar2004": {"cfa": "bayer", "demosaic": "malvar2004"},
