@@ -177,17 +177,21 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         ``lens`` index. Not with ``wavefront_rms_waves`` (the table has the lens's
         aberrations). A point whose f50 lies past its table's last frequency has status
         BEYOND_TABLE.
-    cfa : {"none", "bayer"}
-        The monochrome sensor, or a Bayer colour filter array (docs/model.md,
-        "The colour filter array"): the rate times ``cfa_transmittance``, every noise variance times
-        ``color_noise_gain`` and the demosaicker's noise gain, the MTF times its luminance MTF.
+    cfa : {"none", "bayer", "quad_bayer"}
+        The monochrome sensor, a Bayer colour filter array, or a quad Bayer one (2 x 2
+        same-colour cells: read at ``binning`` 1, remosaicked to Bayer, or 2, a Bayer sensor of
+        twice the pitch; one binning a call) (docs/model.md, "The colour filter array"): the
+        rate times ``cfa_transmittance``, every noise variance times ``color_noise_gain`` and
+        the demosaicker's (or remosaic's) noise gain, the MTF times its luminance MTF.
     demosaic : {"malvar2004", "bilinear", "menon2007"}
-        The Bayer sensor's demosaicker (:mod:`epc_fast.cfa`).
-    cfa_transmittance : 1, the Bayer cell's mean transmittance against a monochrome pixel, in
-        (0, 1]; default :data:`epc_fast.cfa.DEFAULT_CFA_TRANSMITTANCE` with ``cfa="bayer"``.
+        The colour sensor's demosaicker (:mod:`epc_fast.cfa`).
+    cfa_transmittance : 1, the colour cell's electrons against those of the monochrome sensor
+        that ``electrons_per_lux_s_m2`` describes, under the same light, in (0, 1];
+        default :data:`epc_fast.cfa.DEFAULT_CFA_TRANSMITTANCE` with a colour filter
+        (:func:`epc_fast.cfa.bayer_light` computes it from spectra).
     color_noise_gain : 1, the colour correction's noise variance gain to luminance, in
-        [0.01, 100] (times the demosaicker's, at least 0.6);
-        default :data:`epc_fast.cfa.DEFAULT_COLOR_NOISE_GAIN` with ``cfa="bayer"``.
+        [0.01, 100] (times the demosaicker's or the remosaic's);
+        default :data:`epc_fast.cfa.DEFAULT_COLOR_NOISE_GAIN` with a colour filter.
     binning_readout : {"digital", "charge"} or array_like of them
         How a binned pixel is read, per point: k^2 reads summed digitally (read noise
         variance k^2 sigma_r^2, the default), or the k x k pixels' charge summed before one

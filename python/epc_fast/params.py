@@ -182,7 +182,7 @@ PARAMETERS: tuple[Param, ...] = ParameterTable((
     # a colour sensor's (docs/model.md, "The colour filter array"): 1, the monochrome
     # sensor's; evaluate's None takes epc_fast.cfa's defaults with cfa="bayer" (CFA_PARAMETERS)
     _p("cfa_transmittance", 1.0, 0, 1, False, True,
-       "1: the colour filters' mean transmittance against a monochrome pixel (1: none)"),
+       "1: the colour cell's electrons against K's monochrome sensor's (1: none)"),
     _p("color_noise_gain", 1.0, COLOR_NOISE_GAIN_MIN, COLOR_NOISE_GAIN_MAX, True, True,
        "1: the noise variance gain of colour correction to luminance (1: none)"),
     # evaluate takes it as "digital" (0) or "charge" (1), or an array of them (READOUT_CODES)
