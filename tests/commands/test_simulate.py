@@ -137,6 +137,24 @@ def test_a_design_without_an_image_is_a_row_that_says_why(tmp_path, capsys):
     assert math.isnan(float(row["mtf50_sim_cyc_per_mm"]))
 
 
+def test_night_mode_under_a_frame_cap_is_captured_and_a_design_over_it_says_why(tmp_path,
+                                                                                   capsys):
+    night = CONFIG.replace("focal_length_mm = 5.6\n", "focal_length_mm = 5.6\nread_noise_e = 2.0\n"
+                           "modes = [{binning = 1}, {binning = 2, frames = \"auto\", "
+                           "max_frames = 16}]\n")
+    night = "[evaluate]\nmax_exposure_s = 0.1\n\n" + night
+    path = tmp_path / "night.toml"
+    path.write_text(night)
+    code = main(["simulate", str(path), "--lux", "0.3", "10", "--out", str(tmp_path / "out"),
+                 "--no-plots"])
+    assert code == 0
+    dark, dim = _rows(tmp_path / "out" / "agreement.csv")
+    assert dark["status"] == "EXPOSURE_LIMIT" and "max_exposure_s" in dark["note"]
+    # 10 lux: night mode's 2 x 2 burst, each frame within 1/10 s, meets the SNR target; one
+    # 32 x 32 flat patch estimates it to about 1/sqrt(2 x 1024) = 2.2% (0.19 dB): 1 dB is 5 s.e.
+    assert dim["status"] == "OK" and abs(float(dim["snr_sim_db"]) - 30.0) < 1.0
+
+
 BAD_CONFIGS = [
     (("seed = 5", "seed = -1"), "simulate config [simulate]: seed = -1: expected an integer "
                                 "between 0 and"),

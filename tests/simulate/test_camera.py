@@ -245,8 +245,27 @@ def test_frames_whose_images_exceed_the_memory_are_refused_by_name(monkeypatch):
         simulate.capture(simulate.flat(32), illuminance_lux=1000.0, frames=200, **DESIGN)
 
 
-@pytest.mark.parametrize("extra", [{"max_exposure_s": 0.1}, {"frames": "auto", "max_frames": 4},
-                                   {"modes": [{}, {"frames": "auto", "max_frames": 4}]}])
-def test_a_frame_cap_or_night_mode_is_refused_in_one_line(extra):
-    with pytest.raises(TypeError, match=r"capture\(\) takes no frame cap or night mode"):
-        simulate.capture(simulate.flat(16), illuminance_lux=10.0, seed=1, **DESIGN, **extra)
+def test_night_mode_captures_the_frames_evaluate_takes_each_within_the_cap():
+    night = dict(frames="auto", max_frames=16, max_exposure_s=0.1, read_noise_e=2.0)
+    taken = epc_fast.evaluate(10.0, **DESIGN, **night)
+    n = taken.frames_used
+    assert taken.status == epc_fast.Status.OK and 1 < n < 16
+    burst = simulate.capture(simulate.flat(16), illuminance_lux=10.0, seed=3, **DESIGN, **night)
+    same = simulate.capture(simulate.flat(16), illuminance_lux=10.0, seed=3, **DESIGN,
+                            read_noise_e=2.0, frames=n)
+    assert len(burst.frames_e) == n and burst.exposure_s / n <= 0.1  # each frame within it
+    np.testing.assert_array_equal(burst.image_e, same.image_e)  # the burst of n frames itself
+    # a camera picking its mode captures in the mode and the frames it takes
+    modes = [{}, {"binning": 2, "frames": "auto", "max_frames": 16}]
+    picked = simulate.capture(simulate.flat(16), illuminance_lux=10.0, seed=3, **DESIGN,
+                              read_noise_e=2.0, max_exposure_s=0.1, modes=modes)
+    expected = epc_fast.evaluate(10.0, **DESIGN, read_noise_e=2.0, max_exposure_s=0.1,
+                                 modes=modes)
+    assert expected.mode == 1 and picked.exposure_s == pytest.approx(expected.t_mpe_s)
+
+
+def test_a_design_over_its_frame_cap_has_no_image_to_capture():
+    with pytest.raises(ValueError, match=r"^max_exposure_s: every frame the design can take is "
+                                         r"longer than max_exposure_s = 0.001 s"):
+        simulate.capture(simulate.flat(16), illuminance_lux=10.0, seed=1, **DESIGN,
+                         max_exposure_s=0.001)

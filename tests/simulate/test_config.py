@@ -104,7 +104,10 @@ def test_a_color_noise_gain_no_capture_has_is_refused_naming_the_design():
     ('demosaic = "bilinear"', 'demosaic = "bilinear"\nmax_exposure_s = 0.1'),
     ("{binning = 2}]", '{binning = 2, frames = "auto", max_frames = 4}]'),
 ])
-def test_a_frame_cap_or_night_mode_is_refused_naming_the_design(old, new):
-    with pytest.raises(ConfigError, match=r"\[design\] 'phone': the simulator takes no frame "
-                                          r"cap or night mode"):
-        parse_simulate_config(PHONE.replace(old, new))
+def test_a_frame_cap_and_night_mode_reach_the_designs_keywords(old, new):
+    (name, kwargs), = parse_simulate_config(PHONE.replace(old, new)).designs
+    assert name == "phone"
+    if "max_exposure_s" in new:
+        assert kwargs["max_exposure_s"] == 0.1
+    else:
+        assert kwargs["modes"][1] == {"binning": 2, "frames": "auto", "max_frames": 4}

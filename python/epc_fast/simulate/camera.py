@@ -34,7 +34,7 @@ from .pupil import cutoff_cyc_per_mm, table_cutoff_cyc_per_mm
 from .processing import denoise, kernel_reach_px
 from . import bayer as _bayer
 from . import remosaic as _remosaic
-from .noise import bin_sum, read_out
+from .noise import bin_sum, read_out, readout_parameters
 
 __all__ = ["Capture", "capture", "grid_oversample", "picked_mode", "mode_text", "BAND_FACTOR",
            "MAX_FRAMES"]
@@ -131,9 +131,6 @@ def capture_inputs(design: dict) -> dict:
     if unknown:
         raise TypeError(f"capture() got keyword(s) it does not take: {', '.join(unknown)} "
                         "(it takes the design's keywords of epc_fast.evaluate)")
-    if sets_limits(design):
-        raise TypeError("capture() takes no frame cap or night mode (max_exposure_s, frames="
-                        "'auto', max_frames): capture the frames evaluate's frames_used gives")
     values = {k: p.default for k, p in _EVALUATE.items()
               if p.default is not inspect.Parameter.empty}
     values.update(design)
@@ -320,7 +317,7 @@ def capture(chart: Chart, *, illuminance_lux, seed=None, exposure_s=None, oversa
     border = _border_px(sigma, sensor_cfa)
     frames_e, blur = _frames_e(chart, optics, resolved, t, seed, border, sensor_cfa,
                                threads_of(picked.get("threads")))
-    readout = _readout(resolved)
+    readout = readout_parameters(resolved)
     image_e = read_out(frames_e, exposure_s=t, rng=np.random.default_rng(seed), **readout)
     image_e = _processed(image_e, sigma, border, sensor_cfa)
     expected = _processed(sum(bin_sum(f, optics.binning) for f in frames_e), sigma, border,
@@ -381,7 +378,16 @@ def _evaluated(lux: float, design: dict, cfa_terms: dict) -> tuple:
     if np.ndim(result.epc) != 0:
         raise ValueError(f"capture simulates one design, got arrays broadcasting to "
                          f"{np.shape(result.epc)}")
-    return result, picked_mode(call, result)  # with modes: its binning, frames and readout
+    if result.status == Status.EXPOSURE_LIMIT:
+        raise ValueError(f"max_exposure_s: every frame the design can take is longer than "
+                         f"max_exposure_s = {call['max_exposure_s']!r} s (status "
+                         f"EXPOSURE_LIMIT): there is no image to capture")
+    picked = picked_mode(call, result)  # with modes: its binning, frames and readout
+    if sets_limits(picked):  # night mode: the frames evaluate takes; the cap is met
+        frames = evaluate(lux, **picked, outputs="frames_used").frames_used
+        picked = {k: v for k, v in picked.items() if k not in ("max_exposure_s", "max_frames")}
+        picked["frames"] = float(frames)
+    return result, picked
 
 
 def _shake_rad_per_s(resolved) -> float:
@@ -444,17 +450,6 @@ def _frames_e(chart: Chart, optics: Optics, resolved, exposure_s: float, seed, b
         filters = sensor_cfa.mosaic(shape, optics.binning)
         frames_e = [frame * filters for frame in frames_e]
     return frames_e, blur
-
-
-def _readout(resolved) -> dict:
-    """The sensor's noise parameters, as :func:`~epc_fast.simulate.noise.read_out` takes them."""
-    return {"dark_current_e_per_s": float(resolved.parameter("dark_current_e_per_s")),
-            "read_noise_e": float(resolved.parameter("read_noise_e")),
-            "prnu": float(resolved.parameter("prnu")),
-            "full_well_e": float(resolved.parameter("full_well_e")),
-            "binning": int(resolved.parameter("binning")),
-            "binning_readout": "charge" if resolved.parameter("binning_readout") == 1.0
-                               else "digital"}
 
 
 def _processed(image, sigma_px: float, border_px: int, sensor_cfa=None) -> np.ndarray:

@@ -22,7 +22,6 @@ from pathlib import Path
 
 from ..jobs.document import MAX_CONFIG_BYTES, read_text, toml_document
 from ..scan.config import parse_space
-from ..exposure_limits import sets_limits
 from ..jobs.errors import ConfigError
 from ..jobs.schema import config_of, config_prefix, integer, number, short, table_of, take
 from ..terms import terms_on
@@ -129,9 +128,6 @@ def _designs(space) -> list:
             kwargs["binning_readout"] = space.design_readout[i]
         if space.design_modes[i]:
             kwargs["modes"] = [dict(mode) for mode in space.design_modes[i]]
-        if sets_limits({**kwargs, **space.evaluate_options}):
-            raise ConfigError(f"{config_prefix()} [design] {name!r}: the simulator takes no "
-                              "frame cap or night mode (max_exposure_s, frames = \"auto\")")
         kwargs.update(space.evaluate_options)
         designs.append((name, kwargs))
     return designs

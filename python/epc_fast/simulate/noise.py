@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["read_out", "bin_sum", "POISSON_NORMAL_ABOVE"]
+__all__ = ["read_out", "bin_sum", "readout_parameters", "POISSON_NORMAL_ABOVE"]
 
 #: e-, a mean above which a count is drawn from the normal distribution of the same mean and
 #: variance instead of Poisson's (NumPy's Poisson refuses means near 1e19; at 1e12 the two
@@ -22,6 +22,18 @@ def _counts(rng, mean):
     if big.any():
         out[big] = rng.normal(mean[big], np.sqrt(mean[big]))
     return out
+
+
+def readout_parameters(resolved) -> dict:
+    """A resolved design's (:class:`epc_fast.design.ResolvedDesign`) noise parameters, as
+    :func:`read_out` takes them."""
+    return {"dark_current_e_per_s": float(resolved.parameter("dark_current_e_per_s")),
+            "read_noise_e": float(resolved.parameter("read_noise_e")),
+            "prnu": float(resolved.parameter("prnu")),
+            "full_well_e": float(resolved.parameter("full_well_e")),
+            "binning": int(resolved.parameter("binning")),
+            "binning_readout": "charge" if resolved.parameter("binning_readout") == 1.0
+                               else "digital"}
 
 
 def bin_sum(image, binning: int) -> np.ndarray:
