@@ -16,7 +16,8 @@ from __future__ import annotations
 import numpy as np
 
 from ._validation import choice
-from .outputs import ACROSS_OUTPUTS, OUTPUT_DTYPES, SHARE_NAMES, Result, new_result
+from .outputs import (ACROSS_OUTPUTS, OUTPUT_DTYPES, SHARE_NAMES, Result, names_any,
+                      new_result)
 from .params import BIG
 from .status import Status
 
@@ -38,13 +39,7 @@ def check_epc_axes(epc_axes) -> str:
 
 def asks_across(outputs) -> bool:
     """Whether ``outputs=`` names an output across the motion (:data:`ACROSS_OUTPUTS`)."""
-    if outputs is None:
-        return False
-    names = (outputs,) if isinstance(outputs, str) else outputs
-    try:
-        return any(isinstance(name, str) and name in _ACROSS for name in names)
-    except TypeError:  # not iterable: evaluate's own check names it
-        return False
+    return names_any(outputs, _ACROSS)
 
 
 def default_outputs(epc_axes: str) -> tuple:

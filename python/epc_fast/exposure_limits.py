@@ -21,7 +21,8 @@ import numpy as np
 
 from ._validation import short
 from .axes import check_epc_axes, default_outputs
-from .outputs import ACROSS_OUTPUTS, LIMIT_OUTPUTS, SHARE_OUTPUTS, Result, new_result
+from .outputs import (ACROSS_OUTPUTS, LIMIT_OUTPUTS, SHARE_OUTPUTS, Result, names_any,
+                      new_result)
 from .params import PARAMETER_NAMES, SIZE_KEYWORDS
 from .status import Cause, Status
 
@@ -39,6 +40,8 @@ MAX_FRAMES = 1024
 #: evaluate's keywords that are per-point arrays (they set the broadcast shape).
 _POINT_KEYS = tuple(name for name in PARAMETER_NAMES if name != "size") + tuple(
     name for name in SIZE_KEYWORDS if name != "aspect")
+#: The outputs of the exposure limits, as a set.
+_LIMITS = frozenset(LIMIT_OUTPUTS)
 #: The statuses whose T_MPE is finite: the cap applies to them.
 _TIMED = np.array([Status.OK, Status.BLUR_UNBOUNDED, Status.BEYOND_TABLE], np.uint8)
 #: The outputs a point over the cap keeps: what the target would need.
@@ -50,13 +53,7 @@ _FLOATS = ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm", "f50_cyc_
 
 def asks_frames_used(outputs) -> bool:
     """Whether ``outputs=`` names ``frames_used``."""
-    if outputs is None:
-        return False
-    names = (outputs,) if isinstance(outputs, str) else outputs
-    try:
-        return any(isinstance(name, str) and name in LIMIT_OUTPUTS for name in names)
-    except TypeError:  # not iterable: evaluate's own check names it
-        return False
+    return names_any(outputs, _LIMITS)
 
 
 def asks_limits(call: dict) -> bool:

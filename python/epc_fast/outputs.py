@@ -18,7 +18,8 @@ from .status import Cause, Status
 __all__ = ["Result", "SHARE_NAMES", "SHARE_OUTPUTS", "SHARE_ACROSS_OUTPUTS", "ACROSS_OUTPUTS",
            "LIMIT_OUTPUTS", "SENSITIVITY_OUTPUTS", "OUTPUT_DTYPES",
            "ALL_OUTPUT_DTYPES", "DTYPES", "selected_outputs", "out_arrays", "result_arrays",
-           "output_shape", "output_bytes", "result_of", "new_result", "attach_snr_target"]
+           "output_shape", "output_bytes", "result_of", "new_result", "attach_snr_target",
+           "names_any"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -191,6 +192,18 @@ ALL_OUTPUT_DTYPES = {name: np.dtype(np.uint8 if name in ("status", "cause") else
                      for name in (f.name for f in fields(Result)) if name not in MODE_OUTPUTS}
 #: Every output's dtype by its name inside: the Result fields', and each single elasticity's.
 DTYPES = {**ALL_OUTPUT_DTYPES, **dict.fromkeys(elasticity_outputs.ROWS, np.dtype(np.float64))}
+
+
+def names_any(outputs, names) -> bool:
+    """Whether ``outputs=`` (None, a name or an iterable of names) names one of ``names`` (a
+    set); False for what is not iterable, which :func:`selected_outputs` names."""
+    if outputs is None:
+        return False
+    listed = (outputs,) if isinstance(outputs, str) else outputs
+    try:
+        return any(isinstance(name, str) and name in names for name in listed)
+    except TypeError:
+        return False
 
 
 def selected_outputs(outputs, is_pixel_count=False) -> tuple:

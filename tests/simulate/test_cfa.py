@@ -7,9 +7,7 @@ Bayer edge is the first crossing of the monochrome model MTF times the table (th
 comparison holds the table)."""
 
 import functools
-import importlib.util
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,9 +16,9 @@ from scipy.optimize import brentq
 import epc_fast
 from epc_fast import cfa, presets, simulate
 from epc_fast.reference.model import mtf_system
+from helpers.scripts import load_script
 from epc_fast.simulate import camera
 
-ROOT = Path(__file__).resolve().parents[2]
 DESIGN = presets.HIGH_TIER[0].evaluate_kwargs()  # 2.8 um, F/2.8
 SHOT_ONLY = {"read_noise_e": 0.0, "dark_current_e_per_s": 0.0, "prnu": 0.0}
 
@@ -39,10 +37,7 @@ G_D_SEM = 0.0023
 
 
 def _tool(name):
-    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(f"tools/{name}.py")
 
 
 @pytest.mark.parametrize("extra", [{}, {"denoise_sigma_px": 0.8, "backend": "reference"}])

@@ -6,8 +6,6 @@ is the model's REMOSAIC_NOISE_GAIN, an edge's MTF50 is the model's with the remo
 the shipped table reproduces from its script at reduced size."""
 
 import functools
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,9 +14,9 @@ from scipy.optimize import brentq
 import epc_fast
 from epc_fast import cfa, presets, simulate
 from epc_fast.reference.model import mtf_system
+from helpers.scripts import load_script
 from epc_fast.simulate import camera, remosaic
 
-ROOT = Path(__file__).resolve().parents[2]
 DESIGN = presets.HIGH_TIER[0].evaluate_kwargs()  # 2.8 um, F/2.8
 SHOT_ONLY = {"read_noise_e": 0.0, "dark_current_e_per_s": 0.0, "prnu": 0.0}
 #: The e-SFR's own error on a noise-free edge's MTF50 (tests/simulate/test_agreement.py).
@@ -34,10 +32,7 @@ G_D_SEM = 0.0018
 
 
 def _tool(name):
-    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(f"tools/{name}.py")
 
 
 def test_the_quad_pattern_is_2x2_blocks_of_the_rggb_cell():
