@@ -9,7 +9,9 @@ have them and never loops over a spectrum for one wavelength.
 
 The wavefront error and the denoising filter enter only blocks that have them; a filter costs
 its taps (2 ceil(4 sigma) + 1) at each MTF evaluation. Lens tables and a colour sensor's
-demosaicker are tables of the call: each MTF evaluation looks its point's segment up.
+demosaicker are tables of the call: each MTF evaluation looks its point's segment up. EPC in
+both directions solves f50 a second time, without the motion; a frame cap and night mode are
+passes over the points in Python (the exposure of each candidate frame count).
 """
 
 import numpy as np
@@ -73,6 +75,13 @@ SCENES = {
                            "lens": np.arange(N) % 2},
     # a colour sensor: its transmittance, noise gain and the demosaicker's table
     "bayer malvar2004": {"cfa": "bayer", "demosaic": "malvar2004"},
+    "quad bayer full size": {"cfa": "quad_bayer", "demosaic": "malvar2004"},
+    # EPC in both directions beside "motion": a second pass without the motion blur
+    "motion, epc_axes both": {"shake_deg_per_s": 4.39, "epc_axes": "both"},
+    # a frame cap and night mode: every candidate count's exposure, then the picked frames'
+    "frame cap 10 s": {"max_exposure_s": 10.0},
+    "night mode 16, cap 1 s": {"frames": "auto", "max_frames": 16, "max_exposure_s": 1.0,
+                               "read_noise_e": 1.5},
 }
 
 
