@@ -136,3 +136,11 @@ def test_the_mpmath_check_counts_a_wrong_status(capsys):
     assert tool.mpmath_check(points, reference, 4).status_mismatches == 1
     assert tool.main(["--points", "3", "--error-points", "8", "--seed", "5"]) == 0
     assert capsys.readouterr().out.startswith("reference vs mpmath (50 digits) on 3 points: 0 ")
+
+
+def test_keyword_costs_times_every_case_against_the_scene_alone():
+    tool = load_script("tools/keyword_costs.py")
+    rate, by_case = tool.ratios(points=2_000, rounds=1)
+    assert rate > 0 and by_case["the scene alone"] == 1.0
+    assert list(by_case) == list(tool.CASES)
+    assert all(ratio > 0 for ratio in by_case.values())

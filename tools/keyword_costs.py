@@ -1,0 +1,61 @@
+"""What the real-camera keywords cost against the minimal scene (docs/performance.md, "What
+the real-camera keywords cost"): evaluate on random points (1-100,000 lux, 0.8-3 um, f/2,
+5.6 mm, 20 mm^2, read noise 1.5 e-, 4.39 deg/s), 2 threads, outputs=("epc",), the median of 5
+rounds alternated over the cases, each against the minimal scene of the same run, on the build
+the machine loads (EPC_FAST_ISA picks another).
+
+    python tools/keyword_costs.py [points]
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+
+import epc_fast
+
+MODES = [{"binning": 1}, {"binning": 2}, {"binning": 2, "frames": 4}]
+NIGHT = [{"binning": 1}, {"binning": 2}, {"binning": 2, "frames": "auto", "max_frames": 16}]
+#: Each case's keywords beside the scene's.
+CASES = {
+    "the scene alone": {},
+    "epc_axes='both'": {"epc_axes": "both"},
+    "max_exposure_s=0.1": {"max_exposure_s": 0.1},
+    "frames='auto', max_frames=16, max_exposure_s=0.1": {"frames": "auto", "max_frames": 16,
+                                                          "max_exposure_s": 0.1},
+    "three modes (1, 2x2, 2x2 x 4 frames)": {"modes": MODES},
+    "three modes, epc_axes='both'": {"modes": MODES, "epc_axes": "both"},
+    "three modes with night mode, the cap, 'both'": {"modes": NIGHT, "max_exposure_s": 0.1,
+                                                     "epc_axes": "both"},
+}
+
+
+def ratios(points: int = 10**6, rounds: int = 5) -> tuple:
+    """(the scene's points a second, {case: its median time over the scene's})."""
+    rng = np.random.default_rng(1)
+    lux = 10 ** rng.uniform(0, 5, points)
+    pitch = rng.uniform(0.8, 3.0, points)
+    base = dict(f_number=2.0, focal_length_mm=5.6, sensor_area_mm2=20.0, shake_deg_per_s=4.39,
+                read_noise_e=1.5, threads=2, outputs=("epc",))
+    times = {case: [] for case in CASES}
+    for _ in range(rounds):
+        for case, keywords in CASES.items():
+            start = time.perf_counter()
+            epc_fast.evaluate(lux, pitch, **base, **keywords)
+            times[case].append(time.perf_counter() - start)
+    scene = float(np.median(times["the scene alone"]))
+    return points / scene, {case: float(np.median(t)) / scene for case, t in times.items()}
+
+
+def main(argv=None) -> None:
+    args = sys.argv[1:] if argv is None else argv
+    rate, by_case = ratios(int(args[0]) if args else 10**6)
+    print(f"{epc_fast._core.isa}: the scene alone {rate / 1e6:.1f} M points/s")
+    for case, ratio in by_case.items():
+        print(f"| {case} | {ratio:.2f}x |")
+
+
+if __name__ == "__main__":
+    main()
