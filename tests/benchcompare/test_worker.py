@@ -54,6 +54,10 @@ def test_the_workloads_compute_what_evaluate_computes():
     assert elasticities.elasticities  # the elasticities are computed
     scan = worker.make_call("scan", 4000, seed=4)()
     assert scan["summary"].count.sum() == 4000
+    phone = worker.make_call("phone", 300, seed=4)()
+    keywords = worker.phone(300, seed=4)
+    np.testing.assert_array_equal(phone.epc, epc_fast.evaluate(**keywords, threads=1).epc)
+    assert np.all(phone.mode >= 0) and len(set(phone.mode.tolist())) >= 2  # the modes matter
 
 
 def test_every_workload_runs_and_its_sizes_are_whole():
