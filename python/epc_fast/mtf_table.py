@@ -190,37 +190,60 @@ def check_lens_tables(tables, f_number, wavelength_nm, pixel_pitch_um, lens) -> 
     Nyquist frequency 1/(2p) (the smallest pitch ``pixel_pitch_um`` among its points, before
     binning): its frequencies look like cycles/pixel. The arrays broadcast against each other.
     """
-    from .reference.mtf import mtf_diffraction  # the reference imports this module
-
-    n, wavelength, pitch, index = np.broadcast_arrays(
-        *(np.asarray(a, dtype=np.float64) for a in (f_number, wavelength_nm, pixel_pitch_um,
-                                                    lens)))
+    f_n, wavelength, pitch, index = (np.asarray(a, dtype=np.float64) for a in
+                                     (f_number, wavelength_nm, pixel_pitch_um, lens))
+    if index.ndim == 0 and all(_positive_and_finite(a) for a in (f_n, wavelength, pitch)):
+        # every point valid and using one table: its limits are the arrays' own least values,
+        # found without broadcasting them against each other
+        i = float(index)
+        if i.is_integer() and 0 <= i < len(tables):
+            product = f_n * wavelength
+            at = int(np.argmin(product))
+            n_min = float(np.broadcast_to(f_n, product.shape).reshape(-1)[at])
+            wavelength_min = float(np.broadcast_to(wavelength, product.shape).reshape(-1)[at])
+            _check_table(tables, int(i), n_min, wavelength_min, float(np.min(pitch)))
+        return
+    n, wavelength, pitch, index = np.broadcast_arrays(f_n, wavelength, pitch, index)
     product = n * wavelength
     valid = ((product > 0.0) & np.isfinite(product) & (pitch > 0.0) & np.isfinite(pitch))
-    for i, table in enumerate(tables):
+    for i in range(len(tables)):
         used = valid & (index == i)
         if not used.any():
             continue
-        name = "lens_mtf" if len(tables) == 1 else f"lens_mtf[{i}]"
         at = np.flatnonzero(used.reshape(-1))[np.argmin(product[used])]
-        n_min, wavelength_min = float(n.reshape(-1)[at]), float(wavelength.reshape(-1)[at])
-        limit = mtf_diffraction(table.frequencies, wavelength_min, n_min)
-        excess = table.values - limit
-        k = int(np.argmax(excess))
-        if excess[k] > DIFFRACTION_TOLERANCE:
-            raise ValueError(
-                f"{name} lies above diffraction: its MTF at {table.frequencies[k]:.6g} "
-                f"cycles/mm is {table.values[k]:.4g}, the diffraction MTF there at f/"
-                f"{n_min:.4g} and {wavelength_min:.4g} nm (the smallest f-number times "
-                f"wavelength among its points) is {limit[k]:.4g}, and no lens exceeds it by "
-                f"more than {DIFFRACTION_TOLERANCE:g}: are its frequencies in lines/mm? they "
-                "must be cycles/mm (line pairs/mm)")
-        nyquist = 500.0 / float(np.min(pitch[used]))  # 1/(2p), p in mm
-        if table.last_frequency < nyquist / 100.0:
-            warnings.warn(
-                f"{name} ends at {table.last_frequency:.6g} cycles/mm, below 1/100 of the "
-                f"pixels' Nyquist frequency {nyquist:.6g} cycles/mm: are its frequencies in "
-                "cycles/pixel? they must be cycles/mm", UserWarning, stacklevel=4)
+        _check_table(tables, i, float(n.reshape(-1)[at]), float(wavelength.reshape(-1)[at]),
+                     float(np.min(pitch[used])))
+
+
+def _positive_and_finite(values: np.ndarray) -> bool:
+    """Whether every value is finite and > 0 (two reductions; False for NaN)."""
+    return bool(np.min(values) > 0.0) and bool(np.isfinite(np.max(values)))
+
+
+def _check_table(tables, i: int, n_min: float, wavelength_min: float, pitch_min_um: float):
+    """check_lens_tables for table ``i`` at the least f-number times wavelength among its
+    points (``n_min`` at ``wavelength_min`` nm) and their least pitch (um)."""
+    from .reference.mtf import mtf_diffraction  # the reference imports this module
+
+    table = tables[i]
+    name = "lens_mtf" if len(tables) == 1 else f"lens_mtf[{i}]"
+    limit = mtf_diffraction(table.frequencies, wavelength_min, n_min)
+    excess = table.values - limit
+    k = int(np.argmax(excess))
+    if excess[k] > DIFFRACTION_TOLERANCE:
+        raise ValueError(
+            f"{name} lies above diffraction: its MTF at {table.frequencies[k]:.6g} "
+            f"cycles/mm is {table.values[k]:.4g}, the diffraction MTF there at f/"
+            f"{n_min:.4g} and {wavelength_min:.4g} nm (the smallest f-number times "
+            f"wavelength among its points) is {limit[k]:.4g}, and no lens exceeds it by "
+            f"more than {DIFFRACTION_TOLERANCE:g}: are its frequencies in lines/mm? they "
+            "must be cycles/mm (line pairs/mm)")
+    nyquist = 500.0 / pitch_min_um  # 1/(2p), p in mm
+    if table.last_frequency < nyquist / 100.0:
+        warnings.warn(
+            f"{name} ends at {table.last_frequency:.6g} cycles/mm, below 1/100 of the "
+            f"pixels' Nyquist frequency {nyquist:.6g} cycles/mm: are its frequencies in "
+            "cycles/pixel? they must be cycles/mm", UserWarning, stacklevel=5)
 
 
 def _is_pair(value) -> bool:
