@@ -17,7 +17,7 @@ import numpy as np
 
 from ._validation import choice
 from .outputs import (ACROSS_OUTPUTS, OUTPUT_DTYPES, SHARE_NAMES, Result, names_any,
-                      new_result)
+                      new_result, out_arrays, selected_outputs)
 from .params import BIG
 from .status import Status
 
@@ -83,8 +83,6 @@ def evaluate_axes(evaluate, call: dict) -> Result:
     both = check_epc_axes(call.pop("epc_axes")) == "both"
     out = call.pop("out", None)
     names = _names(call.pop("outputs"), "both" if both else "motion")
-    from .outputs import selected_outputs
-
     pixel = call.get("pixel_count") is not None
     selected = selected_outputs(names, pixel)  # errors name a bad output
     if out is not None and any(name.startswith("elasticit") for name in selected):
@@ -124,9 +122,7 @@ def evaluate_axes(evaluate, call: dict) -> Result:
         _count_both(fields, first, second, shaped, scalar, set(along))
     if out is None:
         return new_result(fields)
-    from .outputs import out_arrays  # the caller's arrays, checked as evaluate checks them
-
-    given = out_arrays(out, shape, selected, pixel)
+    given = out_arrays(out, shape, selected, pixel)  # checked as evaluate checks them
     for name, array in given.items():
         np.copyto(array, np.reshape(fields[name], array.shape), casting="unsafe")
     return new_result(given)

@@ -22,7 +22,7 @@ import numpy as np
 from ._validation import short
 from .axes import check_epc_axes, default_outputs
 from .outputs import (ACROSS_OUTPUTS, LIMIT_OUTPUTS, SHARE_OUTPUTS, Result, names_any,
-                      new_result)
+                      new_result, scalar_fields)
 from .params import PARAMETER_NAMES, SIZE_KEYWORDS
 from .status import Cause, Status
 
@@ -197,7 +197,7 @@ def evaluate_limits(evaluate, call: dict) -> Result:
     for name in needed:
         if name not in inner:
             fields.pop(name, None)
-    return new_result(_scalars(fields) if scalar else fields)
+    return new_result(scalar_fields(fields) if scalar else fields)
 
 
 def _raise_bad_cap(cap: np.ndarray, bad: np.ndarray):
@@ -227,20 +227,3 @@ def _limit(fields: dict, over: np.ndarray, bad: np.ndarray, status: np.ndarray) 
     if fields.get("cause") is not None:
         cause = np.asarray(fields["cause"], dtype=np.uint8)
         fields["cause"] = np.where(bad, np.uint8(Cause.NONE), cause).astype(np.uint8)
-
-
-def _scalars(fields: dict) -> dict:
-    """The fields of a call on scalars as evaluate gives them: floats, Status and Cause."""
-    out = {}
-    for name, value in fields.items():
-        if name == "status":
-            out[name] = Status(int(value))
-        elif name == "cause":
-            out[name] = Cause(int(value))
-        elif name == "elasticities":
-            out[name] = {key: float(v) for key, v in value.items()}
-        elif name in _FLOATS:
-            out[name] = float(value)
-        else:
-            out[name] = value
-    return out

@@ -17,9 +17,8 @@ import numpy as np
 from ._validation import short
 from .axes import check_epc_axes, default_outputs
 from .exposure_limits import check_max_frames
-from .outputs import ACROSS_OUTPUTS, LIMIT_OUTPUTS, SHARE_OUTPUTS, Result, selected_outputs
+from .outputs import LIMIT_OUTPUTS, Result, scalar_fields, selected_outputs
 from .params import READOUT_CODES, readout_codes
-from .status import Cause, Status
 
 __all__ = ["MODE_KEYS", "MODE_DEFAULTS", "NO_MODE", "check_modes", "evaluate_modes"]
 
@@ -113,14 +112,7 @@ def evaluate_modes(evaluate, call: dict) -> Result:
         else:
             fields[name] = best(values)
     if scalar:
-        for name, kind in (("status", Status), ("cause", Cause)):
-            if fields[name] is not None:
-                fields[name] = kind(int(fields[name]))
-        for name in ("electron_rate_e_per_s", "electrons", "t_mpe_s", "blur_mm",
-                     "f50_cyc_per_mm", "epc", *SHARE_OUTPUTS, *ACROSS_OUTPUTS,
-                     *LIMIT_OUTPUTS):
-            if fields.get(name) is not None:
-                fields[name] = float(fields[name])
+        fields = scalar_fields(fields)
     return Result(**fields, mode=int(mode) if scalar else mode)
 
 

@@ -19,7 +19,7 @@ __all__ = ["Result", "SHARE_NAMES", "SHARE_OUTPUTS", "SHARE_ACROSS_OUTPUTS", "AC
            "LIMIT_OUTPUTS", "SENSITIVITY_OUTPUTS", "OUTPUT_DTYPES",
            "ALL_OUTPUT_DTYPES", "DTYPES", "selected_outputs", "out_arrays", "result_arrays",
            "output_shape", "output_bytes", "result_of", "new_result", "attach_snr_target",
-           "names_any"]
+           "names_any", "scalar_fields"]
 
 
 @dataclass(frozen=True, repr=False)
@@ -190,8 +190,31 @@ OUTPUT_DTYPES = {f.name: np.dtype(np.uint8 if f.name in ("status", "cause") else
 #: Every output's dtype (the elasticities: float64 rows), in Result's field order.
 ALL_OUTPUT_DTYPES = {name: np.dtype(np.uint8 if name in ("status", "cause") else np.float64)
                      for name in (f.name for f in fields(Result)) if name not in MODE_OUTPUTS}
+#: The outputs that hold one float a point.
+_FLOAT_OUTPUTS = frozenset(name for name, dtype in ALL_OUTPUT_DTYPES.items()
+                           if dtype == np.float64 and name != "elasticities")
 #: Every output's dtype by its name inside: the Result fields', and each single elasticity's.
 DTYPES = {**ALL_OUTPUT_DTYPES, **dict.fromkeys(elasticity_outputs.ROWS, np.dtype(np.float64))}
+
+
+def scalar_fields(fields: dict) -> dict:
+    """A call on scalars' fields (name -> 0-d value) as evaluate gives them: Status, Cause,
+    floats (each float output and each elasticity); None and the other fields as they are."""
+    out = {}
+    for name, value in fields.items():
+        if value is None:
+            out[name] = None
+        elif name == "status":
+            out[name] = Status(int(value))
+        elif name == "cause":
+            out[name] = Cause(int(value))
+        elif name == "elasticities":
+            out[name] = {key: float(v) for key, v in value.items()}
+        elif name in _FLOAT_OUTPUTS:
+            out[name] = float(value)
+        else:
+            out[name] = value
+    return out
 
 
 def names_any(outputs, names) -> bool:
