@@ -41,11 +41,54 @@ def _settings():
     # f50 and EPC alone (the exposure's other values not formed): the same bits as above
     settings.update({f"{name}:f50+epc": dict(settings[name], outputs=F50_EPC)
                      for name in ("default", "corner", "float32")})
+    settings.update(_real_camera_settings())
     return settings
 
 
-def _designs(setting):
+LENS = ([0.0, 50.0, 100.0, 150.0, 200.0, 250.0, 300.0], [1.0, 0.88, 0.74, 0.60, 0.47, 0.36, 0.27])
+LENS_FINE = (np.linspace(0.0, 400.0, 64), np.exp(-np.linspace(0.0, 400.0, 64) / 250.0))
+MODES = [{"binning": 1}, {"binning": 2}, {"binning": 2, "frames": 4}]
+SHARES = ("epc", "f50_cyc_per_mm", "status", "share_lens", "share_demosaic", "share_denoise",
+          "share_aberration", "elasticities")
+
+
+def _real_camera_settings():
+    """The real-camera terms, alone and together (a phone: Bayer, a lens table, denoising and
+    three readout modes), in float64 and float32."""
+    bayer = {"cfa": "bayer", "demosaic": "malvar2004"}
+    phone = {**bayer, "lens_mtf": LENS, "denoise_sigma_px": 1.0, "modes": MODES}
+    settings = {
+        "binning": {"binning": 2},
+        "burst": {"frames": 4, "alignment_error_um": 0.3},
+        "wavefront": {"wavefront_rms_waves": 0.05},
+        "denoise 1": {"denoise_sigma_px": 1.0},
+        "denoise 3": {"denoise_sigma_px": 3.0},
+        "denoise per point": {"denoise_sigma_px": "per point"},
+        "lens table": {"lens_mtf": LENS},
+        "lens table 64": {"lens_mtf": LENS_FINE},
+        "lens tables": {"lens_mtf": [LENS, LENS_FINE], "lens": "per point"},
+        "bayer": bayer,
+        "bayer menon": {"cfa": "bayer", "demosaic": "menon2007"},
+        "quad bayer": {"cfa": "quad_bayer", "demosaic": "malvar2004"},
+        "modes": {"modes": MODES},
+        "both": {"epc_axes": "both"},
+        "night": {"modes": [{"binning": 1}, {"binning": 2, "frames": "auto", "max_frames": 16}],
+                  "max_exposure_s": 0.1},
+        "phone": phone,
+        "phone both": {**phone, "epc_axes": "both"},
+        "phone shares": {**bayer, "lens_mtf": LENS, "denoise_sigma_px": 1.0, "outputs": SHARES},
+    }
+    settings["phone float32"] = dict(phone, precision="float32")
+    return settings
+
+
+def _designs(setting, kwargs):
     designs = random_designs(POINTS, SEED)
+    rng = np.random.default_rng(SEED)
+    if kwargs.get("denoise_sigma_px") == "per point":
+        kwargs["denoise_sigma_px"] = rng.uniform(0.0, 5.0, POINTS)
+    if kwargs.get("lens") == "per point":
+        kwargs["lens"] = rng.integers(0, 2, POINTS)
     if setting.startswith("corner"):  # snr_at="corner" needs the sensor's width and height
         area = designs.pop("sensor_area_mm2")
         designs["sensor_width_mm"] = np.sqrt(area * 4 / 3)
@@ -57,7 +100,8 @@ def digest_lines():
     """'setting output sha256' of every output array of every setting."""
     lines = [f"# isa {_core.isa}"]
     for setting, kwargs in _settings().items():
-        result = epc_fast.evaluate(**_designs(setting), threads=2, **kwargs)
+        kwargs = dict(kwargs)
+        result = epc_fast.evaluate(**_designs(setting, kwargs), threads=2, **kwargs)
         arrays = {name: np.ascontiguousarray(value) for name, value in vars(result).items()
                   if isinstance(value, np.ndarray)}
         arrays.update({f"{group}.{key}": np.ascontiguousarray(value)
