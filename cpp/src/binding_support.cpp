@@ -157,8 +157,6 @@ Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double
     return in;
 }
 
-namespace {
-
 // One table from its (knots, values, coefficients) triple, checked.
 MtfTable table_of(const py::handle& item) {
     const auto triple = py::reinterpret_borrow<py::tuple>(item);
@@ -181,7 +179,6 @@ MtfTable table_of(const py::handle& item) {
     return t;
 }
 
-}  // namespace
 
 void set_demosaic_table(Inputs& in, const py::object& table) {
     in.demosaic = table.is_none() ? MtfTable{} : table_of(table);

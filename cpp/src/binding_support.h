@@ -61,6 +61,10 @@ Spectrum spectrum_of(const double_array& wavelengths_nm, const double_array& wei
 Inputs inputs_of(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                  const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n);
 
+// One MTF table (tabulated.h) from a (knots, values, coefficients) triple of 1-D float64 arrays
+// (as set_lens_tables takes them), checked: a std::invalid_argument otherwise.
+MtfTable table_of(const py::handle& triple);
+
 // The call's lens tables into `in` (tabulated.h): `tables` None or a list of
 // (knots, values, coefficients) triples of 1-D float64 arrays (epc_fast.mtf_table.MtfTable's
 // frequencies, values and its (knots - 1, 4) coefficients flattened). With tables, a wavefront

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "binding_support.h"
 #include "epc_fast/block.h"
@@ -21,6 +22,7 @@
 #include "epc_fast/scan/draws.h"
 #include "epc_fast/scan/philox.h"
 #include "epc_fast/scan/reductions.h"
+#include "epc_fast/tabulated.h"
 #include "register.h"
 
 namespace epc_fast {
@@ -48,6 +50,36 @@ void register_testing(py::module_& parent) {
           },
           py::arg("seed"), py::arg("stream"), py::arg("index"));
     m.def("ndtri", py::vectorize([](double p) { return ndtri(p); }), py::arg("p"));
+    // a table's lookup at every f (tabulated.h): the grid's segment and std::upper_bound's, the
+    // interpolant and its derivatives lane by lane (`tabulated`) and in table_lanes' passes, and
+    // the grid's cells and steps
+    m.def(
+        "table_lookup",
+        [](const py::tuple& triple, const py::array_t<double, py::array::c_style | py::array::forcecast>& f) {
+            const MtfTable t = table_of(triple);
+            const py::ssize_t n = f.size();
+            py::array_t<std::int32_t> grid(n), bound(n);
+            py::array_t<double> lane(std::vector<py::ssize_t>{3, n}), lanes(std::vector<py::ssize_t>{3, n});
+            const std::size_t m = t.knots.size() - 1;
+            for (py::ssize_t i = 0; i < n; ++i) {
+                const double x = f.data()[i];
+                grid.mutable_data()[i] = table_segment(t, x);
+                const auto upper = static_cast<std::size_t>(
+                    std::upper_bound(t.knots.begin(), t.knots.end(), x) - t.knots.begin());
+                bound.mutable_data()[i] = static_cast<std::int32_t>(upper == 0 ? 0 : (upper - 1 < m ? upper - 1 : m - 1));
+                const TableValue v = tabulated(t, x);
+                lane.mutable_at(0, i) = v.value;
+                lane.mutable_at(1, i) = v.d1;
+                lane.mutable_at(2, i) = v.d2;
+            }
+            for (py::ssize_t first = 0; first < n; first += static_cast<py::ssize_t>(block_size)) {
+                const auto k = static_cast<std::size_t>(std::min<py::ssize_t>(block_size, n - first));
+                table_lanes<block_size, true>(t, f.data() + first, k, lanes.mutable_data(0, first),
+                                              lanes.mutable_data(1, first), lanes.mutable_data(2, first));
+            }
+            return py::make_tuple(grid, bound, lane, lanes, t.first_segment.size(), t.steps);
+        },
+        py::arg("table"), py::arg("f"));
     // the draws' block form of ndtri (scan/draws.h ndtri_block), block by block; the tail of the
     // last block is padded with 1/2
     m.def("ndtri_blocks",

@@ -70,27 +70,46 @@ void demosaic_lanes(Block<T>& b) {
         b.output_pitch_mm[i] = static_cast<T>(pitch[i] * k[i] * um_to_mm);
 }
 
+// M_dem (and with Slopes M', M'') at x = f p_out for every lane, f = b.at, into value, d1, d2;
+// x into xs.
+template <bool Slopes, class T>
+EPC_FAST_INLINE void demosaic_values(const Block<T>& b, double* __restrict xs,
+                                     double* __restrict value, double* __restrict d1,
+                                     double* __restrict d2) {
+    const T* __restrict at = b.at;
+    const T* __restrict pitch = b.output_pitch_mm;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i)
+        xs[i] = static_cast<double>(at[i]) * static_cast<double>(pitch[i]);
+    table_lanes<block_size, Slopes>(*b.demosaic_table, xs, block_size, value, d1, d2);
+}
+
 // b.mtf times M_dem(f p_out) at b.at (values only).
 template <class T>
 void mtf_demosaic(Block<T>& b) {
-    const MtfTable& table = *b.demosaic_table;
-    for (std::size_t i = 0; i < block_size; ++i) {
-        const double x = static_cast<double>(b.at[i]) * static_cast<double>(b.output_pitch_mm[i]);
-        b.mtf[i] *= static_cast<T>(tabulated(table, x).value);
-    }
+    alignas(64) double xs[block_size], value[block_size];
+    demosaic_values<false>(b, xs, value, nullptr, nullptr);
+    T* __restrict mtf = b.mtf;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i) mtf[i] *= static_cast<T>(value[i]);
 }
 
 // The same with its log-slopes in f: R + p M'/M, S + p^2 (M''/M - (M'/M)^2), M' in x = f p.
 template <bool Curvature, class T>
 void mtf_demosaic_slopes(Block<T>& b) {
-    const MtfTable& table = *b.demosaic_table;
+    alignas(64) double xs[block_size], value[block_size], d1[block_size], d2[block_size];
+    demosaic_values<true>(b, xs, value, d1, d2);
+    const T* __restrict pitch_out = b.output_pitch_mm;
+    T* __restrict mtf = b.mtf;
+    T* __restrict slope = b.slope;
+    T* __restrict curvature = b.curvature;
+    EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
-        const double p = static_cast<double>(b.output_pitch_mm[i]);
-        const TableValue v = tabulated(table, static_cast<double>(b.at[i]) * p);
-        const double r = p * v.d1 / v.value;
-        b.mtf[i] *= static_cast<T>(v.value);
-        b.slope[i] += static_cast<T>(r);
-        if (Curvature) b.curvature[i] += static_cast<T>(p * p * v.d2 / v.value - r * r);
+        const double p = static_cast<double>(pitch_out[i]);
+        const double r = p * d1[i] / value[i];
+        mtf[i] *= static_cast<T>(value[i]);
+        slope[i] += static_cast<T>(r);
+        if (Curvature) curvature[i] += static_cast<T>(p * p * d2[i] / value[i] - r * r);
     }
 }
 

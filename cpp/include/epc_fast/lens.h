@@ -69,23 +69,55 @@ EPC_FAST_INLINE void lens_start_lengths(const Block<T>& b, double nu50,
     }
 }
 
+// The block's one table, when every lane takes the same (one table, or a broadcast index);
+// null when the lanes take several.
+template <class T>
+EPC_FAST_INLINE const MtfTable* lens_block_table(const Block<T>& b) {
+    const std::vector<MtfTable>& tables = *b.lens_tables;
+    if (tables.size() == 1) return &tables[0];
+    return b.is_broadcast(lens) ? &lens_table(b, 0) : nullptr;
+}
+
+// Each lane's L (and with Slopes L', L'') at b.at: one table's lanes in vectorised passes
+// (table_lanes), lanes of several tables one by one.
+template <bool Slopes, class T>
+EPC_FAST_INLINE void lens_values(const Block<T>& b, double* __restrict value, double* __restrict d1,
+                                 double* __restrict d2) {
+    alignas(64) double f[block_size];
+    for (std::size_t i = 0; i < block_size; ++i) f[i] = static_cast<double>(b.at[i]);
+    if (const MtfTable* one = lens_block_table(b)) {
+        table_lanes<block_size, Slopes>(*one, f, block_size, value, d1, d2);
+        return;
+    }
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const TableValue v = tabulated(lens_table(b, i), f[i]);
+        value[i] = v.value;
+        if (Slopes) {
+            d1[i] = v.d1;
+            d2[i] = v.d2;
+        }
+    }
+}
+
 // b.mtf = each lane's L at b.at, in place of diffraction (values only).
 template <class T>
 void mtf_lens(Block<T>& b) {
-    for (std::size_t i = 0; i < block_size; ++i)
-        b.mtf[i] = static_cast<T>(tabulated(lens_table(b, i), static_cast<double>(b.at[i])).value);
+    alignas(64) double value[block_size];
+    lens_values<false>(b, value, nullptr, nullptr);
+    for (std::size_t i = 0; i < block_size; ++i) b.mtf[i] = static_cast<T>(value[i]);
 }
 
 // L in place of monochromatic diffraction's factor (f50/system_mtf.h diffraction_factor): L
 // into b.mtf, L' and L'' into b.slope and b.curvature, and L as their denominator.
 template <bool Curvature, class T>
 void lens_factor(Block<T>& b) {
+    alignas(64) double value[block_size], d1[block_size], d2[block_size];
+    lens_values<true>(b, value, d1, d2);
     for (std::size_t i = 0; i < block_size; ++i) {
-        const TableValue v = tabulated(lens_table(b, i), static_cast<double>(b.at[i]));
-        b.mtf[i] = static_cast<T>(v.value);
-        b.slope[i] = static_cast<T>(v.d1);
-        if (Curvature) b.curvature[i] = static_cast<T>(v.d2);
-        b.denominator[i] = static_cast<T>(v.value);
+        b.mtf[i] = static_cast<T>(value[i]);
+        b.slope[i] = static_cast<T>(d1[i]);
+        if (Curvature) b.curvature[i] = static_cast<T>(d2[i]);
+        b.denominator[i] = static_cast<T>(value[i]);
     }
 }
 

@@ -51,8 +51,33 @@ double settle_rtol(const Options& opt) {
 // A lens table that ends while the system MTF is still above the threshold holds no f50: the
 // lanes to solve whose MTF at their bracket's end f_hi (the table's end where that is the
 // nearest) exceeds c get Status::beyond_table and are not solved (scatter writes NaN).
+//
+// Without jitter, every bracket ends on a zero of a factor (the pixel aperture's, the motion's,
+// the binned array's: an MTF of a rounding's size there) or on the table's end, where the
+// MTF is at most the table's near_end times the demosaicker's largest value (its value at 0)
+// and factors of at most 1: a block whose lanes to solve all have a threshold above that
+// bound (and above 1e-3, far above a rounding at a zero) holds no lane beyond its table, and
+// the MTF at the brackets' ends is not evaluated.
+template <class T>
+bool within_tables(const Block<T>& b) {
+    double near_end = 0.0;
+    if (const MtfTable* one = lens_block_table(b)) {
+        near_end = one->near_end;
+    } else {
+        for (const MtfTable& t : *b.lens_tables) near_end = near_end > t.near_end ? near_end : t.near_end;
+    }
+    const double demosaic = b.demosaic_table != nullptr ? b.demosaic_table->coefficients[0] : 1.0;
+    const double bound = near_end * (demosaic > 1.0 ? demosaic : 1.0) * (1.0 + 1e-6);
+    const T least = static_cast<T>(bound > 1e-3 ? bound : 1e-3);
+    int below = 0;
+    EPC_FAST_SIMD_REDUCTION(+ : below)
+    for (std::size_t i = 0; i < block_size; ++i) below += (b.solve[i] != 0) & !(b.threshold[i] >= least);
+    return below == 0;
+}
+
 template <bool Motion, bool Jitter, bool Binning, class T>
 void beyond_tables(const Spectrum& spectrum, Block<T>& b) {
+    if (!Jitter && within_tables(b)) return;
     T* __restrict at = b.at;
     T* __restrict start = b.previous_step;  // free until the solver sets it
     for (std::size_t i = 0; i < block_size; ++i) {
