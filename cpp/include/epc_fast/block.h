@@ -58,6 +58,10 @@ struct ColumnLayout {
     std::uint64_t bits[n_params];  // broadcast column broadcast[k]'s value, bits[k]
 };
 
+// Where a block's denoising weights come from (denoise.h): one row for a broadcast sigma, a row
+// per tap of every lane's, or formed at each evaluation (a lane's R beyond the cached taps).
+enum class DenoiseWeights : unsigned char { same, cached, formed };
+
 template <class T>
 struct alignas(64) Block {
     std::size_t n;
@@ -130,11 +134,11 @@ struct alignas(64) Block {
     // the wavefront error and denoising (aberration.h, denoise.h), in a block whose lanes to solve
     // have them (`aberration`, `denoise`): the ATF's depth a = (W / 0.18)^2; the output pitch (mm),
     // the filter's 1 / (2 sigma^2), 1 / Z and reach R, and the largest R (`denoise_taps`); the
-    // filter's x = min(f p, 1/2) and its transfer with two derivatives, per lane
+    // filter's transfer with two derivatives, per lane
     T atf_depth[block_size];
     T output_pitch_mm[block_size], denoise_scale[block_size], denoise_inverse_norm[block_size];
     T denoise_reach[block_size];
-    T denoise_x[block_size], denoise_value[block_size], denoise_d1[block_size], denoise_d2[block_size];
+    T denoise_value[block_size], denoise_d1[block_size], denoise_d2[block_size];
     bool aberration = false, denoise = false;
     // the call's lens tables (Inputs::lens_tables; null: none): every lane's optics MTF is its
     // table's, the lane's index in x[lens]
@@ -142,6 +146,16 @@ struct alignas(64) Block {
     // a colour sensor's demosaicker's table (Inputs::demosaic; null: none), at f p_out
     const MtfTable* demosaic_table = nullptr;
     int denoise_taps = 0;
+    // the filter's weights h_i (denoise_lanes): a broadcast sigma's, memo_denoise_h[i - 1], kept
+    // from block to block with its R, 1 / (2 sigma^2) and 1 / Z; else every lane's, tap i row
+    // i - 1, where the block's largest R is at most denoise_cached_taps (sigma <= 5 px): formed
+    // once a block, not at every evaluation of the transfer
+    static constexpr int denoise_cached_taps = 20;
+    T denoise_h[denoise_cached_taps][block_size];
+    DenoiseWeights denoise_weights = DenoiseWeights::formed;
+    double memo_denoise_sigma = nan, memo_denoise_reach = 0.0, memo_denoise_scale = 0.0,
+           memo_denoise_inverse_norm = 1.0;
+    T memo_denoise_h[denoise_cached_taps] = {};
     // denoising's noise gain in the exposure stage: sqrt(g) per lane, where `gained`
     double root_gain[block_size];
     bool gained = false;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 
 #include "block.h"
 #include "constants.h"
@@ -154,6 +155,13 @@ EPC_FAST_INLINE bool denoise_certifiable(double denoise_sigma_px) {
 
 namespace detail {
 
+// A lane's weight h_i at tap i (as T), from its 1 / (2 sigma^2), 1 / Z and R: 0 past R.
+template <class T>
+EPC_FAST_INLINE T denoise_weight(T tap, T exponent_scale, T inverse_norm, T reach) {
+    const T e = exp_poly(-(tap * tap) * exponent_scale);
+    return tap <= reach ? e * inverse_norm : T(0);
+}
+
 // The filter's inputs in T for the lanes to solve, and `denoise`: whether any of them has the
 // term. A lane not solved, or without denoising, gets R = 0 (no tap), so that the block's
 // largest R is its lanes to solve's.
@@ -169,38 +177,92 @@ void denoise_lanes(Block<T>& b, const T* ln_inverse_c) {
     const double* __restrict sigma = x[denoise_sigma_px];
     const double* __restrict pitch = x[pixel_pitch_um];
     const double* __restrict k = x[binning];
-    // a broadcast sigma's norm once for the block (a sum over its taps)
+    // a broadcast sigma's filter once for the block, kept from block to block (its norm a sum
+    // over its taps, and its weights where they are cached)
     const bool same = b.is_broadcast(denoise_sigma_px);
-    const double same_norm = same ? denoise_norm(b.broadcast[denoise_sigma_px]) : 1.0;
+    if (same && !(b.memo_denoise_sigma == b.broadcast[denoise_sigma_px])) {
+        const double sigma_same = b.broadcast[denoise_sigma_px];
+        const bool on = sigma_same > 0.0;
+        b.memo_denoise_sigma = sigma_same;
+        b.memo_denoise_reach = on ? denoise_reach(sigma_same) : 0.0;
+        b.memo_denoise_scale = on ? denoise_exponent_scale(sigma_same) : 0.0;
+        b.memo_denoise_inverse_norm = on ? 1.0 / denoise_norm(sigma_same) : 1.0;
+        const T reach_t = static_cast<T>(b.memo_denoise_reach);
+        const T scale_t = static_cast<T>(b.memo_denoise_scale);
+        const T inverse_norm_t = static_cast<T>(b.memo_denoise_inverse_norm);
+        for (int tap = 1; tap <= Block<T>::denoise_cached_taps; ++tap)
+            b.memo_denoise_h[tap - 1] = denoise_weight(static_cast<T>(tap), scale_t, inverse_norm_t, reach_t);
+    }
     int taps = 0;
-    for (std::size_t i = 0; i < block_size; ++i) {
-        const bool on = (solve[i] != 0) & (sigma[i] > 0.0);
-        const double reach = on ? denoise_reach(sigma[i]) : 0.0;
-        b.denoise_reach[i] = static_cast<T>(reach);
-        b.denoise_scale[i] = static_cast<T>(on ? denoise_exponent_scale(sigma[i]) : 0.0);
-        b.denoise_inverse_norm[i] = static_cast<T>(on ? 1.0 / (same ? same_norm : denoise_norm(sigma[i])) : 1.0);
-        b.output_pitch_mm[i] = static_cast<T>(pitch[i] * k[i] * um_to_mm);
-        taps = reach > taps ? static_cast<int>(reach) : taps;
+    if (same) {
+        const T reach_same = static_cast<T>(b.memo_denoise_reach);
+        const T scale_same = static_cast<T>(b.memo_denoise_scale);
+        const T inverse_norm_same = static_cast<T>(b.memo_denoise_inverse_norm);
+        int any = 0;
+        EPC_FAST_SIMD_REDUCTION(+ : any)
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const bool on = (solve[i] != 0) & (reach_same > T(0));
+            b.denoise_reach[i] = on ? reach_same : T(0);
+            b.denoise_scale[i] = on ? scale_same : T(0);
+            b.denoise_inverse_norm[i] = on ? inverse_norm_same : T(1);
+            b.output_pitch_mm[i] = static_cast<T>(pitch[i] * k[i] * um_to_mm);
+            any += on;
+        }
+        taps = any > 0 ? static_cast<int>(b.memo_denoise_reach) : 0;
+    } else {
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const bool on = (solve[i] != 0) & (sigma[i] > 0.0);
+            const double reach = on ? denoise_reach(sigma[i]) : 0.0;
+            b.denoise_reach[i] = static_cast<T>(reach);
+            b.denoise_scale[i] = static_cast<T>(on ? denoise_exponent_scale(sigma[i]) : 0.0);
+            b.denoise_inverse_norm[i] = static_cast<T>(on ? 1.0 / denoise_norm(sigma[i]) : 1.0);
+            b.output_pitch_mm[i] = static_cast<T>(pitch[i] * k[i] * um_to_mm);
+            taps = reach > taps ? static_cast<int>(reach) : taps;
+        }
     }
     b.denoise_taps = taps;
     b.denoise = taps > 0;
+    // the weights: a broadcast sigma's the same in every lane to solve (a lane not solved takes
+    // them too, harmlessly: its transfer is never read); per-lane ones cached up to 20 taps
+    b.denoise_weights = same && taps <= Block<T>::denoise_cached_taps ? DenoiseWeights::same
+                        : taps <= Block<T>::denoise_cached_taps      ? DenoiseWeights::cached
+                                                                     : DenoiseWeights::formed;
     if (!b.denoise) return;
+    if (b.denoise_weights == DenoiseWeights::cached) {
+        const T* __restrict scale = b.denoise_scale;
+        const T* __restrict inverse_norm = b.denoise_inverse_norm;
+        const T* __restrict reach_t = b.denoise_reach;
+        for (int tap = 1; tap <= taps; ++tap) {
+            const T t = static_cast<T>(tap);
+            T* __restrict h = b.denoise_h[tap - 1];
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < block_size; ++i)
+                h[i] = denoise_weight(t, scale[i], inverse_norm[i], reach_t[i]);
+        }
+    }
     T* __restrict at = b.at;
     const T* __restrict hi = b.hi;
+    const T* __restrict reach_lane = b.denoise_reach;
+    const T* __restrict output_pitch = b.output_pitch_mm;
+    EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {
-        if (!(b.denoise_reach[i] > T(0))) continue;  // (a denoised lane is never settled)
-        const double width_mm = sigma[i] * static_cast<double>(b.output_pitch_mm[i]);
+        // (a denoised lane is never settled; a lane without the term keeps its start)
+        const double width_mm = sigma[i] * static_cast<double>(output_pitch[i]);
         const double f_c = std::sqrt(static_cast<double>(ln_inverse_c[i]) / (2.0 * pi * pi)) / width_mm;
         const double f0 = static_cast<double>(at[i]);
         const double joined = 1.0 / std::sqrt(1.0 / (f0 * f0) + 1.0 / (f_c * f_c));
         const T start = static_cast<T>(joined);
-        at[i] = (start > T(0)) & (start < hi[i]) ? start : at[i];
+        at[i] = (reach_lane[i] > T(0)) & (start > T(0)) & (start < hi[i]) ? start : at[i];
     }
 }
 
 // The filter's transfer H at b.at into b.denoise_value and, with Slopes, its first and second
-// derivatives in f into b.denoise_d1, b.denoise_d2 (denoise_transfer, lane by lane):
-// a pass over the lanes per tap, up to the block's largest R; a lane past its own R adds 0.
+// derivatives in f into b.denoise_d1, b.denoise_d2: a pass over the lanes per tap, up to the
+// block's largest R; a lane past its own R adds 0. cos(2 pi x i) and sin(2 pi x i) come from
+// tap 1's by rotation, (c, s)_{i+1} = (c c_1 - s s_1, s c_1 + c s_1), whose rounding grows by
+// an ulp or two a tap (tens of ulp of 1 up to sigma = 5 px, against H >= 2^-20 where its
+// slopes are used: apply_denoise_slopes); the weights are a broadcast sigma's or the block's cached
+// ones where it has them (denoise_lanes), else formed at each tap.
 template <bool Slopes, class T>
 void denoise_factor(Block<T>& b) {
     constexpr std::size_t n = block_size;
@@ -209,32 +271,49 @@ void denoise_factor(Block<T>& b) {
     const T* __restrict scale = b.denoise_scale;
     const T* __restrict inverse_norm = b.denoise_inverse_norm;
     const T* __restrict reach = b.denoise_reach;
-    T* __restrict xs = b.denoise_x;
     T* __restrict value = b.denoise_value;
     T* __restrict d1 = b.denoise_d1;
     T* __restrict d2 = b.denoise_d2;
+    alignas(64) T c1[n], s1[n], c[n], s[n];
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
         const T fp = at[i] * pitch[i];
-        xs[i] = fp < T(0.5) ? fp : T(0.5);
+        const T x = fp < T(0.5) ? fp : T(0.5);
+        const SinCos<T> one = sincospi(T(2) * x);
+        c1[i] = c[i] = one.c;
+        s1[i] = s[i] = one.s;
         value[i] = inverse_norm[i];
         d1[i] = T(0);
         d2[i] = T(0);
     }
-    for (int tap = 1; tap <= b.denoise_taps; ++tap) {
-        const T t = static_cast<T>(tap);
-        EPC_FAST_SIMD
-        for (std::size_t i = 0; i < n; ++i) {
-            const T e = exp_poly(-(t * t) * scale[i]);
-            const T h = t <= reach[i] ? e * inverse_norm[i] : T(0);
-            const SinCos<T> sc = sincospi(T(2) * xs[i] * t);
-            value[i] += T(2) * h * sc.c;
-            if (Slopes) {
-                const T w = T(2.0 * pi) * t * pitch[i];
-                d1[i] -= T(2) * h * w * sc.s;
-                d2[i] -= T(2) * h * (w * w) * sc.c;
+    auto taps = [&](auto weights) EPC_FAST_LAMBDA_INLINE {
+        constexpr DenoiseWeights W = decltype(weights)::value;
+        for (int tap = 1; tap <= b.denoise_taps; ++tap) {
+            const T t = static_cast<T>(tap);
+            const T* __restrict row = b.denoise_h[W == DenoiseWeights::cached ? tap - 1 : 0];
+            const T same = b.memo_denoise_h[tap <= Block<T>::denoise_cached_taps ? tap - 1 : 0];
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                const T h = W == DenoiseWeights::same     ? same
+                            : W == DenoiseWeights::cached ? row[i]
+                                                          : denoise_weight(t, scale[i], inverse_norm[i], reach[i]);
+                const T ct = c[i], st = s[i];
+                value[i] += T(2) * h * ct;
+                if (Slopes) {
+                    const T w = T(2.0 * pi) * t * pitch[i];
+                    d1[i] -= T(2) * h * w * st;
+                    d2[i] -= T(2) * h * (w * w) * ct;
+                }
+                c[i] = ct * c1[i] - st * s1[i];
+                s[i] = st * c1[i] + ct * s1[i];
             }
         }
+    };
+    using Weights = DenoiseWeights;
+    switch (b.denoise_weights) {
+        case Weights::same: taps(std::integral_constant<Weights, Weights::same>{}); break;
+        case Weights::cached: taps(std::integral_constant<Weights, Weights::cached>{}); break;
+        case Weights::formed: taps(std::integral_constant<Weights, Weights::formed>{}); break;
     }
     if (Slopes) {
         EPC_FAST_SIMD
