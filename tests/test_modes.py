@@ -6,6 +6,7 @@ import pytest
 
 import epc_fast
 from epc_fast import Status
+from epc_fast._validation import compiled_core
 from epc_fast.modes import NO_MODE, check_modes
 
 #: A 200 MP 0.56 um phone sensor: read 1x1, 4x4-binned, and 4x4-binned in bursts of 8.
@@ -135,3 +136,55 @@ def test_night_modes_are_checked_and_compared_as_modes():
                             {"frames": "auto", "max_frames": 4}, {"frames": 8}])) == 3
     with pytest.raises(ValueError, match="frames = 'auto' is given to evaluate and in modes"):
         epc_fast.evaluate(10.0, **PHONE, frames="auto", max_frames=8, modes=[{"frames": 2}])
+
+
+def _numpy_pick(epcs):
+    epc = np.stack(epcs)
+    finite = np.isfinite(epc)
+    pick = np.argmax(np.where(finite, epc, -np.inf), axis=0)
+    return np.where(finite.any(axis=0), pick, NO_MODE)
+
+
+def test_the_cores_pick_is_the_first_largest_finite_epc_on_any_thread_count():
+    core = compiled_core()
+    rng = np.random.default_rng(5)
+    n = 100_003  # blocks of 4096 and a partial last one
+    # few distinct values, so that ties are common; NaN, +-inf and -0.0 among them
+    choices = np.array([np.nan, np.inf, -np.inf, 0.0, -0.0, 1.0, 2.0, 2.0 + 2**-51, 3e300])
+    epcs = [rng.choice(choices, n) for _ in range(4)]
+    expected = _numpy_pick(epcs)
+    assert np.count_nonzero(expected == NO_MODE) > 100  # points with no mode at all
+    for threads in (1, 2):
+        mode = core.best_mode(epcs, threads)
+        assert mode.dtype == np.int16
+        np.testing.assert_array_equal(mode, expected)
+    pick = np.maximum(expected, 0)
+    for dtype in (np.uint8, np.int16, np.float32, np.float64, np.int64):
+        values = [rng.integers(0, 100, n).astype(dtype) for _ in range(4)]
+        taken = core.take_mode(mode, values, 2)
+        assert taken.dtype == dtype
+        np.testing.assert_array_equal(taken, np.take_along_axis(np.stack(values), pick[None], 0)[0])
+
+
+def test_the_cores_pick_refuses_columns_it_cannot_read_in_one_line():
+    core = compiled_core()
+    one = np.ones(10)
+    with pytest.raises(ValueError, match="one C-contiguous 1-d array of 10 items per mode"):
+        core.best_mode([one, np.ones(9)], 1)
+    with pytest.raises(ValueError, match="one C-contiguous 1-d array"):
+        core.take_mode(np.zeros(10, np.int16), [one, one.astype(np.float32)], 1)
+    with pytest.raises(ValueError, match="an index past the modes given"):
+        core.take_mode(np.full(10, 2, np.int16), [one, one], 1)
+    with pytest.raises(ValueError, match="between 1 and 32767 modes"):
+        core.best_mode([], 1)
+
+
+@pytest.mark.parametrize("shape", [(41,), (3, 41)])
+def test_the_core_and_the_reference_backend_pick_the_same_modes(shape):
+    lux = np.broadcast_to(LUX, shape)
+    core = epc_fast.evaluate(lux, **SENSOR, modes=MODES, threads=2)
+    ref = epc_fast.evaluate(lux, **SENSOR, modes=MODES, backend="reference")
+    assert core.mode.shape == shape and core.epc.shape == shape
+    np.testing.assert_array_equal(core.mode, ref.mode)
+    np.testing.assert_array_equal(core.status, ref.status)
+    np.testing.assert_allclose(core.epc, ref.epc, rtol=1e-12)  # the backends' own agreement

@@ -11,6 +11,7 @@ PYBIND11_MODULE(EPC_FAST_MODULE, m) {
     register_evaluate(m);
     register_scan(m);
     register_memory(m);
+    register_modes(m);
     register_inverse(m);
     register_testing(m);
 }

@@ -19,6 +19,8 @@ void register_evaluate(pybind11::module_& m);
 void register_inverse(pybind11::module_& m);
 // scan_chunk and scan_points: the fused scan pass and its points (scan/pass.h).
 void register_scan(pybind11::module_& m);
+// best_mode and take_mode: readout modes' pick of the best mode per point (modes.h).
+void register_modes(pybind11::module_& m);
 // output_cache: the memory kept for evaluate's output arrays (output_cache.h).
 void register_memory(pybind11::module_& m);
 // The build and the machine: the module's name and levels, threads, block and streaming sizes.

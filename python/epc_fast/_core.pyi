@@ -56,6 +56,14 @@ def float_arrays(
     float64 ndarrays as they are, the rest through ``convert``) and their shapes but ()."""
 def output_cache(limit_bytes: int | None = None) -> dict[str, int]:
     """Sets the output cache's limit (bytes) when given; {"limit_bytes", "retained_bytes"}."""
+def best_mode(epcs: Sequence[npt.NDArray[np.float64]], threads: int) -> npt.NDArray[np.int16]:
+    """Per point the first mode of the largest finite EPC among the modes' 1-d arrays; -1
+    where none is finite (epc_fast.modes)."""
+def take_mode(
+    mode: npt.NDArray[np.int16], values: Sequence[np.ndarray], threads: int,
+) -> np.ndarray:
+    """values[mode[i]][i] per point (the first mode's where mode is -1), one 1-d array of one
+    dtype per mode (epc_fast.modes)."""
 def lux_for_epc(
     columns: Sequence[npt.NDArray[np.float64]],
     size_is_pixel_count: bool,
@@ -152,6 +160,9 @@ class _Testing(Protocol):
         self, seed: int, stream: int, index: npt.NDArray[np.int64],
     ) -> np.ndarray: ...
     def ndtri(self, p: npt.ArrayLike) -> np.ndarray: ...
+    def table_lookup(
+        self, table: tuple[np.ndarray, np.ndarray, np.ndarray], f: npt.ArrayLike,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int, int]: ...
     def ndtri_blocks(self, p: npt.ArrayLike) -> np.ndarray: ...
     def elementary_exp(self, x: npt.ArrayLike) -> np.ndarray: ...
     def elementary_exp_normal(self, x: npt.ArrayLike) -> np.ndarray: ...

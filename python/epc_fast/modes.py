@@ -14,7 +14,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ._validation import short
+from ._validation import compiled_core, short, threads_of
 from .axes import check_epc_axes, default_outputs
 from .exposure_limits import check_max_frames
 from .outputs import LIMIT_OUTPUTS, Result, scalar_fields, selected_outputs
@@ -89,17 +89,45 @@ def evaluate_modes(evaluate, call: dict) -> Result:
         isinstance(mode.get("frames"), str) for mode in modes) else []
     asked = tuple(dict.fromkeys((*wanted, *night, "epc")))
     results = [evaluate(**{**call, **mode, "outputs": asked}) for mode in modes]
+    if np.ndim(results[0].epc) == 0 and not isinstance(results[0].epc, np.ndarray):
+        return _best_of_scalars(results, wanted)
+    shape = np.shape(results[0].epc)
+    if call.get("backend") == "reference":
+        mode, best = _pick_reference(results)
+    else:  # the core's pick: one parallel pass over the modes' EPC, one per output taken
+        core, threads = compiled_core(), threads_of(call.get("threads"))
+        mode = core.best_mode([_column(r.epc) for r in results], threads).reshape(shape)
+
+        def best(values):
+            flat = [_column(v) for v in values]
+            return core.take_mode(mode.reshape(-1), flat, threads).reshape(shape)
+
+    fields = _fields(results, wanted, best)
+    return Result(**fields, mode=mode)
+
+
+def _pick_reference(results):
+    """The reference backend's pick in NumPy: each point's first mode of the largest finite
+    EPC (NO_MODE where none is finite, and the first mode's outputs), and the function that
+    takes an output's values by it."""
     epc = np.stack([np.asarray(r.epc, dtype=np.float64) for r in results])
     finite = np.isfinite(epc)
     pick = np.argmax(np.where(finite, epc, -np.inf), axis=0)
     mode = np.where(finite.any(axis=0), pick, NO_MODE).astype(np.int16)
-    scalar = np.ndim(results[0].epc) == 0 and not isinstance(results[0].epc, np.ndarray)
 
     def best(values):
-        stacked = np.stack([np.asarray(v) for v in values])
-        chosen = np.take_along_axis(stacked, pick[None, ...], axis=0)[0]
-        return chosen[()] if scalar else chosen
+        return np.take_along_axis(np.stack([np.asarray(v) for v in values]), pick[None, ...], axis=0)[0]
 
+    return mode, best
+
+
+def _column(values) -> np.ndarray:
+    """An output array as the 1-d contiguous column the core's pick reads."""
+    return np.ascontiguousarray(values).reshape(-1)
+
+
+def _fields(results, wanted, best) -> dict:
+    """Result's fields (but the mode) from the modes' results, each output by ``best``."""
     fields = {}
     for name in Result.__dataclass_fields__:
         if name == "mode":
@@ -111,9 +139,16 @@ def evaluate_modes(evaluate, call: dict) -> Result:
             fields[name] = {k: best([v[k] for v in values]) for k in values[0]}
         else:
             fields[name] = best(values)
-    if scalar:
-        fields = scalar_fields(fields)
-    return Result(**fields, mode=int(mode) if scalar else mode)
+    return fields
+
+
+def _best_of_scalars(results, wanted) -> Result:
+    """evaluate_modes' Result for one point (every input a scalar)."""
+    epc = np.array([float(r.epc) for r in results])
+    finite = np.isfinite(epc)
+    pick = int(np.argmax(np.where(finite, epc, -np.inf)))
+    fields = scalar_fields(_fields(results, wanted, lambda values: np.asarray(values[pick])[()]))
+    return Result(**fields, mode=pick if finite.any() else NO_MODE)
 
 
 def _is_default(key, value) -> bool:
