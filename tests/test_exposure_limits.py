@@ -102,6 +102,31 @@ def test_night_mode_takes_the_least_frames_within_the_cap_by_brute_force():
     assert np.all(r.frames_used[over] == 8) and np.all(r.status[~over] == Status.OK)
 
 
+@pytest.mark.parametrize("max_frames", [1, 2, 3, 5, 16, 17, 100])
+def test_night_modes_search_finds_the_brute_force_count_on_random_sensors(max_frames):
+    # the search bisects on n, which holds where "T_MPE(n) / n <= cap" holds from n* on: read
+    # noise, dark current, PRNU, a full well and binning all vary here, and each candidate
+    # count is evaluated alone to find the least that fits
+    rng = np.random.default_rng(max_frames)
+    n = 4000
+    design = dict(illuminance_lux=10 ** rng.uniform(-1, 4, n), pixel_pitch_um=rng.uniform(0.8, 3, n),
+                  f_number=2.0, focal_length_mm=5.6, sensor_area_mm2=20.0,
+                  read_noise_e=rng.uniform(0, 5, n), dark_current_e_per_s=rng.uniform(0, 50, n),
+                  prnu=rng.uniform(0, 0.02, n), full_well_e=rng.uniform(2e3, 2e4, n),
+                  binning=rng.choice([1.0, 2.0], n))
+    cap = 10 ** rng.uniform(-3, 0, n)
+    r = epc_fast.evaluate(**design, max_exposure_s=cap, frames="auto", max_frames=max_frames,
+                          outputs=("frames_used", "status"))
+    counts = np.arange(1.0, max_frames + 1.0)
+    fits = np.stack([epc_fast.evaluate(**design, frames=k, outputs=("t_mpe_s",)).t_mpe_s / k
+                     for k in counts]) <= cap
+    assert np.all(np.diff(fits.astype(int), axis=0) >= 0)  # fits from n* on: the premise
+    expected = np.where(fits.any(axis=0), counts[np.argmax(fits, axis=0)], max_frames)
+    np.testing.assert_array_equal(r.frames_used, expected)
+    if max_frames >= 16:  # the points span the counts, and some fit none
+        assert len(np.unique(expected)) >= 10 and (~fits.any(axis=0)).any()
+
+
 def test_without_read_noise_night_mode_takes_the_ceiling_of_t_mpe_over_the_cap():
     design = {**DESIGN, "read_noise_e": 0.0}
     t_mpe = epc_fast.evaluate(LUX, **design).t_mpe_s  # the same for every n without read noise

@@ -8,8 +8,9 @@ its T_MPE and electron counts are what the target would need, its blur, f50 and 
 A burst fills the gap: ``frames="auto"`` with ``max_frames=N`` takes at each point the least n
 in 1 .. N with T_MPE(n) / n <= c (T_MPE depends on n through each frame's read noise), as a
 phone's night mode picks it; where no n does, N, and the point's status is EXPOSURE_LIMIT. The
-n taken is the output ``frames_used``. The candidate counts are evaluated in one call along a
-leading axis of n (T_MPE and the status alone), then the picked counts as any ``frames`` array.
+n taken is the output ``frames_used``. It is found by bisection on n, a pass of T_MPE alone per
+halving (T_MPE(n) / n falls as n grows), then the picked counts are evaluated as any ``frames``
+array.
 """
 
 from __future__ import annotations
@@ -127,6 +128,33 @@ def least_frames(t_mpe_s, frames, max_exposure_s) -> np.ndarray:
     return np.where(fits.any(axis=0), candidates[first], candidates[-1])
 
 
+def _search_frames(evaluate, base: dict, cap: np.ndarray, shape: tuple, max_frames: int):
+    """Night mode's n* at every point (float64 of ``shape``): the least n in 1 .. max_frames
+    whose frame T_MPE(n) / n is within ``cap``, max_frames where none is, by bisection on n.
+
+    T_MPE(n) / n falls strictly as n grows (the quadratic's root over n: its read-noise term
+    grows as n, the rest not at all; docs/model.md "Night mode"), and a full well is
+    overfilled less by shorter frames, so "fits" holds from n* on. The search keeps the
+    largest count known not to fit, ``below`` (0: none yet), and tries it plus each power of
+    two from the largest below max_frames down: ceil(log2(max_frames)) passes of T_MPE alone
+    (the points' frames an array), where a pass for every candidate count would take
+    max_frames."""
+    below = np.zeros(shape)
+    cap = np.broadcast_to(cap, shape)
+    trial = {**base, "epc_axes": "motion", "invalid": "status", "outputs": ("t_mpe_s",)}
+    step = 1 << max(max_frames - 1, 1).bit_length() - 1 if max_frames > 1 else 0
+    count, ratio = np.empty(shape), np.empty(shape)  # buffers: no new pages a pass
+    over = np.empty(shape, dtype=bool)
+    while step >= 1:
+        np.minimum(np.add(below, float(step), out=count), float(max_frames - 1), out=count)
+        t_mpe = np.asarray(evaluate(**{**trial, "frames": count}).t_mpe_s, dtype=np.float64)
+        np.divide(t_mpe, count, out=ratio)
+        np.logical_not(np.less_equal(ratio, cap, out=over), out=over)  # NaN: does not fit
+        np.copyto(below, count, where=over)
+        step >>= 1
+    return np.add(below, 1.0, out=below)
+
+
 def _points_shape(call: dict, cap: np.ndarray):
     """The broadcast shape of the points and the cap, or None where they do not broadcast
     (evaluate then names the argument)."""
@@ -164,10 +192,7 @@ def evaluate_limits(evaluate, call: dict) -> Result:
             evaluate(**{**base, "frames": 1.0, "outputs": ("status",)})
             raise ValueError(f"max_exposure_s of shape {cap.shape} does not broadcast with "
                              "the points")
-        candidates = np.arange(1.0, max_frames + 1.0).reshape((max_frames,) + (1,) * len(shape))
-        trial = evaluate(**{**base, "frames": candidates, "epc_axes": "motion",
-                            "invalid": "status", "outputs": ("t_mpe_s",)})
-        base["frames"] = least_frames(trial.t_mpe_s, candidates, cap)
+        base["frames"] = _search_frames(evaluate, base, cap, shape, max_frames)
     elif cap.ndim and shape is not None:  # the cap's axes are the points' too
         try:
             base["frames"] = np.broadcast_to(np.asarray(call["frames"], dtype=np.float64),
