@@ -1,6 +1,7 @@
 """EPC counted in both directions (epc_fast.axes; docs/model.md, "Resolution in both
 directions"): f50 across the motion, EPC = 4 S f50 f50_across and every consumer of it."""
 
+import inspect
 import math
 
 import numpy as np
@@ -209,3 +210,61 @@ def test_epc_both_of_an_unbounded_blur_is_zero_and_nan_stays_nan():
 
 def test_the_package_names_the_axes():
     assert epc_fast.axes.EPC_AXES == ("motion", "both")
+
+
+def _two_passes(kwargs, **options):
+    """The outputs in both directions from two calls, as docs/model.md defines them: along the
+    motion as asked, across it with the shake rate 0 (kept where it is out of its domain)."""
+    along = evaluate(**kwargs, **options)
+    default = inspect.signature(evaluate).parameters["shake_deg_per_s"].default
+    shake = np.asarray(kwargs.get("shake_deg_per_s", default), dtype=float)
+    still = np.where((shake >= 0.0) & (shake <= 1e300), 0.0, shake)
+    across = evaluate(**{**kwargs, "shake_deg_per_s": still}, **options)
+    status = np.where((along.status == Status.OK) & (across.status == Status.BEYOND_TABLE),
+                      Status.BEYOND_TABLE, along.status)
+    epc = epc_both(along.epc, along.f50_cyc_per_mm, across.f50_cyc_per_mm)
+    return along, across.f50_cyc_per_mm, status, np.where(status == Status.BEYOND_TABLE, np.nan, epc)
+
+
+@pytest.mark.parametrize("options", [{}, {"precision": "float32"}, {"f50_solver": "bisection"},
+                                     {"f50_solver": "brent"}, {"f50_solver": "newton"}])
+def test_the_cores_one_pass_across_the_motion_is_two_calls_bit_for_bit(options):
+    # the core solves f50 across the motion in the same pass (kernel.h across_f50): the same
+    # bits as a second call with the shake rate 0, over designs with every status (unbounded
+    # blur, lens tables passed across but not along, invalid points), denoising and binning
+    from helpers.designs import random_design_points
+
+    p = random_design_points(3000, 17, sensor_terms=True)
+    rng = np.random.default_rng(3)
+    p["shake_deg_per_s"] = np.where(rng.random(3000) < 0.05, 1e12, p["shake_deg_per_s"])
+    p["denoise_sigma_px"] = np.where(rng.random(3000) < 0.3, rng.uniform(0, 3, 3000), 0.0)
+    p["lens"] = rng.integers(0, 2, 3000).astype(float)
+    tables = [([0.0, 60.0, 120.0], [1.0, 0.8, 0.6]), ([0.0, 300.0, 600.0], [1.0, 0.5, 0.1])]
+    kwargs = {**p, "lens_mtf": tables}
+    along, f50_across, status, epc = _two_passes(kwargs, **options)
+    both = evaluate(**kwargs, **options, epc_axes="both")
+    seen = set(np.unique(both.status).tolist())
+    assert {Status.OK, Status.BLUR_UNBOUNDED, Status.BEYOND_TABLE, Status.INVALID} <= seen, seen
+    assert np.any((along.status == Status.OK) & (status == Status.BEYOND_TABLE))
+    np.testing.assert_array_equal(both.status, status)
+    np.testing.assert_array_equal(both.f50_across_cyc_per_mm, f50_across)
+    np.testing.assert_array_equal(both.epc, epc)
+    np.testing.assert_array_equal(both.f50_cyc_per_mm, along.f50_cyc_per_mm)
+    np.testing.assert_array_equal(both.t_mpe_s, along.t_mpe_s)
+    # along the motion with the f50 across asked for: the paper's EPC and status
+    motion = evaluate(**kwargs, **options, outputs=("epc", "status", "f50_across_cyc_per_mm"))
+    np.testing.assert_array_equal(motion.epc, along.epc)
+    np.testing.assert_array_equal(motion.status, along.status)
+    np.testing.assert_array_equal(motion.f50_across_cyc_per_mm, f50_across)
+
+
+def test_the_one_pass_is_the_same_on_any_thread_count_and_takes_a_spectrum():
+    spectrum = ([450.0, 550.0, 650.0], [0.25, 0.5, 0.25])
+    lux = np.geomspace(1e-3, 1e5, 2001)
+    one = evaluate(lux, **DESIGN, epc_axes="both", spectrum=spectrum, threads=1)
+    two = evaluate(lux, **DESIGN, epc_axes="both", spectrum=spectrum, threads=2)
+    for name in ("epc", "status", "f50_across_cyc_per_mm"):
+        np.testing.assert_array_equal(getattr(one, name), getattr(two, name))
+    _, f50_across, _, epc = _two_passes({**DESIGN, "illuminance_lux": lux}, spectrum=spectrum)
+    np.testing.assert_array_equal(one.epc, epc)
+    np.testing.assert_array_equal(one.f50_across_cyc_per_mm, f50_across)

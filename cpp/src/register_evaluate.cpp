@@ -27,6 +27,8 @@ constexpr std::size_t first_touch_points = std::size_t{1} << 16;
 
 constexpr const char* output_names[] = {"electron_rate_e_per_s", "electrons", "t_mpe_s",
                                         "blur_mm", "f50_cyc_per_mm", "epc", "status", "cause"};
+// The f50 across the motion (kernel.h across_f50), computed only when named.
+constexpr const char* across_name = "f50_across_cyc_per_mm";
 // The outputs computed only when named (sensitivity.h): the shares, in Share's order, and
 // the elasticities: parameter j's as "elasticity_" + param_names[j], or all of them as
 // "elasticities", n_params rows of n points in one array (row j parameter j's).
@@ -55,7 +57,8 @@ bool is_output_name(const std::string& name) {
     auto in = [&](const auto& names) {
         return std::find(std::begin(names), std::end(names), name) != std::end(names);
     };
-    return in(output_names) || in(share_names) || name == elasticities_name || elasticity_of(name) >= 0;
+    return in(output_names) || in(share_names) || name == elasticities_name ||
+           name == across_name || elasticity_of(name) >= 0;
 }
 
 // The output dict of one call: `out`'s arrays (a dict, or None for none) and new arrays for
@@ -113,6 +116,8 @@ Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
             out.status = output_array<std::uint8_t>(item.second, name, n);
         } else if (is(output_names[7])) {
             out.cause = output_array<std::uint8_t>(item.second, name, n);
+        } else if (is(across_name)) {
+            out.f50_across_cyc_per_mm = output_array<double>(item.second, name, n);
         } else if (is(elasticities_name)) {
             every = output_array<double>(item.second, name, output_size(elasticities_name, n));
         } else {
@@ -140,7 +145,8 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
                      const std::string& t_mpe_solver, double t_mpe_rtol,
                      const std::string& precision, int threads, py::ssize_t chunk_points,
                      const py::object& out, const py::object& allocate,
-                     const py::object& lens_tables, const py::object& demosaic_table) {
+                     const py::object& lens_tables, const py::object& demosaic_table,
+                     bool epc_both) {
     Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
     set_lens_tables(in, lens_tables);
     set_demosaic_table(in, demosaic_table);
@@ -148,7 +154,11 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
     py::dict fresh;
     py::dict result = outputs_of(out, allocate, n, fresh);
     // A large call's outputs are written with streaming stores (stream.h)
-    const Outputs outputs = streaming_for(outputs_in(result, n), static_cast<std::size_t>(n));
+    Outputs outputs = streaming_for(outputs_in(result, n), static_cast<std::size_t>(n));
+    outputs.epc_both = epc_both;
+    if ((outputs.f50_across_cyc_per_mm != nullptr || epc_both) && outputs.sensitivity.any())
+        throw std::invalid_argument("the f50 across the motion and EPC in both directions are "
+                                    "computed without shares or elasticities");
     const std::vector<OutputBytes> written = output_bytes_of(result);
     check_apart(written);
     std::vector<std::vector<double>> copies;  // the inputs that are outputs too, as they were
@@ -221,10 +231,12 @@ void register_evaluate(py::module_& m) {
           py::arg("precision"), py::arg("threads"),
           py::arg("chunk_points"), py::arg("out") = py::none(), py::arg("allocate") = py::none(),
           py::arg("lens_tables") = py::none(),
-          py::arg("demosaic_table") = py::none(),
+          py::arg("demosaic_table") = py::none(), py::arg("epc_both") = false,
           "Evaluates the model into the arrays of `out` (a dict of output arrays, or None) and "
           "new arrays for the outputs named in `allocate` (None: all of them when out is None, "
-          "else none); only these outputs are computed. Returns the dict of them all.");
+          "else none); only these outputs are computed. Returns the dict of them all. "
+          "'f50_across_cyc_per_mm' is the f50 without the motion blur; epc_both counts EPC "
+          "(and the status) in both directions; neither with shares or elasticities.");
 }
 
 }  // namespace bindings

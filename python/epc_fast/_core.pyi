@@ -39,13 +39,15 @@ def evaluate(
     allocate: Sequence[str] | None = None,
     lens_tables: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
     demosaic_table: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    epc_both: bool = False,
 ) -> dict[str, np.ndarray]:
     """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: the eight
     default ones when ``out`` is None, else none), written; the outputs in neither are not
     computed. The shares (``share_diffraction`` ...) and the single elasticities
     (``"elasticity_"`` and a name of ``parameter_names``) are 1-D of ``n``, as the others are;
     ``elasticities`` (every elasticity, not with single ones) holds ``n_params`` rows of ``n``
-    values, flat."""
+    values, flat. ``f50_across_cyc_per_mm`` is the f50 without the motion blur; ``epc_both``
+    counts EPC and the status in both directions (neither with shares or elasticities)."""
 def float_arrays(
     names: tuple[str, ...],
     values: tuple[object, ...],

@@ -13,7 +13,7 @@ from .core_call import run_core
 from .design import ResolvedDesign, resolved_from
 from .elasticity_outputs import ELASTICITY_PARAMETERS
 from .footprint import check_memory
-from .axes import asks_across, evaluate_axes
+from .axes import asks_across, core_outputs, evaluate_axes
 from .exposure_limits import asks_frames_used, asks_limits, evaluate_limits
 from .modes import evaluate_modes
 from .call_options import (BACKENDS, BINNING_READOUTS, F50_SOLVERS,  # noqa: F401 (api's names)
@@ -54,7 +54,8 @@ def _raise_first_invalid(arrays, names, status, shape, size_parts=None, lens_cou
     raise AssertionError("a point is INVALID but every input is in its domain")  # pragma: no cover
 
 
-def _compute(design: ResolvedDesign, options: CallOptions, threads, given) -> dict:
+def _compute(design: ResolvedDesign, options: CallOptions, threads, given,
+             epc_axes="motion") -> dict:
     """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
     if options.backend == "core":  # threads checked by the caller
         # the core writes the caller's arrays and allocates the others it computes
@@ -68,7 +69,8 @@ def _compute(design: ResolvedDesign, options: CallOptions, threads, given) -> di
                         [k for k in options.computed
                          if k not in flat and k != elasticity_outputs.ALL],
                         lens_tables=options.lens_tables, demosaic_table=options.demosaic_table,
-                        chunk_points=CHUNK_POINTS, columns_ready=design.columns_ready)
+                        chunk_points=CHUNK_POINTS, columns_ready=design.columns_ready,
+                        epc_axes=epc_axes)
     if threads is not None:
         threads_of(threads)
     from .reference.call import run_reference  # the NumPy reference, loaded only when asked
@@ -102,6 +104,17 @@ def _assembled(result: dict, design: ResolvedDesign, options: CallOptions, given
     rows = elasticity_outputs.rows_in(options.selected)
     return result_of({k: v for k, v in result.items() if k in options.selected or k in rows},
                      shape, is_pixel_count)
+
+
+def _asks_axes(outputs, epc_axes) -> bool:
+    """Whether a call counts EPC in both directions or asks for an output across the motion."""
+    return epc_axes != "motion" or (outputs is not None and asks_across(outputs))
+
+
+def _two_passes(backend, out, outputs, epc_axes) -> bool:
+    """Whether a call across the motion takes evaluate_axes' two passes: the reference
+    backend, out=, or a share or elasticity asked for; the core solves the rest in one."""
+    return backend != "core" or out is not None or core_outputs(outputs, epc_axes) is None
 
 
 def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
@@ -285,9 +298,9 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         Before anything is allocated, when the call would need more memory than the machine
         (or its container) has: evaluate such a grid in pieces.
     """
-    if (modes is not None or epc_axes != "motion" or max_exposure_s is not _NO_CAP
-            or max_frames is not None
-            or (outputs is not None and (asks_across(outputs) or asks_frames_used(outputs)))):
+    if (modes is not None or max_exposure_s is not _NO_CAP or max_frames is not None
+            or (outputs is not None and asks_frames_used(outputs))
+            or (_asks_axes(outputs, epc_axes) and _two_passes(backend, out, outputs, epc_axes))):
         # evaluate's own keywords to each mode, to the frame cap's passes, or to the passes
         # along and across the motion
         call = dict(locals())
@@ -298,6 +311,8 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
                                         sensor_height_mm, sensor_diagonal_mm, aspect, snr_at,
                                         field_angle_deg, focal_length_mm)
         return attach_snr_target(result, snr_db, snr_at, angle)
+    if _asks_axes(outputs, epc_axes):  # the f50 across the motion in the core's one pass
+        outputs = core_outputs(outputs, epc_axes)
     design = resolved_from((  # design.resolve's keywords, in its order
         illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, pixel_count, sensor_area_mm2,
         sensor_width_mm, sensor_height_mm, sensor_diagonal_mm, aspect, snr_at, reflectance,
@@ -316,5 +331,6 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         threads = threads_of(threads)
     check_memory(design.shape, design.arrays, options.backend, given is not None,
                  options.computed, threads=threads if options.backend == "core" else 1)
-    result = _assembled(_compute(design, options, threads, given), design, options, given)
+    result = _assembled(_compute(design, options, threads, given, epc_axes), design, options,
+                        given)
     return attach_snr_target(result, snr_db, snr_at, design.field_angle_deg)

@@ -6,9 +6,11 @@ lens's resolution. ``epc_axes="motion"`` (the default) is the paper's metric,
 EPC = 4 S f50^2 with f50 along the motion; ``epc_axes="both"`` counts each direction once,
 EPC = 4 S f50 f50_across.
 
-f50_across is the f50 of the same design without the motion blur: the backend's second pass
-with the shake rate 0, which leaves the exposure and every other factor (jitter and a burst's
-alignment included) as they are.
+f50_across is the f50 of the same design without the motion blur, which leaves the exposure
+and every other factor (jitter and a burst's alignment included) as they are. The core solves
+it in the same pass as the f50 along the motion (:func:`core_outputs`); shares or elasticities
+across or in both directions, ``out=`` and the reference backend take two calls, the second
+with the shake rate 0 (:func:`evaluate_axes`), bit for bit the same values.
 """
 
 from __future__ import annotations
@@ -22,7 +24,7 @@ from .params import BIG
 from .status import Status
 
 __all__ = ["EPC_AXES", "check_epc_axes", "asks_across", "default_outputs", "epc_both",
-           "evaluate_axes"]
+           "core_outputs", "evaluate_axes"]
 
 #: How EPC counts the resolution: along the motion twice (the paper's), or each direction once.
 EPC_AXES = ("motion", "both")
@@ -47,6 +49,19 @@ def default_outputs(epc_axes: str) -> tuple:
     ``epc_axes="both"``."""
     extra = ("f50_across_cyc_per_mm",) if epc_axes == "both" else ()
     return tuple(OUTPUT_DTYPES) + extra
+
+
+def core_outputs(outputs, epc_axes: str):
+    """The outputs of a call whose f50 across the motion the core solves in the same pass
+    (kernel.h across_f50; EPC and the status counted in both directions with
+    ``epc_axes="both"``), or None where the call takes two passes (:func:`evaluate_axes`): a
+    share or an elasticity asked for, which the two passes form."""
+    epc_axes = check_epc_axes(epc_axes)
+    names = _names(outputs, epc_axes)
+    if any(not isinstance(name, str) or name.startswith(("share_", "elasticit"))
+           for name in names):
+        return None
+    return tuple(names)
 
 
 def epc_both(epc, f50_cyc_per_mm, f50_across_cyc_per_mm):

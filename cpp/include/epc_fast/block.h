@@ -107,6 +107,10 @@ struct alignas(64) Block {
     // float32 mode: a lane f50 cannot be solved for in float32 (a length outside
     // [2^-40, 2^40] mm); the block is redone in float64 for it (kernel.h)
     unsigned char wide[block_size];
+    // the f50 across the motion (kernel.h across_f50): as written out (NaN unless solved), and
+    // whether it passed a lens table's end
+    double across_out[block_size];
+    unsigned char across_beyond[block_size];
     // f50, in T: per-point lengths (mm) the frequency multiplies, the other inputs of the
     // solve, the bracket, the iterate
     T lambda_f_mm[block_size], aperture_mm[block_size], jitter_mm[block_size];

@@ -59,6 +59,35 @@ EPC_FAST_INLINE void epc_lanes(const Inputs& in, const Block<T>& b, const double
     }
 }
 
+// EPC counted in both directions for the first n lanes, as python/epc_fast/axes.py epc_both
+// forms it from the paper's EPC (epc, in place) and the two f50s: EPC f50_across / f50, 0
+// where the blur is unbounded (f50 = 0), NaN where the status is BEYOND_TABLE (the f50 across
+// passed a table's end: combined_status).
+template <class T>
+EPC_FAST_INLINE void epc_both_lanes(const Block<T>& b, const double* __restrict f,
+                                    const unsigned char* __restrict status,
+                                    double* __restrict epc, std::size_t n) {
+    const double* __restrict across = b.across_out;
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < n; ++i) {
+        const double value = f[i] == 0.0 ? 0.0 * across[i] : epc[i] * (across[i] / f[i]);
+        epc[i] = status[i] == static_cast<unsigned char>(Status::beyond_table) ? nan : value;
+    }
+}
+
+// The status counted in both directions into `status`: BEYOND_TABLE where the lane is OK along
+// the motion and its f50 across passed a table's end.
+template <class T>
+EPC_FAST_INLINE void combined_status(const Block<T>& b, unsigned char* __restrict status) {
+    const unsigned char* __restrict along = b.status;
+    const unsigned char* __restrict beyond = b.across_beyond;
+    constexpr auto ok = static_cast<unsigned char>(Status::ok);
+    constexpr auto past = static_cast<unsigned char>(Status::beyond_table);
+    EPC_FAST_SIMD
+    for (std::size_t i = 0; i < block_size; ++i)
+        status[i] = (along[i] == ok) & (beyond[i] != 0) ? past : along[i];
+}
+
 // to[i] = from[i] for the block's lanes, unless `to` is null (an output not asked for).
 template <class V>
 EPC_FAST_INLINE void copy_lanes(V* __restrict to, const V* __restrict from) {
@@ -78,14 +107,19 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     const std::size_t n = b.n;
     const bool stream = out.stream && n == block_size;
     const bool asked = out.f50_cyc_per_mm != nullptr || out.epc != nullptr;
-    // the exposure's outputs, each by `copy`
+    // the status as written: counted in both directions with epc_both
+    alignas(64) unsigned char both_status[block_size];
+    if (out.epc_both) combined_status(b, both_status);
+    const unsigned char* status = out.epc_both ? both_status : b.status;
+    // the exposure's outputs, and the f50 across, each by `copy`
     auto exposure_outputs = [&](auto&& copy) {
         copy(out.electron_rate_e_per_s, b.rate);
         copy(out.electrons, b.electrons);
         copy(out.t_mpe_s, b.t_mpe);
         copy(out.blur_mm, b.blur_out);
-        copy(out.status, b.status);
+        copy(out.status, status);
         copy(out.cause, b.cause);
+        copy(out.f50_across_cyc_per_mm, b.across_out);
     };
     if (n == block_size && !stream) {
         exposure_outputs([](auto* to, const auto* from) { copy_lanes(to, from); });
@@ -93,7 +127,10 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
         alignas(64) double f_own[block_size];
         double* f_out = out.f50_cyc_per_mm != nullptr ? out.f50_cyc_per_mm : f_own;
         f50_lanes(b, f_out);
-        if (out.epc != nullptr) epc_lanes(in, b, f_out, out.epc, block_size);
+        if (out.epc != nullptr) {
+            epc_lanes(in, b, f_out, out.epc, block_size);
+            if (out.epc_both) epc_both_lanes(b, f_out, status, out.epc, block_size);
+        }
         return;
     }
     auto copy = [n, stream](auto* to, const auto* from) {
@@ -109,6 +146,7 @@ void scatter(const Inputs& in, const Block<T>& b, const Outputs& out) {
     if (out.epc != nullptr) {
         alignas(64) double epc[block_size];
         epc_lanes(in, b, f_out, epc, n);
+        if (out.epc_both) epc_both_lanes(b, f_out, status, epc, n);
         copy(out.epc, epc);
     }
 }
@@ -133,6 +171,40 @@ void scatter_sensitivity(const Inputs& in, const Block<T>& b, const Outputs& out
         if (to.elasticity[j] != nullptr) copy(to.elasticity[j], elasticities[j]);
 }
 
+// The f50 across the motion (docs/model.md, "Resolution in both directions") into
+// b.across_out (NaN unless solved) and b.across_beyond, after the f50 along it: the same
+// block solved again with the motion blur 0, as the exposure left it otherwise (a lane whose
+// blur was unbounded is solved too), exactly as a call with the shake rate 0 would solve it.
+// The f50 along, the status and the lanes float32 could not solve (`wide`, from either pass)
+// are as the first pass left them.
+template <class T>
+void across_f50(const Spectrum& spectrum, const Options& opt, Block<T>& b) {
+    alignas(64) T f50_along[block_size];
+    alignas(64) unsigned char status_along[block_size], wide_along[block_size];
+    constexpr auto ok = static_cast<unsigned char>(Status::ok);
+    constexpr auto past = static_cast<unsigned char>(Status::beyond_table);
+    constexpr auto unbounded = static_cast<unsigned char>(Status::blur_unbounded);
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const unsigned char st = b.status[i];
+        f50_along[i] = b.f50[i];
+        status_along[i] = st;
+        wide_along[i] = b.wide[i];
+        const bool timed = (st == ok) | (st == past) | (st == unbounded);
+        b.status[i] = timed ? ok : st;
+        b.solve[i] = timed;
+        b.blur[i] = 0.0;
+    }
+    f50(spectrum, opt, b);
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const unsigned char st = b.status[i];
+        b.across_out[i] = st == ok ? static_cast<double>(b.f50[i]) : nan;
+        b.across_beyond[i] = st == past;
+        b.f50[i] = f50_along[i];
+        b.status[i] = status_along[i];
+        b.wide[i] = static_cast<unsigned char>(b.wide[i] | wide_along[i]);
+    }
+}
+
 // Evaluates points [begin, begin + n) with f50 solved in T (block.h).
 template <class T>
 void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out, std::size_t begin,
@@ -140,13 +212,16 @@ void evaluate_block_as(const Inputs& in, const Options& opt, const Outputs& out,
     b.n = n;
     gather(in, begin, illuminance_lux, b);
     exposure(opt, b, out.exposure_values_read());
-    if (out.f50_cyc_per_mm != nullptr || out.epc != nullptr || out.sensitivity.any()) {
-        // a lens table replaces diffraction and with it the spectrum: f50 is solved as for one
-        // wavelength (the shares' aberration-free D keeps the call's spectrum: sensitivity.h)
-        static const Spectrum no_spectrum{};
-        b.lens_tables = in.lens_tables.empty() ? nullptr : &in.lens_tables;
-        b.demosaic_table = in.demosaic.knots.empty() ? nullptr : &in.demosaic;
-        f50(b.lens_tables != nullptr ? no_spectrum : in.spectrum, opt, b);
+    // a lens table replaces diffraction and with it the spectrum: f50 is solved as for one
+    // wavelength (the shares' aberration-free D keeps the call's spectrum: sensitivity.h)
+    static const Spectrum no_spectrum{};
+    const Spectrum& spectrum = in.lens_tables.empty() ? in.spectrum : no_spectrum;
+    b.lens_tables = in.lens_tables.empty() ? nullptr : &in.lens_tables;
+    b.demosaic_table = in.demosaic.knots.empty() ? nullptr : &in.demosaic;
+    if (out.f50_cyc_per_mm != nullptr || out.epc != nullptr || out.sensitivity.any() ||
+        out.across()) {
+        f50(spectrum, opt, b);
+        if (out.across()) across_f50(spectrum, opt, b);
     } else {  // f50 not asked for: not solved (status and the rest need only the exposure)
         for (std::size_t i = 0; i < block_size; ++i) b.wide[i] = 0;
     }
@@ -192,8 +267,11 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     if (n_wide == 0) return;
     double values[6][block_size];
     unsigned char codes[2][block_size];
+    double across[block_size];
     Outputs wide_out{values[0], values[1], values[2], values[3], values[4], values[5],
                      codes[0], codes[1]};
+    wide_out.f50_across_cyc_per_mm = out.f50_across_cyc_per_mm != nullptr ? across : nullptr;
+    wide_out.epc_both = out.epc_both;
     // the sensitivity outputs asked for, as rows of block_size
     double shares[n_shares][block_size];
     double elasticities[n_params][block_size];
@@ -215,6 +293,7 @@ inline void evaluate_block(const Inputs& in, const Options& opt, const Outputs& 
     take(out.blur_mm, values[3]);
     take(out.f50_cyc_per_mm, values[4]);
     take(out.epc, values[5]);
+    take(out.f50_across_cyc_per_mm, across);
     take(out.status, codes[0]);
     take(out.cause, codes[1]);
     for (int s = 0; s < n_shares; ++s) take(out.sensitivity.share[s], shares[s]);
@@ -231,7 +310,7 @@ inline void first_touch(const Outputs& out, std::size_t begin, std::size_t end,
     };
     const Region regions[] = {of(out.electron_rate_e_per_s), of(out.electrons), of(out.t_mpe_s),
                               of(out.blur_mm), of(out.f50_cyc_per_mm), of(out.epc),
-                              of(out.status), of(out.cause)};
+                              of(out.status), of(out.cause), of(out.f50_across_cyc_per_mm)};
     first_touch(regions, threads);
     const SensitivityOutputs& s = out.sensitivity;
     if (!s.any()) return;

@@ -188,6 +188,13 @@ struct Outputs {
     bool stream = false;
     // The shares and elasticities, when asked for (sensitivity.h).
     SensitivityOutputs sensitivity = {};
+    // The f50 across the motion (docs/model.md, "Resolution in both directions"): the f50 of
+    // the same exposure without the motion blur. The kernel takes it with no share or
+    // elasticity asked for (python/epc_fast/axes.py computes those in two passes).
+    double* f50_across_cyc_per_mm = nullptr;
+    // EPC counted in both directions, 4 S f50 f50_across (epc_axes="both"), and the status
+    // BEYOND_TABLE where only the f50 across passes a table's end.
+    bool epc_both = false;
 
     // The outputs from point `offset` on; a null output (not computed) stays null.
     Outputs at(std::size_t offset) const {
@@ -197,8 +204,12 @@ struct Outputs {
         for (double*& e : moved.elasticity) e = shift(e);
         return Outputs{shift(electron_rate_e_per_s), shift(electrons), shift(t_mpe_s),
                        shift(blur_mm), shift(f50_cyc_per_mm), shift(epc), shift(status),
-                       shift(cause), stream, moved};
+                       shift(cause), stream, moved, shift(f50_across_cyc_per_mm), epc_both};
     }
+
+    // Whether the f50 across the motion is solved (kernel.h across): for its output, or for
+    // EPC counted in both directions.
+    bool across() const { return f50_across_cyc_per_mm != nullptr || epc_both; }
 
     // Whether the exposure's per-lane values are read after its stage: the rate, electrons,
     // T_MPE, blur or cause as outputs, or by the sensitivities (exposure/stage.h decide_lanes).
@@ -210,7 +221,7 @@ struct Outputs {
     // The bytes a point's computed outputs take.
     std::size_t bytes_per_point() const {
         const double* values[] = {electron_rate_e_per_s, electrons, t_mpe_s, blur_mm,
-                                  f50_cyc_per_mm, epc};
+                                  f50_cyc_per_mm, epc, f50_across_cyc_per_mm};
         std::size_t bytes = (status != nullptr ? 1 : 0) + (cause != nullptr ? 1 : 0);
         for (const double* v : values) bytes += v != nullptr ? sizeof(double) : 0;
         for (const double* v : sensitivity.share) bytes += v != nullptr ? sizeof(double) : 0;
