@@ -45,6 +45,8 @@ _POINT_KEYS = tuple(name for name in PARAMETER_NAMES if name != "size") + tuple(
 _LIMITS = frozenset(LIMIT_OUTPUTS)
 #: The statuses whose T_MPE is finite: the cap applies to them.
 _TIMED = np.array([Status.OK, Status.BLUR_UNBOUNDED, Status.BEYOND_TABLE], np.uint8)
+#: Whether each status code (uint8) is one of _TIMED, by lookup.
+_TIMED_CODES = np.isin(np.arange(256), _TIMED)
 #: The outputs a point over the cap keeps: what the target would need.
 _KEPT = frozenset(("electron_rate_e_per_s", "electrons", "t_mpe_s", "status", "cause",
                    "frames_used"))
@@ -212,7 +214,11 @@ def evaluate_limits(evaluate, call: dict) -> Result:
             _raise_bad_cap(cap, bad)
         if limited:
             t_mpe = np.asarray(result.t_mpe_s, dtype=np.float64)
-            over = np.isin(status, _TIMED) & (t_mpe / frames > cap) & ~bad
+            # one frame's T_MPE (T_MPE itself for one frame: x / 1 is x)
+            frame = t_mpe if _one_frame(base["frames"]) else t_mpe / frames
+            over = _TIMED_CODES[status] & (frame > cap)
+            if np.ndim(cap) or not cap > 0.0:
+                over &= ~bad
             _limit(fields, over, bad, status)
             status = np.asarray(fields["status"], dtype=np.uint8)
     if LIMIT_OUTPUTS[0] in names:
@@ -235,20 +241,39 @@ def _raise_bad_cap(cap: np.ndarray, bad: np.ndarray):
                      "longest single frame the camera takes)")
 
 
+def _one_frame(frames) -> bool:
+    """Whether ``frames`` is the one value 1 (no division needed for a frame's T_MPE)."""
+    return np.ndim(frames) == 0 and not isinstance(frames, str) and frames == 1.0
+
+
+def _nan_where(value, mask: np.ndarray):
+    """``value`` as float64 with NaN where ``mask``: in place in a writeable float64 array of
+    its shape (evaluate's own result), else a new array."""
+    if (isinstance(value, np.ndarray) and value.dtype == np.float64 and value.flags.writeable
+            and value.shape == mask.shape):
+        np.putmask(value, mask, np.nan)
+        return value
+    return np.where(mask, np.nan, np.asarray(value, dtype=np.float64))
+
+
 def _limit(fields: dict, over: np.ndarray, bad: np.ndarray, status: np.ndarray) -> None:
     """``fields`` with the points ``over`` the cap EXPOSURE_LIMIT (NaN but for what the target
     would need) and those whose cap is ``bad`` INVALID (NaN, cause NONE)."""
-    if not (over.any() or bad.any()):
+    any_bad = bool(bad.any())
+    if not (any_bad or over.any()):
         return
+    both = over | bad if any_bad else over
     for name, value in list(fields.items()):
         if name in _FLOATS and name != "frames_used":
-            nan = bad if name in _KEPT else over | bad
-            fields[name] = np.where(nan, np.nan, np.asarray(value, dtype=np.float64))
+            if name in _KEPT and not any_bad:
+                continue
+            fields[name] = _nan_where(value, bad if name in _KEPT else both)
     if fields.get("elasticities") is not None:
-        fields["elasticities"] = {key: np.where(over | bad, np.nan, np.asarray(value))
+        fields["elasticities"] = {key: _nan_where(value, both)
                                   for key, value in fields["elasticities"].items()}
     status = np.where(over, np.uint8(Status.EXPOSURE_LIMIT), status)
-    fields["status"] = np.where(bad, np.uint8(Status.INVALID), status).astype(np.uint8)
-    if fields.get("cause") is not None:
+    fields["status"] = (np.where(bad, np.uint8(Status.INVALID), status).astype(np.uint8)
+                        if any_bad else status.astype(np.uint8, copy=False))
+    if any_bad and fields.get("cause") is not None:
         cause = np.asarray(fields["cause"], dtype=np.uint8)
         fields["cause"] = np.where(bad, np.uint8(Cause.NONE), cause).astype(np.uint8)
