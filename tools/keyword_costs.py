@@ -1,8 +1,10 @@
-"""What the real-camera keywords cost against the minimal scene (docs/performance.md, "What
-the real-camera keywords cost"): evaluate on random points (1-100,000 lux, 0.8-3 um, f/2,
+"""What the real-camera terms and keywords cost against the minimal scene (docs/performance.md,
+"What the real-camera terms cost"): evaluate on random points (1-100,000 lux, 0.8-3 um, f/2,
 5.6 mm, 20 mm^2, read noise 1.5 e-, 4.39 deg/s), 2 threads, outputs=("epc",), the median of 5
 rounds alternated over the cases, each against the minimal scene of the same run, on the build
-the machine loads (EPC_FAST_ISA picks another).
+the machine loads (EPC_FAST_ISA picks another). The terms are those of
+../shared/bench/phone_speed.py and more (denoising at 5 px, a 64-point table, every
+demosaicker, quad Bayer), then the keywords that choose how a call counts and caps.
 
     python tools/keyword_costs.py [points]
 """
@@ -18,14 +20,33 @@ import epc_fast
 
 MODES = [{"binning": 1}, {"binning": 2}, {"binning": 2, "frames": 4}]
 NIGHT = [{"binning": 1}, {"binning": 2}, {"binning": 2, "frames": "auto", "max_frames": 16}]
+#: The phone's lens: a 7-point table, and one of 64 points.
+LENS = ([0.0, 50.0, 100.0, 150.0, 200.0, 250.0, 300.0], [1.0, 0.88, 0.74, 0.60, 0.47, 0.36, 0.27])
+_FINE = np.linspace(0.0, 400.0, 64)
+LENS_64 = (_FINE, 0.27 + 0.73 * np.exp(-_FINE / 120.0))
 #: Each case's keywords beside the scene's.
 CASES = {
     "the scene alone": {},
+    "binning 2": {"binning": 2},
+    "4 frames + 0.3 um alignment": {"frames": 4, "alignment_error_um": 0.3},
+    "wavefront 0.05 waves": {"wavefront_rms_waves": 0.05},
+    "denoising 1 px": {"denoise_sigma_px": 1.0},
+    "denoising 3 px": {"denoise_sigma_px": 3.0},
+    "denoising 5 px": {"denoise_sigma_px": 5.0},
+    "lens table, 7 points": {"lens_mtf": LENS},
+    "lens table, 64 points": {"lens_mtf": LENS_64},
+    "Bayer, bilinear": {"cfa": "bayer", "demosaic": "bilinear"},
+    "Bayer, Malvar": {"cfa": "bayer", "demosaic": "malvar2004"},
+    "Bayer, Menon": {"cfa": "bayer", "demosaic": "menon2007"},
+    "quad Bayer full size, Malvar": {"cfa": "quad_bayer", "demosaic": "malvar2004"},
+    "three modes (1, 2x2, 2x2 x 4 frames)": {"modes": MODES},
+    "a phone: Bayer + lens table + three modes + denoising 1 px": {
+        "cfa": "bayer", "demosaic": "malvar2004", "lens_mtf": LENS, "denoise_sigma_px": 1.0,
+        "modes": MODES},
     "epc_axes='both'": {"epc_axes": "both"},
     "max_exposure_s=0.1": {"max_exposure_s": 0.1},
     "frames='auto', max_frames=16, max_exposure_s=0.1": {"frames": "auto", "max_frames": 16,
                                                           "max_exposure_s": 0.1},
-    "three modes (1, 2x2, 2x2 x 4 frames)": {"modes": MODES},
     "three modes, epc_axes='both'": {"modes": MODES, "epc_axes": "both"},
     "three modes with night mode, the cap, 'both'": {"modes": NIGHT, "max_exposure_s": 0.1,
                                                      "epc_axes": "both"},
