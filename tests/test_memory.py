@@ -160,9 +160,10 @@ def test_a_selection_of_outputs_and_out_arrays_mix_with_kept_memory(cache, desig
                         lambda *args, **kwargs: calls.append((args, kwargs)) or real(*args, **kwargs))
     epc_fast.evaluate(**designs, outputs=("t_mpe_s",))
     out = {"t_mpe_s": np.full(N, np.nan)}
-    # (the API's last five positional arguments: out, allocate, the two tables and epc_both)
+    # (the API's last six positional arguments: out, allocate, the two tables, epc_both and
+    # the modes)
     args, kwargs = calls[0]
-    result = real(*args[:-5], out, ["epc", "f50_cyc_per_mm"], *args[-3:], **kwargs)
+    result = real(*args[:-6], out, ["epc", "f50_cyc_per_mm"], *args[-4:], **kwargs)
     assert epc_fast.output_cache().retained_bytes == 0  # both came from the cache
     assert result["t_mpe_s"] is out["t_mpe_s"]
     for name in ("t_mpe_s", "epc", "f50_cyc_per_mm"):

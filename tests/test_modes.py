@@ -188,3 +188,44 @@ def test_the_core_and_the_reference_backend_pick_the_same_modes(shape):
     np.testing.assert_array_equal(core.mode, ref.mode)
     np.testing.assert_array_equal(core.status, ref.status)
     np.testing.assert_allclose(core.epc, ref.epc, rtol=1e-12)  # the backends' own agreement
+
+
+#: Modes that set binning and frames (one of them outside binning's domain: every point
+#: INVALID in it); alignment_error_um stays the call's own column, per point.
+CORE_MODES = [{"binning": 1}, {"binning": 2, "binning_readout": "charge"},
+              {"binning": 1, "frames": 4}, {"binning": 0.5}]
+
+
+@pytest.mark.parametrize("options", [
+    {}, {"precision": "float32"}, {"threads": 1}, {"epc_axes": "both"},
+    {"outputs": ("epc", "status", "cause", "share_pixel", "share_motion", "elasticities")},
+    {"outputs": ("f50_cyc_per_mm", "f50_across_cyc_per_mm", "t_mpe_s")},
+])
+def test_the_cores_one_pass_over_the_modes_is_each_mode_alone_and_the_pick(options):
+    # evaluate(modes=...) runs every mode of a block in turn in the core and keeps each lane's
+    # best (modes.h evaluate_modes): the same bits as a call per mode and the pick
+    from helpers.designs import random_design_points
+
+    p = random_design_points(3000, 23, sensor_terms=True)
+    del p["binning"], p["frames"]
+    r = epc_fast.evaluate(**p, modes=CORE_MODES, **options)
+    alone = [epc_fast.evaluate(**p, **m, **{**options, "outputs": None}
+                               if "outputs" not in options else
+                               {**options, "outputs": (*options["outputs"], "epc")})
+             for m in CORE_MODES]
+    pick = _numpy_pick([a.epc for a in alone])
+    np.testing.assert_array_equal(r.mode, pick)
+    assert {-1, 0, 1, 2} <= set(np.unique(r.mode).tolist())
+    assert np.all(np.isnan(alone[3].epc))  # binning 0.5: INVALID everywhere
+    take = np.maximum(pick, 0)
+    names = [n for n in epc_fast.Result.__dataclass_fields__
+             if n not in ("mode", "elasticities", "snr_target") and getattr(r, n) is not None]
+    assert names
+    for name in names:
+        expected = np.take_along_axis(np.stack([getattr(a, name) for a in alone]), take[None], 0)[0]
+        np.testing.assert_array_equal(getattr(r, name), expected, err_msg=name)
+    if r.elasticities is not None:
+        for key, values in r.elasticities.items():
+            expected = np.take_along_axis(np.stack([a.elasticities[key] for a in alone]),
+                                          take[None], 0)[0]
+            np.testing.assert_array_equal(values, expected, err_msg=key)

@@ -14,6 +14,7 @@
 
 #include "binding_support.h"
 #include "epc_fast/kernel.h"
+#include "epc_fast/modes.h"
 #include "register.h"
 
 namespace epc_fast {
@@ -139,6 +140,28 @@ Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
     return out;
 }
 
+// The readout modes of a call: a sequence of (binning, binning_readout code, frames,
+// alignment_error_um) tuples, 1 to 32767 of them, None for a parameter the mode leaves to the
+// call's column.
+std::vector<ReadoutMode> readout_modes_of(const py::object& modes) {
+    std::vector<ReadoutMode> values;
+    for (const py::handle item : modes) {
+        const auto t = py::cast<py::sequence>(item);
+        if (t.size() != 4)
+            throw std::invalid_argument("modes: (binning, binning_readout, frames, "
+                                        "alignment_error_um) for each mode, None where unset");
+        ReadoutMode m;
+        for (std::size_t p = 0; p < 4; ++p) {
+            m.sets[p] = !t[p].is_none();
+            m.values[p] = m.sets[p] ? py::cast<double>(t[p]) : 0.0;
+        }
+        values.push_back(m);
+    }
+    if (values.empty() || values.size() > 32767)
+        throw std::invalid_argument("modes: between 1 and 32767 readout modes");
+    return values;
+}
+
 py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                      const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
                      const std::string& f50_solver, double f50_rtol,
@@ -146,7 +169,7 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
                      const std::string& precision, int threads, py::ssize_t chunk_points,
                      const py::object& out, const py::object& allocate,
                      const py::object& lens_tables, const py::object& demosaic_table,
-                     bool epc_both) {
+                     bool epc_both, const py::object& modes) {
     Inputs in = inputs_of(columns, size_is_pixel_count, domains, wavelengths_nm, weights, n);
     set_lens_tables(in, lens_tables);
     set_demosaic_table(in, demosaic_table);
@@ -167,6 +190,19 @@ py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const do
     // are too few to matter; the cache's kept blocks and the caller's arrays are mapped already.
     const Outputs untouched = outputs_in(fresh, n);
     const bool touch = !fresh.empty() && threads > 1;
+    if (!modes.is_none()) {  // every mode of each block, its best kept (modes.h)
+        std::vector<ReadoutMode> values = readout_modes_of(modes);
+        const std::vector<Inputs> each = mode_inputs(in, values);
+        py::array_t<std::int16_t> picked(n);
+        std::int16_t* mode = picked.mutable_data();
+        outputs.stream = false;
+        run_chunked(n, chunk_points, threads, [&](std::size_t start, std::size_t stop) {
+            if (touch && stop - start >= first_touch_points) first_touch(untouched, start, stop, threads);
+            evaluate_modes(each, opt, outputs, mode, start, stop, threads);
+        });
+        result["mode"] = picked;
+        return result;
+    }
     run_chunked(n, chunk_points, threads, [&](std::size_t start, std::size_t stop) {
         if (touch && stop - start >= first_touch_points) first_touch(untouched, start, stop, threads);
         evaluate(in, opt, outputs, start, stop, threads);
@@ -232,11 +268,15 @@ void register_evaluate(py::module_& m) {
           py::arg("chunk_points"), py::arg("out") = py::none(), py::arg("allocate") = py::none(),
           py::arg("lens_tables") = py::none(),
           py::arg("demosaic_table") = py::none(), py::arg("epc_both") = false,
+          py::arg("modes") = py::none(),
           "Evaluates the model into the arrays of `out` (a dict of output arrays, or None) and "
           "new arrays for the outputs named in `allocate` (None: all of them when out is None, "
           "else none); only these outputs are computed. Returns the dict of them all. "
           "'f50_across_cyc_per_mm' is the f50 without the motion blur; epc_both counts EPC "
-          "(and the status) in both directions; neither with shares or elasticities.");
+          "(and the status) in both directions; neither with shares or elasticities. `modes`: "
+          "(binning, binning_readout, frames, alignment_error_um) per readout mode; each point "
+          "then takes the outputs of its mode with the largest finite EPC, and 'mode' (int16, "
+          "-1 where no mode has one) is added.");
 }
 
 }  // namespace bindings

@@ -40,6 +40,7 @@ def evaluate(
     lens_tables: Sequence[tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None,
     demosaic_table: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
     epc_both: bool = False,
+    modes: Sequence[tuple[float | None, float | None, float | None, float | None]] | None = None,
 ) -> dict[str, np.ndarray]:
     """``out``'s arrays and new ones for the outputs named in ``allocate`` (None: the eight
     default ones when ``out`` is None, else none), written; the outputs in neither are not
@@ -47,7 +48,10 @@ def evaluate(
     (``"elasticity_"`` and a name of ``parameter_names``) are 1-D of ``n``, as the others are;
     ``elasticities`` (every elasticity, not with single ones) holds ``n_params`` rows of ``n``
     values, flat. ``f50_across_cyc_per_mm`` is the f50 without the motion blur; ``epc_both``
-    counts EPC and the status in both directions (neither with shares or elasticities)."""
+    counts EPC and the status in both directions (neither with shares or elasticities).
+    ``modes``: (binning, binning_readout code, frames, alignment_error_um) per readout mode,
+    None where the column stays; each point then takes its best mode's outputs, and ``mode``
+    (int16, -1 where no mode has a finite EPC) is added."""
 def float_arrays(
     names: tuple[str, ...],
     values: tuple[object, ...],

@@ -106,6 +106,42 @@ def _assembled(result: dict, design: ResolvedDesign, options: CallOptions, given
                      shape, is_pixel_count)
 
 
+#: design.resolve's keywords, in its order, as evaluate passes its own.
+_DESIGN_KEYWORDS = (
+    "illuminance_lux", "pixel_pitch_um", "f_number", "focal_length_mm", "pixel_count",
+    "sensor_area_mm2", "sensor_width_mm", "sensor_height_mm", "sensor_diagonal_mm", "aspect",
+    "snr_at", "reflectance", "lens_transmittance", "field_angle_deg", "fill_factor",
+    "electrons_per_lux_s_m2", "read_noise_e", "dark_current_e_per_s", "prnu", "full_well_e",
+    "snr_db", "shake_deg_per_s", "stabilization", "jitter_um", "wavelength_nm", "mtf_threshold",
+    "binning", "frames", "alignment_error_um", "wavefront_rms_waves", "denoise_sigma_px", "lens",
+    "lens_mtf", "cfa", "demosaic", "cfa_transmittance", "color_noise_gain", "binning_readout",
+    "spectrum")
+
+
+def _modes_in_core(call: dict, modes: list, outputs) -> Result:
+    """evaluate's Result over ``call`` (its keywords) for readout ``modes`` ((binning,
+    binning_readout code, frames, alignment_error_um) each, None for the call's own) in the
+    core's one pass (modes.h evaluate_modes), with the mode of each point (modes.py decides
+    which calls come here)."""
+    design = resolved_from(tuple(call[name] for name in _DESIGN_KEYWORDS))
+    options = options_of(call["backend"], call["invalid"], call["f50_solver"], call["f50_rtol"],
+                         call["t_mpe_solver"], call["t_mpe_rtol"], call["precision"], outputs,
+                         design.sensor.is_pixel_count, design.lens_tables,
+                         design.color.demosaic_table)
+    threads = threads_of(call["threads"])
+    check_memory(design.shape, design.arrays, "core", False, options.computed, threads=threads)
+    flat = run_core(design.arrays, design.shape, design.sensor.is_pixel_count, design.spectrum,
+                    options.f50_solver, options.f50_rtol, options.t_mpe_solver,
+                    options.t_mpe_rtol, threads, precision=options.precision,
+                    allocate=options.computed, lens_tables=options.lens_tables,
+                    demosaic_table=options.demosaic_table, chunk_points=CHUNK_POINTS,
+                    columns_ready=design.columns_ready, epc_axes=call["epc_axes"], modes=modes)
+    mode = flat.pop("mode")
+    fields = dict(vars(_assembled(flat, design, options, None)))
+    fields["mode"] = mode.reshape(design.shape) if design.shape else int(mode[0])
+    return new_result(fields)
+
+
 def _asks_axes(outputs, epc_axes) -> bool:
     """Whether a call counts EPC in both directions or asks for an output across the motion."""
     return epc_axes != "motion" or (outputs is not None and asks_across(outputs))
@@ -304,7 +340,7 @@ def evaluate(illuminance_lux, pixel_pitch_um, f_number, focal_length_mm, *,
         # evaluate's own keywords to each mode, to the frame cap's passes, or to the passes
         # along and across the motion
         call = dict(locals())
-        result = (evaluate_modes(evaluate, call) if modes is not None
+        result = (evaluate_modes(evaluate, call, _modes_in_core) if modes is not None
                   else evaluate_limits(evaluate, call) if asks_limits(call)
                   else evaluate_axes(evaluate, call))
         _, angle = size_and_field_angle(pixel_count, sensor_area_mm2, sensor_width_mm,

@@ -30,7 +30,7 @@ def core_tables(lens_tables) -> list | None:
 def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_mpe_solver,
              t_mpe_rtol, threads, out=None, precision="float64", allocate=None,
              lens_tables=None, demosaic_table=None,
-             chunk_points=1 << 18, columns_ready=False, epc_axes="motion"):
+             chunk_points=1 << 18, columns_ready=False, epc_axes="motion", modes=None):
     """The core's flat outputs for the model parameters ``arrays`` (PARAMETERS' order) over
     the broadcast ``shape``: ``out``'s arrays (name -> flat array) written and those named in
     ``allocate`` new. ``lens_tables``: the checked ``lens_mtf`` (a list of MtfTable), or None;
@@ -39,7 +39,9 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
     inside). ``columns_ready``: every array is 0-d or C-contiguous of ``shape`` (no
     :func:`epc_fast._validation.column` pass). ``epc_axes="both"``: EPC and the status counted
     in both directions (no share or elasticity then; ``f50_across_cyc_per_mm`` may be asked
-    for with either)."""
+    for with either). ``modes``: (binning, binning_readout code, frames, alignment_error_um)
+    per readout mode, None for a parameter it leaves to its column; each point then has the
+    outputs of its best mode, and ``"mode"`` its index."""
     n = math.prod(shape)
     out = {} if out is None else out
     # the core copies an input that shares memory with an output before it runs
@@ -57,4 +59,5 @@ def run_core(arrays, shape, size_is_pixel_count, spec, f50_solver, f50_rtol, t_m
     return compiled_core().evaluate(columns, size_is_pixel_count, domains, wavelengths, weights,
                                     n, f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision,
                                     threads, chunk_points, out, allocate,
-                                    core_tables(lens_tables), demosaic, epc_axes == "both")
+                                    core_tables(lens_tables), demosaic, epc_axes == "both",
+                                    modes)

@@ -10,14 +10,16 @@ frames that keep each frame within the cap (:mod:`epc_fast.exposure_limits`).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import numpy as np
 
 from ._validation import compiled_core, short, threads_of
-from .axes import check_epc_axes, default_outputs
+from .axes import check_epc_axes, core_outputs, default_outputs
 from .exposure_limits import check_max_frames
-from .outputs import LIMIT_OUTPUTS, Result, scalar_fields, selected_outputs
+from .outputs import (ACROSS_OUTPUTS, LIMIT_OUTPUTS, Result, names_any, scalar_fields,
+                      selected_outputs)
 from .params import READOUT_CODES, readout_codes
 
 __all__ = ["MODE_KEYS", "MODE_DEFAULTS", "NO_MODE", "check_modes", "evaluate_modes"]
@@ -69,10 +71,14 @@ def check_modes(modes) -> tuple:
     return tuple(out)
 
 
-def evaluate_modes(evaluate, call: dict) -> Result:
+def evaluate_modes(evaluate, call: dict, in_core=None) -> Result:
     """``evaluate``'s Result over ``call``'s keywords (evaluate's own) for each of its
-    ``modes``, per point the mode with the highest EPC (as ``epc_axes`` counts it), with :attr:`Result.mode` its index
-    (the first of equal ones; :data:`NO_MODE` where no mode has an EPC)."""
+    ``modes``, per point the mode with the highest EPC (as ``epc_axes`` counts it), with
+    :attr:`Result.mode` its index (the first of equal ones; :data:`NO_MODE` where no mode has
+    an EPC). ``in_core(call, codes, outputs)``, where given, evaluates every mode in the core's
+    one pass (api._modes_in_core) for the calls it can take: the core backend, no night mode,
+    frame cap or frames_used, no ``invalid="raise"``, and no share or elasticity with the
+    count in both directions; the others are one call per mode and the core's pick."""
     modes = check_modes(call.pop("modes"))
     if call.get("out") is not None:
         raise TypeError("out= cannot be given with modes: each mode's outputs are computed, "
@@ -87,6 +93,9 @@ def evaluate_modes(evaluate, call: dict) -> Result:
               else selected_outputs(call.get("outputs")))
     night = [LIMIT_OUTPUTS[0]] if call.get("outputs") is None and any(
         isinstance(mode.get("frames"), str) for mode in modes) else []
+    codes = _core_codes(call, modes, wanted, epc_axes) if in_core is not None else None
+    if codes is not None:
+        return in_core(call, codes, wanted)
     asked = tuple(dict.fromkeys((*wanted, *night, "epc")))
     results = [evaluate(**{**call, **mode, "outputs": asked}) for mode in modes]
     if np.ndim(results[0].epc) == 0 and not isinstance(results[0].epc, np.ndarray):
@@ -119,6 +128,41 @@ def _pick_reference(results):
         return np.take_along_axis(np.stack([np.asarray(v) for v in values]), pick[None, ...], axis=0)[0]
 
     return mode, best
+
+
+def _core_codes(call: dict, modes: tuple, wanted: tuple, epc_axes: str):
+    """The modes as the core's one pass takes them, (binning, binning_readout code, frames,
+    alignment_error_um) each (None for a key the mode leaves to the call), or None where the call takes one call per mode: another
+    backend, ``invalid="raise"`` (each mode's call raises for its own points), a quad Bayer
+    sensor (each binning reads its own layout: cfa.sensor_color), night mode, a
+    frame cap or frames_used, a share or elasticity counted across the motion, or a mode value
+    that is not one number (evaluate names it)."""
+    if (call.get("backend") != "core" or call.get("invalid") == "raise"
+            or call.get("cfa") == "quad_bayer"  # its layout, table and gain follow the binning
+            or call.get("max_frames") is not None or LIMIT_OUTPUTS[0] in wanted
+            or np.ndim(call.get("max_exposure_s", math.inf)) != 0
+            or call.get("max_exposure_s", math.inf) != math.inf):
+        return None
+    if (epc_axes != "motion" or names_any(wanted, ACROSS_OUTPUTS)) and core_outputs(
+            wanted, epc_axes) is None:
+        return None
+    codes = []
+    for mode in modes:
+        try:  # a key the mode does not set keeps the call's column (None)
+            codes.append(tuple(
+                None if key not in mode else float(readout_codes(mode[key]))
+                if key == "binning_readout" else _number(mode[key])
+                for key in ("binning", "binning_readout", "frames", "alignment_error_um")))
+        except (TypeError, ValueError):
+            return None
+    return codes
+
+
+def _number(value) -> float:
+    """A mode's value as a float, or a TypeError for a string or bool (evaluate names those)."""
+    if isinstance(value, (str, bytes, bool)):
+        raise TypeError(value)
+    return float(value)
 
 
 def _column(values) -> np.ndarray:

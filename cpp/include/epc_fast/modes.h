@@ -1,8 +1,13 @@
 // Readout modes (python/epc_fast/modes.py): each point takes the mode with the highest EPC.
-// best_modes picks it from every mode's EPC, take_modes gathers any output of the modes by that
-// pick. Both run over contiguous columns in blocks on the call's threads (for_each_block),
-// each point on its own: the results do not depend on the thread count.
+// evaluate_modes runs every mode of a block of points in turn and keeps each lane's best, in
+// one pass over the points; best_modes picks the mode from every mode's EPC and take_modes
+// gathers any output of the modes by that pick (for calls whose modes are separate calls:
+// night mode, a frame cap). All run in blocks on the call's threads (for_each_block), each point
+// on its own: the results do not depend on the thread count.
 #pragma once
+
+#include <array>
+#include <memory>
 
 #include <cstddef>
 #include <cstdint>
@@ -10,7 +15,9 @@
 #include <limits>
 #include <vector>
 
+#include "kernel.h"
 #include "parallel.h"
+#include "params.h"
 
 namespace epc_fast {
 
@@ -69,6 +76,141 @@ inline void take_modes(const std::int16_t* mode, const std::vector<const void*>&
         case 4: take(std::uint32_t{}); break;
         default: take(std::uint64_t{}); break;
     }
+}
+
+// The parameters a readout mode may set, and the values it sets: binning k, its read-out
+// (ReadoutCode), frames n and each frame's alignment error (um); a parameter the mode does not
+// set keeps the call's column (sets[k] false).
+constexpr int mode_params[] = {binning, binning_readout, frames, alignment_error_um};
+struct ReadoutMode {
+    std::array<double, 4> values{};
+    std::array<bool, 4> sets{};
+};
+
+// Each mode's inputs: `in` with the columns a mode sets broadcast from its values (`modes`
+// must outlive them). A mode's value outside its domain makes every point INVALID in that mode
+// (gather.h), as it would in a call of its own.
+inline std::vector<Inputs> mode_inputs(const Inputs& in, const std::vector<ReadoutMode>& modes) {
+    std::vector<Inputs> each(modes.size(), in);
+    for (std::size_t k = 0; k < modes.size(); ++k)
+        for (int p = 0; p < 4; ++p)
+            if (modes[k].sets[static_cast<std::size_t>(p)])
+                each[k].columns[mode_params[p]] = Column{&modes[k].values[static_cast<std::size_t>(p)], 0};
+    return each;
+}
+
+namespace detail {
+
+// One block's outputs, a row of block_size lanes each: a mode's as evaluate_block writes them,
+// or the best so far. `epc` is always kept (the pick reads it).
+struct ModeRows {
+    alignas(64) double values[7][block_size];  // rate, electrons, T_MPE, blur, f50, EPC, across
+    alignas(64) unsigned char codes[2][block_size];  // status, cause
+    alignas(64) double shares[n_shares][block_size];
+    alignas(64) double elasticities[n_params][block_size];
+
+    // Outputs writing the rows `out` asks for (and EPC) into these rows.
+    Outputs rows_for(const Outputs& out) {
+        auto row = [](const void* asked, auto* r) { return asked != nullptr ? r : nullptr; };
+        Outputs o{row(out.electron_rate_e_per_s, values[0]), row(out.electrons, values[1]),
+                  row(out.t_mpe_s, values[2]), row(out.blur_mm, values[3]),
+                  row(out.f50_cyc_per_mm, values[4]), values[5], row(out.status, codes[0]),
+                  row(out.cause, codes[1])};
+        o.f50_across_cyc_per_mm = row(out.f50_across_cyc_per_mm, values[6]);
+        o.epc_both = out.epc_both;
+        for (int s = 0; s < n_shares; ++s) o.sensitivity.share[s] = row(out.sensitivity.share[s], shares[s]);
+        for (int j = 0; j < n_params; ++j)
+            o.sensitivity.elasticity[j] = row(out.sensitivity.elasticity[j], elasticities[j]);
+        return o;
+    }
+};
+
+// A thread's state for evaluate_modes: a kernel Workspace for each mode (each keeps its own
+// mode's broadcast rows and layout from block to block: gather.h), a mode's rows and the best.
+// A mode past the first whose Workspace cannot be allocated shares the first's: a Workspace
+// holds only caches keyed by value, so the results are the same.
+struct ModesWorkspace {
+    Workspace first;
+    std::vector<std::unique_ptr<Workspace>> more;
+    ModeRows mode, best;
+
+    Workspace& of(std::size_t k) noexcept {
+        if (k == 0) return first;
+        try {
+            while (more.size() < k) more.push_back(std::make_unique<Workspace>());
+            return *more[k - 1];
+        } catch (...) {  // no memory for another: the first's caches serve this mode too
+            return first;
+        }
+    }
+};
+
+// best's lanes of n where `take` (a row of flags) from `from`, for every row `rows` writes.
+inline void take_lanes(const Outputs& rows, const ModeRows& from, ModeRows& best,
+                       const unsigned char* __restrict take, std::size_t n) {
+    auto select = [&](const auto* asked, const auto* src, auto* dst) {
+        if (asked == nullptr) return;
+        for (std::size_t i = 0; i < n; ++i) dst[i] = take[i] ? src[i] : dst[i];
+    };
+    const double* value_rows[] = {rows.electron_rate_e_per_s, rows.electrons, rows.t_mpe_s,
+                                  rows.blur_mm, rows.f50_cyc_per_mm, rows.epc,
+                                  rows.f50_across_cyc_per_mm};
+    for (int r = 0; r < 7; ++r) select(value_rows[r], from.values[r], best.values[r]);
+    select(rows.status, from.codes[0], best.codes[0]);
+    select(rows.cause, from.codes[1], best.codes[1]);
+    for (int s = 0; s < n_shares; ++s) select(rows.sensitivity.share[s], from.shares[s], best.shares[s]);
+    for (int j = 0; j < n_params; ++j)
+        select(rows.sensitivity.elasticity[j], from.elasticities[j], best.elasticities[j]);
+}
+
+// `best`'s first n lanes into `out` from point `begin` on, for every output `out` asks for.
+inline void write_best(const ModeRows& best, const Outputs& out, std::size_t begin, std::size_t n) {
+    auto write = [&](auto* to, const auto* from) {
+        if (to != nullptr) std::memcpy(to + begin, from, n * sizeof *from);
+    };
+    double* value_outputs[] = {out.electron_rate_e_per_s, out.electrons, out.t_mpe_s,
+                               out.blur_mm, out.f50_cyc_per_mm, out.epc,
+                               out.f50_across_cyc_per_mm};
+    for (int r = 0; r < 7; ++r) write(value_outputs[r], best.values[r]);
+    write(out.status, best.codes[0]);
+    write(out.cause, best.codes[1]);
+    for (int s = 0; s < n_shares; ++s) write(out.sensitivity.share[s], best.shares[s]);
+    for (int j = 0; j < n_params; ++j) write(out.sensitivity.elasticity[j], best.elasticities[j]);
+}
+
+}  // namespace detail
+
+// Points [begin, end) of every mode (inputs: mode_inputs), each point the outputs of its mode
+// with the largest finite EPC (the first of equal ones; the first mode's where none is finite)
+// and that mode's index in `mode` (no_mode where none): in one pass over the points, each
+// block of points evaluated in every mode in turn (kernel.h evaluate_block) and its lanes'
+// best kept, so that only the best is written out. Never throws.
+inline void evaluate_modes(const std::vector<Inputs>& inputs, const Options& opt,
+                           const Outputs& out, std::int16_t* mode, std::size_t begin,
+                           std::size_t end, int threads) noexcept {
+    for_each_block<detail::ModesWorkspace>(
+        begin, end, block_size, threads,
+        [&](std::size_t first, std::size_t n, detail::ModesWorkspace& ws) {
+            detail::ModeRows& current = ws.mode;
+            detail::ModeRows& best = ws.best;
+            const Outputs rows = current.rows_for(out);
+            alignas(64) unsigned char take[block_size];
+            std::int16_t* __restrict pick = mode + first;
+            for (std::size_t k = 0; k < inputs.size(); ++k) {
+                evaluate_block(inputs[k], opt, rows, first, n, nullptr, ws.of(k));
+                const double* __restrict epc = current.values[5];
+                const double* __restrict best_epc = best.values[5];
+                const auto index = static_cast<std::int16_t>(k);
+                for (std::size_t i = 0; i < n; ++i) {
+                    const bool finite = epc[i] - epc[i] == 0.0;  // NaN and +-inf: not finite
+                    const bool better = k == 0 || (finite & ((pick[i] == no_mode) | (epc[i] > best_epc[i])));
+                    take[i] = better;
+                    pick[i] = k == 0 ? (finite ? index : no_mode) : better ? index : pick[i];
+                }
+                detail::take_lanes(rows, current, best, take, n);
+            }
+            detail::write_best(best, out, first, n);
+        });
 }
 
 }  // namespace epc_fast
