@@ -242,7 +242,7 @@ py::list scan_chunk_py(const py::dict& space_spec, const py::list& key_specs,
                        const py::list& reduction_specs, const std::string& f50_solver,
                        double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol,
                        const std::string& precision, std::uint64_t start, std::uint64_t stop,
-                       int threads) {
+                       int threads, bool epc_both) {
     if (threads < 1) throw std::invalid_argument("threads must be >= 1");
     if (start % scan_block_points != 0 || stop < start)
         throw std::invalid_argument("a chunk starts at a scan block and is not reversed");
@@ -250,10 +250,15 @@ py::list scan_chunk_py(const py::dict& space_spec, const py::list& key_specs,
     const std::vector<GroupKey> keys = keys_of(key_specs, space);
     const std::vector<Reduction> reductions = reductions_of(reduction_specs, keys);
     const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
+    if (epc_both)
+        for (const Reduction& r : reductions)
+            if (r.of >= 6)
+                throw std::invalid_argument("a scan in both directions folds no share in the "
+                                            "fused pass");
     ChunkResult chunk;
     {
         py::gil_scoped_release release;
-        chunk = scan_chunk(space, opt, keys, reductions, start, stop, threads);
+        chunk = scan_chunk(space, opt, keys, reductions, start, stop, threads, epc_both);
     }
     const auto n_blocks = static_cast<py::ssize_t>((stop - start + scan_block_points - 1) / scan_block_points);
     py::list out;
@@ -344,8 +349,10 @@ void register_scan(py::module_& m) {
     m.def("scan_chunk", &scan_chunk_py, py::arg("space"), py::arg("keys"), py::arg("reductions"),
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
           py::arg("precision"), py::arg("start"), py::arg("stop"), py::arg("threads"),
+          py::arg("epc_both") = false,
           "Draws, evaluates and reduces points [start, stop) of a scan (scan/pass.h); one dict of "
-          "partial results per reduction.");
+          "partial results per reduction. epc_both: EPC and the status counted in both "
+          "directions (no share folded).");
     m.def("scan_points", &scan_points_py, py::arg("space"), py::arg("index"),
           "The parameters (None where fixed) and discrete axes' indices of the points `index`.");
     m.attr("scan_block_points") = scan_block_points;

@@ -111,3 +111,26 @@ def test_a_scan_summarises_the_f50_across_the_motion_as_evaluate_gives_it():
         means = [values[ok & (design == d)].mean() for d in range(4)]
         np.testing.assert_allclose(result[name].mean, means, rtol=1e-12)  # the sums' order
     assert np.all(result["across"].mean > result["along"].mean)
+
+
+def test_a_scan_in_both_directions_folds_in_the_fused_pass_but_its_shares():
+    # the fused pass counts EPC in both directions (kernel.h across_f50); a share takes the
+    # two passes of epc_fast.axes, as arrays
+    from epc_fast.scan.running.runner import _plan
+    from epc_fast.scan.running.tasks import _core_plan
+
+    space = _space("both")
+    reductions = {"s": Summary(by="design"), "m": Summary(of="share_motion")}
+    core, arrays = _core_plan(space, _plan(space, reductions), 5, N)
+    assert [i.name for i in core.plan] == ["s"] and [i.name for i in arrays] == ["m"]
+    assert core.epc_both
+    result = run(space, N, seed=5, reductions=reductions, progress=False)
+    points = space.points(5, 0, N)
+    expected = epc_fast.evaluate(**points.parameters, epc_axes="both",
+                                 outputs=("epc", "share_motion"))
+    ok = np.isfinite(expected.epc)
+    design = points.indices["design"]
+    means = [expected.epc[ok & (design == d)].mean() for d in range(4)]
+    np.testing.assert_allclose(result["s"].mean, means, rtol=1e-12)  # the sums' order differs
+    share = expected.share_motion[np.isfinite(expected.share_motion)]
+    np.testing.assert_allclose(result["m"].mean, [share.mean()], rtol=1e-12)

@@ -90,7 +90,7 @@ struct ScanNeeds {
 inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
                               const std::vector<GroupKey>& keys,
                               const std::vector<Reduction>& reductions, std::uint64_t start,
-                              std::uint64_t stop, int threads) {
+                              std::uint64_t stop, int threads, bool epc_both = false) {
     const std::uint64_t n_points = stop > start ? stop - start : 0;
     const auto n_blocks = static_cast<std::ptrdiff_t>((n_points + scan_block_points - 1) / scan_block_points);
     const ScanNeeds needs(reductions);
@@ -129,6 +129,7 @@ inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
                     w.status, nullptr};
         for (int s = 0; s < n_shares; ++s)
             out.sensitivity.share[s] = needs.output[6 + s] ? w.outputs[6 + s] : nullptr;
+        out.epc_both = epc_both;  // EPC and the status in both directions (kernel.h)
         for (std::uint64_t first = block_first; first < block_end; first += block_size) {
             const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(block_size, block_end - first));
             w.lanes.n = n;

@@ -79,6 +79,8 @@ class CorePlan:
             self.reduction_specs.append(self._reduction_spec(item.reduction, key_index))
         self.key_specs = keys
         self.options = self._options()
+        # EPC and the status counted in both directions (kernel.h across_f50)
+        self.epc_both = space.evaluate_options.get("epc_axes", "motion") == "both"
 
     # -- the space ---------------------------------------------------------------------------
 
@@ -223,7 +225,7 @@ class CorePlan:
         from ... import _core
 
         partials = _core.scan_chunk(self.spec, self.key_specs, self.reduction_specs,
-                                    *self.options, start, stop, threads)
+                                    *self.options, start, stop, threads, self.epc_both)
         result = {}
         for item, partial in zip(self.plan, partials):
             if isinstance(item.reduction, TopK):
