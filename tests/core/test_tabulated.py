@@ -18,7 +18,11 @@ _CLUSTER = np.concatenate([np.arange(0.0, 1e-4, 1e-6), [1.0, 2.0]])
 CLUSTERED = (_CLUSTER, np.linspace(1.0, 0.2, _CLUSTER.size))
 _RANDOM = np.concatenate([[0.0], np.cumsum(np.random.default_rng(7).exponential(1.0, 40) ** 3)])
 RANDOM = (_RANDOM, np.linspace(1.0, 0.0, _RANDOM.size) ** 2)
-TABLES = {"uniform": UNIFORM, "fine": FINE, "clustered": CLUSTERED, "random spacing": RANDOM}
+# 5,000 knots of random spacing: more knots than the grid's 4,096 cells
+_MANY = np.concatenate([[0.0], np.cumsum(np.random.default_rng(11).uniform(0.1, 2.0, 4999))])
+MANY = (_MANY, np.linspace(1.0, 0.05, _MANY.size))
+TABLES = {"uniform": UNIFORM, "fine": FINE, "clustered": CLUSTERED, "random spacing": RANDOM,
+          "5,000 knots": MANY}
 
 
 def _lookup(table, f):

@@ -128,13 +128,14 @@ inline void table_grid(MtfTable& t) {
     const double width = f_m / static_cast<double>(cells), margin = 1e-9 * f_m;
     t.first_segment.assign(cells, 0);
     int steps = 0;
+    // both ends only move up from cell to cell: one sweep of the knots, O(cells + m)
+    std::size_t k = 0, reach = 0;
     for (std::size_t j = 0; j < cells; ++j) {
         const double left = static_cast<double>(j) * width - margin;
         const double right = static_cast<double>(j + 1) * width + margin;
-        std::size_t k = 0;
         while (k + 1 < m && t.knots[k + 1] <= left) ++k;
         t.first_segment[j] = static_cast<std::int32_t>(k);
-        std::size_t reach = k;
+        reach = std::max(reach, k);
         while (reach + 1 < m && t.knots[reach + 1] <= right) ++reach;
         steps = std::max(steps, static_cast<int>(reach - k));
     }
