@@ -55,8 +55,9 @@ def _raise_first_invalid(arrays, names, status, shape, size_parts=None, lens_cou
 
 
 def _compute(design: ResolvedDesign, options: CallOptions, threads, given,
-             epc_axes="motion") -> dict:
-    """The flat outputs of the chosen backend; the caller's ``out=`` arrays written."""
+             epc_axes="motion", modes=None) -> dict:
+    """The flat outputs of the chosen backend; the caller's ``out=`` arrays written. ``modes``
+    (the core's readout modes, :func:`_modes_in_core`) adds ``"mode"``."""
     if options.backend == "core":  # threads checked by the caller
         # the core writes the caller's arrays and allocates the others it computes
         flat = {} if given is None else {k: v if v.ndim == 1 else v.reshape(-1)
@@ -70,7 +71,7 @@ def _compute(design: ResolvedDesign, options: CallOptions, threads, given,
                          if k not in flat and k != elasticity_outputs.ALL],
                         lens_tables=options.lens_tables, demosaic_table=options.demosaic_table,
                         chunk_points=CHUNK_POINTS, columns_ready=design.columns_ready,
-                        epc_axes=epc_axes)
+                        epc_axes=epc_axes, modes=modes)
     if threads is not None:
         threads_of(threads)
     from .reference.call import run_reference  # the NumPy reference, loaded only when asked
@@ -130,12 +131,7 @@ def _modes_in_core(call: dict, modes: list, outputs) -> Result:
                          design.color.demosaic_table)
     threads = threads_of(call["threads"])
     check_memory(design.shape, design.arrays, "core", False, options.computed, threads=threads)
-    flat = run_core(design.arrays, design.shape, design.sensor.is_pixel_count, design.spectrum,
-                    options.f50_solver, options.f50_rtol, options.t_mpe_solver,
-                    options.t_mpe_rtol, threads, precision=options.precision,
-                    allocate=options.computed, lens_tables=options.lens_tables,
-                    demosaic_table=options.demosaic_table, chunk_points=CHUNK_POINTS,
-                    columns_ready=design.columns_ready, epc_axes=call["epc_axes"], modes=modes)
+    flat = _compute(design, options, threads, None, call["epc_axes"], modes)
     mode = flat.pop("mode")
     fields = dict(vars(_assembled(flat, design, options, None)))
     fields["mode"] = mode.reshape(design.shape) if design.shape else int(mode[0])

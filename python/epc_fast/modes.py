@@ -10,14 +10,13 @@ frames that keep each frame within the cap (:mod:`epc_fast.exposure_limits`).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 
 import numpy as np
 
 from ._validation import compiled_core, short, threads_of
 from .axes import check_epc_axes, core_outputs, default_outputs
-from .exposure_limits import check_max_frames
+from .exposure_limits import asks_limits, check_max_frames
 from .outputs import (ACROSS_OUTPUTS, LIMIT_OUTPUTS, Result, names_any, scalar_fields,
                       selected_outputs)
 from .params import READOUT_CODES, readout_codes
@@ -132,16 +131,15 @@ def _pick_reference(results):
 
 def _core_codes(call: dict, modes: tuple, wanted: tuple, epc_axes: str):
     """The modes as the core's one pass takes them, (binning, binning_readout code, frames,
-    alignment_error_um) each (None for a key the mode leaves to the call), or None where the call takes one call per mode: another
-    backend, ``invalid="raise"`` (each mode's call raises for its own points), a quad Bayer
-    sensor (each binning reads its own layout: cfa.sensor_color), night mode, a
-    frame cap or frames_used, a share or elasticity counted across the motion, or a mode value
-    that is not one number (evaluate names it)."""
+    alignment_error_um) each (None for a key the mode leaves to the call), or None where the
+    call takes one call per mode: another backend, ``invalid="raise"`` (each mode's call raises
+    for its own points), a quad Bayer sensor (each binning reads its own layout:
+    cfa.sensor_color), a frame cap, night mode or frames_used (exposure_limits), a share or
+    elasticity counted across the motion, or a mode value that is not one number (evaluate
+    names it)."""
     if (call.get("backend") != "core" or call.get("invalid") == "raise"
             or call.get("cfa") == "quad_bayer"  # its layout, table and gain follow the binning
-            or call.get("max_frames") is not None or LIMIT_OUTPUTS[0] in wanted
-            or np.ndim(call.get("max_exposure_s", math.inf)) != 0
-            or call.get("max_exposure_s", math.inf) != math.inf):
+            or asks_limits(call) or any(mode.get("max_frames") is not None for mode in modes)):
         return None
     if (epc_axes != "motion" or names_any(wanted, ACROSS_OUTPUTS)) and core_outputs(
             wanted, epc_axes) is None:
@@ -187,12 +185,9 @@ def _fields(results, wanted, best) -> dict:
 
 
 def _best_of_scalars(results, wanted) -> Result:
-    """evaluate_modes' Result for one point (every input a scalar)."""
-    epc = np.array([float(r.epc) for r in results])
-    finite = np.isfinite(epc)
-    pick = int(np.argmax(np.where(finite, epc, -np.inf)))
-    fields = scalar_fields(_fields(results, wanted, lambda values: np.asarray(values[pick])[()]))
-    return Result(**fields, mode=pick if finite.any() else NO_MODE)
+    """evaluate_modes' Result for one point (every input a scalar), by the NumPy pick."""
+    mode, best = _pick_reference(results)
+    return Result(**scalar_fields(_fields(results, wanted, best)), mode=int(mode))
 
 
 def _is_default(key, value) -> bool:

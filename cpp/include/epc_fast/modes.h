@@ -12,7 +12,6 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <vector>
 
 #include "kernel.h"
@@ -26,6 +25,13 @@ constexpr std::int16_t no_mode = -1;
 
 // Points a block of best_modes and take_modes covers: enough work to be worth a grab.
 constexpr std::size_t mode_block_points = 4096;
+
+// Whether a mode of EPC `epc` is better than the best so far (of EPC `best`, mode `pick`): its
+// EPC finite (v - v is 0; NaN for NaN and +-inf), and the first finite one or a larger one (a
+// tie keeps the earlier mode).
+EPC_FAST_INLINE bool better_mode(double epc, double best, std::int16_t pick) {
+    return (epc - epc == 0.0) & ((pick == no_mode) | (epc > best));
+}
 
 // mode[i] for i < n: the first mode with the largest finite EPC among epc[k][i] (NaN and +-inf
 // are not finite), no_mode where none is. Never throws.
@@ -45,8 +51,7 @@ inline void best_modes(const std::vector<const double*>& epc, std::int16_t* mode
             const auto index = static_cast<std::int16_t>(k);
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < count; ++i) {
-                // finite: v - v is 0 (NaN for NaN and +-inf)
-                const bool better = (v[i] - v[i] == 0.0) & ((pick[i] == no_mode) | (v[i] > best[i]));
+                const bool better = better_mode(v[i], best[i], pick[i]);
                 best[i] = better ? v[i] : best[i];
                 pick[i] = better ? index : pick[i];
             }
@@ -126,7 +131,8 @@ struct ModeRows {
 };
 
 // A thread's state for evaluate_modes: a kernel Workspace for each mode (each keeps its own
-// mode's broadcast rows and layout from block to block: gather.h), a mode's rows and the best.
+// mode's broadcast rows and layout from block to block: gather.h), the best rows (the first
+// mode's written there directly) and a later mode's.
 // A mode past the first whose Workspace cannot be allocated shares the first's: a Workspace
 // holds only caches keyed by value, so the results are the same.
 struct ModesWorkspace {
@@ -194,18 +200,21 @@ inline void evaluate_modes(const std::vector<Inputs>& inputs, const Options& opt
             detail::ModeRows& current = ws.mode;
             detail::ModeRows& best = ws.best;
             const Outputs rows = current.rows_for(out);
-            alignas(64) unsigned char take[block_size];
+            const double* __restrict best_epc = best.values[5];
+            const double* __restrict epc = current.values[5];
             std::int16_t* __restrict pick = mode + first;
-            for (std::size_t k = 0; k < inputs.size(); ++k) {
+            // the first mode straight into the best rows: every lane's best so far
+            evaluate_block(inputs[0], opt, best.rows_for(out), first, n, nullptr, ws.of(0));
+            for (std::size_t i = 0; i < n; ++i)
+                pick[i] = better_mode(best_epc[i], 0.0, no_mode) ? std::int16_t{0} : no_mode;
+            alignas(64) unsigned char take[block_size];
+            for (std::size_t k = 1; k < inputs.size(); ++k) {
                 evaluate_block(inputs[k], opt, rows, first, n, nullptr, ws.of(k));
-                const double* __restrict epc = current.values[5];
-                const double* __restrict best_epc = best.values[5];
                 const auto index = static_cast<std::int16_t>(k);
                 for (std::size_t i = 0; i < n; ++i) {
-                    const bool finite = epc[i] - epc[i] == 0.0;  // NaN and +-inf: not finite
-                    const bool better = k == 0 || (finite & ((pick[i] == no_mode) | (epc[i] > best_epc[i])));
+                    const bool better = better_mode(epc[i], best_epc[i], pick[i]);
                     take[i] = better;
-                    pick[i] = k == 0 ? (finite ? index : no_mode) : better ? index : pick[i];
+                    pick[i] = better ? index : pick[i];
                 }
                 detail::take_lanes(rows, current, best, take, n);
             }

@@ -41,16 +41,18 @@ struct MtfTable {
 // fits, up to this.
 constexpr std::size_t max_table_cells = 4096;
 
+// f's cell of the grid: floor(f cells_per_unit) within [0, last_cell] (NaN: 0).
+EPC_FAST_INLINE std::int32_t grid_cell(double f, double cells_per_unit, std::int32_t last_cell) {
+    const double g = f * cells_per_unit;
+    return g >= static_cast<double>(last_cell) ? last_cell : g > 0.0 ? static_cast<std::int32_t>(g) : 0;
+}
+
 // f's segment k (0 <= k < m): the last knot <= f, and m - 1 at or past f_m (std::upper_bound's,
 // found from the grid in `steps` branch-free steps). NaN takes segment 0's cell.
 EPC_FAST_INLINE std::int32_t table_segment(const MtfTable& t, double f) {
     const std::int32_t m = static_cast<std::int32_t>(t.knots.size()) - 1;
-    const std::int32_t cells = static_cast<std::int32_t>(t.first_segment.size());
-    const double g = f * t.cells_per_unit;
-    const std::int32_t cell = g >= static_cast<double>(cells - 1) ? cells - 1
-                              : g > 0.0                           ? static_cast<std::int32_t>(g)
-                                                                  : 0;
-    std::int32_t k = t.first_segment[static_cast<std::size_t>(cell)];
+    const std::int32_t last_cell = static_cast<std::int32_t>(t.first_segment.size()) - 1;
+    std::int32_t k = t.first_segment[static_cast<std::size_t>(grid_cell(f, t.cells_per_unit, last_cell))];
     for (int step = 0; step < t.steps; ++step)
         k += static_cast<std::int32_t>((k + 1 < m) & (f >= t.knots[static_cast<std::size_t>(k + 1)]));
     return k;
@@ -61,14 +63,18 @@ struct TableValue {
     double value, d1, d2;
 };
 
+// A segment's cubic y + d s + c2 s^2 + c3 s^3 (its coefficients c) and its two derivatives at s:
+// the one arithmetic of `tabulated` and table_lanes, so that both give the same bits.
+EPC_FAST_INLINE TableValue segment_cubic(const double* c, double s) {
+    return {c[0] + s * (c[1] + s * (c[2] + s * c[3])), c[1] + s * (2.0 * c[2] + 3.0 * c[3] * s),
+            2.0 * c[2] + 6.0 * c[3] * s};
+}
+
 inline TableValue tabulated(const MtfTable& t, double f) {
     const std::size_t m = t.knots.size() - 1;  // segments
     if (f > t.knots[m]) return {t.last_value, 0.0, 0.0};
     const std::size_t k = static_cast<std::size_t>(table_segment(t, f));
-    const double* c = &t.coefficients[4 * k];
-    const double s = f - t.knots[k];
-    return {c[0] + s * (c[1] + s * (c[2] + s * c[3])), c[1] + s * (2.0 * c[2] + 3.0 * c[3] * s),
-            2.0 * c[2] + 6.0 * c[3] * s};
+    return segment_cubic(&t.coefficients[4 * k], f - t.knots[k]);
 }
 
 // The interpolant at the first n <= MaxLanes of f into value (and with Slopes its derivatives
@@ -86,12 +92,7 @@ EPC_FAST_INLINE void table_lanes(const MtfTable& t, const double* __restrict f, 
     const double per_unit = t.cells_per_unit, f_m = knots[m], last_value = t.last_value;
     alignas(64) std::int32_t k[MaxLanes];
     EPC_FAST_SIMD
-    for (std::size_t i = 0; i < n; ++i) {
-        const double g = f[i] * per_unit;
-        const std::int32_t cell = g >= static_cast<double>(last_cell) ? last_cell
-                                  : g > 0.0 ? static_cast<std::int32_t>(g) : 0;
-        k[i] = first[cell];
-    }
+    for (std::size_t i = 0; i < n; ++i) k[i] = first[grid_cell(f[i], per_unit, last_cell)];
     for (int step = 0; step < t.steps; ++step) {
         EPC_FAST_SIMD
         for (std::size_t i = 0; i < n; ++i) {
@@ -101,14 +102,12 @@ EPC_FAST_INLINE void table_lanes(const MtfTable& t, const double* __restrict f, 
     }
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < n; ++i) {
-        const std::int32_t j = 4 * k[i];
-        const double c0 = c[j], c1 = c[j + 1], c2 = c[j + 2], c3 = c[j + 3];
-        const double s = f[i] - knots[k[i]];
+        const TableValue v = segment_cubic(c + 4 * k[i], f[i] - knots[k[i]]);
         const bool past = f[i] > f_m;
-        value[i] = past ? last_value : c0 + s * (c1 + s * (c2 + s * c3));
+        value[i] = past ? last_value : v.value;
         if (Slopes) {
-            d1[i] = past ? 0.0 : c1 + s * (2.0 * c2 + 3.0 * c3 * s);
-            d2[i] = past ? 0.0 : 2.0 * c2 + 6.0 * c3 * s;
+            d1[i] = past ? 0.0 : v.d1;
+            d2[i] = past ? 0.0 : v.d2;
         }
     }
 }
