@@ -15,16 +15,17 @@ directions solves f50 a second time in the same pass, without the motion; a fram
 pass over the points in Python, night mode ceil(log2(max_frames)) passes of the exposure alone
 (a bisection on the frame count) and then the picked frames'.
 
-The second group, "the phone's terms", is the scene of docs/performance.md's table ("What the
-real-camera terms cost"): 10^6 points (10^5 under EPC_FAST_BENCH_QUICK) of an f/2 phone in
-1-100,000 lux, 2 threads, EPC alone, each term on its own and a phone with them together. Each
-case records its ratio to the minimal scene timed in the same test (extra_info
-"ratio_to_minimal", the median of 5 alternated rounds), as ../shared/bench/phone_speed.py
-measures it.
+The second group, "the phone's terms", is the scene and the cases of docs/performance.md's
+table ("What the real-camera terms cost", tools/keyword_costs.py): 10^6 points (10^5 under
+EPC_FAST_BENCH_QUICK) of an f/2 phone in 1-100,000 lux, 2 threads, EPC alone, each term and
+keyword on its own and a phone with them together. Each case records its ratio to the minimal
+scene timed in the same test (extra_info "ratio_to_minimal", the median of 5 alternated
+rounds), as ../shared/bench/phone_speed.py measures it.
 """
 
+import importlib.util
 import os
-import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -110,66 +111,35 @@ def test_term_cost(benchmark, scene):
 
 QUICK = os.environ.get("EPC_FAST_BENCH_QUICK", "").strip() not in ("", "0")
 PHONE_POINTS = 10**5 if QUICK else 10**6
-#: docs/performance.md's phone: an f/2 5.6 mm camera with 1.5 e- of read noise, hand-held.
-PHONE = dict(f_number=2.0, focal_length_mm=5.6, sensor_area_mm2=20.0, shake_deg_per_s=4.39,
-             read_noise_e=1.5)
-PHONE_LENS = (np.array([0.0, 50.0, 100.0, 150.0, 200.0, 250.0, 300.0]),
-              np.array([1.0, 0.88, 0.74, 0.60, 0.47, 0.36, 0.27]))
-_FINE = np.linspace(0.0, 400.0, 64)
-PHONE_LENS_64 = (_FINE, 0.27 + 0.73 * np.exp(-_FINE / 120.0))
-PHONE_MODES = [{"binning": 1}, {"binning": 2}, {"binning": 2, "frames": 4}]
-PHONE_TERMS = {
-    "minimal": {},
-    "binning 2": {"binning": 2},
-    "4 frames + alignment": {"frames": 4, "alignment_error_um": 0.3},
-    "wavefront 0.05": {"wavefront_rms_waves": 0.05},
-    "denoise 1 px": {"denoise_sigma_px": 1.0},
-    "denoise 3 px": {"denoise_sigma_px": 3.0},
-    "denoise 5 px": {"denoise_sigma_px": 5.0},
-    "lens table 7": {"lens_mtf": PHONE_LENS},
-    "lens table 64": {"lens_mtf": PHONE_LENS_64},
-    "bayer bilinear": {"cfa": "bayer", "demosaic": "bilinear"},
-    "bayer malvar2004": {"cfa": "bayer", "demosaic": "malvar2004"},
-    "bayer menon2007": {"cfa": "bayer", "demosaic": "menon2007"},
-    "quad bayer full size": {"cfa": "quad_bayer", "demosaic": "malvar2004"},
-    "3 modes": {"modes": PHONE_MODES},
-    "epc_axes both": {"epc_axes": "both"},
-    "frame cap 0.1 s": {"max_exposure_s": 0.1},
-    "night mode 16": {"frames": "auto", "max_frames": 16, "max_exposure_s": 0.1},
-    "phone": {"cfa": "bayer", "demosaic": "malvar2004", "lens_mtf": PHONE_LENS,
-              "denoise_sigma_px": 1.0, "modes": PHONE_MODES},
-}
 
 
-def _phone_points():
-    rng = np.random.default_rng(1)
-    return {"illuminance_lux": 10 ** rng.uniform(0, 5, PHONE_POINTS),
-            "pixel_pitch_um": rng.uniform(0.8, 3.0, PHONE_POINTS), **PHONE}
+def _keyword_costs():
+    """tools/keyword_costs.py: docs/performance.md's phone scene and its cases."""
+    path = Path(__file__).resolve().parents[1] / "tools" / "keyword_costs.py"
+    spec = importlib.util.spec_from_file_location("keyword_costs", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
-def _median_seconds(call, rounds):
-    times = []
-    for _ in range(rounds):
-        start = time.perf_counter()
-        call()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times))
+KEYWORD_COSTS = _keyword_costs()
 
 
 @pytest.mark.benchmark(group="the phone's terms, 2 threads")
-@pytest.mark.parametrize("term", list(PHONE_TERMS))
+@pytest.mark.parametrize("term", list(KEYWORD_COSTS.CASES))
 def test_phone_term_cost(benchmark, term):
-    points = _phone_points()
+    points = KEYWORD_COSTS.scene(PHONE_POINTS)
 
     def minimal():
-        return epc_fast.evaluate(**points, threads=2, outputs=("epc",))
+        return epc_fast.evaluate(**points)
 
     def with_term():
-        return epc_fast.evaluate(**points, threads=2, outputs=("epc",), **PHONE_TERMS[term])
+        return epc_fast.evaluate(**points, **KEYWORD_COSTS.CASES[term])
 
     minimal(), with_term()  # warm: the output memory kept, the tables checked once
     rounds = 3 if QUICK else 5
-    pairs = [(_median_seconds(minimal, 1), _median_seconds(with_term, 1)) for _ in range(rounds)]
+    seconds = KEYWORD_COSTS.seconds
+    pairs = [(seconds(minimal), seconds(with_term)) for _ in range(rounds)]
     benchmark.extra_info["ratio_to_minimal"] = float(np.median([t / m for m, t in pairs]))
     result = benchmark.pedantic(with_term, rounds=rounds, iterations=1, warmup_rounds=0)
     finite = np.isfinite(result.epc)  # 0 where the blur is unbounded, NaN over a frame cap

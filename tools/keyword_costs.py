@@ -18,10 +18,10 @@ import numpy as np
 
 import epc_fast
 
-MODES = [{"binning": 1}, {"binning": 2}, {"binning": 2, "frames": 4}]
+from epc_fast.benchcompare.worker import PHONE_LENS as LENS, PHONE_MODES as MODES
+
 NIGHT = [{"binning": 1}, {"binning": 2}, {"binning": 2, "frames": "auto", "max_frames": 16}]
-#: The phone's lens: a 7-point table, and one of 64 points.
-LENS = ([0.0, 50.0, 100.0, 150.0, 200.0, 250.0, 300.0], [1.0, 0.88, 0.74, 0.60, 0.47, 0.36, 0.27])
+#: A 64-point lens table beside the phone's 7-point one (bench compare's phone workload's).
 _FINE = np.linspace(0.0, 400.0, 64)
 LENS_64 = (_FINE, 0.27 + 0.73 * np.exp(-_FINE / 120.0))
 #: Each case's keywords beside the scene's.
@@ -53,21 +53,32 @@ CASES = {
 }
 
 
+def scene(points: int) -> dict:
+    """evaluate's keywords for the scene's ``points`` random points (the same each time), 2
+    threads, EPC alone."""
+    rng = np.random.default_rng(1)
+    return dict(illuminance_lux=10 ** rng.uniform(0, 5, points),
+                pixel_pitch_um=rng.uniform(0.8, 3.0, points), f_number=2.0, focal_length_mm=5.6,
+                sensor_area_mm2=20.0, shake_deg_per_s=4.39, read_noise_e=1.5, threads=2,
+                outputs=("epc",))
+
+
+def seconds(call) -> float:
+    """The wall time of one call of ``call()``."""
+    start = time.perf_counter()
+    call()
+    return time.perf_counter() - start
+
+
 def ratios(points: int = 10**6, rounds: int = 5) -> tuple:
     """(the scene's points a second, {case: its median time over the scene's})."""
-    rng = np.random.default_rng(1)
-    lux = 10 ** rng.uniform(0, 5, points)
-    pitch = rng.uniform(0.8, 3.0, points)
-    base = dict(f_number=2.0, focal_length_mm=5.6, sensor_area_mm2=20.0, shake_deg_per_s=4.39,
-                read_noise_e=1.5, threads=2, outputs=("epc",))
+    base = scene(points)
     times = {case: [] for case in CASES}
     for _ in range(rounds):
         for case, keywords in CASES.items():
-            start = time.perf_counter()
-            epc_fast.evaluate(lux, pitch, **base, **keywords)
-            times[case].append(time.perf_counter() - start)
-    scene = float(np.median(times["the scene alone"]))
-    return points / scene, {case: float(np.median(t)) / scene for case, t in times.items()}
+            times[case].append(seconds(lambda: epc_fast.evaluate(**base, **keywords)))
+    alone = float(np.median(times["the scene alone"]))
+    return points / alone, {case: float(np.median(t)) / alone for case, t in times.items()}
 
 
 def main(argv=None) -> None:
