@@ -36,7 +36,7 @@ LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q -n 0 \
     tests/core/test_precision.py tests/core/test_stream.py tests/scan/running/test_core_plan.py \
     tests/scan/sampling/test_qmc.py tests/test_sensitivity.py tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
     tests/test_axes.py tests/test_modes.py tests/core/test_tabulated.py \
-    tests/core/test_lens_tables.py "$@"
+    tests/core/test_lens_tables.py tests/scan/running/test_camera_terms.py "$@"
 
 levels="$(python -c 'import epc_fast._core as c
 print(" ".join(level for level, ok in c._module.cpu_levels().items() if ok))')"
@@ -50,5 +50,6 @@ for level in x86-64-v3 x86-64-v4; do
         tests/core/test_stream.py tests/scan/running/test_core_plan.py tests/scan/sampling/test_streams.py \
         tests/scan/sampling/test_qmc.py \
         tests/scan/test_reductions.py tests/scan/running/test_runner.py tests/test_sensitivity.py \
-        tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py "$@"
+        tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
+        tests/scan/running/test_camera_terms.py "$@"
 done

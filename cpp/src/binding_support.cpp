@@ -192,6 +192,25 @@ void set_lens_tables(Inputs& in, const py::object& tables) {
     in.domains[wavefront_rms_waves] = Domain{0.0, 0.0, true, true, false};
 }
 
+std::vector<ReadoutMode> readout_modes_of(const py::object& modes) {
+    std::vector<ReadoutMode> values;
+    for (const py::handle item : modes) {
+        const auto t = py::cast<py::sequence>(item);
+        if (t.size() != 4)
+            throw std::invalid_argument("modes: (binning, binning_readout, frames, "
+                                        "alignment_error_um) for each mode, None where unset");
+        ReadoutMode m;
+        for (std::size_t p = 0; p < 4; ++p) {
+            m.sets[p] = !t[p].is_none();
+            m.values[p] = m.sets[p] ? py::cast<double>(t[p]) : 0.0;
+        }
+        values.push_back(m);
+    }
+    if (values.empty() || values.size() > 32767)
+        throw std::invalid_argument("modes: between 1 and 32767 readout modes");
+    return values;
+}
+
 Options options_of(const std::string& f50_solver, double f50_rtol,
                    const std::string& t_mpe_solver, double t_mpe_rtol,
                    const std::string& precision) {

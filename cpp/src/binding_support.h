@@ -75,6 +75,11 @@ void set_lens_tables(Inputs& in, const py::object& tables);
 // (knots, values, coefficients) triple as set_lens_tables reads them, in cycles per pixel.
 void set_demosaic_table(Inputs& in, const py::object& table);
 
+// The readout modes of a call or a scan (modes.h): a sequence of (binning, binning_readout
+// code, frames, alignment_error_um) tuples, 1 to 32767 of them, None for a parameter the mode
+// leaves to the call's column; a std::invalid_argument otherwise.
+std::vector<ReadoutMode> readout_modes_of(const py::object& modes);
+
 // The solvers, tolerances and precision of a call, by their Python names.
 Options options_of(const std::string& f50_solver, double f50_rtol,
                    const std::string& t_mpe_solver, double t_mpe_rtol,

@@ -140,28 +140,6 @@ Outputs outputs_in(const py::dict& arrays, py::ssize_t n) {
     return out;
 }
 
-// The readout modes of a call: a sequence of (binning, binning_readout code, frames,
-// alignment_error_um) tuples, 1 to 32767 of them, None for a parameter the mode leaves to the
-// call's column.
-std::vector<ReadoutMode> readout_modes_of(const py::object& modes) {
-    std::vector<ReadoutMode> values;
-    for (const py::handle item : modes) {
-        const auto t = py::cast<py::sequence>(item);
-        if (t.size() != 4)
-            throw std::invalid_argument("modes: (binning, binning_readout, frames, "
-                                        "alignment_error_um) for each mode, None where unset");
-        ReadoutMode m;
-        for (std::size_t p = 0; p < 4; ++p) {
-            m.sets[p] = !t[p].is_none();
-            m.values[p] = m.sets[p] ? py::cast<double>(t[p]) : 0.0;
-        }
-        values.push_back(m);
-    }
-    if (values.empty() || values.size() > 32767)
-        throw std::invalid_argument("modes: between 1 and 32767 readout modes");
-    return values;
-}
-
 py::dict evaluate_py(const py::list& columns, bool size_is_pixel_count, const double_array& domains,
                      const double_array& wavelengths_nm, const double_array& weights, py::ssize_t n,
                      const std::string& f50_solver, double f50_rtol,

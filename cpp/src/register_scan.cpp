@@ -135,6 +135,9 @@ ScanSpace scan_space_of(const py::dict& spec) {
     space.inputs = inputs_of(columns, item<bool>(spec, "size_is_pixel_count"),
                              item<double_array>(spec, "domains"), item<double_array>(spec, "wavelengths_nm"),
                              item<double_array>(spec, "weights"), 1);
+    // the space's lens tables and a colour sensor's demosaicker's table (None or absent: none)
+    if (spec.contains("lens_tables")) set_lens_tables(space.inputs, spec["lens_tables"]);
+    if (spec.contains("demosaic_table")) set_demosaic_table(space.inputs, spec["demosaic_table"]);
     return space;
 }
 
@@ -190,7 +193,11 @@ std::vector<GroupKey> keys_of(const py::list& keys, const ScanSpace& space) {
     return result;
 }
 
-std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<GroupKey>& keys) {
+// The reductions. `beyond_table`: the points may be Status::beyond_table (lens tables), which a
+// summary's cycle tally has no field for; `modes`: the readout modes, whose picks a summary
+// counts per group. Either way summaries fold without the cycle.
+std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<GroupKey>& keys,
+                                     bool beyond_table, std::size_t modes) {
     static const char* kinds[] = {"summary", "histogram", "quantiles", "fraction_below", "top_k"};
     std::vector<Reduction> result;
     for (auto s : specs) {
@@ -212,7 +219,11 @@ std::vector<Reduction> reductions_of(const py::list& specs, const std::vector<Gr
                 throw std::invalid_argument("scan spec: a reduction's key");
             r.groups = keys[static_cast<std::size_t>(r.key)].size;
             // a histogram keeps no sums per position of the cycle
-            if (r.kind != ReductionKind::histogram) r.cycle = keys[static_cast<std::size_t>(r.key)].cycle.size();
+            const bool summary = r.kind == ReductionKind::summary;
+            const bool cycle = r.kind != ReductionKind::histogram &&
+                               !(summary && (beyond_table || modes > 0));
+            if (summary) r.modes = static_cast<std::int64_t>(modes);
+            if (cycle) r.cycle = keys[static_cast<std::size_t>(r.key)].cycle.size();
         }
         if (r.kind == ReductionKind::histogram) {
             r.first = item<double>(d, "first");
@@ -242,13 +253,15 @@ py::list scan_chunk_py(const py::dict& space_spec, const py::list& key_specs,
                        const py::list& reduction_specs, const std::string& f50_solver,
                        double f50_rtol, const std::string& t_mpe_solver, double t_mpe_rtol,
                        const std::string& precision, std::uint64_t start, std::uint64_t stop,
-                       int threads, bool epc_both) {
+                       int threads, bool epc_both, const py::object& modes) {
     if (threads < 1) throw std::invalid_argument("threads must be >= 1");
     if (start % scan_block_points != 0 || stop < start)
         throw std::invalid_argument("a chunk starts at a scan block and is not reversed");
     const ScanSpace space = scan_space_of(space_spec);
     const std::vector<GroupKey> keys = keys_of(key_specs, space);
-    const std::vector<Reduction> reductions = reductions_of(reduction_specs, keys);
+    const std::vector<ReadoutMode> readout = modes.is_none() ? std::vector<ReadoutMode>{} : readout_modes_of(modes);
+    const std::vector<Reduction> reductions =
+        reductions_of(reduction_specs, keys, !space.inputs.lens_tables.empty(), readout.size());
     const Options opt = options_of(f50_solver, f50_rtol, t_mpe_solver, t_mpe_rtol, precision);
     if (epc_both)
         for (const Reduction& r : reductions)
@@ -258,7 +271,7 @@ py::list scan_chunk_py(const py::dict& space_spec, const py::list& key_specs,
     ChunkResult chunk;
     {
         py::gil_scoped_release release;
-        chunk = scan_chunk(space, opt, keys, reductions, start, stop, threads, epc_both);
+        chunk = scan_chunk(space, opt, keys, reductions, start, stop, threads, epc_both, readout);
     }
     const auto n_blocks = static_cast<py::ssize_t>((stop - start + scan_block_points - 1) / scan_block_points);
     py::list out;
@@ -270,12 +283,13 @@ py::list scan_chunk_py(const py::dict& space_spec, const py::list& key_specs,
         switch (red.kind) {
             case ReductionKind::summary: {
                 const ChunkResult::Moments& m = chunk.moments[r];
-                d["status"] = array_of(s.counts, {g, 4});
+                d["status"] = array_of(s.counts, {g, static_cast<py::ssize_t>(ReductionState::n_status)});
                 d["count"] = array_of(m.count, {n_blocks, g});
                 d["mean"] = array_of(m.mean, {n_blocks, g});
                 d["m2"] = array_of(m.m2, {n_blocks, g});
                 d["min"] = array_of(s.low, {g});
                 d["max"] = array_of(s.high, {g});
+                if (red.modes > 0) d["modes"] = array_of(s.mode_counts, {g, static_cast<py::ssize_t>(red.modes + 1)});
                 break;
             }
             case ReductionKind::histogram:
@@ -349,10 +363,12 @@ void register_scan(py::module_& m) {
     m.def("scan_chunk", &scan_chunk_py, py::arg("space"), py::arg("keys"), py::arg("reductions"),
           py::arg("f50_solver"), py::arg("f50_rtol"), py::arg("t_mpe_solver"), py::arg("t_mpe_rtol"),
           py::arg("precision"), py::arg("start"), py::arg("stop"), py::arg("threads"),
-          py::arg("epc_both") = false,
+          py::arg("epc_both") = false, py::arg("modes") = py::none(),
           "Draws, evaluates and reduces points [start, stop) of a scan (scan/pass.h); one dict of "
           "partial results per reduction. epc_both: EPC and the status counted in both "
-          "directions (no share folded).");
+          "directions (no share folded). modes: every point's readout modes, as evaluate takes "
+          "them (each point in the mode of the largest EPC), or None. The space's spec may "
+          "carry lens_tables and demosaic_table, as evaluate takes them.");
     m.def("scan_points", &scan_points_py, py::arg("space"), py::arg("index"),
           "The parameters (None where fixed) and discrete axes' indices of the points `index`.");
     m.attr("scan_block_points") = scan_block_points;

@@ -103,7 +103,7 @@ def crossover_lux(
 def scan_chunk(
     space: dict, keys: list, reductions: list, f50_solver: str, f50_rtol: float,
     t_mpe_solver: str, t_mpe_rtol: float, precision: str, start: int, stop: int, threads: int,
-    epc_both: bool = False,
+    epc_both: bool = False, modes: list | None = None,
 ) -> list[dict[str, np.ndarray]]: ...
 def scan_points(
     space: dict, index: npt.NDArray[np.int64],

@@ -21,7 +21,7 @@ from .outputs import (ACROSS_OUTPUTS, LIMIT_OUTPUTS, Result, names_any, scalar_f
                       selected_outputs)
 from .params import READOUT_CODES, readout_codes
 
-__all__ = ["MODE_KEYS", "MODE_DEFAULTS", "NO_MODE", "check_modes", "evaluate_modes"]
+__all__ = ["MODE_KEYS", "MODE_DEFAULTS", "NO_MODE", "check_modes", "evaluate_modes", "core_codes"]
 
 #: The keywords a readout mode sets, and their defaults (evaluate's).
 MODE_DEFAULTS = {"binning": 1.0, "binning_readout": "digital", "frames": 1.0,
@@ -92,7 +92,7 @@ def evaluate_modes(evaluate, call: dict, in_core=None) -> Result:
               else selected_outputs(call.get("outputs")))
     night = [LIMIT_OUTPUTS[0]] if call.get("outputs") is None and any(
         isinstance(mode.get("frames"), str) for mode in modes) else []
-    codes = _core_codes(call, modes, wanted, epc_axes) if in_core is not None else None
+    codes = core_codes(call, modes, wanted, epc_axes) if in_core is not None else None
     if codes is not None:
         return in_core(call, codes, wanted)
     asked = tuple(dict.fromkeys((*wanted, *night, "epc")))
@@ -129,7 +129,7 @@ def _pick_reference(results):
     return mode, best
 
 
-def _core_codes(call: dict, modes: tuple, wanted: tuple, epc_axes: str):
+def core_codes(call: dict, modes: tuple, wanted: tuple, epc_axes: str):
     """The modes as the core's one pass takes them, (binning, binning_readout code, frames,
     alignment_error_um) each (None for a key the mode leaves to the call), or None where the
     call takes one call per mode: another backend, ``invalid="raise"`` (each mode's call raises

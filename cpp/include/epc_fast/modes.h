@@ -83,24 +83,21 @@ inline void take_modes(const std::int16_t* mode, const std::vector<const void*>&
     }
 }
 
-// The parameters a readout mode may set, and the values it sets: binning k, its read-out
-// (ReadoutCode), frames n and each frame's alignment error (um); a parameter the mode does not
-// set keeps the call's column (sets[k] false).
-constexpr int mode_params[] = {binning, binning_readout, frames, alignment_error_um};
-struct ReadoutMode {
-    std::array<double, 4> values{};
-    std::array<bool, 4> sets{};
-};
-
-// Each mode's inputs: `in` with the columns a mode sets broadcast from its values (`modes`
-// must outlive them). A mode's value outside its domain makes every point INVALID in that mode
+// `to`'s columns: `in`'s, with the columns `mode` sets broadcast from its values (`mode` must
+// outlive them). A mode's value outside its domain makes every point INVALID in that mode
 // (gather.h), as it would in a call of its own.
+inline void set_mode_columns(const Inputs& in, const ReadoutMode& mode, Inputs& to) {
+    to.columns = in.columns;
+    for (int p = 0; p < 4; ++p)
+        if (mode.sets[static_cast<std::size_t>(p)])
+            to.columns[mode_params[p]] = Column{&mode.values[static_cast<std::size_t>(p)], 0};
+}
+
+// Each mode's inputs: `in` with its columns set by the mode (set_mode_columns; `modes` must
+// outlive them).
 inline std::vector<Inputs> mode_inputs(const Inputs& in, const std::vector<ReadoutMode>& modes) {
     std::vector<Inputs> each(modes.size(), in);
-    for (std::size_t k = 0; k < modes.size(); ++k)
-        for (int p = 0; p < 4; ++p)
-            if (modes[k].sets[static_cast<std::size_t>(p)])
-                each[k].columns[mode_params[p]] = Column{&modes[k].values[static_cast<std::size_t>(p)], 0};
+    for (std::size_t k = 0; k < modes.size(); ++k) set_mode_columns(in, modes[k], each[k]);
     return each;
 }
 
@@ -186,39 +183,46 @@ inline void write_best(const ModeRows& best, const Outputs& out, std::size_t beg
 
 }  // namespace detail
 
-// Points [begin, end) of every mode (inputs: mode_inputs), each point the outputs of its mode
-// with the largest finite EPC (the first of equal ones; the first mode's where none is finite)
-// and that mode's index in `mode` (no_mode where none): in one pass over the points, each
-// block of points evaluated in every mode in turn (kernel.h evaluate_block) and its lanes'
-// best kept, so that only the best is written out. Never throws.
+// Points [first, first + n) of every mode (inputs: mode_inputs), n <= block_size, each point
+// the outputs of its mode with the largest finite EPC (the first of equal ones; the first
+// mode's where none is finite) written to `out` and that mode's index to pick[0 .. n - 1]
+// (no_mode where none): the block evaluated in every mode in turn (kernel.h evaluate_block)
+// and its lanes' best kept, so that only the best is written out. Never throws.
+inline void evaluate_modes_block(const std::vector<Inputs>& inputs, const Options& opt,
+                                 const Outputs& out, std::int16_t* pick, std::size_t first,
+                                 std::size_t n, detail::ModesWorkspace& ws) noexcept {
+    detail::ModeRows& current = ws.mode;
+    detail::ModeRows& best = ws.best;
+    const Outputs rows = current.rows_for(out);
+    const double* __restrict best_epc = best.values[5];
+    const double* __restrict epc = current.values[5];
+    // the first mode straight into the best rows: every lane's best so far
+    evaluate_block(inputs[0], opt, best.rows_for(out), first, n, nullptr, ws.of(0));
+    for (std::size_t i = 0; i < n; ++i)
+        pick[i] = better_mode(best_epc[i], 0.0, no_mode) ? std::int16_t{0} : no_mode;
+    alignas(64) unsigned char take[block_size];
+    for (std::size_t k = 1; k < inputs.size(); ++k) {
+        evaluate_block(inputs[k], opt, rows, first, n, nullptr, ws.of(k));
+        const auto index = static_cast<std::int16_t>(k);
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool better = better_mode(epc[i], best_epc[i], pick[i]);
+            take[i] = better;
+            pick[i] = better ? index : pick[i];
+        }
+        detail::take_lanes(rows, current, best, take, n);
+    }
+    detail::write_best(best, out, first, n);
+}
+
+// Points [begin, end) of every mode (evaluate_modes_block), in one pass over the points on
+// `threads` threads, each point's mode index in mode[begin .. end - 1]. Never throws.
 inline void evaluate_modes(const std::vector<Inputs>& inputs, const Options& opt,
                            const Outputs& out, std::int16_t* mode, std::size_t begin,
                            std::size_t end, int threads) noexcept {
     for_each_block<detail::ModesWorkspace>(
         begin, end, block_size, threads,
         [&](std::size_t first, std::size_t n, detail::ModesWorkspace& ws) {
-            detail::ModeRows& current = ws.mode;
-            detail::ModeRows& best = ws.best;
-            const Outputs rows = current.rows_for(out);
-            const double* __restrict best_epc = best.values[5];
-            const double* __restrict epc = current.values[5];
-            std::int16_t* __restrict pick = mode + first;
-            // the first mode straight into the best rows: every lane's best so far
-            evaluate_block(inputs[0], opt, best.rows_for(out), first, n, nullptr, ws.of(0));
-            for (std::size_t i = 0; i < n; ++i)
-                pick[i] = better_mode(best_epc[i], 0.0, no_mode) ? std::int16_t{0} : no_mode;
-            alignas(64) unsigned char take[block_size];
-            for (std::size_t k = 1; k < inputs.size(); ++k) {
-                evaluate_block(inputs[k], opt, rows, first, n, nullptr, ws.of(k));
-                const auto index = static_cast<std::int16_t>(k);
-                for (std::size_t i = 0; i < n; ++i) {
-                    const bool better = better_mode(epc[i], best_epc[i], pick[i]);
-                    take[i] = better;
-                    pick[i] = better ? index : pick[i];
-                }
-                detail::take_lanes(rows, current, best, take, n);
-            }
-            detail::write_best(best, out, first, n);
+            evaluate_modes_block(inputs, opt, out, mode + first, first, n, ws);
         });
 }
 

@@ -123,6 +123,15 @@ struct Inputs {
     MtfTable demosaic;
 };
 
+// The parameters a readout mode may set, and the values it sets: binning k, its read-out
+// (ReadoutCode), frames n and each frame's alignment error (um); a parameter the mode does not
+// set keeps the call's column (sets[k] false).
+constexpr int mode_params[] = {binning, binning_readout, frames, alignment_error_um};
+struct ReadoutMode {
+    std::array<double, 4> values{};
+    std::array<bool, 4> sets{};
+};
+
 enum class TMpeSolver { closed_form, brent };
 
 // f50's root finder (f50/solvers.h). Each keeps every iterate inside the bisection bracket of

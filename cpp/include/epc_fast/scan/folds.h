@@ -108,6 +108,11 @@ inline void fold_summary(const Reduction& r, const FoldLanes& f, ReductionState&
     const std::int32_t* g = f.groups[static_cast<std::size_t>(r.key)];
     for (std::size_t i = 0; i < f.n; ++i)
         ++s.counts[static_cast<std::size_t>(g[i]) * ReductionState::n_status + f.status[i]];
+    if (r.modes > 0) {  // each point's picked mode, column 0 for none (mode -1)
+        const auto width = static_cast<std::size_t>(r.modes + 1);
+        for (std::size_t i = 0; i < f.n; ++i)
+            ++s.mode_counts[static_cast<std::size_t>(g[i]) * width + static_cast<std::size_t>(f.mode[i] + 1)];
+    }
     if (r.groups <= few_groups) {
         fold_moments_few(r, f, s);
         return;
@@ -189,10 +194,11 @@ inline void fold_summary_cycle(const Reduction& r, const FoldLanes& f, Reduction
     double* __restrict squares = c.squares.data() + p;
     double* __restrict low = c.low.data() + p;
     double* __restrict high = c.high.data() + p;
-    constexpr std::uint64_t finite_one = std::uint64_t{1} << (4 * tally_bits);
+    constexpr std::uint64_t finite_one = std::uint64_t{1} << (tally_statuses * tally_bits);
     // each lane's tally increment: its status's field, and the finite field if finite
     alignas(64) std::uint64_t add[block_size];
-    // (statuses 0 .. 3: a scan has no lens tables, so never Status::beyond_table)
+    // (statuses 0 .. 3: a scan with lens tables, which may give Status::beyond_table, folds
+    // its summaries without the cycle)
     for (std::size_t i = 0; i < block_size; ++i) add[i] = status[i] & 3u;  // widened
     EPC_FAST_SIMD
     for (std::size_t i = 0; i < block_size; ++i) {

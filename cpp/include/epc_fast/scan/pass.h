@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "../kernel.h"
+#include "../modes.h"
 #include "../parallel.h"
 #include "groups.h"
 #include "reductions.h"
@@ -49,15 +50,26 @@ struct ScanThread {
     std::vector<std::int32_t> scratch;
     std::vector<ReductionState> states;
     FoldLanes fold;  // views of the arrays above
+    // readout modes (modes.h): each mode's inputs (the block's columns, the mode's values
+    // over them), the modes' workspace with a Workspace per mode, each lane's mode
+    std::vector<Inputs> mode_inputs;
+    std::unique_ptr<ModesWorkspace> modes;
+    alignas(64) std::int16_t pick[block_size];
 
     ScanThread(const ScanSpace& space, const std::vector<GroupKey>& keys,
-               const std::vector<Reduction>& reductions)
+               const std::vector<Reduction>& reductions, const std::vector<ReadoutMode>& readout)
         : lanes(space), inputs(space.inputs), groups(keys.size(), std::vector<std::int32_t>(block_size)),
           scratch(block_size) {
+        if (!readout.empty()) {
+            mode_inputs = epc_fast::mode_inputs(space.inputs, readout);
+            modes = std::make_unique<ModesWorkspace>();
+            for (std::size_t k = 1; k < readout.size(); ++k) modes->more.push_back(std::make_unique<Workspace>());
+        }
         states.reserve(reductions.size());
         for (const Reduction& r : reductions) states.emplace_back(r);
         fold.index = lanes.index;
         fold.status = status;
+        fold.mode = readout.empty() ? nullptr : pick;
         for (int o = 0; o < n_scan_outputs; ++o) {
             fold.outputs[o] = outputs[o];
             fold.log10_outputs[o] = log10_outputs[o];
@@ -85,12 +97,14 @@ struct ScanNeeds {
 };
 
 // Draws, evaluates and reduces points [start, stop) of the scan (start a multiple of
-// scan_block_points) on `threads` threads. Never throws inside the threads: every allocation is
-// made before they start; per-point problems are statuses.
+// scan_block_points) on `threads` threads; with readout `modes`, each point in the mode of
+// the largest EPC (modes.h evaluate_modes_block). Never throws inside the threads: every
+// allocation is made before they start; per-point problems are statuses.
 inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
                               const std::vector<GroupKey>& keys,
                               const std::vector<Reduction>& reductions, std::uint64_t start,
-                              std::uint64_t stop, int threads, bool epc_both = false) {
+                              std::uint64_t stop, int threads, bool epc_both = false,
+                              const std::vector<ReadoutMode>& modes = {}) {
     const std::uint64_t n_points = stop > start ? stop - start : 0;
     const auto n_blocks = static_cast<std::ptrdiff_t>((n_points + scan_block_points - 1) / scan_block_points);
     const ScanNeeds needs(reductions);
@@ -111,7 +125,7 @@ inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
 #endif
     std::vector<std::unique_ptr<detail::ScanThread>> workers;
     for (int t = 0; t < team; ++t)
-        workers.push_back(std::make_unique<detail::ScanThread>(space, keys, reductions));
+        workers.push_back(std::make_unique<detail::ScanThread>(space, keys, reductions, modes));
 
     auto run_block = [&](std::ptrdiff_t b, detail::ScanThread& w) {
         const std::uint64_t block_first = start + static_cast<std::uint64_t>(b) * scan_block_points;
@@ -135,7 +149,13 @@ inline ChunkResult scan_chunk(const ScanSpace& space, const Options& opt,
             w.lanes.n = n;
             for (std::size_t i = 0; i < n; ++i) w.lanes.index[i] = first + i;
             form_points(space, true, w.lanes, w.inputs);
-            evaluate_block(w.inputs, opt, out, 0, n, nullptr, w.workspace);
+            if (modes.empty()) {
+                evaluate_block(w.inputs, opt, out, 0, n, nullptr, w.workspace);
+            } else {
+                for (std::size_t k = 0; k < modes.size(); ++k)
+                    set_mode_columns(w.inputs, modes[k], w.mode_inputs[k]);
+                evaluate_modes_block(w.mode_inputs, opt, out, w.pick, 0, n, *w.modes);
+            }
             for (int o = 0; o < n_scan_outputs; ++o) {
                 if (!needs.log10[o]) continue;
                 const double* __restrict v = w.outputs[o];

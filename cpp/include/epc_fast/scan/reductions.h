@@ -92,10 +92,10 @@ inline void flush_cycle(const Reduction& r, const GroupKey& key, ReductionState&
         switch (r.kind) {
             case ReductionKind::summary: {
                 const std::uint64_t tally = c.tally[p];
-                for (std::size_t j = 0; j < ReductionState::n_status; ++j)
+                for (std::size_t j = 0; j < tally_statuses; ++j)
                     s.counts[k * ReductionState::n_status + j] +=
                         static_cast<std::int64_t>((tally >> (tally_bits * j)) & tally_field);
-                const auto finite = static_cast<std::int64_t>((tally >> (4 * tally_bits)) & tally_field);
+                const auto finite = static_cast<std::int64_t>((tally >> (tally_statuses * tally_bits)) & tally_field);
                 if (finite > 0) {
                     // the deviations' sums about the shift give the mean and the squared
                     // deviations about it: sum (x - m)^2 = sum (x - a)^2 - n (m - a)^2
@@ -147,6 +147,7 @@ inline void fold(const Reduction& r, const FoldLanes& f, ReductionState& s) {
 inline void combine(const Reduction& r, ReductionState& a, const ReductionState& b) {
     for (std::size_t i = 0; i < a.counts.size(); ++i) a.counts[i] += b.counts[i];
     for (std::size_t i = 0; i < a.points.size(); ++i) a.points[i] += b.points[i];
+    for (std::size_t i = 0; i < a.mode_counts.size(); ++i) a.mode_counts[i] += b.mode_counts[i];
     for (std::size_t i = 0; i < a.low.size(); ++i) {
         a.low[i] = std::min(a.low[i], b.low[i]);
         a.high[i] = std::max(a.high[i], b.high[i]);

@@ -42,6 +42,7 @@ struct Reduction {
     bool largest = true;
     std::size_t cycle = 0;   // the key's cycle length (GroupKey::cycle); 0 without one, and for
                              // a histogram, which keeps no sums per position
+    std::int64_t modes = 0;  // summary: the readout modes whose picks it counts (0: none)
 
     std::int64_t slots() const { return bins + 2; }
 };
@@ -74,8 +75,10 @@ struct CycleSums {
 };
 
 // A summary's tally fields: status k (0 .. 3) counts in bits 12k .. 12k + 11, finite points in
-// bits 48 .. 59.
+// bits 48 .. 59. Status::beyond_table has no field: a scan with lens tables folds its
+// summaries without the cycle (register_scan.cpp).
 constexpr int tally_bits = 12;
+constexpr std::size_t tally_statuses = 4;
 constexpr std::uint64_t tally_field = (std::uint64_t{1} << tally_bits) - 1;
 static_assert(scan_block_points / block_size <= tally_field, "a position's points fit a field");
 
@@ -91,6 +94,8 @@ struct ReductionState {
     std::vector<std::int32_t> touched;
     std::vector<Candidate> heap;  // top_k: a max-heap of the best k so far
     CycleSums cycle;              // with a key's cycle (Reduction::cycle)
+    // summary with readout modes: (groups, modes + 1) points per picked mode, column 0 none
+    std::vector<std::int64_t> mode_counts;
 
     explicit ReductionState(const Reduction& r) {
         const auto g = static_cast<std::size_t>(r.groups);
@@ -119,6 +124,7 @@ struct ReductionState {
                 sub_sum.assign(g, 0.0);
                 sub_m2.assign(g, 0.0);
                 touched.reserve(block_size);
+                mode_counts.assign(r.modes > 0 ? g * static_cast<std::size_t>(r.modes + 1) : 0, 0);
                 break;
             case ReductionKind::histogram:
                 counts.assign(g * static_cast<std::size_t>(r.slots()), 0);
@@ -139,7 +145,9 @@ struct ReductionState {
         }
     }
 
-    static constexpr std::size_t n_status = 4;
+    // the statuses a scan's core counts: 0 .. 4 (Status::beyond_table with lens tables; a frame
+    // cap's exposure_limit is the arrays')
+    static constexpr std::size_t n_status = 5;
     static double inf_value() { return std::numeric_limits<double>::infinity(); }
 };
 
@@ -154,6 +162,7 @@ struct FoldLanes {
     std::uint64_t first = 0;  // lane 0's point index, a multiple of block_size
     const std::uint64_t* index = nullptr;
     const unsigned char* status = nullptr;
+    const std::int16_t* mode = nullptr;  // each point's readout mode (no_mode: none); null without
     const double* outputs[n_scan_outputs] = {};
     const double* log10_outputs[n_scan_outputs] = {};
     std::vector<const std::int32_t*> groups;  // per key

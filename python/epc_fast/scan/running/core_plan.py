@@ -19,6 +19,7 @@ from ...spectra import DEFAULT_ELECTRONS_PER_LUX_S_M2
 from ...status import Status
 from ..reductions.best import TopK
 from .chunk import OUTPUTS
+from .camera_terms import CameraTerms
 from ..sampling.distributions import Choice, Grid
 from ..reductions.groups import GroupKey
 from ..reductions.histograms import Histogram, Quantiles
@@ -56,16 +57,24 @@ class CorePlan:
     seed : int, in [0, 2**64).
     plan : tuple of :class:`~epc_fast.scan.running.tasks.PlanItem`, the reductions the core folds
         (exact quantiles and anything per point are the caller's).
+    terms : :class:`~epc_fast.scan.running.camera_terms.CameraTerms`, optional: the space's lens
+        tables, colour sensor and readout modes (None: the space has none of them).
     """
 
-    def __init__(self, space: Space, seed: int, plan: tuple = ()):
+    def __init__(self, space: Space, seed: int, plan: tuple = (), terms: CameraTerms | None = None):
         self.space = space
         self.seed = seed
+        self.terms = CameraTerms() if terms is None else terms
         # the replicate first: the slowest grid axis (qmc.py), none for one replicate
         self.axis_names = (("replicate",) if space.sampling.replicates > 1 else ()) + tuple(
             n for n, a in space.axes.items() if isinstance(a, (Grid, Choice)))
         self.names = tuple(_slot_name(space, slot) for slot in params.PARAMETER_NAMES)
-        self.spec = self._space_spec()
+        # the points as the space gives them (scan_points), and as the model reads them in
+        # the fused pass: a colour sensor's columns as evaluate forms them, the modes' own
+        # parameters at their defaults (the modes set them)
+        self.spec = self._space_spec(model=False)
+        self.pass_spec = (self._space_spec(model=True) if self.terms.color or self.terms.set_by_modes
+                          else self.spec)
         self.plan = tuple(plan)
         keys: list = []
         self.reduction_specs = []
@@ -84,7 +93,7 @@ class CorePlan:
 
     # -- the space ---------------------------------------------------------------------------
 
-    def _space_spec(self) -> dict:
+    def _space_spec(self, model: bool) -> dict:
         space = self.space
         axes = []
         replicates = space.sampling.replicates
@@ -102,9 +111,16 @@ class CorePlan:
                          "dimension": self._dimension(name)})
         spectrum, wavelength = self._spectrum()
         sources = []
+        terms = self.terms
+        color = (terms.color or {}) if model else {}
+        by_modes = terms.set_by_modes if model else frozenset()
         for slot, name in zip(params.PARAMETER_NAMES, self.names):
             if slot == "wavelength_nm" and wavelength is not None:
                 sources.append({"kind": "fixed", "value": wavelength})
+            elif slot in by_modes:  # the modes' columns; the call's default between
+                sources.append({"kind": "fixed", "value": _default(slot)})
+            elif slot in color:
+                sources.append(self._color_source(name, slot, *color[slot]))
             else:
                 sources.append(self._source(name, slot))
         wavelengths = weights = np.empty(0)
@@ -119,9 +135,25 @@ class CorePlan:
         return {"seed": self.seed, "axes": axes, "params": list(sources), "sobol": sobol,
                 "size_is_pixel_count": self.names[params.PARAMETER_NAMES.index("size")]
                 == "pixel_count",
-                "domains": params.domain_table(),
+                "domains": params.domain_table(len(terms.lens_tables or ()) or 1),
                 "wavelengths_nm": np.ascontiguousarray(wavelengths, dtype=np.float64),
-                "weights": np.ascontiguousarray(weights, dtype=np.float64)}
+                "weights": np.ascontiguousarray(weights, dtype=np.float64),
+                "lens_tables": terms.lens_tables, "demosaic_table": terms.demosaic_table}
+
+    def _color_source(self, name: str, slot: str, default: float, scale: float) -> dict:
+        """A colour sensor's column (camera_terms.CameraTerms.color): its ``default`` where the
+        space does not give it, its given values times ``scale`` where it does, as
+        :func:`epc_fast.cfa.sensor_color` forms them."""
+        if name not in self.space.axes and name not in self.space.design_table:
+            return {"kind": "fixed", "value": float(default)}
+        source = self._source(name, slot)
+        if scale == 1.0:
+            return source
+        if source["kind"] == "fixed":
+            return {**source, "value": source["value"] * scale}
+        if source["kind"] == "axis":
+            return {**source, "values": source["values"] * scale}
+        raise AssertionError("a drawn colour column is the arrays'")  # camera_terms refuses it
 
     def _source(self, name: str, slot: str) -> dict:
         space = self.space
@@ -224,8 +256,9 @@ class CorePlan:
         the form its ``merge`` takes."""
         from ... import _core
 
-        partials = _core.scan_chunk(self.spec, self.key_specs, self.reduction_specs,
-                                    *self.options, start, stop, threads, self.epc_both)
+        partials = _core.scan_chunk(self.pass_spec, self.key_specs, self.reduction_specs,
+                                    *self.options, start, stop, threads, self.epc_both,
+                                    self.terms.modes)
         result = {}
         for item, partial in zip(self.plan, partials):
             if isinstance(item.reduction, TopK):
@@ -281,7 +314,7 @@ def checked_seed(seed) -> int:
 
 def _every_status(partial: dict) -> dict:
     """A summary's partial with a status count for every :class:`epc_fast.Status`: the core
-    counts the statuses it can give (it has no tabulated MTF, so no BEYOND_TABLE), the others
+    counts the statuses it can give (a frame cap's EXPOSURE_LIMIT is the arrays'), the others
     are 0."""
     counts = partial["status"]
     if counts.shape[1] == len(Status):

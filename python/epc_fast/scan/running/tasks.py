@@ -13,7 +13,6 @@ writes every point: for those the core forms and evaluates the chunk's points as
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass
 
@@ -21,6 +20,7 @@ from ..._validation import threads_of
 from ...api import OUTPUT_DTYPES, evaluate
 from .chunk import Chunk
 from .core_plan import CorePlan
+from .camera_terms import camera_terms
 from ..reductions.groups import GroupKey
 from ..reductions.histograms import Quantiles
 from .readout_modes import evaluate_space_points
@@ -139,20 +139,17 @@ def _core_plan(space, plan, seed, points_total) -> tuple:
     if (last is not None and last[0][0] is space and last[0][1] is plan
             and last[0][2:] == (seed, points_total)):
         return last[1]
-    # the fused pass reads every point one way and has no tables: a design's modes
-    # (scan/running/readout_modes.py), a space's lens tables or colour sensor are evaluated as
-    # arrays, and so is a frame cap (the core gives no EXPOSURE_LIMIT; a night mode is a
-    # design's mode). It counts EPC in both directions (kernel.h across_f50) but folds no
-    # share then: those take the two passes of epc_fast.axes.
-    tables = (space.evaluate_options.get("lens_mtf") is not None
-              or space.evaluate_options.get("cfa", "none") != "none"
-              or space.evaluate_options.get("max_exposure_s", math.inf) != math.inf)
+    # the fused pass reads the space's lens tables, colour sensor and the readout modes its
+    # designs share (camera_terms.py; None where it cannot: those points are evaluated as
+    # arrays). It counts EPC in both directions (kernel.h across_f50) but folds no share then:
+    # those take the two passes of epc_fast.axes.
+    terms = camera_terms(space)
     both = space.evaluate_options.get("epc_axes", "motion") == "both"
     fused = tuple(item for item in plan if not _per_point(item, points_total)
-                  and not space.has_modes and not tables
+                  and terms is not None
                   and not (both and item.reduction.of.startswith("share_")))
     arrays = tuple(item for item in plan if item not in fused)
-    entry = ((space, plan, seed, points_total), (CorePlan(space, seed, fused), arrays))
+    entry = ((space, plan, seed, points_total), (CorePlan(space, seed, fused, terms), arrays))
     _last_plan[0] = entry
     return entry[1]
 
