@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "epc_fast/f50/lens_fit.h"
 #include "epc_fast/f50/spectrum_fit.h"
 #include "epc_fast/output_cache.h"
 #include "epc_fast/params.h"
@@ -187,7 +188,11 @@ void set_demosaic_table(Inputs& in, const py::object& table) {
 void set_lens_tables(Inputs& in, const py::object& tables) {
     in.lens_tables.clear();
     if (tables.is_none()) return;
-    for (const py::handle item : tables) in.lens_tables.push_back(table_of(item));
+    for (const py::handle item : tables) {
+        MtfTable table = table_of(item);
+        table.start = lens_start_of(table);  // f50's start fitted to it (f50/lens_fit.h)
+        in.lens_tables.push_back(std::move(table));
+    }
     if (in.lens_tables.empty()) throw std::invalid_argument("lens tables: give at least one, or None");
     in.domains[wavefront_rms_waves] = Domain{0.0, 0.0, true, true, false};
 }

@@ -17,6 +17,7 @@
 #include "epc_fast/elementary.h"
 #include "epc_fast/exposure/point.h"
 #include "epc_fast/f50/guesses.h"
+#include "epc_fast/f50/lens_fit.h"
 #include "epc_fast/f50/spectrum_fit.h"
 #include "epc_fast/mtf.h"
 #include "epc_fast/scan/draws.h"
@@ -164,6 +165,26 @@ void register_testing(py::module_& parent) {
             return d;
         },
         py::arg("wavelengths_nm"), py::arg("weights"));
+    // A lens table's fitted start (f50/lens_fit.h): its coefficients, fit errors and the table's
+    // half (None where none can be fitted), from the (knots, values, coefficients) triple
+    // evaluate takes.
+    m.def(
+        "lens_start",
+        [](const py::object& triple) -> py::object {
+            const MtfTable table = table_of(triple);
+            const auto start = lens_start_of(table);
+            if (start == nullptr) return py::none();
+            py::dict d;
+            d["half"] = table.half;  // the start's optics length is nu50 / half
+            d["coefficients"] = py::array_t<double>(
+                {static_cast<py::ssize_t>(detail::n_accurate_starts),
+                 static_cast<py::ssize_t>(detail::accurate_start_terms)},
+                &start->coefficients[0][0]);
+            d["fit_error"] = py::array_t<double>(static_cast<py::ssize_t>(detail::n_accurate_starts),
+                                                 start->fit_error);
+            return d;
+        },
+        py::arg("table"));
     m.def(
         "f50_spectrum_start",
         [](const double_array& wavelengths_nm, const double_array& weights,
@@ -173,7 +194,7 @@ void register_testing(py::module_& parent) {
             auto one = [&start](double lambda_f, double aperture, double blur, double threshold) {
                 const int row = int{detail::accurate_start_code(0.0, threshold)} - 1;
                 return row < 0 || start == nullptr ? detail::f50_cubic_start(lambda_f, aperture, blur, 0.0, threshold)
-                               : detail::spectrum_start_guess(start->coefficients[row], lambda_f,
+                               : detail::fitted_start_guess(start->coefficients[row], lambda_f,
                                                               aperture, blur);
             };
             return py::vectorize(one)(lambda_f_mm, aperture_mm, blur_mm, mtf_threshold);

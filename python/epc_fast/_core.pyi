@@ -157,6 +157,7 @@ class _Testing(Protocol):
         self,
         wavelengths_nm: npt.NDArray[np.float64], weights: npt.NDArray[np.float64],
     ) -> dict[str, np.ndarray]: ...
+    def lens_start(self, table: tuple) -> dict[str, np.ndarray | float] | None: ...
     def f50_spectrum_start(
         self,
         wavelengths_nm: npt.NDArray[np.float64], weights: npt.NDArray[np.float64],

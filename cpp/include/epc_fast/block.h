@@ -165,6 +165,11 @@ struct alignas(64) Block {
     bool gained = false;
     // a broadcast sigma's and colour noise gain's sqrt(g)
     double memo_sigma = nan, memo_color_gain = nan, memo_root_gain = 1.0;
+    // Halley/Newton: the lanes that do not stop on their first step (a start fitted to a lens
+    // table, f50/start.h lens_fitted_starts), and whether any does (last: the arrays before it
+    // keep their places)
+    LaneFlag<T> step_twice[block_size];
+    bool step_twice_any = false;
 };
 
 }  // namespace detail

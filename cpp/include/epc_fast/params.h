@@ -79,7 +79,7 @@ struct Column {
 };
 
 // The f50 start fitted to one spectrum (f50/guesses.h; f50/spectrum_fit.h fits it).
-struct SpectrumStart;
+struct FittedStart;
 
 // A spectrum shared by every point: weights sum to 1. Empty means monochromatic at each
 // point's wavelength_nm.
@@ -88,7 +88,7 @@ struct Spectrum {
     std::vector<double> weights;
     // f50's start fitted to this spectrum (f50/spectrum_fit.h), or null: its lanes then take the
     // cubic start (the same f50 to f50_rtol, in more steps)
-    std::shared_ptr<const SpectrumStart> start;
+    std::shared_ptr<const FittedStart> start;
 
     bool polychromatic() const { return !wavelengths_nm.empty(); }
 

@@ -14,12 +14,15 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "constants.h"
 #include "parallel.h"
 
 namespace epc_fast {
+
+struct FittedStart;  // f50/guesses.h
 
 struct MtfTable {
     std::vector<double> knots;         // f_0 = 0 < f_1 < ... < f_m
@@ -35,6 +38,8 @@ struct MtfTable {
     double cells_per_unit = 0.0;
     std::vector<std::int32_t> first_segment;
     int steps = 0;
+    // a lens table's fitted f50 start (f50/lens_fit.h; null: none, or not a lens's table)
+    std::shared_ptr<const FittedStart> start;
 };
 
 // The most cells a table's grid has: twice as many cells as the table's narrowest segment

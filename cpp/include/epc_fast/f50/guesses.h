@@ -257,12 +257,13 @@ T start_guess_of_row(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm, T sca
 
 }  // namespace detail
 
-// The accurate start fitted to one spectrum (spectrum_fit.h fits it when a call's spectrum is
-// first seen): with a spectrum, D is one fixed function of f lambda_mean F for every point of
-// the call, so f50 sqrt(S) is again P(a, z) of the accurate start, with lambda F the mean
-// wavelength's, and only P's coefficients depend on the spectrum. One row per threshold of
-// accurate_start_thresholds, in the accurate start's form.
-struct SpectrumStart {
+// The accurate start fitted to a call's optics: to one spectrum (spectrum_fit.h fits it when a
+// call's spectrum is first seen), or to one lens table (lens_fit.h). With a spectrum, D is one
+// fixed function of f lambda_mean F for every point of the call, and a lens table one fixed
+// function of f, so f50 sqrt(S) is again P(a, z) of the accurate start (with lambda F the mean
+// wavelength's, or the table's nu50 / half) and only P's coefficients depend on the optics.
+// One row per threshold of accurate_start_thresholds, in the accurate start's form.
+struct FittedStart {
     double coefficients[detail::n_accurate_starts][detail::accurate_start_terms];
     // each row's largest relative error on the fit's own nodes (spectrum_fit.h)
     double fit_error[detail::n_accurate_starts];
@@ -270,10 +271,11 @@ struct SpectrumStart {
 
 namespace detail {
 
-// cycles/mm: a polychromatic lane's start from its spectrum's row c (a SpectrumStart row) and
-// its lengths (start_point's, lambda F with the spectrum's mean wavelength; no jitter).
+// cycles/mm: a lane's start from its fitted start's row c (a FittedStart row) and its lengths
+// (start_point's: the optics length the start was fitted with, lambda F with the spectrum's
+// mean wavelength or the lens table's nu50 / half; no jitter).
 template <class T>
-EPC_FAST_INLINE T spectrum_start_guess(const double (&c)[accurate_start_terms], T lambda_f_mm,
+EPC_FAST_INLINE T fitted_start_guess(const double (&c)[accurate_start_terms], T lambda_f_mm,
                                        T aperture_mm, T blur_mm) {
     const StartPoint<T> q = start_point(lambda_f_mm, aperture_mm, blur_mm, T(0));
     return q.r * accurate_start_polynomial_of(c, q.a, q.z);

@@ -12,6 +12,7 @@
 //   is of order (step)^3 (far below rtol); or when the bracket is narrower than rtol.
 // - newton: the same with Newton steps (quadratic: stops once the step is below rtol / 8 ...
 //   precisely: once step^2 <= rtol / 16 relative, or the bracket is narrower than rtol).
+//   A lane whose start is fitted to a lens table (f50/lens_fit.h) takes at least two steps.
 //   Halley and Newton take no step at all where the start is certified within rtol
 //   (guesses.h, certified_start_error: MTF50 without jitter from rtol 1e-7, and float32's
 //   floor of 2^-21): that start is f50 to the tolerance asked.
@@ -180,10 +181,25 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
         }
         return n_active;
     };
+    // A lane that may not stop on its first step (b.step_twice: a start fitted to a lens table)
+    // and did goes on as if it had not: its step, bracket and abscissa are already those of a
+    // lane that goes on; its f50 is written again when it stops.
+    auto step_again = [&]() {
+        int n_again = 0;
+        const LaneFlag<T>* __restrict twice = b.step_twice;
+        const LaneFlag<T>* __restrict solve = b.solve;
+        for (std::size_t i = 0; i < n; ++i) {
+            const bool again = (twice[i] != 0) & (solve[i] != 0) & (active[i] == 0);
+            active[i] = again ? LaneFlag<T>(1) : active[i];
+            n_again += again;
+        }
+        return n_again;
+    };
     for (int step = 0; step < max_bisection_steps; ++step) {
         system_mtf_slopes<Motion, Jitter, Binning, Poly, Halley>(spectrum, b);
-        const int n_active = step == 0 ? take_steps(std::true_type{}, true)
-                                       : take_steps(std::false_type{}, step < max_derivative_steps);
+        int n_active = step == 0 ? take_steps(std::true_type{}, true)
+                                 : take_steps(std::false_type{}, step < max_derivative_steps);
+        if (step == 0 && b.step_twice_any) n_active += step_again();
         if (n_active == 0) break;
     }
 }

@@ -1,4 +1,4 @@
-// The accurate f50 start fitted to a call's spectrum (SpectrumStart, guesses.h), so that a
+// The accurate f50 start fitted to a call's spectrum (FittedStart, guesses.h), so that a
 // polychromatic lane, like a monochromatic one, converges after one evaluation of its MTF (a
 // sum over every wavelength) instead of two.
 //
@@ -62,18 +62,20 @@ inline double spectrum_start_node(int k) {
 
 }  // namespace detail
 
-// Fits the spectrum's start (every row). The spectrum must be polychromatic with a positive mean
-// wavelength and at least one positive weight.
-inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
+// The accurate start's coefficients (every row) fitted by least squares on the relative error
+// to f50 on the fit's grid of spectrum_start_nodes^2 Chebyshev nodes over (v_d, s), v_p^2 =
+// s (1 - v_d^2), v_m^2 = (1 - s)(1 - v_d^2): lanes(b, row's threshold c, ln(1/c), its start
+// scale, node k of lane i: k(i)) sets each lane's lengths (lambda_f_mm: the length of the
+// starts' optics coordinate), bracket, start and solve flag; solve(b) solves f50 to
+// spectrum_start_target_rtol. A lane not to solve (its f50 lies beyond what the model holds)
+// leaves its node out of the fit.
+template <class Lanes, class Solve>
+FittedStart fit_accurate_start(Lanes&& lanes, Solve&& solve) {
     using namespace detail;
-    Spectrum plain = spectrum;  // the targets are solved from the cubic start
-    plain.start = nullptr;
-    const Spectrum::Extent extent = plain.extent();
-    const double mean_mm = extent.mean_nm * nm_to_mm, shortest_mm = extent.shortest_nm * nm_to_mm;
     constexpr int points = spectrum_start_nodes * spectrum_start_nodes;
     constexpr int terms = accurate_start_terms;
     auto b = std::make_unique<Block<double>>();
-    SpectrumStart fitted{};
+    FittedStart fitted{};
     // allocated once for every row (each row overwrites all of them)
     std::vector<double> design(static_cast<std::size_t>(points) * terms), scaled(design.size()), rhs(points);
     for (int row = 0; row < n_accurate_starts; ++row) {
@@ -82,44 +84,33 @@ inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
         const double scale = start_scale_of(ln_inv_c);
         std::fill(rhs.begin(), rhs.end(), 1.0);
         for (int first = 0; first < points; first += static_cast<int>(block_size)) {
-            for (std::size_t i = 0; i < block_size; ++i) {
-                // a point of the grid (padding lanes repeat the last one)
-                const int k = std::min(first + static_cast<int>(i), points - 1);
-                const double v_d = spectrum_start_node(k / spectrum_start_nodes);
-                const double s = spectrum_start_node(k % spectrum_start_nodes);
-                const double rest = (1.0 - v_d) * (1.0 + v_d);
-                // lengths whose x_i = length / (factor's f50 constant) are v_d, v_p, v_m
-                const double f_number = v_d * start_nu50 / mean_mm;
-                const double aperture = std::sqrt(s * rest) * start_x50;
-                const double blur = std::sqrt((1.0 - s) * rest) * start_x50;
-                b->f_number[i] = f_number;
-                b->aperture_mm[i] = aperture;
-                b->blur_mm[i] = blur;
-                b->jitter_mm[i] = 0.0;
-                b->lambda_f_mm[i] = mean_mm * f_number;
-                b->threshold[i] = c;
-                b->solve[i] = 1;
-                b->lo[i] = 0.0;
-                b->hi[i] = f50_bracket<false>(shortest_mm * f_number, aperture, blur, 0.0, ln_inv_c);
-                const double f0 = start_guess<true, -1>(mean_mm * f_number, aperture, blur, 0.0, scale, -1);
-                b->at[i] = (f0 > 0.0) & (f0 < b->hi[i]) ? f0 : 0.5 * b->hi[i];
-            }
-            polish<true, false, false, true, true>(plain, spectrum_start_target_rtol, *b);
+            // a point of the grid per lane (padding lanes repeat the last one)
+            lanes(*b, c, ln_inv_c, scale, [&](std::size_t i) {
+                return std::min(first + static_cast<int>(i), points - 1);
+            });
+            solve(*b);
             for (std::size_t i = 0; i < block_size && first + static_cast<int>(i) < points; ++i) {
                 const int k = first + static_cast<int>(i);
+                double* out = &design[static_cast<std::size_t>(k) * terms];
+                if (b->solve[i] == 0) {  // left out: a row of zeros
+                    for (int t = 0; t < terms; ++t) out[t] = 0.0;
+                    rhs[static_cast<std::size_t>(k)] = 0.0;
+                    continue;
+                }
                 const StartPoint<double> q = start_point(b->lambda_f_mm[i], b->aperture_mm[i], b->blur_mm[i], 0.0);
                 // relative error: the row's monomials over the target f50 sqrt(S) = f50 / r
                 const double target = b->f50[i] / q.r;
-                double* out = &design[static_cast<std::size_t>(k) * terms];
                 accurate_start_monomials(q.a, q.z, out);
                 for (int t = 0; t < terms; ++t) out[t] /= target;
             }
         }
         // the design matrix is overwritten by the solve: keep what the error check needs
         std::copy(design.begin(), design.end(), scaled.begin());
+        const std::vector<double> kept_rhs = rhs;
         const std::vector<double> x = least_squares(design, rhs, points, terms);
         double worst = 0.0;
         for (int k = 0; k < points; ++k) {
+            if (kept_rhs[static_cast<std::size_t>(k)] == 0.0) continue;  // left out
             double fit = 0.0;
             for (int t = 0; t < terms; ++t) fit = multiply_add(scaled[static_cast<std::size_t>(k) * terms + t], x[t], fit);
             worst = std::fmax(worst, std::fabs(fit - 1.0));
@@ -130,12 +121,48 @@ inline SpectrumStart fit_spectrum_start(const Spectrum& spectrum) {
     return fitted;
 }
 
+// Fits the spectrum's start (every row). The spectrum must be polychromatic with a positive mean
+// wavelength and at least one positive weight.
+inline FittedStart fit_spectrum_start(const Spectrum& spectrum) {
+    using namespace detail;
+    Spectrum plain = spectrum;  // the targets are solved from the cubic start
+    plain.start = nullptr;
+    const Spectrum::Extent extent = plain.extent();
+    const double mean_mm = extent.mean_nm * nm_to_mm, shortest_mm = extent.shortest_nm * nm_to_mm;
+    auto lanes = [&](Block<double>& b, double c, double ln_inv_c, double scale, auto node) {
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const int k = node(i);
+            const double v_d = spectrum_start_node(k / spectrum_start_nodes);
+            const double s = spectrum_start_node(k % spectrum_start_nodes);
+            const double rest = (1.0 - v_d) * (1.0 + v_d);
+            // lengths whose x_i = length / (factor's f50 constant) are v_d, v_p, v_m
+            const double f_number = v_d * start_nu50 / mean_mm;
+            const double aperture = std::sqrt(s * rest) * start_x50;
+            const double blur = std::sqrt((1.0 - s) * rest) * start_x50;
+            b.f_number[i] = f_number;
+            b.aperture_mm[i] = aperture;
+            b.blur_mm[i] = blur;
+            b.jitter_mm[i] = 0.0;
+            b.lambda_f_mm[i] = mean_mm * f_number;
+            b.threshold[i] = c;
+            b.solve[i] = 1;
+            b.lo[i] = 0.0;
+            b.hi[i] = f50_bracket<false>(shortest_mm * f_number, aperture, blur, 0.0, ln_inv_c);
+            const double f0 = start_guess<true, -1>(mean_mm * f_number, aperture, blur, 0.0, scale, -1);
+            b.at[i] = (f0 > 0.0) & (f0 < b.hi[i]) ? f0 : 0.5 * b.hi[i];
+        }
+    };
+    return fit_accurate_start(lanes, [&](Block<double>& b) {
+        polish<true, false, false, true, true>(plain, spectrum_start_target_rtol, b);
+    });
+}
+
 // The fit of a spectrum it can be made for, else null: a spectrum whose lengths sit at the ends
 // of double's range (subnormal wavelengths, say) makes its least-squares matrix numerically
 // rank-deficient or its coefficients not finite. Its lanes then take the cubic start, which
 // costs steps, never accuracy.
-inline std::shared_ptr<const SpectrumStart> fit_spectrum_start_if_possible(const Spectrum& spectrum) {
-    SpectrumStart fitted;
+inline std::shared_ptr<const FittedStart> fit_spectrum_start_if_possible(const Spectrum& spectrum) {
+    FittedStart fitted;
     try {
         fitted = fit_spectrum_start(spectrum);
     } catch (const std::invalid_argument&) {  // least_squares: rank-deficient
@@ -144,17 +171,17 @@ inline std::shared_ptr<const SpectrumStart> fit_spectrum_start_if_possible(const
     for (const auto& row : fitted.coefficients)
         for (const double c : row)
             if (!std::isfinite(c)) return nullptr;
-    return std::make_shared<const SpectrumStart>(fitted);
+    return std::make_shared<const FittedStart>(fitted);
 }
 
 // The spectrum's fitted start (null where none can be fitted), from the last few spectra fitted
 // (by their exact values) or fitted now. Thread-safe; the fit itself runs under the lock (a few
 // milliseconds).
-inline std::shared_ptr<const SpectrumStart> spectrum_start_of(const Spectrum& spectrum) {
+inline std::shared_ptr<const FittedStart> spectrum_start_of(const Spectrum& spectrum) {
     constexpr std::size_t kept = 8;
     using Key = std::pair<std::vector<double>, std::vector<double>>;
     static std::mutex mutex;
-    static std::vector<std::pair<Key, std::shared_ptr<const SpectrumStart>>> recent;
+    static std::vector<std::pair<Key, std::shared_ptr<const FittedStart>>> recent;
     std::lock_guard<std::mutex> lock(mutex);
     for (std::size_t k = 0; k < recent.size(); ++k) {
         if (recent[k].first.first == spectrum.wavelengths_nm && recent[k].first.second == spectrum.weights) {

@@ -53,10 +53,10 @@ EPC_FAST_INLINE unsigned start_rows(const double* __restrict jitter_mm,
 struct StartRows {
     int n_cubic = 0;  // lanes to solve that take the cubic start (or 1 for some)
     unsigned rows = 0;  // bit k: a lane to solve takes row k
-    unsigned spectrum_rows = 0;  // bit k: a lane to solve takes the spectrum's row k
+    unsigned fitted_rows = 0;  // bit k: a lane to solve takes the fitted start's row k
     unsigned narrow_rows = 0;  // float32: bit k: a lane to solve takes row k, certified
     unsigned certified = 0;  // the rows whose start is certified at this tolerance
-    const SpectrumStart* fitted = nullptr;  // a spectrum's fitted start (float64)
+    const FittedStart* fitted = nullptr;  // a spectrum's fitted start (float64)
 };
 
 // The accurate start's row each lane takes, as accurate_start_code into b.row_code (float64,
@@ -68,7 +68,8 @@ struct StartRows {
 // With a spectrum fitted (spectrum_fit.h), float64: a lane without jitter whose threshold has
 // a row takes the spectrum's start of that row (its accurate_start_code), in a pass per row
 // present after the main loop; the main loop computes the cubic start only if a lane to solve
-// takes it (jitter, or a threshold without a row).
+// takes it (jitter, or a threshold without a row). (A lens table's fitted start comes after:
+// lens_fitted_starts.)
 //
 // The rows whose start is certified at settle_rtol (a spectrum's never is): float32 takes only
 // these (computed in float64 in a pass of their own: settle_narrow); every other lane to solve
@@ -105,7 +106,7 @@ EPC_FAST_INLINE StartRows choose_rows(const Spectrum& spectrum, double settle_rt
         int no_row = 0;  // lanes to solve whose threshold has no row
         const unsigned present = start_rows(jit, threshold_in, solve, row_code, no_row);
         // the thresholds' rows only: a spectrum has no jitter start
-        r.spectrum_rows = present & ((1u << n_accurate_starts) - 1u);
+        r.fitted_rows = present & ((1u << n_accurate_starts) - 1u);
         r.n_cubic = no_row > 0 || (present & (1u << jitter_start_row)) != 0 ? 1 : 0;
     } else {
         for (std::size_t i = 0; i < n; ++i) row_code[i] = 0;
@@ -235,17 +236,75 @@ EPC_FAST_INLINE void brackets_and_starts(StartTerms terms, StartRows r,
     extra_row(std::integral_constant<int, 2>{});
     extra_row(std::integral_constant<int, 3>{});
     extra_row(std::integral_constant<int, jitter_start_row>{});
-    if constexpr (!narrow) {
+    if constexpr (!narrow) {  // a spectrum's rows
         for (int k = 0; k < n_accurate_starts; ++k) {
-            if (!(r.spectrum_rows & (1u << k))) continue;
+            if (!(r.fitted_rows & (1u << k))) continue;
             const double(&c)[accurate_start_terms] = r.fitted->coefficients[k];
             const unsigned char code = static_cast<unsigned char>(k + 1);
             EPC_FAST_SIMD
             for (std::size_t i = 0; i < n; ++i) {
-                const T f0 = spectrum_start_guess(c, d_length[i], aperture[i], blur[i]);
+                const T f0 = fitted_start_guess(c, d_length[i], aperture[i], blur[i]);
                 const T f_hi = hi[i];
                 const T start = (f0 > T(0)) & (f0 < f_hi) ? f0 : T(0.5) * f_hi;
                 at[i] = row_code[i] == code ? start : at[i];
+            }
+        }
+    }
+}
+
+// float64, a lens table per lane and no demosaicker: each lane whose table has a fitted start
+// (f50/lens_fit.h), without jitter or denoising (factors the fit does not know, which would
+// leave its start no better than the one it replaces) and with a threshold of an accurate row
+// (its row_code 1 .. 4), takes that start where it falls inside its bracket, in place of the start scaled by where the table
+// falls to 1/2, and is marked to step at least twice (b.step_twice: the table's cubics join
+// with jumps in their curvature, so a first step's size bounds the error it leaves only for a
+// smooth MTF). One vectorised pass per table and row the lanes take, so that a lane's start is
+// the same bits whichever tables its neighbours take.
+template <class T>
+EPC_FAST_INLINE void lens_fitted_starts(Block<T>& b) {
+    constexpr std::size_t n = block_size;
+    const std::vector<MtfTable>& tables = *b.lens_tables;
+    const double* __restrict d_length = b.scratch[4];
+    const double* __restrict index = b.x[lens];
+    const double* __restrict sigma = b.x[denoise_sigma_px];
+    const unsigned char* __restrict row_code = b.row_code;
+    const LaneFlag<T>* __restrict solve = b.solve;
+    const T* __restrict aperture = b.aperture_mm;
+    const T* __restrict blur = b.blur_mm;
+    const T* __restrict hi = b.hi;
+    T* __restrict at = b.at;
+    LaneFlag<T>* __restrict two = b.step_twice;
+    for (std::size_t i = 0; i < n; ++i) two[i] = 0;
+    alignas(64) std::int32_t table_of[block_size];
+    const auto last = static_cast<std::int32_t>(tables.size()) - 1;
+    for (std::size_t i = 0; i < n; ++i) {  // lens_table's choice
+        const double k = tables.size() == 1 ? 0.0 : index[i];
+        const std::int32_t j = k >= 1.0 ? static_cast<std::int32_t>(k < static_cast<double>(last) ? k : last) : 0;
+        table_of[i] = j;
+    }
+    std::int32_t done = -1;  // the tables already passed: the lanes' in order of first lane
+    for (std::size_t first = 0; first < n; ++first) {
+        const std::int32_t t = table_of[first];
+        bool seen = false;
+        for (std::size_t i = 0; i < first && !seen; ++i) seen = table_of[i] == t;
+        if (seen || t == done) continue;
+        done = t;
+        const FittedStart* fitted = tables[static_cast<std::size_t>(t)].start.get();
+        if (fitted == nullptr) continue;
+        for (int row = 0; row < n_accurate_starts; ++row) {
+            const auto code = static_cast<unsigned char>(row + 1);
+            int present = 0;
+            for (std::size_t i = 0; i < n; ++i)
+                present += (table_of[i] == t) & (row_code[i] == code) & (solve[i] != 0) & (sigma[i] == 0.0);
+            if (present == 0) continue;
+            const double(&c)[accurate_start_terms] = fitted->coefficients[row];
+            EPC_FAST_SIMD
+            for (std::size_t i = 0; i < n; ++i) {
+                const T f0 = fitted_start_guess(c, static_cast<T>(d_length[i]), aperture[i], blur[i]);
+                const bool take = (table_of[i] == t) & (row_code[i] == code) & (sigma[i] == 0.0) &
+                                  (f0 > T(0)) & (f0 < hi[i]);
+                at[i] = take ? f0 : at[i];
+                two[i] = take ? LaneFlag<T>(1) : two[i];
             }
         }
     }
@@ -289,6 +348,7 @@ EPC_FAST_INLINE int solve_terms(StartTerms terms, const double* __restrict bin_p
 template <class T>
 int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     constexpr bool narrow = sizeof(T) != sizeof(double);
+    b.step_twice_any = false;  // (lens_fitted_starts)
     threshold_terms(b);
     const StartTerms terms = start_terms(spectrum, b);
     const Spectrum::Extent extent = spectrum.extent();
@@ -310,6 +370,12 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
         return 0;  // no lane left for the solver: no terms
     }
     brackets_and_starts(terms, rows, bin_pitch, zero_length, b);
+    if constexpr (!narrow) {
+        if (terms.lens && b.demosaic_table == nullptr) {  // (a demosaicker: the fit knows none)
+            lens_fitted_starts(b);
+            for (std::size_t i = 0; i < block_size; ++i) b.step_twice_any |= b.step_twice[i] != 0;
+        }
+    }
     b.n_settled = settle_starts(terms, rows.rows, rows.certified, bin_pitch, b, n_settled);
     return solve_terms(terms, bin_pitch, b);
 }
