@@ -36,7 +36,8 @@ LD_PRELOAD="$asan $ubsan" python -m pytest -p no:cacheprovider -q -n 0 \
     tests/core/test_precision.py tests/core/test_stream.py tests/scan/running/test_core_plan.py \
     tests/scan/sampling/test_qmc.py tests/test_sensitivity.py tests/reference/test_sensitivity.py tests/test_elasticity_outputs.py \
     tests/test_axes.py tests/test_modes.py tests/core/test_tabulated.py \
-    tests/core/test_lens_tables.py tests/core/test_lens_start.py tests/scan/running/test_camera_terms.py "$@"
+    tests/core/test_lens_tables.py tests/core/test_lens_start.py tests/core/test_demosaic_start.py \
+    tests/scan/running/test_camera_terms.py "$@"
 
 levels="$(python -c 'import epc_fast._core as c
 print(" ".join(level for level, ok in c._module.cpu_levels().items() if ok))')"

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "epc_fast/f50/demosaic_fit.h"
 #include "epc_fast/f50/lens_fit.h"
 #include "epc_fast/f50/spectrum_fit.h"
 #include "epc_fast/output_cache.h"
@@ -183,6 +184,8 @@ MtfTable table_of(const py::handle& item) {
 
 void set_demosaic_table(Inputs& in, const py::object& table) {
     in.demosaic = table.is_none() ? MtfTable{} : table_of(table);
+    // f50's start fitted to it (f50/demosaic_fit.h)
+    if (!table.is_none()) in.demosaic.pixel_start = pixel_start_of(in.demosaic);
 }
 
 void set_lens_tables(Inputs& in, const py::object& tables) {

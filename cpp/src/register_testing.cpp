@@ -16,6 +16,7 @@
 #include "epc_fast/block.h"
 #include "epc_fast/elementary.h"
 #include "epc_fast/exposure/point.h"
+#include "epc_fast/f50/demosaic_fit.h"
 #include "epc_fast/f50/guesses.h"
 #include "epc_fast/f50/lens_fit.h"
 #include "epc_fast/f50/spectrum_fit.h"
@@ -185,6 +186,41 @@ void register_testing(py::module_& parent) {
             return d;
         },
         py::arg("table"));
+    // A demosaicker's fitted start (f50/demosaic_fit.h): its coefficients, fit errors and X_pi
+    // (None where none can be fitted), from the (knots, values, coefficients) triple evaluate
+    // takes, and the start a full-resolution lane takes from it.
+    m.def(
+        "pixel_start",
+        [](const py::object& triple) -> py::object {
+            const auto start = pixel_start_of(table_of(triple));
+            if (start == nullptr) return py::none();
+            py::dict d;
+            d["coefficients"] = py::array_t<double>(
+                {static_cast<py::ssize_t>(detail::n_accurate_starts),
+                 static_cast<py::ssize_t>(pixel_start_terms)},
+                &start->coefficients[0][0]);
+            d["fit_error"] = py::array_t<double>(static_cast<py::ssize_t>(detail::n_accurate_starts),
+                                                 start->fit_error);
+            d["x50"] = start->x50;
+            return d;
+        },
+        py::arg("table"));
+    m.def(
+        "f50_pixel_start",
+        [](const py::object& triple, const double_array& lambda_f_mm, const double_array& pitch_mm,
+           const double_array& blur_mm, const double_array& mtf_threshold) {
+            const auto start = pixel_start_of(table_of(triple));
+            if (start == nullptr) throw std::invalid_argument("no start can be fitted to this table");
+            auto one = [&start](double lambda_f, double pitch, double blur, double threshold) {
+                const int row = int{detail::accurate_start_code(0.0, threshold)} - 1;
+                return row < 0 ? std::nan("")
+                               : detail::pixel_start_guess(start->coefficients[row], start->x50,
+                                                           lambda_f, pitch, blur);
+            };
+            return py::vectorize(one)(lambda_f_mm, pitch_mm, blur_mm, mtf_threshold);
+        },
+        py::arg("table"), py::arg("lambda_f_mm"), py::arg("pitch_mm"), py::arg("blur_mm"),
+        py::arg("mtf_threshold"));
     m.def(
         "f50_spectrum_start",
         [](const double_array& wavelengths_nm, const double_array& weights,

@@ -23,6 +23,7 @@
 namespace epc_fast {
 
 struct FittedStart;  // f50/guesses.h
+struct PixelStart;   // f50/demosaic_fit.h
 
 struct MtfTable {
     std::vector<double> knots;         // f_0 = 0 < f_1 < ... < f_m
@@ -40,6 +41,8 @@ struct MtfTable {
     int steps = 0;
     // a lens table's fitted f50 start (f50/lens_fit.h; null: none, or not a lens's table)
     std::shared_ptr<const FittedStart> start;
+    // a demosaicker's table's fitted f50 start (f50/demosaic_fit.h; null: none, or not one)
+    std::shared_ptr<const PixelStart> pixel_start;
 };
 
 // The most cells a table's grid has: twice as many cells as the table's narrowest segment

@@ -313,4 +313,88 @@ inline double f50_cubic_start(double lambda_f_mm, double aperture_mm, double blu
 }
 
 }  // namespace detail
+
+// The start fitted to a demosaicker's pixel factor Pi(x) = sinc(x) M_dem(x), x = f p
+// (demosaic_fit.h fits it when a call's demosaicker is first seen): a polynomial P(a, w) in the
+// accurate start's coordinates with x_p = p / X_pi, not even in w.
+constexpr int pixel_start_degree = 10;
+constexpr int pixel_start_terms = (pixel_start_degree + 1) * (pixel_start_degree + 2) / 2;  // i + j <= 10
+
+// The start fitted to a demosaicker's pixel factor: P's coefficients of a^i w^j (i outer,
+// j = 0 .. degree - i) per threshold row, each row's largest relative error on the fit's nodes,
+// and X_pi, where sinc(x) M_dem(x) falls to 1/2 (x = f p).
+struct PixelStart {
+    double coefficients[detail::n_accurate_starts][pixel_start_terms];
+    double fit_error[detail::n_accurate_starts];
+    double x50;
+};
+
+namespace detail {
+
+// Row I of P: sum over j of c_ij w^j, by Horner.
+template <int I, class T>
+EPC_FAST_INLINE T pixel_start_row(const double (&c)[pixel_start_terms], T w) {
+    constexpr int offset = [] {
+        int k = 0;
+        for (int i = 0; i < I; ++i) k += pixel_start_degree - i + 1;
+        return k;
+    }();
+    return poly::horner_part<offset, pixel_start_degree - I + 1>(c, w);
+}
+
+// P(a, w): Horner in a over the rows I .. degree.
+template <int I = 0, class T>
+EPC_FAST_INLINE T pixel_start_polynomial(const double (&c)[pixel_start_terms], T a, T w) {
+    if constexpr (I == pixel_start_degree) {
+        return pixel_start_row<I>(c, w);
+    } else {
+        return pixel_start_row<I>(c, w) + a * pixel_start_polynomial<I + 1>(c, a, w);
+    }
+}
+
+// The monomials a^i w^j in P's coefficients' order.
+inline void pixel_start_monomials(double a, double w, double* out) {
+    int k = 0;
+    double a_power = 1.0;
+    for (int i = 0; i <= pixel_start_degree; ++i) {
+        double term = a_power;
+        for (int j = 0; j <= pixel_start_degree - i; ++j) {
+            out[k++] = term;
+            term *= w;
+        }
+        a_power *= a;
+    }
+}
+
+// A lane's coordinates: r = 1 / sqrt(S), a and w, from lambda F, the pitch (mm) and the blur.
+template <class T>
+struct PixelPoint {
+    T r, a, w;
+};
+template <class T>
+EPC_FAST_INLINE PixelPoint<T> pixel_point(T lambda_f_mm, T pitch_mm, T blur_mm, T x50) {
+    const T d = lambda_f_mm * T(1.0 / start_nu50);
+    const T p = pitch_mm / x50;
+    const T m = blur_mm * T(1.0 / start_x50);
+    const T r = T(1) / std::sqrt(d * d + p * p + m * m);
+    const T pr = p * r, mr = m * r, dr = d * r;
+    // spelled out, as start_point's w: the same bits in every pass that computes it
+#if EPC_FAST_FMA
+    const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
+#else
+    const T w = (pr - mr) * (pr + mr);
+#endif
+    return {r, T(2) * dr - T(1), w};
+}
+
+// cycles/mm: a lane's start from row c of its demosaicker's fitted start.
+template <class T>
+EPC_FAST_INLINE T pixel_start_guess(const double (&c)[pixel_start_terms], T x50, T lambda_f_mm,
+                                    T pitch_mm, T blur_mm) {
+    const PixelPoint<T> q = pixel_point(lambda_f_mm, pitch_mm, blur_mm, x50);
+    return q.r * pixel_start_polynomial(c, q.a, q.w);
+}
+
+}  // namespace detail
+
 }  // namespace epc_fast

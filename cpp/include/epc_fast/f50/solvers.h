@@ -12,7 +12,8 @@
 //   is of order (step)^3 (far below rtol); or when the bracket is narrower than rtol.
 // - newton: the same with Newton steps (quadratic: stops once the step is below rtol / 8 ...
 //   precisely: once step^2 <= rtol / 16 relative, or the bracket is narrower than rtol).
-//   A lane whose start is fitted to a lens table (f50/lens_fit.h) takes at least two steps.
+//   A lane whose start is fitted to a table (a lens's, f50/lens_fit.h, or a demosaicker's,
+//   f50/demosaic_fit.h) takes at least two steps unless its first is below 1e-7 relative.
 //   Halley and Newton take no step at all where the start is certified within rtol
 //   (guesses.h, certified_start_error: MTF50 without jitter from rtol 1e-7, and float32's
 //   floor of 2^-21): that start is f50 to the tolerance asked.
@@ -41,6 +42,9 @@ namespace epc_fast {
 constexpr int max_bisection_steps = 2200;
 // After this many derivative steps a lane that has not converged takes bisection steps only.
 constexpr int max_derivative_steps = 64;
+// The largest first step (relative) on which a lane started from a table's fitted start stops
+// (polish, step_again).
+constexpr double tabulated_first_step = 1e-7;
 
 namespace detail {
 
@@ -181,15 +185,19 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
         }
         return n_active;
     };
-    // A lane that may not stop on its first step (b.step_twice: a start fitted to a lens table)
-    // and did goes on as if it had not: its step, bracket and abscissa are already those of a
-    // lane that goes on; its f50 is written again when it stops.
+    // A lane that may not stop on its first step (b.step_twice: a start fitted to a table, whose
+    // cubics join with jumps in their curvature) and did, by a step above
+    // tabulated_first_step relative, goes on as if it had not: its step, bracket and abscissa
+    // are already those of a lane that goes on; its f50 is written again when it stops. (A
+    // smaller first step leaves an error of order step^3, 1e-21, even where the curvature
+    // jumps a hundred thousand times over.)
     auto step_again = [&]() {
         int n_again = 0;
         const LaneFlag<T>* __restrict twice = b.step_twice;
         const LaneFlag<T>* __restrict solve = b.solve;
         for (std::size_t i = 0; i < n; ++i) {
-            const bool again = (twice[i] != 0) & (solve[i] != 0) & (active[i] == 0);
+            const bool again = (twice[i] != 0) & (solve[i] != 0) & (active[i] == 0) &
+                               (previous[i] > T(tabulated_first_step) * at[i]);
             active[i] = again ? LaneFlag<T>(1) : active[i];
             n_again += again;
         }

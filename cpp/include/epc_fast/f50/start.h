@@ -15,6 +15,7 @@
 #include "../denoise.h"
 #include "../parallel.h"
 #include "../params.h"
+#include "fitted_starts.h"
 #include "guesses.h"
 #include "lengths.h"
 #include "settle.h"
@@ -252,64 +253,6 @@ EPC_FAST_INLINE void brackets_and_starts(StartTerms terms, StartRows r,
     }
 }
 
-// float64, a lens table per lane and no demosaicker: each lane whose table has a fitted start
-// (f50/lens_fit.h), without jitter or denoising (factors the fit does not know, which would
-// leave its start no better than the one it replaces) and with a threshold of an accurate row
-// (its row_code 1 .. 4), takes that start where it falls inside its bracket, in place of the start scaled by where the table
-// falls to 1/2, and is marked to step at least twice (b.step_twice: the table's cubics join
-// with jumps in their curvature, so a first step's size bounds the error it leaves only for a
-// smooth MTF). One vectorised pass per table and row the lanes take, so that a lane's start is
-// the same bits whichever tables its neighbours take.
-template <class T>
-EPC_FAST_INLINE void lens_fitted_starts(Block<T>& b) {
-    constexpr std::size_t n = block_size;
-    const std::vector<MtfTable>& tables = *b.lens_tables;
-    const double* __restrict d_length = b.scratch[4];
-    const double* __restrict index = b.x[lens];
-    const double* __restrict sigma = b.x[denoise_sigma_px];
-    const unsigned char* __restrict row_code = b.row_code;
-    const LaneFlag<T>* __restrict solve = b.solve;
-    const T* __restrict aperture = b.aperture_mm;
-    const T* __restrict blur = b.blur_mm;
-    const T* __restrict hi = b.hi;
-    T* __restrict at = b.at;
-    LaneFlag<T>* __restrict two = b.step_twice;
-    for (std::size_t i = 0; i < n; ++i) two[i] = 0;
-    alignas(64) std::int32_t table_of[block_size];
-    const auto last = static_cast<std::int32_t>(tables.size()) - 1;
-    for (std::size_t i = 0; i < n; ++i) {  // lens_table's choice
-        const double k = tables.size() == 1 ? 0.0 : index[i];
-        const std::int32_t j = k >= 1.0 ? static_cast<std::int32_t>(k < static_cast<double>(last) ? k : last) : 0;
-        table_of[i] = j;
-    }
-    std::int32_t done = -1;  // the tables already passed: the lanes' in order of first lane
-    for (std::size_t first = 0; first < n; ++first) {
-        const std::int32_t t = table_of[first];
-        bool seen = false;
-        for (std::size_t i = 0; i < first && !seen; ++i) seen = table_of[i] == t;
-        if (seen || t == done) continue;
-        done = t;
-        const FittedStart* fitted = tables[static_cast<std::size_t>(t)].start.get();
-        if (fitted == nullptr) continue;
-        for (int row = 0; row < n_accurate_starts; ++row) {
-            const auto code = static_cast<unsigned char>(row + 1);
-            int present = 0;
-            for (std::size_t i = 0; i < n; ++i)
-                present += (table_of[i] == t) & (row_code[i] == code) & (solve[i] != 0) & (sigma[i] == 0.0);
-            if (present == 0) continue;
-            const double(&c)[accurate_start_terms] = fitted->coefficients[row];
-            EPC_FAST_SIMD
-            for (std::size_t i = 0; i < n; ++i) {
-                const T f0 = fitted_start_guess(c, static_cast<T>(d_length[i]), aperture[i], blur[i]);
-                const bool take = (table_of[i] == t) & (row_code[i] == code) & (sigma[i] == 0.0) &
-                                  (f0 > T(0)) & (f0 < hi[i]);
-                at[i] = take ? f0 : at[i];
-                two[i] = take ? LaneFlag<T>(1) : two[i];
-            }
-        }
-    }
-}
-
 // The terms' per-lane inputs for the solve (the demosaicker's, the wavefront error's,
 // denoising's), and which terms the block's lanes to solve use, as bits (1 motion, 2 jitter, 4
 // binning's array factor).
@@ -373,6 +316,12 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     if constexpr (!narrow) {
         if (terms.lens && b.demosaic_table == nullptr) {  // (a demosaicker: the fit knows none)
             lens_fitted_starts(b);
+            for (std::size_t i = 0; i < block_size; ++i) b.step_twice_any |= b.step_twice[i] != 0;
+        }
+        if (b.demosaic_table != nullptr && b.demosaic_table->pixel_start != nullptr && !terms.lens &&
+            !terms.poly) {
+            for (std::size_t i = 0; i < block_size; ++i) b.step_twice[i] = 0;
+            demosaic_fitted_starts(b);
             for (std::size_t i = 0; i < block_size; ++i) b.step_twice_any |= b.step_twice[i] != 0;
         }
     }
