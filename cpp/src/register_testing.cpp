@@ -30,6 +30,22 @@
 namespace epc_fast {
 namespace bindings {
 
+namespace {
+
+// A fitted start's coefficients (rows x Terms) and fit errors, as the testing functions give them.
+template <int Terms, class Start>
+py::dict fitted_dict(const Start& start) {
+    py::dict d;
+    d["coefficients"] = py::array_t<double>(
+        {static_cast<py::ssize_t>(detail::n_accurate_starts), static_cast<py::ssize_t>(Terms)},
+        &start.coefficients[0][0]);
+    d["fit_error"] = py::array_t<double>(static_cast<py::ssize_t>(detail::n_accurate_starts),
+                                         start.fit_error);
+    return d;
+}
+
+}  // namespace
+
 void register_testing(py::module_& parent) {
     py::module_ m = parent.def_submodule(
         "testing", "Single formulas and stages of the core, for the tests and the benchmarks' peers.");
@@ -156,14 +172,7 @@ void register_testing(py::module_& parent) {
         [](const double_array& wavelengths_nm, const double_array& weights) -> py::object {
             const auto start = spectrum_start_of(spectrum_of(wavelengths_nm, weights));
             if (start == nullptr) return py::none();
-            py::dict d;
-            d["coefficients"] = py::array_t<double>(
-                {static_cast<py::ssize_t>(detail::n_accurate_starts),
-                 static_cast<py::ssize_t>(detail::accurate_start_terms)},
-                &start->coefficients[0][0]);
-            d["fit_error"] = py::array_t<double>(static_cast<py::ssize_t>(detail::n_accurate_starts),
-                                                 start->fit_error);
-            return d;
+            return fitted_dict<detail::accurate_start_terms>(*start);
         },
         py::arg("wavelengths_nm"), py::arg("weights"));
     // A lens table's fitted start (f50/lens_fit.h): its coefficients, fit errors and the table's
@@ -175,14 +184,8 @@ void register_testing(py::module_& parent) {
             const MtfTable table = table_of(triple);
             const auto start = lens_start_of(table);
             if (start == nullptr) return py::none();
-            py::dict d;
+            py::dict d = fitted_dict<detail::accurate_start_terms>(*start);
             d["half"] = table.half;  // the start's optics length is nu50 / half
-            d["coefficients"] = py::array_t<double>(
-                {static_cast<py::ssize_t>(detail::n_accurate_starts),
-                 static_cast<py::ssize_t>(detail::accurate_start_terms)},
-                &start->coefficients[0][0]);
-            d["fit_error"] = py::array_t<double>(static_cast<py::ssize_t>(detail::n_accurate_starts),
-                                                 start->fit_error);
             return d;
         },
         py::arg("table"));
@@ -194,13 +197,7 @@ void register_testing(py::module_& parent) {
         [](const py::object& triple) -> py::object {
             const auto start = pixel_start_of(table_of(triple));
             if (start == nullptr) return py::none();
-            py::dict d;
-            d["coefficients"] = py::array_t<double>(
-                {static_cast<py::ssize_t>(detail::n_accurate_starts),
-                 static_cast<py::ssize_t>(pixel_start_terms)},
-                &start->coefficients[0][0]);
-            d["fit_error"] = py::array_t<double>(static_cast<py::ssize_t>(detail::n_accurate_starts),
-                                                 start->fit_error);
+            py::dict d = fitted_dict<pixel_start_terms>(*start);
             d["x50"] = start->x50;
             return d;
         },

@@ -40,7 +40,6 @@ namespace epc_fast {
 // rank-deficient.
 inline PixelStart fit_pixel_start(const MtfTable& table) {
     using namespace detail;
-    PixelStart fitted{};
     // X_pi: sinc(x) M_dem(x) = 1/2 by bisection on (0, X50] (M_dem <= 1: at or below sinc's)
     auto pixel = [&](double x) { return mtf_pixel(x, 1.0) * tabulated(table, x).value; };
     double lo = 0.0, hi = start_x50;
@@ -48,104 +47,59 @@ inline PixelStart fit_pixel_start(const MtfTable& table) {
         const double mid = lo + 0.5 * (hi - lo);
         (pixel(mid) > 0.5 ? lo : hi) = mid;
     }
-    fitted.x50 = lo + 0.5 * (hi - lo);
-    const double x50 = fitted.x50;
+    const double x50 = lo + 0.5 * (hi - lo);
     static const Spectrum monochromatic{};
-    constexpr int points = spectrum_start_nodes * spectrum_start_nodes;
-    constexpr int terms = pixel_start_terms;
-    auto b = std::make_unique<Block<double>>();
-    b->demosaic_table = &table;
-    std::vector<double> design(static_cast<std::size_t>(points) * terms), scaled(design.size()), rhs(points);
-    for (int row = 0; row < n_accurate_starts; ++row) {
-        const double c = accurate_start_thresholds[row];
-        const double ln_inv_c = ln_inverse_threshold<double>(c);
-        const double scale = start_scale_of(ln_inv_c);
-        std::fill(rhs.begin(), rhs.end(), 1.0);
-        for (int first = 0; first < points; first += static_cast<int>(block_size)) {
-            for (std::size_t i = 0; i < block_size; ++i) {
-                const int k = std::min(first + static_cast<int>(i), points - 1);
-                const double v_d = spectrum_start_node(k / spectrum_start_nodes);
-                const double s = spectrum_start_node(k % spectrum_start_nodes);
-                const double rest = (1.0 - v_d) * (1.0 + v_d);
-                // lengths whose x_i are v_d, v_p, v_m (S = 1)
-                const double lambda_f = v_d * start_nu50;
-                const double pitch = std::sqrt(s * rest) * x50;
-                const double blur = std::sqrt((1.0 - s) * rest) * start_x50;
-                b->f_number[i] = 1.0;
-                b->lambda_f_mm[i] = lambda_f;
-                b->aperture_mm[i] = pitch;
-                b->output_pitch_mm[i] = pitch;
-                b->blur_mm[i] = blur;
-                b->jitter_mm[i] = 0.0;
-                b->threshold[i] = c;
-                b->solve[i] = 1;
-                b->lo[i] = 0.0;
-                b->hi[i] = f50_bracket<false>(lambda_f, pitch, blur, 0.0, ln_inv_c);
-                const double f0 = start_guess<true, -1>(lambda_f, pitch, blur, 0.0, scale, -1);
-                b->at[i] = (f0 > 0.0) & (f0 < b->hi[i]) ? f0 : 0.5 * b->hi[i];
-            }
-            polish<true, false, false, false, true>(monochromatic, spectrum_start_target_rtol, *b);
-            for (std::size_t i = 0; i < block_size && first + static_cast<int>(i) < points; ++i) {
-                const int k = first + static_cast<int>(i);
-                const PixelPoint<double> q = pixel_point(b->lambda_f_mm[i], b->aperture_mm[i], b->blur_mm[i], x50);
-                const double target = b->f50[i] / q.r;
-                double* out = &design[static_cast<std::size_t>(k) * terms];
-                pixel_start_monomials(q.a, q.w, out);
-                for (int t = 0; t < terms; ++t) out[t] /= target;
-            }
+    auto lanes = [&](Block<double>& b, double c, double ln_inv_c, double scale, auto node) {
+        b.demosaic_table = &table;
+        for (std::size_t i = 0; i < block_size; ++i) {
+            const int k = node(i);
+            const double v_d = spectrum_start_node(k / spectrum_start_nodes);
+            const double s = spectrum_start_node(k % spectrum_start_nodes);
+            const double rest = (1.0 - v_d) * (1.0 + v_d);
+            // lengths whose x_i are v_d, v_p, v_m (S = 1)
+            const double lambda_f = v_d * start_nu50;
+            const double pitch = std::sqrt(s * rest) * x50;
+            const double blur = std::sqrt((1.0 - s) * rest) * start_x50;
+            b.f_number[i] = 1.0;
+            b.lambda_f_mm[i] = lambda_f;
+            b.aperture_mm[i] = pitch;
+            b.output_pitch_mm[i] = pitch;
+            b.blur_mm[i] = blur;
+            b.jitter_mm[i] = 0.0;
+            b.threshold[i] = c;
+            b.solve[i] = 1;
+            b.lo[i] = 0.0;
+            b.hi[i] = f50_bracket<false>(lambda_f, pitch, blur, 0.0, ln_inv_c);
+            const double f0 = start_guess<true, -1>(lambda_f, pitch, blur, 0.0, scale, -1);
+            b.at[i] = (f0 > 0.0) & (f0 < b.hi[i]) ? f0 : 0.5 * b.hi[i];
         }
-        std::copy(design.begin(), design.end(), scaled.begin());
-        const std::vector<double> x = least_squares(design, rhs, points, terms);
-        double worst = 0.0;
-        for (int k = 0; k < points; ++k) {
-            double fit = 0.0;
-            for (int t = 0; t < terms; ++t) fit = multiply_add(scaled[static_cast<std::size_t>(k) * terms + t], x[t], fit);
-            worst = std::fmax(worst, std::fabs(fit - 1.0));
-        }
-        for (int t = 0; t < terms; ++t) fitted.coefficients[row][t] = x[t];
-        fitted.fit_error[row] = worst;
-    }
+    };
+    PixelStart fitted = fit_start<PixelStart, pixel_start_terms>(
+        lanes,
+        [&](Block<double>& b) {
+            polish<true, false, false, false, true>(monochromatic, spectrum_start_target_rtol, b);
+        },
+        [&](const Block<double>& b, std::size_t i, double* monomials) {
+            const PixelPoint<double> q = pixel_point(b.lambda_f_mm[i], b.aperture_mm[i], b.blur_mm[i], x50);
+            pixel_start_monomials(q.a, q.w, monomials);
+            return q.r;
+        });
+    fitted.x50 = x50;
     return fitted;
 }
 
-// The demosaicker's fitted start, or null where none can be fitted or none is needed.
-inline std::shared_ptr<const PixelStart> fit_pixel_start_if_possible(const MtfTable& table) {
-    PixelStart fitted;
-    try {
-        fitted = fit_pixel_start(table);
-    } catch (const std::invalid_argument&) {
-        return nullptr;
-    }
-    for (const auto& row : fitted.coefficients)
-        for (const double c : row)
-            if (!std::isfinite(c)) return nullptr;
-    // a table that leaves the pixel's 1/2 point where the sinc's is (1 up to it, as Menon's is)
-    // gets none: there the accurate start is within 1e-7 at MTF50 already, and its lanes stop
-    // after one step
-    if (!(fitted.x50 > 0.0) || fitted.x50 >= detail::start_x50 * (1.0 - 1e-6)) return nullptr;
-    return std::make_shared<const PixelStart>(fitted);
-}
-
-// The table's fitted start (null where none can be fitted), from the last few tables fitted
-// (by their exact knots and coefficients) or fitted now. Thread-safe.
+// The table's fitted start (null where none can be fitted, or none is needed: a table that leaves
+// the pixel's 1/2 point where the sinc's is, 1 up to it as Menon's is, where the accurate start is
+// within 1e-7 at MTF50 already and its lanes stop after one step), from the last few tables
+// fitted (by their exact knots and coefficients) or fitted now. Thread-safe.
 inline std::shared_ptr<const PixelStart> pixel_start_of(const MtfTable& table) {
-    constexpr std::size_t kept = 8;
     using Key = std::pair<std::vector<double>, std::vector<double>>;
-    static std::mutex mutex;
-    static std::vector<std::pair<Key, std::shared_ptr<const PixelStart>>> recent;
-    std::lock_guard<std::mutex> lock(mutex);
-    for (std::size_t k = 0; k < recent.size(); ++k) {
-        if (recent[k].first.first == table.knots && recent[k].first.second == table.coefficients) {
-            auto found = recent[k];
-            recent.erase(recent.begin() + static_cast<std::ptrdiff_t>(k));
-            recent.insert(recent.begin(), found);
-            return found.second;
-        }
-    }
-    auto start = fit_pixel_start_if_possible(table);
-    recent.insert(recent.begin(), {Key{table.knots, table.coefficients}, start});
-    if (recent.size() > kept) recent.pop_back();
-    return start;
+    static RecentFits<Key, PixelStart> recent;
+    return recent_fit(recent, Key{table.knots, table.coefficients}, [&] {
+        auto start = fit_if_possible<PixelStart>([&] { return fit_pixel_start(table); });
+        const bool needed = start != nullptr && start->x50 > 0.0 && start->x50 < detail::start_x50 * (1.0 - 1e-6);
+        return needed ? start : nullptr;
+    });
 }
 
 }  // namespace epc_fast

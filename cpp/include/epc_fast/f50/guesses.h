@@ -196,6 +196,20 @@ template <class T>
 struct StartPoint {
     T r, v_d, v_p, v_m, v_j, a, z;
 };
+
+// w = v_p^2 - v_m^2 = (p r - m r)(p r + m r) from p, r and m r, its products spelled out: left
+// to the compiler, whether p r fuses into the sum and difference depends on whether the cubic
+// start also uses it, and a lane's start would change in the last bit with the other lanes of
+// its block.
+template <class T>
+EPC_FAST_INLINE T pixel_minus_motion(T p, T r, T mr) {
+#if EPC_FAST_FMA
+    return std::fma(p, r, -mr) * std::fma(p, r, mr);
+#else
+    const T pr = p * r;
+    return (pr - mr) * (pr + mr);
+#endif
+}
 template <class T>
 EPC_FAST_INLINE StartPoint<T> start_point(T lambda_f_mm, T aperture_mm, T blur_mm, T jitter_mm) {
     const T d = lambda_f_mm * T(1.0 / start_nu50);
@@ -204,14 +218,7 @@ EPC_FAST_INLINE StartPoint<T> start_point(T lambda_f_mm, T aperture_mm, T blur_m
     const T j = jitter_mm * T(1.0 / start_j50);
     const T r = T(1) / std::sqrt(d * d + p * p + m * m + j * j);
     const T pr = p * r, mr = m * r, dr = d * r;
-    // w's products spelled out: left to the compiler, whether p r fuses into the sum and
-    // difference depends on whether the cubic start also uses it, and a lane's start would
-    // change in the last bit with the other lanes of its block
-#if EPC_FAST_FMA
-    const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
-#else
-    const T w = (pr - mr) * (pr + mr);
-#endif
+    const T w = pixel_minus_motion(p, r, mr);
     return {r, dr, pr, mr, j * r, T(2) * dr - T(1), w * w};
 }
 
@@ -377,14 +384,7 @@ EPC_FAST_INLINE PixelPoint<T> pixel_point(T lambda_f_mm, T pitch_mm, T blur_mm, 
     const T p = pitch_mm / x50;
     const T m = blur_mm * T(1.0 / start_x50);
     const T r = T(1) / std::sqrt(d * d + p * p + m * m);
-    const T pr = p * r, mr = m * r, dr = d * r;
-    // spelled out, as start_point's w: the same bits in every pass that computes it
-#if EPC_FAST_FMA
-    const T w = std::fma(p, r, -mr) * std::fma(p, r, mr);
-#else
-    const T w = (pr - mr) * (pr + mr);
-#endif
-    return {r, T(2) * dr - T(1), w};
+    return {r, T(2) * (d * r) - T(1), pixel_minus_motion(p, r, m * r)};
 }
 
 // cycles/mm: a lane's start from row c of its demosaicker's fitted start.

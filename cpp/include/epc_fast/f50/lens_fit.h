@@ -74,43 +74,16 @@ inline FittedStart fit_lens_start(const MtfTable& table) {
     });
 }
 
-// The table's fitted start, or null where none can be fitted (a rank-deficient fit, say, for
-// a table whose MTF stays above the thresholds over most of the grid, or coefficients that are
-// not finite): its lanes then take the start scaled by where it falls to 1/2.
-inline std::shared_ptr<const FittedStart> fit_lens_start_if_possible(const MtfTable& table) {
-    FittedStart fitted;
-    try {
-        fitted = fit_lens_start(table);
-    } catch (const std::invalid_argument&) {  // least_squares: rank-deficient
-        return nullptr;
-    }
-    for (const auto& row : fitted.coefficients)
-        for (const double c : row)
-            if (!std::isfinite(c)) return nullptr;
-    return std::make_shared<const FittedStart>(fitted);
-}
-
-// The table's fitted start (null where none can be fitted), from the last few tables fitted (by
-// their exact knots and coefficients) or fitted now. Thread-safe; the fit itself runs under
-// the lock (a few milliseconds).
+// The table's fitted start (null where none can be fitted: a rank-deficient fit, say, for a
+// table whose MTF stays above the thresholds over most of the grid; its lanes then take the
+// start scaled by where it falls to 1/2), from the last few tables fitted (by their exact knots
+// and coefficients) or fitted now. Thread-safe.
 inline std::shared_ptr<const FittedStart> lens_start_of(const MtfTable& table) {
-    constexpr std::size_t kept = 8;
     using Key = std::pair<std::vector<double>, std::vector<double>>;
-    static std::mutex mutex;
-    static std::vector<std::pair<Key, std::shared_ptr<const FittedStart>>> recent;
-    std::lock_guard<std::mutex> lock(mutex);
-    for (std::size_t k = 0; k < recent.size(); ++k) {
-        if (recent[k].first.first == table.knots && recent[k].first.second == table.coefficients) {
-            auto found = recent[k];
-            recent.erase(recent.begin() + static_cast<std::ptrdiff_t>(k));
-            recent.insert(recent.begin(), found);  // most recent first
-            return found.second;
-        }
-    }
-    auto start = fit_lens_start_if_possible(table);
-    recent.insert(recent.begin(), {Key{table.knots, table.coefficients}, start});
-    if (recent.size() > kept) recent.pop_back();
-    return start;
+    static RecentFits<Key, FittedStart> recent;
+    return recent_fit(recent, Key{table.knots, table.coefficients}, [&] {
+        return fit_if_possible<FittedStart>([&] { return fit_lens_start(table); });
+    });
 }
 
 }  // namespace epc_fast

@@ -62,20 +62,21 @@ inline double spectrum_start_node(int k) {
 
 }  // namespace detail
 
-// The accurate start's coefficients (every row) fitted by least squares on the relative error
-// to f50 on the fit's grid of spectrum_start_nodes^2 Chebyshev nodes over (v_d, s), v_p^2 =
+// A start's coefficients (every threshold row) fitted by least squares on the relative error to
+// f50 on the fit's grid of spectrum_start_nodes^2 Chebyshev nodes over (v_d, s), v_p^2 =
 // s (1 - v_d^2), v_m^2 = (1 - s)(1 - v_d^2): lanes(b, row's threshold c, ln(1/c), its start
-// scale, node k of lane i: k(i)) sets each lane's lengths (lambda_f_mm: the length of the
-// starts' optics coordinate), bracket, start and solve flag; solve(b) solves f50 to
-// spectrum_start_target_rtol. A lane not to solve (its f50 lies beyond what the model holds)
-// leaves its node out of the fit.
-template <class Lanes, class Solve>
-FittedStart fit_accurate_start(Lanes&& lanes, Solve&& solve) {
+// scale, node k of lane i: k(i)) sets each lane's lengths, bracket, start and solve flag;
+// solve(b) solves f50 to spectrum_start_target_rtol; coordinates(b, i, monomials) writes lane
+// i's Terms monomials and returns its r = 1 / sqrt(S). A lane not to solve (its f50 lies beyond
+// what the model holds) leaves its node out of the fit. Start: FittedStart (the accurate
+// start's form) or PixelStart (guesses.h).
+template <class Start, int Terms, class Lanes, class Solve, class Coordinates>
+Start fit_start(Lanes&& lanes, Solve&& solve, Coordinates&& coordinates) {
     using namespace detail;
     constexpr int points = spectrum_start_nodes * spectrum_start_nodes;
-    constexpr int terms = accurate_start_terms;
+    constexpr int terms = Terms;
     auto b = std::make_unique<Block<double>>();
-    FittedStart fitted{};
+    Start fitted{};
     // allocated once for every row (each row overwrites all of them)
     std::vector<double> design(static_cast<std::size_t>(points) * terms), scaled(design.size()), rhs(points);
     for (int row = 0; row < n_accurate_starts; ++row) {
@@ -97,10 +98,8 @@ FittedStart fit_accurate_start(Lanes&& lanes, Solve&& solve) {
                     rhs[static_cast<std::size_t>(k)] = 0.0;
                     continue;
                 }
-                const StartPoint<double> q = start_point(b->lambda_f_mm[i], b->aperture_mm[i], b->blur_mm[i], 0.0);
                 // relative error: the row's monomials over the target f50 sqrt(S) = f50 / r
-                const double target = b->f50[i] / q.r;
-                accurate_start_monomials(q.a, q.z, out);
+                const double target = b->f50[i] / coordinates(*b, i, out);
                 for (int t = 0; t < terms; ++t) out[t] /= target;
             }
         }
@@ -119,6 +118,64 @@ FittedStart fit_accurate_start(Lanes&& lanes, Solve&& solve) {
         fitted.fit_error[row] = worst;
     }
     return fitted;
+}
+
+// fit_start in the accurate start's form (FittedStart): lambda_f_mm is the length of the starts'
+// optics coordinate, the aperture the pixel's.
+template <class Lanes, class Solve>
+FittedStart fit_accurate_start(Lanes&& lanes, Solve&& solve) {
+    return fit_start<FittedStart, detail::accurate_start_terms>(
+        lanes, solve, [](const detail::Block<double>& b, std::size_t i, double* monomials) {
+            const detail::StartPoint<double> q =
+                detail::start_point(b.lambda_f_mm[i], b.aperture_mm[i], b.blur_mm[i], 0.0);
+            detail::accurate_start_monomials(q.a, q.z, monomials);
+            return q.r;
+        });
+}
+
+// fit(), or null where it throws std::invalid_argument (least_squares: rank-deficient, as lengths
+// at the ends of double's range make it) or gives a coefficient that is not finite: those lanes
+// then take the start they had, which costs steps, never accuracy.
+template <class Start, class Fit>
+std::shared_ptr<const Start> fit_if_possible(Fit&& fit) {
+    Start fitted;
+    try {
+        fitted = fit();
+    } catch (const std::invalid_argument&) {
+        return nullptr;
+    }
+    for (const auto& row : fitted.coefficients)
+        for (const double c : row)
+            if (!std::isfinite(c)) return nullptr;
+    return std::make_shared<const Start>(fitted);
+}
+
+// The last few starts fitted (by their key's exact values), most recent first, and their lock.
+template <class Key, class Start>
+struct RecentFits {
+    static constexpr std::size_t kept = 8;
+    std::mutex mutex;
+    std::vector<std::pair<Key, std::shared_ptr<const Start>>> fits;
+};
+
+// The start fitted to `key`: from `recent` or fitted now by fit() (a shared_ptr, null where
+// none can be fitted). Thread-safe; the fit itself runs under the lock (a few milliseconds).
+template <class Key, class Start, class Fit>
+std::shared_ptr<const Start> recent_fit(RecentFits<Key, Start>& recent, const Key& key, Fit&& fit) {
+    std::lock_guard<std::mutex> lock(recent.mutex);
+    auto& fits = recent.fits;
+    for (std::size_t k = 0; k < fits.size(); ++k) {
+        if (fits[k].first == key) {
+            auto found = fits[k];
+            fits.erase(fits.begin() + static_cast<std::ptrdiff_t>(k));
+            fits.insert(fits.begin(), found);  // most recent first
+            return found.second;
+        }
+    }
+    auto start = fit();
+    fits.insert(fits.begin(), {key, start});
+    if (fits.size() > RecentFits<Key, Start>::kept) fits.pop_back();
+    return start;
 }
 
 // Fits the spectrum's start (every row). The spectrum must be polychromatic with a positive mean
@@ -157,44 +214,15 @@ inline FittedStart fit_spectrum_start(const Spectrum& spectrum) {
     });
 }
 
-// The fit of a spectrum it can be made for, else null: a spectrum whose lengths sit at the ends
-// of double's range (subnormal wavelengths, say) makes its least-squares matrix numerically
-// rank-deficient or its coefficients not finite. Its lanes then take the cubic start, which
-// costs steps, never accuracy.
-inline std::shared_ptr<const FittedStart> fit_spectrum_start_if_possible(const Spectrum& spectrum) {
-    FittedStart fitted;
-    try {
-        fitted = fit_spectrum_start(spectrum);
-    } catch (const std::invalid_argument&) {  // least_squares: rank-deficient
-        return nullptr;
-    }
-    for (const auto& row : fitted.coefficients)
-        for (const double c : row)
-            if (!std::isfinite(c)) return nullptr;
-    return std::make_shared<const FittedStart>(fitted);
-}
-
-// The spectrum's fitted start (null where none can be fitted), from the last few spectra fitted
-// (by their exact values) or fitted now. Thread-safe; the fit itself runs under the lock (a few
-// milliseconds).
+// The spectrum's fitted start (null where none can be fitted: a spectrum whose lengths sit at
+// the ends of double's range, subnormal wavelengths say), from the last few spectra fitted (by
+// their exact values) or fitted now. Thread-safe.
 inline std::shared_ptr<const FittedStart> spectrum_start_of(const Spectrum& spectrum) {
-    constexpr std::size_t kept = 8;
     using Key = std::pair<std::vector<double>, std::vector<double>>;
-    static std::mutex mutex;
-    static std::vector<std::pair<Key, std::shared_ptr<const FittedStart>>> recent;
-    std::lock_guard<std::mutex> lock(mutex);
-    for (std::size_t k = 0; k < recent.size(); ++k) {
-        if (recent[k].first.first == spectrum.wavelengths_nm && recent[k].first.second == spectrum.weights) {
-            auto found = recent[k];
-            recent.erase(recent.begin() + static_cast<std::ptrdiff_t>(k));
-            recent.insert(recent.begin(), found);  // most recent first
-            return found.second;
-        }
-    }
-    auto start = fit_spectrum_start_if_possible(spectrum);
-    recent.insert(recent.begin(), {Key{spectrum.wavelengths_nm, spectrum.weights}, start});
-    if (recent.size() > kept) recent.pop_back();
-    return start;
+    static RecentFits<Key, FittedStart> recent;
+    return recent_fit(recent, Key{spectrum.wavelengths_nm, spectrum.weights}, [&] {
+        return fit_if_possible<FittedStart>([&] { return fit_spectrum_start(spectrum); });
+    });
 }
 
 }  // namespace epc_fast
