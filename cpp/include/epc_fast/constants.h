@@ -6,9 +6,13 @@
 // The same for a lambda (after its parameter list): one outlined keeps its lane loops' arrays
 // behind captured references, which the vectoriser must assume may alias.
 #define EPC_FAST_LAMBDA_INLINE __attribute__((always_inline))
+// A block's pass that most calls skip, kept out of line so that it leaves the code around it as
+// it is without it.
+#define EPC_FAST_OUTLINED inline __attribute__((noinline))
 #else
 #define EPC_FAST_INLINE inline
 #define EPC_FAST_LAMBDA_INLINE
+#define EPC_FAST_OUTLINED inline
 #endif
 
 // Set where the target has a hardware fused multiply-add: the x86-64-v3 and -v4 modules, which

@@ -14,6 +14,7 @@
 #include "../params.h"
 #include "../tabulated.h"
 #include "guesses.h"
+#include "lengths.h"
 
 namespace epc_fast {
 namespace detail {
@@ -27,7 +28,7 @@ namespace detail {
 // smooth MTF). One vectorised pass per table and row the lanes take, so that a lane's start is
 // the same bits whichever tables its neighbours take.
 template <class T>
-EPC_FAST_INLINE void lens_fitted_starts(Block<T>& b) {
+EPC_FAST_OUTLINED void lens_fitted_starts(Block<T>& b) {
     constexpr std::size_t n = block_size;
     const std::vector<MtfTable>& tables = *b.lens_tables;
     const double* __restrict d_length = b.scratch[4];
@@ -83,7 +84,7 @@ EPC_FAST_INLINE void lens_fitted_starts(Block<T>& b) {
 // bracket, and is marked to step at least twice (b.step_twice: the table's cubics join with
 // jumps in their curvature).
 template <class T>
-EPC_FAST_INLINE void demosaic_fitted_starts(Block<T>& b) {
+EPC_FAST_OUTLINED void demosaic_fitted_starts(Block<T>& b) {
     constexpr std::size_t n = block_size;
     const PixelStart& fitted = *b.demosaic_table->pixel_start;
     const double* __restrict lambda_f = b.scratch[4];
@@ -117,6 +118,24 @@ EPC_FAST_INLINE void demosaic_fitted_starts(Block<T>& b) {
             two[i] = take ? LaneFlag<T>(1) : two[i];
         }
     }
+}
+
+// The lanes of a float64 block with a lens table or a demosaicker that take a start fitted to
+// it (b.step_twice and b.step_twice_any set): a lens table's where the block has no
+// demosaicker (the fit knows none), else a demosaicker's where the block has neither a spectrum
+// nor lens tables.
+template <class T>
+EPC_FAST_OUTLINED void fitted_starts(StartTerms terms, Block<T>& b) {
+    if (terms.lens && b.demosaic_table == nullptr) {
+        lens_fitted_starts(b);
+    } else if (b.demosaic_table != nullptr && b.demosaic_table->pixel_start != nullptr &&
+               !terms.lens && !terms.poly) {
+        for (std::size_t i = 0; i < block_size; ++i) b.step_twice[i] = 0;
+        demosaic_fitted_starts(b);
+    } else {
+        return;
+    }
+    for (std::size_t i = 0; i < block_size; ++i) b.step_twice_any |= b.step_twice[i] != 0;
 }
 
 }  // namespace detail

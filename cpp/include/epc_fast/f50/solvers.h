@@ -83,6 +83,29 @@ void bisect(const Spectrum& spectrum, T rtol, Block<T>& b) {
     for (std::size_t i = 0; i < n; ++i) b.f50[i] = lo[i] + T(0.5) * (hi[i] - lo[i]);
 }
 
+// After polish's first round: a lane that may not stop on its first step (b.step_twice: a start
+// fitted to a table, whose cubics join with jumps in their curvature) and did, by a step above
+// tabulated_first_step relative, goes on as if it had not: its step, bracket and abscissa are
+// already those of a lane that goes on; its f50 is written again when it stops. (A smaller
+// first step leaves an error of order step^3, 1e-21, even where the curvature jumps a hundred
+// thousand times over.) Returns the lanes that go on again.
+template <class T>
+EPC_FAST_OUTLINED int step_again(Block<T>& b) {
+    int n_again = 0;
+    const LaneFlag<T>* __restrict twice = b.step_twice;
+    const LaneFlag<T>* __restrict solve = b.solve;
+    const T* __restrict previous = b.previous_step;
+    const T* __restrict at = b.at;
+    LaneFlag<T>* __restrict active = b.active;
+    for (std::size_t i = 0; i < block_size; ++i) {
+        const bool again = (twice[i] != 0) & (solve[i] != 0) & (active[i] == 0) &
+                           (previous[i] > T(tabulated_first_step) * at[i]);
+        active[i] = again ? LaneFlag<T>(1) : active[i];
+        n_again += again;
+    }
+    return n_again;
+}
+
 // Newton (Halley = false) or Halley steps from b.at, safeguarded by the bracket [lo, hi].
 template <bool Motion, bool Jitter, bool Binning, bool Poly, bool Halley, class T>
 void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
@@ -185,29 +208,12 @@ void polish(const Spectrum& spectrum, T rtol, Block<T>& b) {
         }
         return n_active;
     };
-    // A lane that may not stop on its first step (b.step_twice: a start fitted to a table, whose
-    // cubics join with jumps in their curvature) and did, by a step above
-    // tabulated_first_step relative, goes on as if it had not: its step, bracket and abscissa
-    // are already those of a lane that goes on; its f50 is written again when it stops. (A
-    // smaller first step leaves an error of order step^3, 1e-21, even where the curvature
-    // jumps a hundred thousand times over.)
-    auto step_again = [&]() {
-        int n_again = 0;
-        const LaneFlag<T>* __restrict twice = b.step_twice;
-        const LaneFlag<T>* __restrict solve = b.solve;
-        for (std::size_t i = 0; i < n; ++i) {
-            const bool again = (twice[i] != 0) & (solve[i] != 0) & (active[i] == 0) &
-                               (previous[i] > T(tabulated_first_step) * at[i]);
-            active[i] = again ? LaneFlag<T>(1) : active[i];
-            n_again += again;
-        }
-        return n_again;
-    };
     for (int step = 0; step < max_bisection_steps; ++step) {
         system_mtf_slopes<Motion, Jitter, Binning, Poly, Halley>(spectrum, b);
-        int n_active = step == 0 ? take_steps(std::true_type{}, true)
-                                 : take_steps(std::false_type{}, step < max_derivative_steps);
-        if (step == 0 && b.step_twice_any) n_active += step_again();
+        // (the first round: lanes that may not stop on their first step go on, step_again)
+        const int n_active =
+            step == 0 ? take_steps(std::true_type{}, true) + (b.step_twice_any ? step_again(b) : 0)
+                      : take_steps(std::false_type{}, step < max_derivative_steps);
         if (n_active == 0) break;
     }
 }

@@ -314,16 +314,7 @@ int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     }
     brackets_and_starts(terms, rows, bin_pitch, zero_length, b);
     if constexpr (!narrow) {
-        if (terms.lens && b.demosaic_table == nullptr) {  // (a demosaicker: the fit knows none)
-            lens_fitted_starts(b);
-            for (std::size_t i = 0; i < block_size; ++i) b.step_twice_any |= b.step_twice[i] != 0;
-        }
-        if (b.demosaic_table != nullptr && b.demosaic_table->pixel_start != nullptr && !terms.lens &&
-            !terms.poly) {
-            for (std::size_t i = 0; i < block_size; ++i) b.step_twice[i] = 0;
-            demosaic_fitted_starts(b);
-            for (std::size_t i = 0; i < block_size; ++i) b.step_twice_any |= b.step_twice[i] != 0;
-        }
+        if (b.lens_tables != nullptr || b.demosaic_table != nullptr) fitted_starts(terms, b);
     }
     b.n_settled = settle_starts(terms, rows.rows, rows.certified, bin_pitch, b, n_settled);
     return solve_terms(terms, bin_pitch, b);
