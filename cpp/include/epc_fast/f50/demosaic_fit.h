@@ -49,26 +49,19 @@ inline PixelStart fit_pixel_start(const MtfTable& table) {
     }
     const double x50 = lo + 0.5 * (hi - lo);
     static const Spectrum monochromatic{};
-    auto lanes = [&](Block<double>& b, double c, double ln_inv_c, double scale, auto node) {
+    auto lanes = [&](Block<double>& b, double, double ln_inv_c, double scale, auto node) {
         b.demosaic_table = &table;
         for (std::size_t i = 0; i < block_size; ++i) {
-            const int k = node(i);
-            const double v_d = spectrum_start_node(k / spectrum_start_nodes);
-            const double s = spectrum_start_node(k % spectrum_start_nodes);
-            const double rest = (1.0 - v_d) * (1.0 + v_d);
+            const FitNode u = node(i);
             // lengths whose x_i are v_d, v_p, v_m (S = 1)
-            const double lambda_f = v_d * start_nu50;
-            const double pitch = std::sqrt(s * rest) * x50;
-            const double blur = std::sqrt((1.0 - s) * rest) * start_x50;
+            const double lambda_f = u.v_d * start_nu50;
+            const double pitch = u.v_p * x50;
+            const double blur = u.v_m * start_x50;
             b.f_number[i] = 1.0;
             b.lambda_f_mm[i] = lambda_f;
             b.aperture_mm[i] = pitch;
             b.output_pitch_mm[i] = pitch;
             b.blur_mm[i] = blur;
-            b.jitter_mm[i] = 0.0;
-            b.threshold[i] = c;
-            b.solve[i] = 1;
-            b.lo[i] = 0.0;
             b.hi[i] = f50_bracket<false>(lambda_f, pitch, blur, 0.0, ln_inv_c);
             const double f0 = start_guess<true, -1>(lambda_f, pitch, blur, 0.0, scale, -1);
             b.at[i] = (f0 > 0.0) & (f0 < b.hi[i]) ? f0 : 0.5 * b.hi[i];

@@ -42,22 +42,15 @@ inline FittedStart fit_lens_start(const MtfTable& table) {
     auto lanes = [&](Block<double>& b, double c, double ln_inv_c, double scale, auto node) {
         b.lens_tables = &one;
         for (std::size_t i = 0; i < block_size; ++i) {
-            const int k = node(i);
-            const double v_d = spectrum_start_node(k / spectrum_start_nodes);
-            const double s = spectrum_start_node(k % spectrum_start_nodes);
-            const double rest = (1.0 - v_d) * (1.0 + v_d);
+            const FitNode u = node(i);
             // the table fixes x_d: the node's scale x_d / v_d sets the pixel's and the motion's
-            const double node_scale = x_d / v_d;
-            const double aperture = std::sqrt(s * rest) * start_x50 * node_scale;
-            const double blur = std::sqrt((1.0 - s) * rest) * start_x50 * node_scale;
+            const double node_scale = x_d / u.v_d;
+            const double aperture = u.v_p * start_x50 * node_scale;
+            const double blur = u.v_m * start_x50 * node_scale;
             b.f_number[i] = 1.0;  // (the table replaces diffraction: unused)
             b.aperture_mm[i] = aperture;
             b.blur_mm[i] = blur;
-            b.jitter_mm[i] = 0.0;
             b.lambda_f_mm[i] = d_length;
-            b.threshold[i] = c;
-            b.solve[i] = 1;
-            b.lo[i] = 0.0;
             b.hi[i] = f50_bracket<false>(zero_length, aperture, blur, 0.0, ln_inv_c);
             b.at[i] = b.hi[i];
         }

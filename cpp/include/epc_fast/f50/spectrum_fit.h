@@ -60,16 +60,29 @@ inline double spectrum_start_node(int k) {
     return 0.5 - 0.5 * std::cos(pi * (k + 0.5) / spectrum_start_nodes);
 }
 
+// Node k of the fit's grid as the unit vector (v_d, v_p, v_m) the lanes' lengths are set from:
+// v_d and s = v_p^2 / (v_p^2 + v_m^2) on the Chebyshev nodes.
+struct FitNode {
+    double v_d, v_p, v_m;
+};
+inline FitNode fit_node(int k) {
+    const double v_d = spectrum_start_node(k / spectrum_start_nodes);
+    const double s = spectrum_start_node(k % spectrum_start_nodes);
+    const double rest = (1.0 - v_d) * (1.0 + v_d);
+    return {v_d, std::sqrt(s * rest), std::sqrt((1.0 - s) * rest)};
+}
+
 }  // namespace detail
 
 // A start's coefficients (every threshold row) fitted by least squares on the relative error to
 // f50 on the fit's grid of spectrum_start_nodes^2 Chebyshev nodes over (v_d, s), v_p^2 =
-// s (1 - v_d^2), v_m^2 = (1 - s)(1 - v_d^2): lanes(b, row's threshold c, ln(1/c), its start
-// scale, node k of lane i: k(i)) sets each lane's lengths, bracket, start and solve flag;
-// solve(b) solves f50 to spectrum_start_target_rtol; coordinates(b, i, monomials) writes lane
-// i's Terms monomials and returns its r = 1 / sqrt(S). A lane not to solve (its f50 lies beyond
-// what the model holds) leaves its node out of the fit. Start: FittedStart (the accurate
-// start's form) or PixelStart (guesses.h).
+// s (1 - v_d^2), v_m^2 = (1 - s)(1 - v_d^2). Every lane is to solve, without jitter, from 0 at
+// the row's threshold c; lanes(b, c, ln(1/c), the row's start scale, node of lane i: node(i), a
+// FitNode) sets its lengths (lambda_f_mm: the starts' optics length), bracket and start, and
+// may take a lane out of the solve (its f50 lies beyond what the model holds: its node is left
+// out of the fit); solve(b) solves f50 to spectrum_start_target_rtol; coordinates(b, i, monomials) writes lane i's Terms
+// monomials and returns its r = 1 / sqrt(S). Start: FittedStart (the accurate start's form) or
+// PixelStart (guesses.h).
 template <class Start, int Terms, class Lanes, class Solve, class Coordinates>
 Start fit_start(Lanes&& lanes, Solve&& solve, Coordinates&& coordinates) {
     using namespace detail;
@@ -85,9 +98,15 @@ Start fit_start(Lanes&& lanes, Solve&& solve, Coordinates&& coordinates) {
         const double scale = start_scale_of(ln_inv_c);
         std::fill(rhs.begin(), rhs.end(), 1.0);
         for (int first = 0; first < points; first += static_cast<int>(block_size)) {
+            for (std::size_t i = 0; i < block_size; ++i) {
+                b->jitter_mm[i] = 0.0;
+                b->threshold[i] = c;
+                b->solve[i] = 1;
+                b->lo[i] = 0.0;
+            }
             // a point of the grid per lane (padding lanes repeat the last one)
             lanes(*b, c, ln_inv_c, scale, [&](std::size_t i) {
-                return std::min(first + static_cast<int>(i), points - 1);
+                return fit_node(std::min(first + static_cast<int>(i), points - 1));
             });
             solve(*b);
             for (std::size_t i = 0; i < block_size && first + static_cast<int>(i) < points; ++i) {
@@ -186,24 +205,17 @@ inline FittedStart fit_spectrum_start(const Spectrum& spectrum) {
     plain.start = nullptr;
     const Spectrum::Extent extent = plain.extent();
     const double mean_mm = extent.mean_nm * nm_to_mm, shortest_mm = extent.shortest_nm * nm_to_mm;
-    auto lanes = [&](Block<double>& b, double c, double ln_inv_c, double scale, auto node) {
+    auto lanes = [&](Block<double>& b, double, double ln_inv_c, double scale, auto node) {
         for (std::size_t i = 0; i < block_size; ++i) {
-            const int k = node(i);
-            const double v_d = spectrum_start_node(k / spectrum_start_nodes);
-            const double s = spectrum_start_node(k % spectrum_start_nodes);
-            const double rest = (1.0 - v_d) * (1.0 + v_d);
+            const FitNode u = node(i);
             // lengths whose x_i = length / (factor's f50 constant) are v_d, v_p, v_m
-            const double f_number = v_d * start_nu50 / mean_mm;
-            const double aperture = std::sqrt(s * rest) * start_x50;
-            const double blur = std::sqrt((1.0 - s) * rest) * start_x50;
+            const double f_number = u.v_d * start_nu50 / mean_mm;
+            const double aperture = u.v_p * start_x50;
+            const double blur = u.v_m * start_x50;
             b.f_number[i] = f_number;
             b.aperture_mm[i] = aperture;
             b.blur_mm[i] = blur;
-            b.jitter_mm[i] = 0.0;
             b.lambda_f_mm[i] = mean_mm * f_number;
-            b.threshold[i] = c;
-            b.solve[i] = 1;
-            b.lo[i] = 0.0;
             b.hi[i] = f50_bracket<false>(shortest_mm * f_number, aperture, blur, 0.0, ln_inv_c);
             const double f0 = start_guess<true, -1>(mean_mm * f_number, aperture, blur, 0.0, scale, -1);
             b.at[i] = (f0 > 0.0) & (f0 < b.hi[i]) ? f0 : 0.5 * b.hi[i];

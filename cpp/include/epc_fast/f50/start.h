@@ -69,8 +69,8 @@ struct StartRows {
 // With a spectrum fitted (spectrum_fit.h), float64: a lane without jitter whose threshold has
 // a row takes the spectrum's start of that row (its accurate_start_code), in a pass per row
 // present after the main loop; the main loop computes the cubic start only if a lane to solve
-// takes it (jitter, or a threshold without a row). (A lens table's fitted start comes after:
-// lens_fitted_starts.)
+// takes it (jitter, or a threshold without a row). (A lens table's or a demosaicker's fitted
+// start comes after: fitted_starts.h.)
 //
 // The rows whose start is certified at settle_rtol (a spectrum's never is): float32 takes only
 // these (computed in float64 in a pass of their own: settle_narrow); every other lane to solve
@@ -291,7 +291,7 @@ EPC_FAST_INLINE int solve_terms(StartTerms terms, const double* __restrict bin_p
 template <class T>
 int start_f50(const Spectrum& spectrum, double settle_rtol, Block<T>& b) {
     constexpr bool narrow = sizeof(T) != sizeof(double);
-    b.step_twice_any = false;  // (lens_fitted_starts)
+    b.step_twice_any = false;  // (fitted_starts.h)
     threshold_terms(b);
     const StartTerms terms = start_terms(spectrum, b);
     const Spectrum::Extent extent = spectrum.extent();

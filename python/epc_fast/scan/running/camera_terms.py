@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ... import params
 from ...cfa import DEMOSAIC_NOISE_GAIN, sensor_color
 from ...core_call import core_tables
 from ...design import spectrum_of
@@ -42,8 +43,9 @@ class CameraTerms:
     lens_tables : list of (knots, values, coefficients) or None, as ``_core.evaluate`` takes
         them (:func:`epc_fast.core_call.core_tables`).
     demosaic_table : one such triple or None.
-    color : {slot: (value or None, scale)}: a colour column's default value where the space
-        does not give it, and the factor its values take (the demosaicker's noise gain).
+    color : {slot: (default, scale)}: a colour column's value where the space does not give
+        it, and the factor the values it gives take (the demosaicker's noise gain; 1 for the
+        transmittance).
     modes : the designs' readout modes as the core takes them (:func:`epc_fast.modes.core_codes`),
         or None.
     set_by_modes : the parameters a mode sets, which the points take at their defaults.
@@ -141,8 +143,6 @@ def _lowest(space, name: str):
         return _distribution_low(axis)
     if name in space.design_table:
         return float(np.min(space.design_table[name]))
-    from ... import params
-
     return float(params.PARAMETERS[params.PARAMETER_NAMES.index(name)].default)
 
 
